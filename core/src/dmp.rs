@@ -1,0 +1,864 @@
+//! Discrete, multi-DoF Dynamic Movement Primitives of fixed capacity.
+//!
+//! # Formulation
+//!
+//! Per degree of freedom, with `τ` the execution time in seconds (the
+//! movement runs from `t = 0` to `t = τ`; there is no separate "execution
+//! time" knob):
+//!
+//! ```text
+//! τ ż = α (β (g − y) − z) + a · f(s),   τ ẏ = z,   β = α / 4
+//! s   = min(t / τ, 1)                              (phase)
+//! f(s) = Σ ψ_k(s) w_k / Σ ψ_k(s) for s < 1, 0 for s ≥ 1
+//! ψ_k(s) = exp(−h (s − c_k)²),  c_k = k / (K − 1)
+//! a   = g − y0  (amplitude-scaled DoF)  or  1  (loop-like DoF)
+//! ```
+//!
+//! Why this form, against the anchors' known failures:
+//! - The forcing term is scaled by the new amplitude `g − y0`, so a goal moved
+//!   close to the start shrinks the whole shape instead of overshooting
+//!   (movement_primitives issue 70).
+//! - A DoF whose demonstration starts and ends (almost) at the same place
+//!   cannot be amplitude-scaled; it keeps an unscaled forcing term, so loops
+//!   and shakes are reproduced (pydmps issue 5). [`Scaling::Auto`] decides per
+//!   DoF; [`Scaling::Mask`] overrides.
+//! - The phase reaches 1 exactly at `t = τ` and the forcing term is exactly zero
+//!   afterwards: no Pastor-style `x(T) ≠ 0` residue pulling away from the goal.
+//! - The kernels are uniform in `s`, so only the few within reach of the
+//!   current phase are evaluated (see [`Dmp::forcing`]).
+//! - The spring-damper is critically damped and linear, so a step with the
+//!   forcing held at its mid-step value is integrated exactly (matrix
+//!   exponential), not by Euler: any `dt` is stable and the error is
+//!   second order in `dt` only through the forcing term.
+//!
+//! # Parameter vector
+//!
+//! [`Dmp::params`] / [`Dmp::set_params`] expose `θ` for generalization and
+//! learning, laid out as `[w_{0,0..K}, w_{1,0..K}, …, w_{D−1,0..K}, g_0, …,
+//! g_{D−1}, τ]`: `D·K + D + 1` values (7 joints × 30 kernels → 218).
+//!
+//! ```
+//! use primo_core::dmp::{Dmp, FitOptions};
+//! let t: Vec<f32> = (0..=200).map(|i| i as f32 / 200.0).collect();
+//! // Two DoF, row-major samples.
+//! let y: Vec<f32> = t.iter().flat_map(|&t| [t, 1.0 - t * t]).collect();
+//! let dmp = Dmp::<2, 15>::fit(&t, &y, 2, 15, &FitOptions::default())?;
+//! let mut exec = dmp.execution();
+//! exec.goal[0] = 2.0; // new goal for DoF 0
+//! exec.tau = 2.0; // twice as slow
+//! let last = dmp.trajectory(&exec, 0.01)?.last().unwrap();
+//! assert_eq!(last.time, 2.0);
+//! assert!((last.position[0] - 2.0).abs() < 1e-2);
+//! # Ok::<(), primo_core::Error>(())
+//! ```
+
+use heapless::Vec;
+use serde::{Deserialize, Serialize};
+
+use crate::error::{check_capacity, check_finite, check_len};
+use crate::{Error, linalg};
+
+/// Default spring gain `α` (with `β = α / 4`, critically damped).
+pub const DEFAULT_ALPHA: f32 = 25.0;
+/// Default kernel overlap `h·Δc²`: neighbouring kernels cross at
+/// `exp(−overlap/4)`.
+pub const DEFAULT_OVERLAP: f32 = 2.0;
+/// Kernels with `h (s − c)² > KERNEL_CUTOFF` (ψ < 1.4e−11) are skipped.
+pub const KERNEL_CUTOFF: f32 = 25.0;
+/// [`Scaling::Auto`] scales a DoF only if `|g − y0|` is at least this
+/// fraction of the demonstration's range on that DoF.
+pub const AUTO_SCALING_MIN_FRACTION: f32 = 0.1;
+
+/// Which DoFs scale their forcing term by the amplitude `g − y0`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+pub enum Scaling {
+    /// Per DoF: scaled unless `|g − y0|` is below
+    /// [`AUTO_SCALING_MIN_FRACTION`] of the demonstrated range (a loop).
+    #[default]
+    Auto,
+    /// Every DoF scaled.
+    Always,
+    /// No DoF scaled (Ijspeert 2002 behaviour).
+    Never,
+    /// Bit `d` set: DoF `d` scaled (DoFs ≥ 32 are unscaled).
+    Mask(u32),
+}
+
+/// Options for [`Dmp::fit`].
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct FitOptions {
+    /// Spring gain `α > 0`.
+    pub alpha: f32,
+    /// Kernel overlap `h·Δc² > 0`; larger means narrower kernels.
+    pub overlap: f32,
+    /// Ridge regularization, relative to the mean diagonal of the Gram matrix.
+    pub ridge: f32,
+    /// Which DoFs are amplitude-scaled.
+    pub scaling: Scaling,
+}
+
+impl Default for FitOptions {
+    fn default() -> Self {
+        Self {
+            alpha: DEFAULT_ALPHA,
+            overlap: DEFAULT_OVERLAP,
+            ridge: 1e-6,
+            scaling: Scaling::Auto,
+        }
+    }
+}
+
+/// A fitted DMP with capacity `D` DoF and `K` kernels per DoF; the actual
+/// sizes are [`Dmp::dof`] ≤ `D` and [`Dmp::kernels`] ≤ `K`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(try_from = "DmpFields<D, K>")]
+pub struct Dmp<const D: usize, const K: usize> {
+    tau: f32,
+    alpha: f32,
+    width: f32,
+    start: Vec<f32, D>,
+    goal: Vec<f32, D>,
+    scaled: Vec<bool, D>,
+    weights: Vec<Vec<f32, K>, D>,
+}
+
+/// The serialized form, checked before it becomes a [`Dmp`].
+#[derive(Deserialize)]
+struct DmpFields<const D: usize, const K: usize> {
+    tau: f32,
+    alpha: f32,
+    width: f32,
+    start: Vec<f32, D>,
+    goal: Vec<f32, D>,
+    scaled: Vec<bool, D>,
+    weights: Vec<Vec<f32, K>, D>,
+}
+
+impl<const D: usize, const K: usize> TryFrom<DmpFields<D, K>> for Dmp<D, K> {
+    type Error = Error;
+    fn try_from(f: DmpFields<D, K>) -> Result<Self, Error> {
+        let n = f.start.len();
+        if n == 0 {
+            return Err(Error::OutOfRange("a DMP needs at least one DoF"));
+        }
+        check_len("goal", n, f.goal.len())?;
+        check_len("scaled", n, f.scaled.len())?;
+        check_len("weights (rows)", n, f.weights.len())?;
+        let k = f.weights.first().map_or(0, |w| w.len());
+        if k < 2 {
+            return Err(Error::OutOfRange("a DMP needs at least two kernels"));
+        }
+        for row in &f.weights {
+            check_len("weights (row)", k, row.len())?;
+            check_finite(row, "weights")?;
+        }
+        check_finite(&f.start, "start")?;
+        check_finite(&f.goal, "goal")?;
+        check_positive(f.tau, "tau must be finite and > 0")?;
+        check_positive(f.alpha, "alpha must be finite and > 0")?;
+        check_positive(f.width, "width must be finite and > 0")?;
+        Ok(Dmp {
+            tau: f.tau,
+            alpha: f.alpha,
+            width: f.width,
+            start: f.start,
+            goal: f.goal,
+            scaled: f.scaled,
+            weights: f.weights,
+        })
+    }
+}
+
+fn check_positive(v: f32, what: &'static str) -> Result<(), Error> {
+    if v.is_finite() && v > 0.0 {
+        Ok(())
+    } else {
+        Err(Error::OutOfRange(what))
+    }
+}
+
+/// Where and how fast to execute a DMP: start, goal and duration `τ`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Execution<const D: usize> {
+    /// Execution time in seconds (> 0).
+    pub tau: f32,
+    /// Start position, one value per DoF.
+    pub start: Vec<f32, D>,
+    /// Goal position, one value per DoF.
+    pub goal: Vec<f32, D>,
+}
+
+/// One point of an executed trajectory.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sample<const D: usize> {
+    /// Time since the start in seconds.
+    pub time: f32,
+    /// Position; the first [`Dmp::dof`] entries are valid.
+    pub position: [f32; D],
+    /// Velocity per second.
+    pub velocity: [f32; D],
+    /// Acceleration per second².
+    pub acceleration: [f32; D],
+}
+
+impl<const D: usize, const K: usize> Dmp<D, K> {
+    /// Fits a DMP to one demonstration.
+    ///
+    /// `times` are strictly increasing (any spacing, at least 3 samples);
+    /// `positions` holds `times.len() × dof` values, row-major (sample by
+    /// sample). The demo's first sample is the start, its last the goal and
+    /// its duration the default `τ`. Velocities and accelerations come from
+    /// second-order finite differences on the possibly uneven grid; the
+    /// weights from ridge regression of the forcing target, each sample
+    /// weighted by its share of the time axis.
+    pub fn fit(
+        times: &[f32],
+        positions: &[f32],
+        dof: usize,
+        kernels: usize,
+        options: &FitOptions,
+    ) -> Result<Self, Error> {
+        if dof == 0 {
+            return Err(Error::OutOfRange("a DMP needs at least one DoF"));
+        }
+        check_capacity("DoF", dof, D)?;
+        if kernels < 2 {
+            return Err(Error::OutOfRange("a DMP needs at least two kernels"));
+        }
+        check_capacity("kernels", kernels, K)?;
+        let n = times.len();
+        if n < 3 {
+            return Err(Error::OutOfRange(
+                "a demonstration needs at least 3 samples",
+            ));
+        }
+        check_len("positions", n * dof, positions.len())?;
+        check_finite(times, "times")?;
+        check_finite(positions, "positions")?;
+        if times.windows(2).any(|w| !matches!(w, [a, b] if b > a)) {
+            return Err(Error::OutOfRange("times must be strictly increasing"));
+        }
+        check_positive(options.alpha, "alpha must be finite and > 0")?;
+        check_positive(options.overlap, "overlap must be finite and > 0")?;
+        if !(options.ridge >= 0.0 && options.ridge.is_finite()) {
+            return Err(Error::OutOfRange("ridge must be finite and >= 0"));
+        }
+
+        let (t0, t_end) = match (times.first(), times.last()) {
+            (Some(a), Some(b)) => (*a, *b),
+            _ => {
+                return Err(Error::OutOfRange(
+                    "a demonstration needs at least 3 samples",
+                ));
+            }
+        };
+        let tau = t_end - t0;
+        check_positive(tau, "demonstration duration must be > 0")?;
+        let rows = || positions.chunks_exact(dof);
+        let start: Vec<f32, D> = rows().next().unwrap_or(&[]).iter().copied().collect();
+        let goal: Vec<f32, D> = rows().last().unwrap_or(&[]).iter().copied().collect();
+
+        let mut scaled: Vec<bool, D> = Vec::new();
+        for d in 0..dof {
+            let (lo, hi) = rows()
+                .filter_map(|r| r.get(d))
+                .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), &v| {
+                    (lo.min(v), hi.max(v))
+                });
+            let amplitude =
+                goal.get(d).copied().unwrap_or(0.0) - start.get(d).copied().unwrap_or(0.0);
+            let on = match options.scaling {
+                Scaling::Auto => {
+                    amplitude != 0.0
+                        && libm::fabsf(amplitude) >= AUTO_SCALING_MIN_FRACTION * (hi - lo)
+                }
+                Scaling::Always => true,
+                Scaling::Never => false,
+                Scaling::Mask(m) => d < 32 && (m >> d) & 1 == 1,
+            };
+            if on && amplitude == 0.0 {
+                return Err(Error::OutOfRange(
+                    "an amplitude-scaled DoF needs its goal to differ from its start",
+                ));
+            }
+            scaled.push(on).map_err(|_| Error::Capacity {
+                what: "DoF",
+                requested: dof,
+                capacity: D,
+            })?;
+        }
+
+        let spacing = 1.0 / (kernels - 1) as f32;
+        let width = options.overlap / (spacing * spacing);
+        let alpha = options.alpha;
+        let beta = alpha / 4.0;
+
+        // Normal equations G w_d = b_d, with one Gram matrix for all DoF.
+        let mut gram = [[0.0f32; K]; K];
+        let mut rhs = [[0.0f32; K]; D];
+        let mut psi = [0.0f32; K];
+        for i in 0..n {
+            // Three-point stencil around sample i (one-sided at the ends).
+            let c = i.clamp(1, n - 2);
+            let (Some(&ta), Some(&tb), Some(&tc), Some(&ti)) = (
+                times.get(c - 1),
+                times.get(c),
+                times.get(c + 1),
+                times.get(i),
+            ) else {
+                return Err(Error::OutOfRange(
+                    "a demonstration needs at least 3 samples",
+                ));
+            };
+            let d1 = [
+                (2.0 * ti - tb - tc) / ((ta - tb) * (ta - tc)),
+                (2.0 * ti - ta - tc) / ((tb - ta) * (tb - tc)),
+                (2.0 * ti - ta - tb) / ((tc - ta) * (tc - tb)),
+            ];
+            let d2 = [
+                2.0 / ((ta - tb) * (ta - tc)),
+                2.0 / ((tb - ta) * (tb - tc)),
+                2.0 / ((tc - ta) * (tc - tb)),
+            ];
+            let prev = times.get(i.wrapping_sub(1)).copied().unwrap_or(ti);
+            let next = times.get(i + 1).copied().unwrap_or(ti);
+            let quad = 0.5 * (next - prev);
+
+            let s = (ti - t0) / tau;
+            let (lo, hi) = window(s, width, kernels);
+            let active = psi
+                .get_mut(lo..=hi)
+                .ok_or(Error::OutOfRange("kernel window"))?;
+            let mut sum = 0.0;
+            for (k, p) in (lo..=hi).zip(active.iter_mut()) {
+                let ds = s - k as f32 * spacing;
+                *p = libm::expf(-width * ds * ds);
+                sum += *p;
+            }
+            for p in active.iter_mut() {
+                *p /= sum;
+            }
+            let active = &*active;
+
+            for (a, &pa) in (lo..=hi).zip(active) {
+                if let Some(row) = gram.get_mut(a).and_then(|r| r.get_mut(lo..=hi)) {
+                    for (g, &pb) in row.iter_mut().zip(active) {
+                        *g += quad * pa * pb;
+                    }
+                }
+            }
+            let sample = |j: usize, d: usize| positions.get(j * dof + d).copied().unwrap_or(0.0);
+            for (d, b) in rhs.iter_mut().enumerate().take(dof) {
+                let (ya, yb, yc) = (sample(c - 1, d), sample(c, d), sample(c + 1, d));
+                let y = sample(i, d);
+                let vel = d1[0] * ya + d1[1] * yb + d1[2] * yc;
+                let acc = d2[0] * ya + d2[1] * yb + d2[2] * yc;
+                let g = goal.get(d).copied().unwrap_or(0.0);
+                let mut target = tau * tau * acc - alpha * (beta * (g - y) - tau * vel);
+                if scaled.get(d) == Some(&true) {
+                    target /= g - start.get(d).copied().unwrap_or(0.0);
+                }
+                if let Some(b) = b.get_mut(lo..=hi) {
+                    for (bk, &p) in b.iter_mut().zip(active) {
+                        *bk += quad * p * target;
+                    }
+                }
+            }
+        }
+        let trace: f32 = gram
+            .iter()
+            .enumerate()
+            .take(kernels)
+            .filter_map(|(k, r)| r.get(k))
+            .sum();
+        let lambda = options.ridge * trace / kernels as f32;
+        for (k, row) in gram.iter_mut().enumerate().take(kernels) {
+            if let Some(v) = row.get_mut(k) {
+                *v += lambda;
+            }
+        }
+        linalg::cholesky(
+            &mut gram,
+            kernels,
+            "DMP fit (too few samples for the kernels?)",
+        )?;
+        let mut weights: Vec<Vec<f32, K>, D> = Vec::new();
+        for b in rhs.iter_mut().take(dof) {
+            linalg::cholesky_solve(&gram, kernels, b);
+            let row: Vec<f32, K> = b.iter().copied().take(kernels).collect();
+            check_finite(&row, "fitted weights")?;
+            weights.push(row).map_err(|_| Error::Capacity {
+                what: "DoF",
+                requested: dof,
+                capacity: D,
+            })?;
+        }
+        Ok(Self {
+            tau,
+            alpha,
+            width,
+            start,
+            goal,
+            scaled,
+            weights,
+        })
+    }
+
+    /// Number of degrees of freedom.
+    pub fn dof(&self) -> usize {
+        self.start.len()
+    }
+
+    /// Number of kernels per DoF.
+    pub fn kernels(&self) -> usize {
+        self.weights.first().map_or(0, |w| w.len())
+    }
+
+    /// The demonstrated duration (default `τ`), in seconds.
+    pub fn tau(&self) -> f32 {
+        self.tau
+    }
+
+    /// The demonstrated start.
+    pub fn start_position(&self) -> &[f32] {
+        &self.start
+    }
+
+    /// The default goal (the demonstrated one unless changed by
+    /// [`Dmp::set_params`]).
+    pub fn goal(&self) -> &[f32] {
+        &self.goal
+    }
+
+    /// Whether DoF `d`'s forcing term is scaled by its amplitude.
+    pub fn is_scaled(&self, d: usize) -> bool {
+        self.scaled.get(d).copied().unwrap_or(false)
+    }
+
+    /// The kernel weights of DoF `d`.
+    pub fn weights(&self, d: usize) -> &[f32] {
+        self.weights.get(d).map_or(&[], |w| w.as_slice())
+    }
+
+    /// Length of the parameter vector: `dof·kernels + dof + 1`.
+    pub fn param_len(&self) -> usize {
+        self.dof() * self.kernels() + self.dof() + 1
+    }
+
+    /// Writes `θ = [weights row by row, goals, τ]` into `out[..param_len()]`.
+    pub fn params(&self, out: &mut [f32]) -> Result<(), Error> {
+        let len = self.param_len();
+        let found = out.len();
+        let out = out.get_mut(..len).ok_or(Error::Length {
+            what: "parameter buffer",
+            expected: len,
+            found,
+        })?;
+        let values = self
+            .weights
+            .iter()
+            .flatten()
+            .chain(self.goal.iter())
+            .chain([&self.tau]);
+        for (o, v) in out.iter_mut().zip(values) {
+            *o = *v;
+        }
+        Ok(())
+    }
+
+    /// Sets weights, goals and `τ` from `θ` (exactly [`Dmp::param_len`] values).
+    /// On error the DMP is unchanged.
+    pub fn set_params(&mut self, theta: &[f32]) -> Result<(), Error> {
+        check_len("parameter vector", self.param_len(), theta.len())?;
+        check_finite(theta, "parameters")?;
+        let tau = theta.last().copied().unwrap_or(0.0);
+        check_positive(tau, "tau must be finite and > 0")?;
+        let (k, n) = (self.kernels(), self.dof());
+        for (row, chunk) in self.weights.iter_mut().zip(theta.chunks_exact(k)) {
+            row.copy_from_slice(chunk);
+        }
+        let goals = theta.get(n * k..n * k + n).unwrap_or(&[]);
+        self.goal.copy_from_slice(goals);
+        self.tau = tau;
+        Ok(())
+    }
+
+    /// The default execution: demonstrated start, current goal and `τ`.
+    pub fn execution(&self) -> Execution<D> {
+        Execution {
+            tau: self.tau,
+            start: self.start.clone(),
+            goal: self.goal.clone(),
+        }
+    }
+
+    /// The unscaled forcing term `Σψw/Σψ` of every DoF at phase `s`, written
+    /// to `out[..dof]`; zero for `s ≥ 1`. Only kernels within
+    /// `h (s − c)² ≤ KERNEL_CUTOFF` are summed (about 7 at the default
+    /// overlap, whatever `K`).
+    pub fn forcing(&self, s: f32, out: &mut [f32]) {
+        for o in out.iter_mut() {
+            *o = 0.0;
+        }
+        let kernels = self.kernels();
+        if !(s < 1.0) || kernels < 2 {
+            return;
+        }
+        let s = s.max(0.0);
+        let spacing = 1.0 / (kernels - 1) as f32;
+        let (lo, hi) = window(s, self.width, kernels);
+        let mut psi = [0.0f32; K];
+        let Some(active) = psi.get_mut(lo..=hi) else {
+            return;
+        };
+        let mut sum = 0.0;
+        for (k, p) in (lo..=hi).zip(active.iter_mut()) {
+            let ds = s - k as f32 * spacing;
+            *p = libm::expf(-self.width * ds * ds);
+            sum += *p;
+        }
+        let active = &*active;
+        for (o, w) in out.iter_mut().zip(self.weights.iter()) {
+            let dot: f32 = w
+                .get(lo..=hi)
+                .unwrap_or(&[])
+                .iter()
+                .zip(active)
+                .map(|(w, p)| w * p)
+                .sum();
+            *o = dot / sum;
+        }
+    }
+
+    fn check_execution(&self, exec: &Execution<D>) -> Result<(), Error> {
+        check_len("execution start", self.dof(), exec.start.len())?;
+        check_len("execution goal", self.dof(), exec.goal.len())?;
+        check_finite(&exec.start, "execution start")?;
+        check_finite(&exec.goal, "execution goal")?;
+        check_positive(exec.tau, "execution tau must be finite and > 0")
+    }
+
+    /// Starts an execution at rest at `exec.start`; advance it with
+    /// [`Run::step`].
+    pub fn start(&self, exec: &Execution<D>) -> Result<Run<D>, Error> {
+        self.check_execution(exec)?;
+        let mut run = Run {
+            dof: self.dof(),
+            tau: exec.tau,
+            alpha: self.alpha,
+            start: [0.0; D],
+            goal: [0.0; D],
+            amplitude: [1.0; D],
+            y: [0.0; D],
+            z: [0.0; D],
+            force: [0.0; D],
+            phase: 0.0,
+            time: 0.0,
+            time_carry: 0.0,
+            step_dt: f32::NAN,
+            transition: [0.0; 4],
+        };
+        for (dst, src) in run.start.iter_mut().zip(&exec.start) {
+            *dst = *src;
+        }
+        run.y = run.start;
+        run.set_goal(self, &exec.goal)?;
+        // Forcing at s = 0 gives the initial acceleration.
+        let mut force = [0.0; D];
+        self.forcing(0.0, &mut force);
+        for ((f, raw), a) in run.force.iter_mut().zip(force).zip(run.amplitude) {
+            *f = a * raw;
+        }
+        Ok(run)
+    }
+
+    /// The whole trajectory from `t = 0` to `t = τ` inclusive at step `dt`:
+    /// `round(τ/dt) + 1` samples when `τ` is a multiple of `dt`, otherwise a
+    /// last, shorter step lands exactly on `τ`.
+    pub fn trajectory(&self, exec: &Execution<D>, dt: f32) -> Result<Trajectory<'_, D, K>, Error> {
+        check_positive(dt, "dt must be finite and > 0")?;
+        let run = self.start(exec)?;
+        let ratio = exec.tau / dt;
+        let whole = libm::roundf(ratio);
+        let (full_steps, last_dt) = if libm::fabsf(ratio - whole) <= 1e-3 * whole.max(1.0) {
+            (whole as u32, 0.0)
+        } else {
+            let full = libm::floorf(ratio);
+            (full as u32, exec.tau - full * dt)
+        };
+        if !(ratio < 1e9) {
+            return Err(Error::OutOfRange("tau / dt must be below 1e9 steps"));
+        }
+        Ok(Trajectory {
+            dmp: self,
+            run,
+            dt,
+            full_steps,
+            last_dt,
+            index: 0,
+            done: false,
+        })
+    }
+}
+
+/// The kernel index range `[lo, hi]` within reach of phase `s` (never empty).
+fn window(s: f32, width: f32, kernels: usize) -> (usize, usize) {
+    let last = (kernels - 1) as f32;
+    let reach = libm::sqrtf(KERNEL_CUTOFF / width) * last;
+    let centre = s * last;
+    // `as usize` saturates, and the clamp keeps both ends inside [0, last].
+    let lo = libm::ceilf(centre - reach).clamp(0.0, last) as usize;
+    let hi = libm::floorf(centre + reach).clamp(0.0, last) as usize;
+    let nearest = libm::roundf(centre).clamp(0.0, last) as usize;
+    (lo.min(nearest), hi.max(nearest))
+}
+
+/// `exp(A u)` of the critically damped spring-damper for `u = dt/τ`, as
+/// `[Φ00, Φ01, Φ10, Φ11]` acting on `(y − y*, z)`.
+fn transition(alpha: f32, u: f32) -> [f32; 4] {
+    let a = 0.5 * alpha;
+    let e = libm::expf(-a * u);
+    [e * (1.0 + a * u), e * u, -e * a * a * u, e * (1.0 - a * u)]
+}
+
+/// An execution in progress, advanced one control step at a time.
+///
+/// It does not borrow the DMP, so a control loop (or a coprocessor) can hold
+/// both side by side; [`Run::step`] takes the DMP each time.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Run<const D: usize> {
+    dof: usize,
+    tau: f32,
+    alpha: f32,
+    start: [f32; D],
+    goal: [f32; D],
+    amplitude: [f32; D],
+    y: [f32; D],
+    z: [f32; D],
+    force: [f32; D],
+    phase: f32,
+    time: f32,
+    time_carry: f32,
+    step_dt: f32,
+    transition: [f32; 4],
+}
+
+impl<const D: usize> Run<D> {
+    /// Advances by `dt` seconds (> 0).
+    pub fn step<const K: usize>(&mut self, dmp: &Dmp<D, K>, dt: f32) -> Result<(), Error> {
+        check_positive(dt, "dt must be finite and > 0")?;
+        check_len("DMP DoF", self.dof, dmp.dof())?;
+        self.advance(dmp, dt);
+        Ok(())
+    }
+
+    fn advance<const K: usize>(&mut self, dmp: &Dmp<D, K>, dt: f32) {
+        let u = dt / self.tau;
+        if dt != self.step_dt {
+            self.transition = transition(self.alpha, u);
+            self.step_dt = dt;
+        }
+        let [p00, p01, p10, p11] = self.transition;
+        dmp.forcing(self.phase + 0.5 * u, &mut self.force);
+        let stiffness = self.alpha * self.alpha / 4.0;
+        for ((((y, z), f), g), a) in self
+            .y
+            .iter_mut()
+            .zip(self.z.iter_mut())
+            .zip(self.force.iter_mut())
+            .zip(self.goal)
+            .zip(self.amplitude)
+            .take(self.dof)
+        {
+            *f *= a;
+            let equilibrium = g + *f / stiffness;
+            let e = *y - equilibrium;
+            *y = equilibrium + p00 * e + p01 * *z;
+            *z = p10 * e + p11 * *z;
+        }
+        self.phase = (self.phase + u).min(1.0);
+        // Compensated sum: a 1 kHz loop adds 0.001 thousands of times.
+        let inc = dt - self.time_carry;
+        let t = self.time + inc;
+        self.time_carry = (t - self.time) - inc;
+        self.time = t;
+    }
+
+    /// Changes the goal during execution; amplitude-scaled DoFs rescale their
+    /// forcing term to the new `g − y0` from the next step on.
+    pub fn set_goal<const K: usize>(&mut self, dmp: &Dmp<D, K>, goal: &[f32]) -> Result<(), Error> {
+        check_len("goal", self.dof, goal.len())?;
+        check_len("DMP DoF", self.dof, dmp.dof())?;
+        check_finite(goal, "goal")?;
+        for (d, (dst, &g)) in self.goal.iter_mut().zip(goal).enumerate() {
+            *dst = g;
+            if let (Some(a), Some(&y0)) = (self.amplitude.get_mut(d), self.start.get(d)) {
+                *a = if dmp.is_scaled(d) { g - y0 } else { 1.0 };
+            }
+        }
+        Ok(())
+    }
+
+    /// Seconds since the start.
+    pub fn time(&self) -> f32 {
+        self.time
+    }
+
+    /// Phase `s = t/τ`, saturated at 1.
+    pub fn phase(&self) -> f32 {
+        self.phase
+    }
+
+    /// Current position (`dof` values).
+    pub fn position(&self) -> &[f32] {
+        self.y.get(..self.dof).unwrap_or(&[])
+    }
+
+    /// The current point: time, position, velocity and acceleration.
+    pub fn sample(&self) -> Sample<D> {
+        let mut s = Sample {
+            time: self.time,
+            position: self.y,
+            velocity: [0.0; D],
+            acceleration: [0.0; D],
+        };
+        let stiffness = self.alpha * self.alpha / 4.0;
+        let tau2 = self.tau * self.tau;
+        for d in 0..self.dof.min(D) {
+            if let (Some(v), Some(acc), Some(y), Some(z), Some(g), Some(f)) = (
+                s.velocity.get_mut(d),
+                s.acceleration.get_mut(d),
+                self.y.get(d),
+                self.z.get(d),
+                self.goal.get(d),
+                self.force.get(d),
+            ) {
+                *v = z / self.tau;
+                *acc = (stiffness * (g - y) - self.alpha * z + f) / tau2;
+            }
+        }
+        s
+    }
+}
+
+/// Iterator over a whole execution; see [`Dmp::trajectory`].
+#[derive(Debug, Clone)]
+pub struct Trajectory<'a, const D: usize, const K: usize> {
+    dmp: &'a Dmp<D, K>,
+    run: Run<D>,
+    dt: f32,
+    full_steps: u32,
+    last_dt: f32,
+    index: u32,
+    done: bool,
+}
+
+impl<const D: usize, const K: usize> Iterator for Trajectory<'_, D, K> {
+    type Item = Sample<D>;
+    fn next(&mut self) -> Option<Sample<D>> {
+        if self.done {
+            return None;
+        }
+        if self.index > 0 {
+            let dt = if self.index <= self.full_steps {
+                self.dt
+            } else {
+                self.last_dt
+            };
+            self.run.advance(self.dmp, dt);
+        }
+        let mut sample = self.run.sample();
+        // Report exact grid times rather than the accumulated clock.
+        sample.time = if self.index <= self.full_steps {
+            self.index as f32 * self.dt
+        } else {
+            self.run.tau
+        };
+        let at_end = if self.last_dt > 0.0 {
+            self.index > self.full_steps
+        } else {
+            self.index == self.full_steps
+        };
+        if at_end {
+            sample.time = self.run.tau;
+            self.done = true;
+        }
+        self.index += 1;
+        Some(sample)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The full kernel sum, every kernel, no window: the reference for the
+    /// windowed [`Dmp::forcing`].
+    fn forcing_full<const D: usize, const K: usize>(dmp: &Dmp<D, K>, s: f32, out: &mut [f32]) {
+        let k = dmp.kernels();
+        let spacing = 1.0 / (k - 1) as f32;
+        let psi: std::vec::Vec<f32> = (0..k)
+            .map(|i| {
+                let ds = s - i as f32 * spacing;
+                libm::expf(-dmp.width * ds * ds)
+            })
+            .collect();
+        let sum: f32 = psi.iter().sum();
+        for (d, o) in out.iter_mut().enumerate().take(dmp.dof()) {
+            *o = dmp
+                .weights(d)
+                .iter()
+                .zip(&psi)
+                .map(|(w, p)| w * p)
+                .sum::<f32>()
+                / sum;
+        }
+    }
+
+    #[test]
+    fn windowed_forcing_matches_full_sum() {
+        // Weights in [-1, 1]: the forcing term is a convex combination of
+        // them, so an absolute tolerance of 1e-6 is a relative one too.
+        let mut dmp: Dmp<7, 30> = Dmp {
+            tau: 1.0,
+            alpha: DEFAULT_ALPHA,
+            width: DEFAULT_OVERLAP * 29.0 * 29.0,
+            start: Vec::from_slice(&[0.0; 7]).unwrap(),
+            goal: Vec::from_slice(&[1.0; 7]).unwrap(),
+            scaled: Vec::from_slice(&[true; 7]).unwrap(),
+            weights: Vec::new(),
+        };
+        let mut seed = 12345u32;
+        for _ in 0..7 {
+            let row: Vec<f32, 30> = (0..30)
+                .map(|_| {
+                    seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+                    (seed >> 8) as f32 / 8_388_608.0 - 1.0
+                })
+                .collect();
+            dmp.weights.push(row).unwrap();
+        }
+        let (mut a, mut b) = ([0.0f32; 7], [0.0f32; 7]);
+        let mut worst = 0.0f32;
+        for i in 0..=10_000 {
+            let s = i as f32 / 10_000.0 * 0.9999;
+            dmp.forcing(s, &mut a);
+            forcing_full(&dmp, s, &mut b);
+            for (x, y) in a.iter().zip(&b) {
+                worst = worst.max((x - y).abs());
+            }
+        }
+        assert!(worst <= 1e-6, "windowed forcing differs by {worst}");
+    }
+
+    #[test]
+    fn window_is_small_and_covers_nearest() {
+        let width = DEFAULT_OVERLAP * 29.0 * 29.0;
+        for i in 0..=1000 {
+            let s = i as f32 / 1000.0;
+            let (lo, hi) = window(s, width, 30);
+            assert!(lo <= hi && hi < 30);
+            assert!(hi - lo + 1 <= 9, "window {lo}..={hi}");
+        }
+    }
+}

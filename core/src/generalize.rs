@@ -1,0 +1,567 @@
+//! Statistical generalization `θ = G(q)` from example movements `(q_i, θ_i)`.
+//!
+//! Both methods are linear smoothers: `G(q) = Σ_i c_i(q) θ_i`, so
+//! [`Generalizer::coefficients`] computes `E` numbers per query whatever the
+//! size of `θ`, and [`Generalizer::generalize`] combines the stored examples.
+//!
+//! - [`Method::Lwr`]: locally weighted *linear* regression (Atkeson et al.;
+//!   Ude et al. 2010): at `q`, a weighted least-squares fit of
+//!   `θ ≈ a + B (q_i − q)` with Gaussian weights; `G(q) = a`.
+//! - [`Method::Gpr`]: Gaussian process regression with a squared-exponential
+//!   kernel and an explicit linear mean (Rasmussen & Williams §2.7), so
+//!   predictions far from the examples follow their linear trend instead of
+//!   falling to zero.
+//!
+//! With two examples along one query dimension both reduce to the straight
+//! line through them: linear interpolation and extrapolation, as the paper
+//! uses. Both need `E ≥ m + 1` examples to fit the linear part over an
+//! `m`-dimensional query; with fewer they fall back to a constant mean.
+//!
+//! ```
+//! use primo_core::generalize::{Generalizer, Method};
+//! // Examples: bottle volume 0.3 l → θ = [1, 10], 1.0 l → θ = [2, 3].
+//! let mut g = Generalizer::<4, 1, 2>::new(1, 2, Method::Lwr { bandwidth: None });
+//! g.add_example(&[0.3], &[1.0, 10.0])?;
+//! g.add_example(&[1.0], &[2.0, 3.0])?;
+//! g.build()?;
+//! let mut theta = [0.0; 2];
+//! g.generalize(&[0.65], &mut theta)?;
+//! assert!((theta[0] - 1.5).abs() < 1e-4 && (theta[1] - 6.5).abs() < 1e-4);
+//! # Ok::<(), primo_core::Error>(())
+//! ```
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{check_capacity, check_finite, check_len};
+use crate::{Error, linalg};
+
+/// The regression method and its hyper-parameters. `None` picks a default
+/// per query dimension from the mean spacing of the examples along it,
+/// `span/(n−1)` (1 where all examples share that coordinate): half the spacing
+/// as LWR bandwidth (its bias grows with the bandwidth squared, so this makes
+/// it close to piecewise-linear interpolation between neighbours), twice the
+/// spacing as GPR length scale.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub enum Method {
+    /// Locally weighted linear regression with Gaussian weights of this
+    /// bandwidth (same for every query dimension).
+    Lwr {
+        /// Kernel bandwidth in query units.
+        bandwidth: Option<f32>,
+    },
+    /// Gaussian process regression with a linear mean.
+    Gpr {
+        /// Squared-exponential length scale in query units.
+        length_scale: Option<f32>,
+        /// Observation noise variance relative to the signal variance; 0 for
+        /// noise-free interpolation (a 1e−6 jitter is always added).
+        noise: f32,
+    },
+}
+
+/// Jitter added to the GP covariance diagonal for a stable factorization.
+const GPR_JITTER: f32 = 1e-6;
+/// LWR weights are floored at this fraction of the largest one, so that far
+/// extrapolation keeps enough of every example in the fit to stay linear
+/// (a smaller floor drowns the far example in `f32` rounding).
+const LWR_MIN_WEIGHT: f32 = 1e-3;
+/// Ridge on each LWR slope term, relative to its own diagonal entry (or to
+/// the total weight where that is zero: no spread along that dimension).
+const LWR_RIDGE: f32 = 1e-6;
+
+/// Examples `(q_i, θ_i)` with capacity `E` examples, query dimension `Q` and
+/// parameter dimension `P`, and the precomputed regression.
+#[derive(Debug, Clone)]
+pub struct Generalizer<const E: usize, const Q: usize, const P: usize> {
+    method: Method,
+    q_dim: usize,
+    p_dim: usize,
+    count: usize,
+    queries: [[f32; Q]; E],
+    params: [[f32; P]; E],
+    /// Per-dimension length scale, fixed by [`Generalizer::build`].
+    scale: [f32; Q],
+    /// Mean query, the centre of the linear basis.
+    centre: [f32; Q],
+    /// Size of the linear basis: `1 + q_dim` or 1 (constant mean).
+    basis: usize,
+    /// GPR: Cholesky factor of the covariance.
+    chol_k: [[f32; E]; E],
+    /// GPR: `K⁻¹ Hᵀ`, `count × basis`.
+    k_inv_h: [[f32; E]; E],
+    /// GPR: Cholesky factor of `H K⁻¹ Hᵀ`.
+    chol_r: [[f32; E]; E],
+    built: bool,
+}
+
+impl<const E: usize, const Q: usize, const P: usize> Generalizer<E, Q, P> {
+    /// An empty generalizer for queries of dimension `q_dim` and parameter
+    /// vectors of length `p_dim`. Sizes are checked by
+    /// [`Generalizer::add_example`].
+    pub fn new(q_dim: usize, p_dim: usize, method: Method) -> Self {
+        Self {
+            method,
+            q_dim,
+            p_dim,
+            count: 0,
+            queries: [[0.0; Q]; E],
+            params: [[0.0; P]; E],
+            scale: [1.0; Q],
+            centre: [0.0; Q],
+            basis: 1,
+            chol_k: [[0.0; E]; E],
+            k_inv_h: [[0.0; E]; E],
+            chol_r: [[0.0; E]; E],
+            built: false,
+        }
+    }
+
+    /// Adds an example; call [`Generalizer::build`] after the last one.
+    pub fn add_example(&mut self, query: &[f32], params: &[f32]) -> Result<(), Error> {
+        if self.q_dim == 0 {
+            return Err(Error::OutOfRange("the query needs at least one dimension"));
+        }
+        check_capacity("query dimension", self.q_dim, Q)?;
+        check_capacity("parameter dimension", self.p_dim, P)?;
+        check_capacity("examples", self.count + 1, E)?;
+        check_len("example query", self.q_dim, query.len())?;
+        check_len("example parameters", self.p_dim, params.len())?;
+        check_finite(query, "example query")?;
+        check_finite(params, "example parameters")?;
+        let (Some(q), Some(p)) = (
+            self.queries.get_mut(self.count),
+            self.params.get_mut(self.count),
+        ) else {
+            return Err(Error::Capacity {
+                what: "examples",
+                requested: self.count + 1,
+                capacity: E,
+            });
+        };
+        q.iter_mut().zip(query).for_each(|(d, s)| *d = *s);
+        p.iter_mut().zip(params).for_each(|(d, s)| *d = *s);
+        self.count += 1;
+        self.built = false;
+        Ok(())
+    }
+
+    /// Number of examples.
+    pub fn len(&self) -> usize {
+        self.count
+    }
+
+    /// True when there are no examples.
+    pub fn is_empty(&self) -> bool {
+        self.count == 0
+    }
+
+    /// Query `i` and parameters `i`, if present.
+    pub fn example(&self, i: usize) -> Option<(&[f32], &[f32])> {
+        if i >= self.count {
+            return None;
+        }
+        Some((
+            self.queries.get(i)?.get(..self.q_dim)?,
+            self.params.get(i)?.get(..self.p_dim)?,
+        ))
+    }
+
+    /// Fixes the length scales and, for GPR, factorizes the covariance.
+    pub fn build(&mut self) -> Result<(), Error> {
+        if self.count == 0 {
+            return Err(Error::BadState("generalization needs at least one example"));
+        }
+        let n = self.count;
+        let (explicit, spacings) = match self.method {
+            Method::Lwr { bandwidth } => (bandwidth, 0.5),
+            Method::Gpr {
+                length_scale,
+                noise,
+            } => {
+                if !(noise >= 0.0 && noise.is_finite()) {
+                    return Err(Error::OutOfRange("GPR noise must be finite and >= 0"));
+                }
+                (length_scale, 2.0)
+            }
+        };
+        for j in 0..self.q_dim {
+            let (lo, hi) = self
+                .queries
+                .iter()
+                .take(n)
+                .filter_map(|q| q.get(j))
+                .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), &v| {
+                    (lo.min(v), hi.max(v))
+                });
+            let scale = match explicit {
+                Some(l) if l.is_finite() && l > 0.0 => l,
+                Some(_) => return Err(Error::OutOfRange("length scale must be finite and > 0")),
+                None if hi > lo && n > 1 => spacings * (hi - lo) / (n - 1) as f32,
+                None => 1.0,
+            };
+            let centre = self
+                .queries
+                .iter()
+                .take(n)
+                .filter_map(|q| q.get(j))
+                .sum::<f32>()
+                / n as f32;
+            if let (Some(s), Some(c)) = (self.scale.get_mut(j), self.centre.get_mut(j)) {
+                *s = scale;
+                *c = centre;
+            }
+        }
+        self.basis = if n > self.q_dim { self.q_dim + 1 } else { 1 };
+        if let Method::Gpr { noise, .. } = self.method {
+            self.build_gpr(noise)?;
+        }
+        self.built = true;
+        Ok(())
+    }
+
+    /// Basis vector `[1, (q − centre)/scale]` (first `basis` entries).
+    fn basis_at(&self, q: &[f32]) -> [f32; E] {
+        let mut h = [0.0; E];
+        let mut it = h.iter_mut().take(self.basis);
+        if let Some(first) = it.next() {
+            *first = 1.0;
+        }
+        for (((hj, qj), c), s) in it.zip(q).zip(&self.centre).zip(&self.scale) {
+            *hj = (qj - c) / s;
+        }
+        h
+    }
+
+    /// Squared scaled distance between two queries.
+    fn distance2(&self, a: &[f32], b: &[f32]) -> f32 {
+        a.iter()
+            .zip(b)
+            .zip(&self.scale)
+            .take(self.q_dim)
+            .map(|((x, y), s)| {
+                let d = (x - y) / s;
+                d * d
+            })
+            .sum()
+    }
+
+    fn build_gpr(&mut self, noise: f32) -> Result<(), Error> {
+        let n = self.count;
+        let mut k = [[0.0f32; E]; E];
+        for (i, row) in k.iter_mut().enumerate().take(n) {
+            for (j, v) in row.iter_mut().enumerate().take(n) {
+                let (Some(qi), Some(qj)) = (self.queries.get(i), self.queries.get(j)) else {
+                    continue;
+                };
+                *v = libm::expf(-0.5 * self.distance2(qi, qj));
+                if i == j {
+                    *v += noise + GPR_JITTER;
+                }
+            }
+        }
+        linalg::cholesky(&mut k, n, "GPR covariance (duplicate examples?)")?;
+        // K⁻¹ Hᵀ, column by column (one column per basis function).
+        let mut k_inv_h = [[0.0f32; E]; E];
+        let rows: [[f32; E]; E] = core::array::from_fn(|i| match self.queries.get(i) {
+            Some(q) if i < n => self.basis_at(q),
+            _ => [0.0; E],
+        });
+        for b in 0..self.basis {
+            let mut col: [f32; E] = core::array::from_fn(|i| {
+                rows.get(i).and_then(|r| r.get(b)).copied().unwrap_or(0.0)
+            });
+            linalg::cholesky_solve(&k, n, &mut col);
+            for (row, v) in k_inv_h.iter_mut().zip(col).take(n) {
+                if let Some(dst) = row.get_mut(b) {
+                    *dst = v;
+                }
+            }
+        }
+        // R = H K⁻¹ Hᵀ (basis × basis).
+        let mut r = [[0.0f32; E]; E];
+        for (a, r_row) in r.iter_mut().enumerate().take(self.basis) {
+            for (b, v) in r_row.iter_mut().enumerate().take(self.basis) {
+                *v = rows
+                    .iter()
+                    .zip(&k_inv_h)
+                    .take(n)
+                    .map(|(h, m)| {
+                        h.get(a).copied().unwrap_or(0.0) * m.get(b).copied().unwrap_or(0.0)
+                    })
+                    .sum();
+            }
+        }
+        linalg::cholesky(
+            &mut r,
+            self.basis,
+            "GPR linear mean (examples on a lower-dimensional set?)",
+        )?;
+        self.chol_k = k;
+        self.k_inv_h = k_inv_h;
+        self.chol_r = r;
+        Ok(())
+    }
+
+    /// The weights `c_i(q)` with `G(q) = Σ c_i θ_i`, written to
+    /// `out[..len()]`.
+    pub fn coefficients(&self, query: &[f32], out: &mut [f32; E]) -> Result<(), Error> {
+        if !self.built {
+            return Err(Error::BadState("call build() after adding examples"));
+        }
+        check_len("query", self.q_dim, query.len())?;
+        check_finite(query, "query")?;
+        *out = [0.0; E];
+        match self.method {
+            Method::Lwr { .. } => self.lwr(query, out),
+            Method::Gpr { .. } => self.gpr(query, out),
+        }
+    }
+
+    fn lwr(&self, query: &[f32], out: &mut [f32; E]) -> Result<(), Error> {
+        let n = self.count;
+        // Weights relative to the nearest example, floored: never all zero.
+        let d2: [f32; E] = core::array::from_fn(|i| match self.queries.get(i) {
+            Some(q) if i < n => self.distance2(q, query),
+            _ => 0.0,
+        });
+        let nearest = d2.iter().take(n).fold(f32::INFINITY, |m, &v| m.min(v));
+        let w: [f32; E] = core::array::from_fn(|i| match d2.get(i) {
+            Some(&d) if i < n => libm::expf(-0.5 * (d - nearest)).max(LWR_MIN_WEIGHT),
+            _ => 0.0,
+        });
+        let total: f32 = w.iter().sum();
+        // Local linear model θ ≈ a + bᵀ(q − q̄)/ℓ, centred on the weighted mean
+        // q̄ of the examples so the normal equations stay well conditioned
+        // however far the query is.
+        let mut centre = [0.0f32; Q];
+        for (qi, wi) in self.queries.iter().zip(&w).take(n) {
+            for (c, v) in centre.iter_mut().zip(qi).take(self.q_dim) {
+                *c += wi * v / total;
+            }
+        }
+        let regressors = |q: &[f32]| {
+            let mut row = [0.0f32; E];
+            let mut it = row.iter_mut().take(self.basis);
+            if let Some(first) = it.next() {
+                *first = 1.0;
+            }
+            for (((r, qj), c), s) in it.zip(q).zip(&centre).zip(&self.scale) {
+                *r = (qj - c) / s;
+            }
+            row
+        };
+        let x: [[f32; E]; E] = core::array::from_fn(|i| match self.queries.get(i) {
+            Some(q) if i < n => regressors(q),
+            _ => [0.0; E],
+        });
+        let mut a = [[0.0f32; E]; E];
+        for (j, a_row) in a.iter_mut().enumerate().take(self.basis) {
+            for (k, v) in a_row.iter_mut().enumerate().take(self.basis) {
+                *v = x
+                    .iter()
+                    .zip(&w)
+                    .take(n)
+                    .map(|(xi, wi)| {
+                        wi * xi.get(j).copied().unwrap_or(0.0) * xi.get(k).copied().unwrap_or(0.0)
+                    })
+                    .sum();
+                if j == k && j > 0 {
+                    *v += LWR_RIDGE * if *v > 0.0 { *v } else { total };
+                }
+            }
+        }
+        linalg::cholesky(&mut a, self.basis, "LWR local fit")?;
+        // G(q) = h(q)ᵀ A⁻¹ Σ w_i x_i θ_i, so c_i = w_i x_iᵀ (A⁻¹ h(q)).
+        let mut h = regressors(query);
+        linalg::cholesky_solve(&a, self.basis, &mut h);
+        for ((c, xi), wi) in out.iter_mut().zip(&x).zip(&w).take(n) {
+            *c = wi
+                * xi.iter()
+                    .zip(&h)
+                    .take(self.basis)
+                    .map(|(a, b)| a * b)
+                    .sum::<f32>();
+        }
+        Ok(())
+    }
+
+    fn gpr(&self, query: &[f32], out: &mut [f32; E]) -> Result<(), Error> {
+        let n = self.count;
+        // c = K⁻¹ k* + K⁻¹Hᵀ R⁻¹ (h* − H K⁻¹ k*).
+        let mut v: [f32; E] = core::array::from_fn(|i| match self.queries.get(i) {
+            Some(q) if i < n => libm::expf(-0.5 * self.distance2(q, query)),
+            _ => 0.0,
+        });
+        linalg::cholesky_solve(&self.chol_k, n, &mut v);
+        let mut u = self.basis_at(query);
+        for (b, ub) in u.iter_mut().enumerate().take(self.basis) {
+            // (H K⁻¹ k*)_b = Σ_i (K⁻¹Hᵀ)_{ib} k*_i … equivalently Σ_i h_b(q_i) v_i.
+            let hv: f32 = self
+                .queries
+                .iter()
+                .zip(&v)
+                .take(n)
+                .map(|(q, vi)| self.basis_at(q).get(b).copied().unwrap_or(0.0) * vi)
+                .sum();
+            *ub -= hv;
+        }
+        linalg::cholesky_solve(&self.chol_r, self.basis, &mut u);
+        for ((c, vi), m) in out.iter_mut().zip(&v).zip(&self.k_inv_h).take(n) {
+            *c = vi
+                + m.iter()
+                    .zip(&u)
+                    .take(self.basis)
+                    .map(|(a, b)| a * b)
+                    .sum::<f32>();
+        }
+        Ok(())
+    }
+
+    /// `θ = G(q)`, written to `out[..p_dim]`.
+    pub fn generalize(&self, query: &[f32], out: &mut [f32]) -> Result<(), Error> {
+        let found = out.len();
+        let out = out.get_mut(..self.p_dim).ok_or(Error::Length {
+            what: "parameter buffer",
+            expected: self.p_dim,
+            found,
+        })?;
+        let mut c = [0.0f32; E];
+        self.coefficients(query, &mut c)?;
+        out.iter_mut().for_each(|o| *o = 0.0);
+        for (ci, theta) in c.iter().zip(&self.params).take(self.count) {
+            for (o, t) in out.iter_mut().zip(theta) {
+                *o += ci * t;
+            }
+        }
+        check_finite(out, "generalized parameters")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn methods() -> [Method; 2] {
+        [
+            Method::Lwr { bandwidth: None },
+            Method::Gpr {
+                length_scale: None,
+                noise: 0.0,
+            },
+        ]
+    }
+
+    #[test]
+    fn two_examples_interpolate_and_extrapolate_linearly() {
+        for m in methods() {
+            let mut g = Generalizer::<4, 1, 3>::new(1, 3, m);
+            g.add_example(&[0.3], &[1.0, -2.0, 100.0]).unwrap();
+            g.add_example(&[1.0], &[2.0, 5.0, -40.0]).unwrap();
+            g.build().unwrap();
+            for q in [0.0f32, 0.3, 0.5, 0.8, 1.0, 1.5, 3.0] {
+                let mut out = [0.0; 3];
+                g.generalize(&[q], &mut out).unwrap();
+                let a = (q - 0.3) / 0.7;
+                let expect = [1.0 + a, -2.0 + 7.0 * a, 100.0 - 140.0 * a];
+                for (o, e) in out.iter().zip(expect) {
+                    assert!(
+                        (o - e).abs() < 1e-3 * (1.0 + e.abs()),
+                        "{m:?} q={q}: {o} vs {e}"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn gpr_is_exact_at_examples_and_lwr_reproduces_linear_data() {
+        let qs: [[f32; 2]; 6] = [
+            [0.0, 0.0],
+            [1.0, 0.2],
+            [0.3, 1.0],
+            [0.8, 0.9],
+            [0.5, 0.5],
+            [0.1, 0.6],
+        ];
+        let f = |q: &[f32; 2]| [libm::sinf(3.0 * q[0]) + q[1] * q[1], 2.0 * q[0] - q[1]];
+        for m in methods() {
+            let mut g = Generalizer::<8, 2, 2>::new(2, 2, m);
+            for q in &qs {
+                g.add_example(q, &f(q)).unwrap();
+            }
+            g.build().unwrap();
+            for q in &qs {
+                let mut out = [0.0; 2];
+                g.generalize(q, &mut out).unwrap();
+                let y = f(q);
+                // Second output is linear: both methods reproduce it anywhere.
+                assert!(
+                    (out[1] - y[1]).abs() < 1e-3,
+                    "{m:?} linear part {out:?} vs {y:?}"
+                );
+                if matches!(m, Method::Gpr { .. }) {
+                    assert!(
+                        (out[0] - y[0]).abs() < 1e-3,
+                        "GPR not exact at {q:?}: {out:?} vs {y:?}"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn recovers_a_smooth_function() {
+        // sin on [0, π] from 9 examples; check between them.
+        for m in methods() {
+            let mut g = Generalizer::<9, 1, 1>::new(1, 1, m);
+            for i in 0..9 {
+                let q = i as f32 * core::f32::consts::PI / 8.0;
+                g.add_example(&[q], &[libm::sinf(q)]).unwrap();
+            }
+            g.build().unwrap();
+            let mut worst = 0.0f32;
+            for i in 0..=100 {
+                let q = i as f32 * core::f32::consts::PI / 100.0;
+                let mut out = [0.0];
+                g.generalize(&[q], &mut out).unwrap();
+                worst = worst.max((out[0] - libm::sinf(q)).abs());
+            }
+            let tol = if matches!(m, Method::Gpr { .. }) {
+                2e-3
+            } else {
+                3e-2
+            };
+            assert!(worst < tol, "{m:?}: worst error {worst}");
+        }
+    }
+
+    #[test]
+    fn bad_input_is_an_error() {
+        let mut g = Generalizer::<2, 1, 1>::new(1, 1, Method::Lwr { bandwidth: None });
+        assert!(g.coefficients(&[0.0], &mut [0.0; 2]).is_err());
+        assert!(g.add_example(&[f32::NAN], &[0.0]).is_err());
+        assert!(g.add_example(&[0.0, 1.0], &[0.0]).is_err());
+        g.add_example(&[0.0], &[0.0]).unwrap();
+        g.add_example(&[1.0], &[1.0]).unwrap();
+        assert!(g.add_example(&[2.0], &[1.0]).is_err());
+        g.build().unwrap();
+        assert!(g.generalize(&[f32::INFINITY], &mut [0.0]).is_err());
+        let mut gp = Generalizer::<2, 1, 1>::new(
+            1,
+            1,
+            Method::Gpr {
+                length_scale: None,
+                noise: 0.0,
+            },
+        );
+        gp.add_example(&[0.5], &[0.0]).unwrap();
+        gp.add_example(&[0.5], &[1.0]).unwrap();
+        // Duplicate queries with different values: singular up to the jitter,
+        // which the factorization survives; both give a finite answer.
+        if gp.build().is_ok() {
+            let mut out = [0.0];
+            let _ = gp.generalize(&[0.7], &mut out);
+            assert!(out[0].is_finite());
+        }
+    }
+}

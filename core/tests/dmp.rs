@@ -1,0 +1,292 @@
+//! The DMP properties the issue asks for, on the demos it names.
+use primo_core::dmp::{Dmp, FitOptions, Scaling};
+use std::f32::consts::PI;
+
+fn min_jerk(t: f32) -> f32 {
+    t * t * t * (10.0 - 15.0 * t + 6.0 * t * t)
+}
+
+fn bump(t: f32) -> f32 {
+    (PI * t).sin().powi(2)
+}
+
+/// 2-D minimum jerk plus a bump, 1001 samples over 1 s, row-major.
+fn demo_2d() -> (Vec<f32>, Vec<f32>) {
+    let t: Vec<f32> = (0..1001).map(|i| i as f32 / 1000.0).collect();
+    let y = t
+        .iter()
+        .flat_map(|&t| {
+            [
+                min_jerk(t) + 0.3 * bump(t),
+                0.5 - 1.0 * min_jerk(t) - 0.2 * (2.0 * PI * t).sin().powi(2),
+            ]
+        })
+        .collect();
+    (t, y)
+}
+
+fn positions<const D: usize, const K: usize>(
+    dmp: &Dmp<D, K>,
+    exec: &primo_core::dmp::Execution<D>,
+    dt: f32,
+) -> Vec<[f32; D]> {
+    dmp.trajectory(exec, dt)
+        .unwrap()
+        .map(|s| s.position)
+        .collect()
+}
+
+#[test]
+fn reproduces_min_jerk_plus_bump_within_movement_primitives_rmse() {
+    let (t, y) = demo_2d();
+    let dmp = Dmp::<2, 30>::fit(&t, &y, 2, 30, &FitOptions::default()).unwrap();
+    let out = positions(&dmp, &dmp.execution(), 0.001);
+    assert_eq!(out.len(), 1001);
+    let sse: f32 = out
+        .iter()
+        .zip(y.chunks(2))
+        .map(|(p, d)| (p[0] - d[0]).powi(2) + (p[1] - d[1]).powi(2))
+        .sum();
+    let rmse = (sse / (2.0 * 1001.0)).sqrt();
+    println!("RMSE 2-D min-jerk + bump, 30 kernels: {rmse}");
+    assert!(rmse <= 0.0012, "RMSE {rmse}");
+}
+
+#[test]
+fn goal_near_start_shrinks_the_shape_instead_of_overshooting() {
+    let t: Vec<f32> = (0..1001).map(|i| i as f32 / 1000.0).collect();
+    let y: Vec<f32> = t.iter().map(|&t| min_jerk(t) + 0.3 * bump(t)).collect();
+    let dmp = Dmp::<1, 30>::fit(&t, &y, 1, 30, &FitOptions::default()).unwrap();
+    let mut exec = dmp.execution();
+    exec.goal[0] = 0.05;
+    let out = positions(&dmp, &exec, 0.001);
+    let last = out.last().unwrap()[0];
+    assert!((last - 0.05).abs() < 1e-3, "ends at {last}");
+    // Never more than 5% of the demonstrated amplitude outside [0, 0.05].
+    for p in &out {
+        assert!(p[0] > -0.05 && p[0] < 0.1, "strays to {}", p[0]);
+    }
+}
+
+#[test]
+fn loop_demo_is_reproduced() {
+    // Start equals goal: out and back.
+    let t: Vec<f32> = (0..1001).map(|i| i as f32 / 1000.0).collect();
+    let y: Vec<f32> = t
+        .iter()
+        .map(|&t| 0.2 + 0.8 * bump(t) - 0.3 * (2.0 * PI * t).sin().powi(3))
+        .collect();
+    let dmp = Dmp::<1, 30>::fit(&t, &y, 1, 30, &FitOptions::default()).unwrap();
+    assert!(!dmp.is_scaled(0), "a loop cannot be amplitude-scaled");
+    let out = positions(&dmp, &dmp.execution(), 0.001);
+    let (lo, hi) = y
+        .iter()
+        .fold((f32::MAX, f32::MIN), |(a, b), &v| (a.min(v), b.max(v)));
+    let rmse = (out
+        .iter()
+        .zip(&y)
+        .map(|(p, d)| (p[0] - d).powi(2))
+        .sum::<f32>()
+        / y.len() as f32)
+        .sqrt();
+    println!("loop RMSE {rmse}, amplitude {}", hi - lo);
+    assert!(rmse <= 0.01 * (hi - lo), "RMSE {rmse}");
+    // A new start shifts the loop.
+    let mut exec = dmp.execution();
+    exec.start[0] = 1.2;
+    exec.goal[0] = 1.2;
+    let shifted = positions(&dmp, &exec, 0.001);
+    for (a, b) in shifted.iter().zip(&out) {
+        assert!((a[0] - b[0] - 1.0).abs() < 1e-3);
+    }
+}
+
+#[test]
+fn ends_at_goal_at_rest_and_time_scaling_keeps_the_path() {
+    let (t, y) = demo_2d();
+    let dmp = Dmp::<2, 30>::fit(&t, &y, 2, 30, &FitOptions::default()).unwrap();
+    let mut exec = dmp.execution();
+    exec.goal[0] = 2.0;
+    exec.goal[1] = -1.0;
+    let samples: Vec<_> = dmp.trajectory(&exec, 0.001).unwrap().collect();
+    let end = samples.last().unwrap();
+    assert_eq!(end.time, 1.0);
+    for d in 0..2 {
+        assert!(
+            (end.position[d] - exec.goal[d]).abs() < 2e-3,
+            "DoF {d} ends at {}",
+            end.position[d]
+        );
+        assert!(
+            end.velocity[d].abs() < 0.05,
+            "DoF {d} velocity {}",
+            end.velocity[d]
+        );
+    }
+    // Replay at 2τ: the same path, reached at twice the time.
+    let mut slow = exec.clone();
+    slow.tau = 2.0;
+    let slow_samples: Vec<_> = dmp.trajectory(&slow, 0.001).unwrap().collect();
+    assert_eq!(slow_samples.len(), 2001);
+    for (i, s) in samples.iter().enumerate() {
+        let z = &slow_samples[2 * i];
+        assert!((z.time - 2.0 * s.time).abs() < 1e-5);
+        for d in 0..2 {
+            assert!(
+                (z.position[d] - s.position[d]).abs() < 1e-3,
+                "t={} DoF {d}",
+                s.time
+            );
+            assert!((2.0 * z.velocity[d] - s.velocity[d]).abs() < 2e-2);
+        }
+    }
+}
+
+#[test]
+fn step_by_step_equals_whole_trajectory_and_goal_can_move() {
+    let (t, y) = demo_2d();
+    let dmp = Dmp::<2, 30>::fit(&t, &y, 2, 30, &FitOptions::default()).unwrap();
+    let exec = dmp.execution();
+    let whole: Vec<_> = dmp.trajectory(&exec, 0.002).unwrap().collect();
+    let mut run = dmp.start(&exec).unwrap();
+    for s in &whole[1..] {
+        run.step(&dmp, 0.002).unwrap();
+        assert_eq!(run.position(), &s.position[..]);
+    }
+    // Goal change half way: ends at the new goal.
+    let mut run = dmp.start(&exec).unwrap();
+    for i in 0..1500 {
+        if i == 500 {
+            run.set_goal(&dmp, &[0.5, 0.0]).unwrap();
+        }
+        run.step(&dmp, 0.001).unwrap();
+    }
+    assert!(
+        (run.position()[0] - 0.5).abs() < 1e-3 && run.position()[1].abs() < 1e-3,
+        "{:?}",
+        run.position()
+    );
+    assert!(run.sample().position.iter().all(|v| v.is_finite()));
+}
+
+#[test]
+fn trajectory_length_is_exact_for_any_dt() {
+    let (t, y) = demo_2d();
+    let dmp = Dmp::<2, 10>::fit(&t, &y, 2, 10, &FitOptions::default()).unwrap();
+    let exec = dmp.execution();
+    let times: Vec<f32> = dmp
+        .trajectory(&exec, 0.3)
+        .unwrap()
+        .map(|s| s.time)
+        .collect();
+    assert_eq!(times, vec![0.0, 0.3, 0.6, 0.90000004, 1.0]);
+    assert_eq!(dmp.trajectory(&exec, 0.25).unwrap().count(), 5);
+    assert_eq!(
+        dmp.trajectory(&exec, 2.0)
+            .unwrap()
+            .map(|s| s.time)
+            .collect::<Vec<_>>(),
+        vec![0.0, 1.0]
+    );
+}
+
+#[test]
+fn uneven_sampling_fits_as_well() {
+    // Same curve sampled on a warped, uneven time grid.
+    let t: Vec<f32> = (0..600)
+        .map(|i| {
+            let u = i as f32 / 599.0;
+            u + 0.1 * (2.0 * PI * u).sin() / (2.0 * PI)
+        })
+        .collect();
+    let y: Vec<f32> = t.iter().map(|&t| min_jerk(t) + 0.3 * bump(t)).collect();
+    let dmp = Dmp::<1, 30>::fit(&t, &y, 1, 30, &FitOptions::default()).unwrap();
+    let out = positions(&dmp, &dmp.execution(), 0.001);
+    let rmse = (out
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            let tt = i as f32 * 0.001;
+            (p[0] - (min_jerk(tt) + 0.3 * bump(tt))).powi(2)
+        })
+        .sum::<f32>()
+        / out.len() as f32)
+        .sqrt();
+    assert!(rmse < 2e-3, "RMSE {rmse}");
+}
+
+#[test]
+fn parameters_and_serde_round_trip() {
+    let (t, y) = demo_2d();
+    let mut dmp = Dmp::<2, 30>::fit(&t, &y, 2, 30, &FitOptions::default()).unwrap();
+    assert_eq!(dmp.param_len(), 2 * 30 + 2 + 1);
+    let mut theta = vec![0.0; dmp.param_len()];
+    dmp.params(&mut theta).unwrap();
+    theta[62] = 1.5; // τ
+    dmp.set_params(&theta).unwrap();
+    assert_eq!(dmp.tau(), 1.5);
+    let json = serde_json::to_string(&dmp).unwrap();
+    let back: Dmp<2, 30> = serde_json::from_str(&json).unwrap();
+    assert_eq!(back, dmp);
+    // Inconsistent or invalid documents are rejected.
+    let bad = json.replace("\"tau\":1.5", "\"tau\":-1.0");
+    assert!(serde_json::from_str::<Dmp<2, 30>>(&bad).is_err());
+    assert!(
+        serde_json::from_str::<Dmp<1, 30>>(&json).is_err(),
+        "capacity exceeded"
+    );
+    theta[0] = f32::NAN;
+    assert!(dmp.set_params(&theta).is_err());
+    assert_eq!(back, dmp, "failed set_params leaves the DMP unchanged");
+}
+
+#[test]
+fn bad_input_is_an_error_not_a_panic() {
+    let o = FitOptions::default();
+    let t = [0.0, 0.5, 1.0];
+    assert!(
+        Dmp::<1, 5>::fit(&t, &[0.0, 1.0, 2.0], 1, 6, &o).is_err(),
+        "too many kernels"
+    );
+    assert!(
+        Dmp::<1, 5>::fit(&t, &[0.0, 1.0, 2.0], 1, 1, &o).is_err(),
+        "one kernel"
+    );
+    assert!(
+        Dmp::<1, 5>::fit(&t, &[0.0, 1.0, 2.0], 2, 5, &o).is_err(),
+        "too many DoF"
+    );
+    assert!(
+        Dmp::<1, 5>::fit(&t, &[0.0, 1.0], 1, 5, &o).is_err(),
+        "length mismatch"
+    );
+    assert!(
+        Dmp::<1, 5>::fit(&[0.0, 1.0, 1.0], &[0.0, 1.0, 2.0], 1, 5, &o).is_err(),
+        "repeated time"
+    );
+    assert!(
+        Dmp::<1, 5>::fit(&t, &[0.0, f32::NAN, 2.0], 1, 5, &o).is_err(),
+        "NaN"
+    );
+    assert!(
+        Dmp::<1, 5>::fit(&t[..2], &[0.0, 1.0], 1, 2, &o).is_err(),
+        "two samples"
+    );
+    let o2 = FitOptions {
+        scaling: Scaling::Always,
+        ..o
+    };
+    assert!(
+        Dmp::<1, 5>::fit(&t, &[0.0, 1.0, 0.0], 1, 2, &o2).is_err(),
+        "scaled loop"
+    );
+    let dmp = Dmp::<1, 5>::fit(&t, &[0.0, 1.0, 2.0], 1, 3, &o).unwrap();
+    let mut exec = dmp.execution();
+    assert!(dmp.trajectory(&exec, 0.0).is_err());
+    assert!(dmp.trajectory(&exec, f32::NAN).is_err());
+    exec.tau = -1.0;
+    assert!(dmp.start(&exec).is_err());
+    exec.tau = 1.0;
+    exec.goal[0] = f32::INFINITY;
+    assert!(dmp.start(&exec).is_err());
+}

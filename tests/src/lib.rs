@@ -1,0 +1,1 @@
+//! Workspace-level integration tests of primo; the tests live in `tests/`.
