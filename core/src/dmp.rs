@@ -858,7 +858,7 @@ mod tests {
             let s = i as f32 / 1000.0;
             let (lo, hi) = window(s, width, 30);
             assert!(lo <= hi && hi < 30);
-            assert!(hi - lo + 1 <= 9, "window {lo}..={hi}");
+            assert!(hi - lo < 9, "window {lo}..={hi}");
         }
     }
 }

@@ -34,6 +34,8 @@
 //! ```
 #![no_std]
 #![deny(missing_docs)]
+// `!(x > 0.0)` is the idiom that also rejects NaN; keep it.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
 #![cfg_attr(
     not(test),
     deny(
@@ -58,5 +60,6 @@ pub mod illinois;
 mod linalg;
 pub mod normal;
 pub mod power;
+pub mod rng;
 
 pub use error::Error;

@@ -6,7 +6,7 @@
 //! ```
 //! use primo_core::normal::StandardNormal;
 //! use rand_core::SeedableRng;
-//! let mut rng = rand_xoshiro::Xoshiro128PlusPlus::seed_from_u64(7);
+//! let mut rng = primo_core::rng::Xoshiro128PlusPlus::seed_from_u64(7);
 //! let mut normal = StandardNormal::new();
 //! let z = normal.sample(&mut rng);
 //! assert!(z.is_finite());
@@ -48,7 +48,7 @@ mod tests {
 
     #[test]
     fn mean_and_variance_match_standard_normal() {
-        let mut rng = rand_xoshiro::Xoshiro128PlusPlus::seed_from_u64(1);
+        let mut rng = crate::rng::Xoshiro128PlusPlus::seed_from_u64(1);
         let mut n = StandardNormal::new();
         let count = 200_000;
         let (mut s1, mut s2, mut s4) = (0.0f64, 0.0f64, 0.0f64);
@@ -71,7 +71,7 @@ mod tests {
     #[test]
     fn same_seed_same_bits() {
         let draw = |seed| {
-            let mut rng = rand_xoshiro::Xoshiro128PlusPlus::seed_from_u64(seed);
+            let mut rng = crate::rng::Xoshiro128PlusPlus::seed_from_u64(seed);
             let mut n = StandardNormal::new();
             [n.sample(&mut rng), n.sample(&mut rng), n.sample(&mut rng)].map(f32::to_bits)
         };

@@ -23,9 +23,7 @@
 //!
 //! ```
 //! use primo_core::power::{Block, Power, PowerConfig};
-//! use heapless::Vec;
-//! let blocks = Vec::from_slice(&[Block { len: 2, variance: 0.04, decay: 1.0 }]).unwrap();
-//! let cfg = PowerConfig { blocks, rollouts_per_update: 3, roll_out_mean: true, sampler: 3 };
+//! let cfg = PowerConfig::paper(&[Block { len: 2, variance: 0.04, decay: 1.0 }])?;
 //! let mut power = Power::<2, 3>::new(&[1.0, -1.0], cfg, 42)?;
 //! for _ in 0..200 {
 //!     let theta = power.ask();
@@ -38,12 +36,12 @@
 
 use heapless::Vec;
 use rand_core::SeedableRng;
-use rand_xoshiro::Xoshiro128PlusPlus;
 use serde::{Deserialize, Serialize};
 
 use crate::Error;
 use crate::error::{check_capacity, check_finite, check_len};
 use crate::normal::StandardNormal;
+use crate::rng::Xoshiro128PlusPlus;
 
 /// At most this many exploration blocks.
 pub const MAX_BLOCKS: usize = 8;
@@ -70,6 +68,23 @@ pub struct PowerConfig {
     pub roll_out_mean: bool,
     /// Importance sampler length L (1 ≤ L ≤ the capacity); the paper uses 3.
     pub sampler: usize,
+}
+
+impl PowerConfig {
+    /// The paper's settings for these blocks: 3 exploration roll-outs plus
+    /// the mean per update, importance sampler of 3.
+    pub fn paper(blocks: &[Block]) -> Result<Self, Error> {
+        Ok(Self {
+            blocks: Vec::from_slice(blocks).map_err(|_| Error::Capacity {
+                what: "blocks",
+                requested: blocks.len(),
+                capacity: MAX_BLOCKS,
+            })?,
+            rollouts_per_update: 3,
+            roll_out_mean: true,
+            sampler: 3,
+        })
+    }
 }
 
 /// `s · max_ij ‖x_i − x_j‖` over the examples, each restricted to
@@ -365,10 +380,8 @@ mod tests {
 
     fn cfg(blocks: &[Block], sampler: usize) -> PowerConfig {
         PowerConfig {
-            blocks: Vec::from_slice(blocks).unwrap(),
-            rollouts_per_update: 3,
-            roll_out_mean: true,
             sampler,
+            ..PowerConfig::paper(blocks).unwrap()
         }
     }
 

@@ -1,1 +1,20 @@
-//! primo host library.
+//! primo on the host: file formats and the `primo` command line.
+//!
+//! - [`csv`]: demonstration and trajectory CSV files (`t,<DoF names>`).
+//! - [`dmpfile`]: the versioned JSON format of a fitted DMP.
+//! - [`cli`]: the `primo` commands.
+#![deny(missing_docs)]
+
+pub mod cli;
+pub mod csv;
+pub mod dmpfile;
+mod error;
+
+pub use error::{CliError, write_atomically};
+
+/// Largest DoF count the host's DMPs hold.
+pub const MAX_DOF: usize = 16;
+/// Largest kernel count per DoF the host's DMPs hold.
+pub const MAX_KERNELS: usize = 128;
+/// The DMP type the host uses for files and commands.
+pub type HostDmp = primo_core::dmp::Dmp<MAX_DOF, MAX_KERNELS>;

@@ -1,1 +1,3 @@
-fn main() {}
+fn main() {
+    std::process::exit(primo_host::cli::main_with(std::env::args()));
+}

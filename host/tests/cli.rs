@@ -1,0 +1,222 @@
+//! `primo dmp` end to end: the binary on real files.
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn primo(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_primo"))
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into(),
+        String::from_utf8_lossy(&out.stderr).into(),
+    )
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("primo-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+fn demo_path() -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../examples/reach.csv")
+        .display()
+        .to_string()
+}
+
+#[test]
+fn fit_then_run_reproduces_the_demo_and_reaches_new_goals() {
+    let json = tmp("reach.json");
+    let (code, _, err) = primo(&[
+        "dmp",
+        "fit",
+        "--demo",
+        &demo_path(),
+        "--kernels",
+        "30",
+        "--out",
+        json.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let (code, csv, err) = primo(&["dmp", "run", json.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    let demo = std::fs::read_to_string(demo_path()).unwrap();
+    let lines: Vec<&str> = csv.lines().collect();
+    assert_eq!(lines[0], "t,x,z");
+    assert_eq!(
+        lines.len(),
+        demo.lines().count(),
+        "one row per demo sample at the same dt"
+    );
+    for (a, b) in lines.iter().zip(demo.lines()).skip(1) {
+        let a: Vec<f32> = a.split(',').map(|v| v.parse().unwrap()).collect();
+        let b: Vec<f32> = b.split(',').map(|v| v.parse().unwrap()).collect();
+        assert!((a[0] - b[0]).abs() < 1e-6);
+        assert!(
+            (a[1] - b[1]).abs() < 2e-3 && (a[2] - b[2]).abs() < 2e-3,
+            "{a:?} vs {b:?}"
+        );
+    }
+    // New start, goal and tau; output to a file; t runs 0..=tau inclusive.
+    let traj = tmp("traj.csv");
+    let (code, _, err) = primo(&[
+        "dmp",
+        "run",
+        json.to_str().unwrap(),
+        "--dt",
+        "0.1",
+        "--tau",
+        "2",
+        "--start",
+        "-0.1,0.1",
+        "--goal",
+        "0.3,0.3",
+        "--out",
+        traj.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let text = std::fs::read_to_string(&traj).unwrap();
+    let rows: Vec<&str> = text.lines().collect();
+    assert_eq!(rows.len(), 1 + 21);
+    assert!(rows[1].starts_with("0,-0.1,0.1"), "{}", rows[1]);
+    let last: Vec<f32> = rows[21].split(',').map(|v| v.parse().unwrap()).collect();
+    assert_eq!(last[0], 2.0);
+    assert!(
+        (last[1] - 0.3).abs() < 5e-3 && (last[2] - 0.3).abs() < 5e-3,
+        "{last:?}"
+    );
+    assert_eq!(rows[10].split(',').next(), Some("0.9"));
+}
+
+#[test]
+fn malformed_input_gets_a_one_line_error_and_status_2() {
+    let cases: &[(&str, &str)] = &[
+        (
+            "0,1\n0.5,2\n1,3\n",
+            "bad.csv:1:1: first header column must be `t`",
+        ),
+        (
+            "t,x\n0,1\n0.5,oops\n1,3\n",
+            "bad.csv:3:2: `oops` is not a number",
+        ),
+        (
+            "t,x\n0,1\n1,2\n0.5,3\n",
+            "bad.csv:4:1: t = 0.5 does not increase",
+        ),
+        ("t,x\n0,1\n1,2\n", "bad.csv: too few rows"),
+    ];
+    for (text, expect) in cases {
+        let path = tmp("bad.csv");
+        std::fs::write(&path, text).unwrap();
+        let (code, out, err) = primo(&["dmp", "fit", "--demo", path.to_str().unwrap()]);
+        assert_eq!(code, 2, "{text:?}: {err}");
+        assert!(out.is_empty());
+        assert_eq!(err.lines().count(), 1, "{err}");
+        let shown = err.replace(&format!("{}/", path.parent().unwrap().display()), "");
+        assert!(shown.contains(expect), "{shown} should contain {expect}");
+    }
+    let json = tmp("ok.json");
+    let (code, _, _) = primo(&[
+        "dmp",
+        "fit",
+        "--demo",
+        &demo_path(),
+        "--kernels",
+        "10",
+        "--out",
+        json.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0);
+    let (code, _, err) = primo(&["dmp", "run", json.to_str().unwrap(), "--goal", "1,2,3"]);
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("--goal: expected 2 values (one per DoF: x,z), found 3"),
+        "{err}"
+    );
+    let (code, _, err) = primo(&["dmp", "run", json.to_str().unwrap(), "--start", "1,x"]);
+    assert_eq!((code, err.lines().count()), (2, 1), "{err}");
+    let (code, _, err) = primo(&[
+        "dmp",
+        "run",
+        json.to_str().unwrap(),
+        "--dt",
+        "1e-9",
+        "--tau",
+        "100",
+    ]);
+    assert_eq!(code, 2, "{err}");
+    let (code, _, err) = primo(&["dmp", "fit", "--demo", &demo_path(), "--kernels", "1"]);
+    assert_eq!(code, 2, "{err}");
+    // A corrupt or future DMP file.
+    let broken = tmp("broken.json");
+    std::fs::write(&broken, "{\"format\": \"primo-dmp\", \"version\": 1, \"names\": [\"x\"],\n \"dmp\": {\"tau\": 1.0,,}}").unwrap();
+    let (code, _, err) = primo(&["dmp", "run", broken.to_str().unwrap()]);
+    assert_eq!(code, 2);
+    assert!(err.contains("broken.json:2:"), "{err}");
+    let future = std::fs::read_to_string(&json)
+        .unwrap()
+        .replace("\"version\": 1", "\"version\": 2");
+    std::fs::write(&broken, future).unwrap();
+    let (code, _, err) = primo(&["dmp", "run", broken.to_str().unwrap()]);
+    assert_eq!(code, 2);
+    assert!(err.contains("unsupported version 2"), "{err}");
+}
+
+#[test]
+fn a_failed_fit_leaves_the_existing_output_intact() {
+    let json = tmp("keep.json");
+    std::fs::write(&json, "previous content").unwrap();
+    let bad = tmp("keep.csv");
+    std::fs::write(&bad, "t,x\n0,1\n").unwrap();
+    let (code, _, _) = primo(&[
+        "dmp",
+        "fit",
+        "--demo",
+        bad.to_str().unwrap(),
+        "--out",
+        json.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2);
+    assert_eq!(std::fs::read_to_string(&json).unwrap(), "previous content");
+}
+
+#[test]
+fn accepts_twelve_dof_and_a_hundred_kernels() {
+    let mut text = String::from("t");
+    for d in 0..12 {
+        text.push_str(&format!(",j{d}"));
+    }
+    text.push('\n');
+    for i in 0..=1000 {
+        let t = i as f32 / 1000.0;
+        text.push_str(&format!("{t}"));
+        for d in 0..12 {
+            text.push_str(&format!(
+                ",{}",
+                (d as f32 + 1.0) * t * t * (3.0 - 2.0 * t) + 0.1 * (9.0 * t).sin()
+            ));
+        }
+        text.push('\n');
+    }
+    let csv = tmp("twelve.csv");
+    std::fs::write(&csv, text).unwrap();
+    let json = tmp("twelve.json");
+    let (code, _, err) = primo(&[
+        "dmp",
+        "fit",
+        "--demo",
+        csv.to_str().unwrap(),
+        "--kernels",
+        "100",
+        "--out",
+        json.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let (code, out, err) = primo(&["dmp", "run", json.to_str().unwrap(), "--dt", "0.01"]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(out.lines().count(), 102);
+    assert_eq!(out.lines().next().unwrap().split(',').count(), 13);
+}
