@@ -219,17 +219,22 @@ impl<const E: usize, const Q: usize, const P: usize> Generalizer<E, Q, P> {
         Ok(())
     }
 
-    /// Basis vector `[1, (q − centre)/scale]` (first `basis` entries).
-    fn basis_at(&self, q: &[f32]) -> [f32; E] {
+    /// Linear basis `[1, (q − centre)/scale]` (first `basis` entries).
+    fn basis_row(&self, q: &[f32], centre: &[f32]) -> [f32; E] {
         let mut h = [0.0; E];
         let mut it = h.iter_mut().take(self.basis);
         if let Some(first) = it.next() {
             *first = 1.0;
         }
-        for (((hj, qj), c), s) in it.zip(q).zip(&self.centre).zip(&self.scale) {
+        for (((hj, qj), c), s) in it.zip(q).zip(centre).zip(&self.scale) {
             *hj = (qj - c) / s;
         }
         h
+    }
+
+    /// The GP's linear mean basis, centred on the mean example query.
+    fn basis_at(&self, q: &[f32]) -> [f32; E] {
+        self.basis_row(q, &self.centre)
     }
 
     /// Squared scaled distance between two queries.
@@ -339,17 +344,7 @@ impl<const E: usize, const Q: usize, const P: usize> Generalizer<E, Q, P> {
                 *c += wi * v / total;
             }
         }
-        let regressors = |q: &[f32]| {
-            let mut row = [0.0f32; E];
-            let mut it = row.iter_mut().take(self.basis);
-            if let Some(first) = it.next() {
-                *first = 1.0;
-            }
-            for (((r, qj), c), s) in it.zip(q).zip(&centre).zip(&self.scale) {
-                *r = (qj - c) / s;
-            }
-            row
-        };
+        let regressors = |q: &[f32]| self.basis_row(q, &centre);
         let x: [[f32; E]; E] = core::array::from_fn(|i| match self.queries.get(i) {
             Some(q) if i < n => regressors(q),
             _ => [0.0; E],

@@ -96,52 +96,42 @@ pub struct Best {
     pub error: f32,
 }
 
-/// The ask/tell interface of the error learners.
+/// The ask/tell interface of the error learners. Implementors hold a
+/// [`SearchState`] and decide only where the next query goes.
 pub trait ErrorLearner {
-    /// The query to roll out next, or `None` once finished. Asking again
-    /// before telling returns the same query.
-    fn ask(&self) -> Option<f32>;
+    /// The shared search state.
+    fn state(&self) -> &SearchState;
     /// Reports the error of the asked query. A non-finite error, or a call
     /// after the search finished, is an error and changes nothing.
     fn tell(&mut self, error: f32) -> Result<Status, Error>;
+    /// The query to roll out next, or `None` once finished. Asking again
+    /// before telling returns the same query.
+    fn ask(&self) -> Option<f32> {
+        let s = self.state();
+        (s.status == Status::Running).then_some(s.query)
+    }
     /// Current status.
-    fn status(&self) -> Status;
+    fn status(&self) -> Status {
+        self.state().status
+    }
     /// The best roll-out so far.
-    fn best(&self) -> Option<Best>;
+    fn best(&self) -> Option<Best> {
+        self.state().best
+    }
     /// Roll-outs told so far.
-    fn rollouts(&self) -> u32;
+    fn rollouts(&self) -> u32 {
+        self.state().rollouts
+    }
     /// The current bracket `[low, high]` known to contain the root.
-    fn bracket(&self) -> (f32, f32);
+    fn bracket(&self) -> (f32, f32) {
+        (self.state().low, self.state().high)
+    }
 }
 
-/// Shared bookkeeping of one roll-out: best-so-far, count, stop conditions.
-/// Returns the status after `error` at `query` has been recorded.
-pub(crate) fn record(
-    cfg: &SearchConfig,
-    best: &mut Option<Best>,
-    rollouts: &mut u32,
-    query: f32,
-    error: f32,
-) -> Result<Status, Error> {
-    if !error.is_finite() {
-        return Err(Error::NotFinite("error"));
-    }
-    *rollouts += 1;
-    if best.is_none_or(|b| libm::fabsf(error) < libm::fabsf(b.error)) {
-        *best = Some(Best { query, error });
-    }
-    Ok(if libm::fabsf(error) < cfg.precision {
-        Status::Converged
-    } else if *rollouts >= cfg.max_rollouts {
-        Status::BudgetExhausted
-    } else {
-        Status::Running
-    })
-}
-
-/// The paper's golden-section error learner.
+/// What every bracketed error learner tracks: settings, bracket, the query
+/// in flight, roll-out count, best so far and status.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct GoldenSection {
+pub struct SearchState {
     cfg: SearchConfig,
     low: f32,
     high: f32,
@@ -151,9 +141,9 @@ pub struct GoldenSection {
     status: Status,
 }
 
-impl GoldenSection {
-    /// A new search starting at the desired query.
-    pub fn new(cfg: SearchConfig) -> Result<Self, Error> {
+impl SearchState {
+    /// A search starting at the desired query over the configured limits.
+    pub(crate) fn new(cfg: SearchConfig) -> Result<Self, Error> {
         cfg.validate()?;
         Ok(Self {
             cfg,
@@ -165,55 +155,88 @@ impl GoldenSection {
             status: Status::Running,
         })
     }
-}
 
-impl ErrorLearner for GoldenSection {
-    fn ask(&self) -> Option<f32> {
-        (self.status == Status::Running).then_some(self.query)
-    }
-
-    fn tell(&mut self, error: f32) -> Result<Status, Error> {
+    /// Records `error` for the query in flight: best-so-far, count, stop
+    /// conditions. Returns the query it belonged to and whether the search
+    /// goes on; on an error nothing changes.
+    pub(crate) fn record(&mut self, error: f32) -> Result<Option<f32>, Error> {
         if self.status != Status::Running {
             return Err(Error::BadState("the search has finished"));
         }
-        let status = record(
-            &self.cfg,
-            &mut self.best,
-            &mut self.rollouts,
-            self.query,
-            error,
-        )?;
-        self.status = status;
-        if status != Status::Running {
-            return Ok(status);
+        if !error.is_finite() {
+            return Err(Error::NotFinite("error"));
         }
-        let next = if error > 0.0 {
-            self.low = self.query;
-            self.low + (self.high - self.low) * GOLDEN
+        self.rollouts += 1;
+        let query = self.query;
+        if self
+            .best
+            .is_none_or(|b| libm::fabsf(error) < libm::fabsf(b.error))
+        {
+            self.best = Some(Best { query, error });
+        }
+        self.status = if libm::fabsf(error) < self.cfg.precision {
+            Status::Converged
+        } else if self.rollouts >= self.cfg.max_rollouts {
+            Status::BudgetExhausted
         } else {
-            self.high = self.query;
-            self.low + (self.high - self.low) * (1.0 - GOLDEN)
+            Status::Running
         };
-        if next <= self.low || next >= self.high {
+        Ok((self.status == Status::Running).then_some(query))
+    }
+
+    /// Moves the end on `error`'s side of the bracket to `query`: the root is
+    /// above a query with `ε > 0` and below one with `ε ≤ 0`.
+    pub(crate) fn shrink(&mut self, query: f32, error: f32) {
+        if error > 0.0 {
+            self.low = query;
+        } else {
+            self.high = query;
+        }
+    }
+
+    /// The bracket `(low, high)`.
+    pub(crate) fn bracket(&self) -> (f32, f32) {
+        (self.low, self.high)
+    }
+
+    /// Sets the next query; stops with [`Status::BracketCollapsed`] if it is
+    /// not strictly inside the bracket (adjacent `f32` ends).
+    pub(crate) fn propose(&mut self, next: f32) -> Status {
+        if !(next > self.low && next < self.high) {
             self.status = Status::BracketCollapsed;
         }
         self.query = next;
-        Ok(self.status)
-    }
-
-    fn status(&self) -> Status {
         self.status
     }
+}
 
-    fn best(&self) -> Option<Best> {
-        self.best
+/// The paper's golden-section error learner.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct GoldenSection {
+    state: SearchState,
+}
+
+impl GoldenSection {
+    /// A new search starting at the desired query.
+    pub fn new(cfg: SearchConfig) -> Result<Self, Error> {
+        Ok(Self {
+            state: SearchState::new(cfg)?,
+        })
+    }
+}
+
+impl ErrorLearner for GoldenSection {
+    fn state(&self) -> &SearchState {
+        &self.state
     }
 
-    fn rollouts(&self) -> u32 {
-        self.rollouts
-    }
-
-    fn bracket(&self) -> (f32, f32) {
-        (self.low, self.high)
+    fn tell(&mut self, error: f32) -> Result<Status, Error> {
+        let Some(query) = self.state.record(error)? else {
+            return Ok(self.state.status);
+        };
+        self.state.shrink(query, error);
+        let (low, high) = self.state.bracket();
+        let fraction = if error > 0.0 { GOLDEN } else { 1.0 - GOLDEN };
+        Ok(self.state.propose(low + (high - low) * fraction))
     }
 }

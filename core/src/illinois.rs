@@ -36,7 +36,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::Error;
-use crate::golden::{Best, ErrorLearner, GOLDEN, SearchConfig, Status, record};
+use crate::golden::{ErrorLearner, GOLDEN, SearchConfig, SearchState, Status};
 
 /// A known point `(q, ε)`.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -55,44 +55,31 @@ enum Side {
 /// The Illinois error learner.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Illinois {
-    cfg: SearchConfig,
-    low: f32,
-    high: f32,
-    /// Error at `low` (positive), once a roll-out has been there; halved by
-    /// the Illinois rule.
+    state: SearchState,
+    /// Error at the bracket's low end (positive), once a roll-out has been
+    /// there; halved by the Illinois rule.
     low_error: Option<f32>,
-    /// Error at `high` (negative), likewise.
+    /// Error at the high end (negative), likewise.
     high_error: Option<f32>,
     /// The point before the last one on the same side, for the secant.
     previous: Option<Point>,
     last_side: Option<Side>,
-    query: f32,
-    rollouts: u32,
-    best: Option<Best>,
-    status: Status,
 }
 
 impl Illinois {
     /// A new search starting at the desired query.
     pub fn new(cfg: SearchConfig) -> Result<Self, Error> {
-        cfg.validate()?;
         Ok(Self {
-            cfg,
-            low: cfg.low,
-            high: cfg.high,
+            state: SearchState::new(cfg)?,
             low_error: None,
             high_error: None,
             previous: None,
             last_side: None,
-            query: cfg.desired,
-            rollouts: 0,
-            best: None,
-            status: Status::Running,
         })
     }
 
     fn next_query(&self, side: Side, current: Point) -> f32 {
-        let (a, b) = (self.low, self.high);
+        let (a, b) = self.state.bracket();
         let proposal = match (self.low_error, self.high_error) {
             // Bracketed: regula falsi between the ends.
             (Some(fa), Some(fb)) => (a * fb - b * fa) / (fb - fa),
@@ -115,75 +102,34 @@ impl Illinois {
 }
 
 impl ErrorLearner for Illinois {
-    fn ask(&self) -> Option<f32> {
-        (self.status == Status::Running).then_some(self.query)
+    fn state(&self) -> &SearchState {
+        &self.state
     }
 
     fn tell(&mut self, error: f32) -> Result<Status, Error> {
-        if self.status != Status::Running {
-            return Err(Error::BadState("the search has finished"));
-        }
-        let status = record(
-            &self.cfg,
-            &mut self.best,
-            &mut self.rollouts,
-            self.query,
-            error,
-        )?;
-        self.status = status;
-        if status != Status::Running {
-            return Ok(status);
-        }
-        let current = Point {
-            q: self.query,
-            e: error,
+        let (low, high) = self.state.bracket();
+        let Some(query) = self.state.record(error)? else {
+            return Ok(self.status());
         };
+        let current = Point { q: query, e: error };
         let side = if error > 0.0 { Side::Low } else { Side::High };
         // The secant needs the previous point on the same side.
-        let same_side_point = match side {
-            Side::Low => self.low_error.map(|e| Point { q: self.low, e }),
-            Side::High => self.high_error.map(|e| Point { q: self.high, e }),
-        };
         let repeated = self.last_side == Some(side);
-        match side {
-            Side::Low => {
-                self.low = current.q;
-                self.low_error = Some(error);
-                if repeated {
-                    self.high_error = self.high_error.map(|e| 0.5 * e);
-                }
-            }
-            Side::High => {
-                self.high = current.q;
-                self.high_error = Some(error);
-                if repeated {
-                    self.low_error = self.low_error.map(|e| 0.5 * e);
-                }
-            }
+        self.previous = match side {
+            Side::Low => self.low_error.map(|e| Point { q: low, e }),
+            Side::High => self.high_error.map(|e| Point { q: high, e }),
+        };
+        let (kept, moved) = match side {
+            Side::Low => (&mut self.high_error, &mut self.low_error),
+            Side::High => (&mut self.low_error, &mut self.high_error),
+        };
+        *moved = Some(error);
+        if repeated {
+            *kept = kept.map(|e| 0.5 * e);
         }
-        self.previous = same_side_point;
         self.last_side = Some(side);
+        self.state.shrink(query, error);
         let next = self.next_query(side, current);
-        if next <= self.low || next >= self.high {
-            self.status = Status::BracketCollapsed;
-        }
-        self.query = next;
-        Ok(self.status)
-    }
-
-    fn status(&self) -> Status {
-        self.status
-    }
-
-    fn best(&self) -> Option<Best> {
-        self.best
-    }
-
-    fn rollouts(&self) -> u32 {
-        self.rollouts
-    }
-
-    fn bracket(&self) -> (f32, f32) {
-        (self.low, self.high)
+        Ok(self.state.propose(next))
     }
 }

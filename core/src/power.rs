@@ -152,7 +152,7 @@ pub struct Power<const P: usize, const L: usize> {
     /// Current variance per block (decayed).
     variance: Vec<f32, MAX_BLOCKS>,
     /// Roll-outs told in the current update.
-    in_update: u16,
+    in_update: u32,
     updates: u32,
     sampler: Vec<Rollout<P>, L>,
     best: Option<Rollout<P>>,
@@ -169,8 +169,11 @@ impl<const P: usize, const L: usize> Power<P, L> {
         }
         check_capacity("parameters", n, P)?;
         check_finite(initial, "initial parameters")?;
-        let total: usize = cfg.blocks.iter().map(|b| b.len).sum();
-        check_len("sum of block lengths", n, total)?;
+        let total = cfg
+            .blocks
+            .iter()
+            .try_fold(0usize, |acc, b| acc.checked_add(b.len));
+        check_len("sum of block lengths", n, total.unwrap_or(usize::MAX))?;
         for b in &cfg.blocks {
             if !(b.variance >= 0.0 && b.variance.is_finite()) {
                 return Err(Error::OutOfRange("block variance must be finite and >= 0"));
@@ -206,8 +209,8 @@ impl<const P: usize, const L: usize> Power<P, L> {
     }
 
     /// Roll-outs per update, counting the mean's.
-    fn per_update(&self) -> u16 {
-        self.cfg.rollouts_per_update + u16::from(self.cfg.roll_out_mean)
+    fn per_update(&self) -> u32 {
+        u32::from(self.cfg.rollouts_per_update) + u32::from(self.cfg.roll_out_mean)
     }
 
     /// Whether the next roll-out of this update is the unperturbed mean.
@@ -301,7 +304,7 @@ impl<const P: usize, const L: usize> Power<P, L> {
         for (v, b) in self.variance.iter_mut().zip(&self.cfg.blocks) {
             *v *= b.decay;
         }
-        self.updates += 1;
+        self.updates = self.updates.saturating_add(1);
     }
 
     /// The current mean `θ*_m`.
@@ -520,6 +523,38 @@ mod tests {
             assert!(p.tell(r).is_err());
             assert_eq!(p, before);
         }
+    }
+
+    #[test]
+    fn extreme_settings_are_errors_or_work_without_overflow() {
+        let huge = [
+            Block {
+                len: usize::MAX,
+                variance: 1.0,
+                decay: 1.0,
+            },
+            Block {
+                len: 2,
+                variance: 1.0,
+                decay: 1.0,
+            },
+        ];
+        assert!(Power::<2, 3>::new(&[0.0; 2], cfg(&huge, 3), 0).is_err());
+        let mut c = cfg(
+            &[Block {
+                len: 1,
+                variance: 1.0,
+                decay: 1.0,
+            }],
+            3,
+        );
+        c.rollouts_per_update = u16::MAX;
+        let mut p = Power::<1, 3>::new(&[0.0], c, 0).unwrap();
+        for _ in 0..10 {
+            p.ask();
+            p.tell(1.0).unwrap();
+        }
+        assert_eq!(p.updates(), 0);
     }
 
     #[test]
