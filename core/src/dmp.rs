@@ -580,7 +580,9 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
         let run = self.start(exec)?;
         let ratio = exec.tau / dt;
         let whole = libm::roundf(ratio);
-        let (full_steps, last_dt) = if libm::fabsf(ratio - whole) <= 1e-3 * whole.max(1.0) {
+        // A τ within 0.1% of a whole number of steps ends on the grid;
+        // otherwise (also when τ < dt) a last, shorter step lands on τ.
+        let (full_steps, last_dt) = if whole >= 1.0 && libm::fabsf(ratio - whole) <= 1e-3 * whole {
             (whole as u32, 0.0)
         } else {
             let full = libm::floorf(ratio);
@@ -714,7 +716,8 @@ impl<const D: usize> Run<D> {
         self.y.get(..self.dof).unwrap_or(&[])
     }
 
-    /// The current point: time, position, velocity and acceleration.
+    /// The current point: time, position, velocity and acceleration (the
+    /// latter with the forcing term of the last step, held over the step).
     pub fn sample(&self) -> Sample<D> {
         let mut s = Sample {
             time: self.time,

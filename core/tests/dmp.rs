@@ -188,6 +188,13 @@ fn trajectory_length_is_exact_for_any_dt() {
             .collect::<Vec<_>>(),
         vec![0.0, 1.0]
     );
+    // τ far below dt: still the start and the end.
+    let times: Vec<f32> = dmp
+        .trajectory(&exec, 1e4)
+        .unwrap()
+        .map(|s| s.time)
+        .collect();
+    assert_eq!(times, vec![0.0, 1.0]);
 }
 
 #[test]
