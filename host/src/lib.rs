@@ -3,12 +3,14 @@
 //! - [`csv`]: demonstration and trajectory CSV files (`t,<DoF names>`).
 //! - [`dmpfile`]: the versioned JSON format of a fitted DMP.
 //! - [`cli`]: the `primo` commands.
+//! - [`sim`]: the simulated pouring cell.
 #![deny(missing_docs)]
 
 pub mod cli;
 pub mod csv;
 pub mod dmpfile;
 mod error;
+pub mod sim;
 
 pub use error::{CliError, write_atomically};
 
