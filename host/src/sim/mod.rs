@@ -4,5 +4,8 @@
 //!
 //! - [`arm`]: LWR4 forward kinematics from the DH table, the tool transform,
 //!   joint position and velocity limits.
+//! - [`bottle`]: the liquid's free surface in a tilted bottle and the
+//!   outflow over its mouth.
 
 pub mod arm;
+pub mod bottle;
