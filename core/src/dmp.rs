@@ -65,6 +65,13 @@ pub const DEFAULT_ALPHA: f32 = 25.0;
 pub const DEFAULT_OVERLAP: f32 = 2.0;
 /// Kernels with `h (s − c)² > KERNEL_CUTOFF` (ψ < 1.4e−11) are skipped.
 pub const KERNEL_CUTOFF: f32 = 25.0;
+/// Largest |start|, |goal| (any unit) a DMP accepts: far beyond any robot,
+/// and small enough that no intermediate sum can overflow `f32`.
+pub const MAX_ABS_POSITION: f32 = 1e6;
+/// Largest |kernel weight| a DMP accepts.
+pub const MAX_ABS_WEIGHT: f32 = 1e9;
+/// Largest spring gain `α`.
+pub const MAX_ALPHA: f32 = 1e4;
 /// [`Scaling::Auto`] scales a DoF only if `|g − y0|` is at least this
 /// fraction of the demonstration's range on that DoF.
 pub const AUTO_SCALING_MIN_FRACTION: f32 = 0.1;
@@ -150,12 +157,12 @@ impl<const D: usize, const K: usize> TryFrom<DmpFields<D, K>> for Dmp<D, K> {
         }
         for row in &f.weights {
             check_len("weights (row)", k, row.len())?;
-            check_finite(row, "weights")?;
+            check_bounded(row, MAX_ABS_WEIGHT, "weights beyond MAX_ABS_WEIGHT")?;
         }
-        check_finite(&f.start, "start")?;
-        check_finite(&f.goal, "goal")?;
+        check_bounded(&f.start, MAX_ABS_POSITION, "start beyond MAX_ABS_POSITION")?;
+        check_bounded(&f.goal, MAX_ABS_POSITION, "goal beyond MAX_ABS_POSITION")?;
         check_positive(f.tau, "tau must be finite and > 0")?;
-        check_positive(f.alpha, "alpha must be finite and > 0")?;
+        check_alpha(f.alpha)?;
         check_positive(f.width, "width must be finite and > 0")?;
         Ok(Dmp {
             tau: f.tau,
@@ -174,6 +181,25 @@ fn check_positive(v: f32, what: &'static str) -> Result<(), Error> {
         Ok(())
     } else {
         Err(Error::OutOfRange(what))
+    }
+}
+
+/// Checks that every value is finite and within `±bound`.
+fn check_bounded(values: &[f32], bound: f32, what: &'static str) -> Result<(), Error> {
+    check_finite(values, what)?;
+    if values.iter().all(|v| libm::fabsf(*v) <= bound) {
+        Ok(())
+    } else {
+        Err(Error::OutOfRange(what))
+    }
+}
+
+fn check_alpha(alpha: f32) -> Result<(), Error> {
+    check_positive(alpha, "alpha must be finite and > 0")?;
+    if alpha <= MAX_ALPHA {
+        Ok(())
+    } else {
+        Err(Error::OutOfRange("alpha must be at most MAX_ALPHA"))
     }
 }
 
@@ -208,9 +234,11 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
     /// `positions` holds `times.len() × dof` values, row-major (sample by
     /// sample). The demo's first sample is the start, its last the goal and
     /// its duration the default `τ`. Velocities and accelerations come from
-    /// second-order finite differences on the possibly uneven grid; the
+    /// three-point finite differences on the possibly uneven grid; the
     /// weights from ridge regression of the forcing target, each sample
-    /// weighted by its share of the time axis.
+    /// weighted by its share of the time axis. Positions must lie within
+    /// [`MAX_ABS_POSITION`]; fitted weights beyond [`MAX_ABS_WEIGHT`] are an
+    /// error.
     pub fn fit(
         times: &[f32],
         positions: &[f32],
@@ -232,13 +260,17 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
                 "a demonstration needs at least 3 samples",
             ));
         }
-        check_len("positions", n * dof, positions.len())?;
+        check_len("positions", n.saturating_mul(dof), positions.len())?;
         check_finite(times, "times")?;
-        check_finite(positions, "positions")?;
+        check_bounded(
+            positions,
+            MAX_ABS_POSITION,
+            "positions beyond MAX_ABS_POSITION",
+        )?;
         if times.windows(2).any(|w| !matches!(w, [a, b] if b > a)) {
             return Err(Error::OutOfRange("times must be strictly increasing"));
         }
-        check_positive(options.alpha, "alpha must be finite and > 0")?;
+        check_alpha(options.alpha)?;
         check_positive(options.overlap, "overlap must be finite and > 0")?;
         if !(options.ridge >= 0.0 && options.ridge.is_finite()) {
             return Err(Error::OutOfRange("ridge must be finite and >= 0"));
@@ -290,6 +322,7 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
 
         let spacing = 1.0 / (kernels - 1) as f32;
         let width = options.overlap / (spacing * spacing);
+        check_positive(width, "overlap too large for this many kernels")?;
         let alpha = options.alpha;
         let beta = alpha / 4.0;
 
@@ -325,16 +358,10 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
             let quad = 0.5 * (next - prev);
 
             let s = (ti - t0) / tau;
-            let (lo, hi) = window(s, width, kernels);
+            let (lo, hi, sum) = activations(s, width, kernels, &mut psi);
             let active = psi
                 .get_mut(lo..=hi)
                 .ok_or(Error::OutOfRange("kernel window"))?;
-            let mut sum = 0.0;
-            for (k, p) in (lo..=hi).zip(active.iter_mut()) {
-                let ds = s - k as f32 * spacing;
-                *p = libm::expf(-width * ds * ds);
-                sum += *p;
-            }
             for p in active.iter_mut() {
                 *p /= sum;
             }
@@ -386,7 +413,11 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
         for b in rhs.iter_mut().take(dof) {
             linalg::cholesky_solve(&gram, kernels, b);
             let row: Vec<f32, K> = b.iter().copied().take(kernels).collect();
-            check_finite(&row, "fitted weights")?;
+            check_bounded(
+                &row,
+                MAX_ABS_WEIGHT,
+                "fitted weights beyond MAX_ABS_WEIGHT (demo too short or too noisy for the kernels?)",
+            )?;
             weights.push(row).map_err(|_| Error::Capacity {
                 what: "DoF",
                 requested: dof,
@@ -470,10 +501,16 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
     /// On error the DMP is unchanged.
     pub fn set_params(&mut self, theta: &[f32]) -> Result<(), Error> {
         check_len("parameter vector", self.param_len(), theta.len())?;
-        check_finite(theta, "parameters")?;
+        let (k, n) = (self.kernels(), self.dof());
+        let (weights, rest) = theta.split_at(n * k);
+        check_bounded(weights, MAX_ABS_WEIGHT, "weights beyond MAX_ABS_WEIGHT")?;
+        check_bounded(
+            rest.get(..n).unwrap_or(&[]),
+            MAX_ABS_POSITION,
+            "goals beyond MAX_ABS_POSITION",
+        )?;
         let tau = theta.last().copied().unwrap_or(0.0);
         check_positive(tau, "tau must be finite and > 0")?;
-        let (k, n) = (self.kernels(), self.dof());
         for (row, chunk) in self.weights.iter_mut().zip(theta.chunks_exact(k)) {
             row.copy_from_slice(chunk);
         }
@@ -504,20 +541,11 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
         if !(s < 1.0) || kernels < 2 {
             return;
         }
-        let s = s.max(0.0);
-        let spacing = 1.0 / (kernels - 1) as f32;
-        let (lo, hi) = window(s, self.width, kernels);
         let mut psi = [0.0f32; K];
-        let Some(active) = psi.get_mut(lo..=hi) else {
+        let (lo, hi, sum) = activations(s.max(0.0), self.width, kernels, &mut psi);
+        let Some(active) = psi.get(lo..=hi) else {
             return;
         };
-        let mut sum = 0.0;
-        for (k, p) in (lo..=hi).zip(active.iter_mut()) {
-            let ds = s - k as f32 * spacing;
-            *p = libm::expf(-self.width * ds * ds);
-            sum += *p;
-        }
-        let active = &*active;
         for (o, w) in out.iter_mut().zip(self.weights.iter()) {
             let dot: f32 = w
                 .get(lo..=hi)
@@ -533,8 +561,16 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
     fn check_execution(&self, exec: &Execution<D>) -> Result<(), Error> {
         check_len("execution start", self.dof(), exec.start.len())?;
         check_len("execution goal", self.dof(), exec.goal.len())?;
-        check_finite(&exec.start, "execution start")?;
-        check_finite(&exec.goal, "execution goal")?;
+        check_bounded(
+            &exec.start,
+            MAX_ABS_POSITION,
+            "execution start beyond MAX_ABS_POSITION",
+        )?;
+        check_bounded(
+            &exec.goal,
+            MAX_ABS_POSITION,
+            "execution goal beyond MAX_ABS_POSITION",
+        )?;
         check_positive(exec.tau, "execution tau must be finite and > 0")
     }
 
@@ -580,15 +616,17 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
         let run = self.start(exec)?;
         let ratio = exec.tau / dt;
         let whole = libm::roundf(ratio);
-        // A τ within 0.1% of a whole number of steps ends on the grid;
-        // otherwise (also when τ < dt) a last, shorter step lands on τ.
-        let (full_steps, last_dt) = if whole >= 1.0 && libm::fabsf(ratio - whole) <= 1e-3 * whole {
+        // A τ within 0.1% of one step (or f32's resolution of the ratio) of
+        // a whole number of steps ends on the grid; otherwise (also when
+        // τ < dt) a last, shorter step lands on τ.
+        let tolerance = 1e-3f32.max(4.0 * f32::EPSILON * ratio);
+        let (full_steps, last_dt) = if whole >= 1.0 && libm::fabsf(ratio - whole) <= tolerance {
             (whole as u32, 0.0)
         } else {
             let full = libm::floorf(ratio);
             (full as u32, exec.tau - full * dt)
         };
-        if !(ratio < 1e9) {
+        if !(ratio < 1e9) || !(exec.tau + dt).is_finite() {
             return Err(Error::OutOfRange("tau / dt must be below 1e9 steps"));
         }
         Ok(Trajectory {
@@ -615,12 +653,41 @@ fn window(s: f32, width: f32, kernels: usize) -> (usize, usize) {
     (lo.min(nearest), hi.max(nearest))
 }
 
+/// Activations of the kernels within reach of phase `s`, relative to the
+/// nearest kernel (which gets exactly 1, so the sum is ≥ 1 however narrow the
+/// kernels): written to `psi[lo..=hi]`, returned with `lo`, `hi` and the sum.
+fn activations<const K: usize>(
+    s: f32,
+    width: f32,
+    kernels: usize,
+    psi: &mut [f32; K],
+) -> (usize, usize, f32) {
+    let last = kernels.saturating_sub(1).max(1) as f32;
+    let spacing = 1.0 / last;
+    let (lo, hi) = window(s, width, kernels);
+    let nearest = s - libm::roundf(s * last).clamp(0.0, last) * spacing;
+    let base = nearest * nearest;
+    let mut sum = 0.0;
+    for (k, p) in (lo..=hi).zip(psi.iter_mut().skip(lo)) {
+        let ds = s - k as f32 * spacing;
+        *p = libm::expf(-width * (ds * ds - base));
+        sum += *p;
+    }
+    (lo, hi, sum)
+}
+
 /// `exp(A u)` of the critically damped spring-damper for `u = dt/τ`, as
 /// `[Φ00, Φ01, Φ10, Φ11]` acting on `(y − y*, z)`.
 fn transition(alpha: f32, u: f32) -> [f32; 4] {
     let a = 0.5 * alpha;
-    let e = libm::expf(-a * u);
-    [e * (1.0 + a * u), e * u, -e * a * a * u, e * (1.0 - a * u)]
+    let au = a * u;
+    // Past 80 time constants the spring has settled (e^−80 < 2e−35); the
+    // closed form would compute 0·∞ there.
+    if !(au < 80.0) {
+        return [0.0; 4];
+    }
+    let e = libm::expf(-au);
+    [e * (1.0 + au), e * u, -e * a * au, e * (1.0 - au)]
 }
 
 /// An execution in progress, advanced one control step at a time.
@@ -650,6 +717,9 @@ impl<const D: usize> Run<D> {
     pub fn step<const K: usize>(&mut self, dmp: &Dmp<D, K>, dt: f32) -> Result<(), Error> {
         check_positive(dt, "dt must be finite and > 0")?;
         check_len("DMP DoF", self.dof, dmp.dof())?;
+        if !(self.time + dt).is_finite() {
+            return Err(Error::OutOfRange("time would overflow"));
+        }
         self.advance(dmp, dt);
         Ok(())
     }
@@ -691,7 +761,7 @@ impl<const D: usize> Run<D> {
     pub fn set_goal<const K: usize>(&mut self, dmp: &Dmp<D, K>, goal: &[f32]) -> Result<(), Error> {
         check_len("goal", self.dof, goal.len())?;
         check_len("DMP DoF", self.dof, dmp.dof())?;
-        check_finite(goal, "goal")?;
+        check_bounded(goal, MAX_ABS_POSITION, "goal beyond MAX_ABS_POSITION")?;
         for (d, (dst, &g)) in self.goal.iter_mut().zip(goal).enumerate() {
             *dst = g;
             if let (Some(a), Some(&y0)) = (self.amplitude.get_mut(d), self.start.get(d)) {

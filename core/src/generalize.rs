@@ -320,9 +320,10 @@ impl<const E: usize, const Q: usize, const P: usize> Generalizer<E, Q, P> {
         check_finite(query, "query")?;
         *out = [0.0; E];
         match self.method {
-            Method::Lwr { .. } => self.lwr(query, out),
-            Method::Gpr { .. } => self.gpr(query, out),
+            Method::Lwr { .. } => self.lwr(query, out)?,
+            Method::Gpr { .. } => self.gpr(query, out)?,
         }
+        check_finite(out, "generalization coefficients")
     }
 
     fn lwr(&self, query: &[f32], out: &mut [f32; E]) -> Result<(), Error> {

@@ -63,6 +63,9 @@ impl SearchConfig {
                 "search limits must satisfy low < desired < high",
             ));
         }
+        if !(self.high - self.low).is_finite() {
+            return Err(Error::OutOfRange("search limits too far apart for f32"));
+        }
         if !(self.precision > 0.0) {
             return Err(Error::OutOfRange("precision must be > 0"));
         }
@@ -130,7 +133,7 @@ pub trait ErrorLearner {
 
 /// What every bracketed error learner tracks: settings, bracket, the query
 /// in flight, roll-out count, best so far and status.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct SearchState {
     cfg: SearchConfig,
     low: f32,
@@ -211,7 +214,7 @@ impl SearchState {
 }
 
 /// The paper's golden-section error learner.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct GoldenSection {
     state: SearchState,
 }

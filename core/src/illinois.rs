@@ -33,27 +33,27 @@
 //! # Ok::<(), primo_core::Error>(())
 //! ```
 
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
 
 use crate::Error;
 use crate::golden::{ErrorLearner, GOLDEN, SearchConfig, SearchState, Status};
 
 /// A known point `(q, ε)`.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 struct Point {
     q: f32,
     e: f32,
 }
 
 /// Which end of the bracket the last roll-out replaced.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 enum Side {
     Low,
     High,
 }
 
 /// The Illinois error learner.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Illinois {
     state: SearchState,
     /// Error at the bracket's low end (positive), once a roll-out has been

@@ -15,7 +15,7 @@
 use rand_core::Rng;
 
 /// Standard-normal sampler; holds the spare value of the last Box–Muller pair.
-#[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize)]
 pub struct StandardNormal {
     spare: Option<f32>,
 }

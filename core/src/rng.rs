@@ -15,10 +15,10 @@
 use core::convert::Infallible;
 
 use rand_core::{SeedableRng, TryRng};
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
 
 /// The generator's 128-bit state.
-#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
 pub struct Xoshiro128PlusPlus {
     s: [u32; 4],
 }

@@ -297,3 +297,52 @@ fn bad_input_is_an_error_not_a_panic() {
     exec.goal[0] = f32::INFINITY;
     assert!(dmp.start(&exec).is_err());
 }
+
+/// Cases an independent review found to give NaN or a wrong end time.
+#[test]
+fn review_findings_stay_fixed() {
+    // Very narrow kernels: every raw activation underflows between kernels.
+    let t = [0.0, 0.01, 0.02, 0.98, 0.99, 1.0];
+    let y = [0.0, 0.0, 0.0, 1.0, 1.0, 1.0];
+    let o = FitOptions {
+        overlap: 1000.0,
+        ..FitOptions::default()
+    };
+    if let Ok(dmp) = Dmp::<1, 2>::fit(&t, &y, 1, 2, &o) {
+        let mut f = [0.0];
+        dmp.forcing(0.5, &mut f);
+        assert!(f[0].is_finite());
+        assert!(
+            dmp.trajectory(&dmp.execution(), 0.01)
+                .unwrap()
+                .all(|s| s.position[0].is_finite())
+        );
+    }
+    let (t, y) = demo_2d();
+    let mut dmp = Dmp::<2, 30>::fit(&t, &y, 2, 30, &FitOptions::default()).unwrap();
+    // A huge step on a tiny τ: the spring has settled, not 0·∞.
+    let mut exec = dmp.execution();
+    exec.tau = 1e-30;
+    let mut run = dmp.start(&exec).unwrap();
+    run.step(&dmp, 1e10).unwrap();
+    assert!(run.position().iter().all(|v| v.is_finite()));
+    run.step(&dmp, 3e38).unwrap();
+    assert!(run.position().iter().all(|v| v.is_finite()));
+    assert!(run.step(&dmp, 3e38).is_err(), "time would overflow");
+    assert!(run.time().is_finite());
+    // Weights beyond the documented bound are refused.
+    let mut theta = vec![0.0; dmp.param_len()];
+    dmp.params(&mut theta).unwrap();
+    theta[3] = 3e38;
+    assert!(dmp.set_params(&theta).is_err());
+    // τ off the dt grid ends exactly at τ, with the forcing switched off.
+    let exec = dmp.execution();
+    for (tau, rows) in [(1.0005f32, 1002usize), (0.9996, 1001)] {
+        let mut e = exec.clone();
+        e.tau = tau;
+        let samples: Vec<_> = dmp.trajectory(&e, 0.001).unwrap().collect();
+        assert_eq!(samples.len(), rows, "tau {tau}");
+        assert_eq!(samples.last().unwrap().time, tau);
+        assert!(samples[rows - 2].time < tau);
+    }
+}

@@ -209,3 +209,16 @@ fn noisy_measurements_still_converge() {
         assert!(median(i) <= median(g));
     }
 }
+
+#[test]
+fn limits_too_far_apart_for_f32_are_refused() {
+    let cfg = SearchConfig {
+        low: -3e38,
+        high: 3e38,
+        desired: 2e38,
+        precision: 1.0,
+        max_rollouts: 10,
+    };
+    assert!(GoldenSection::new(cfg).is_err());
+    assert!(Illinois::new(cfg).is_err());
+}
