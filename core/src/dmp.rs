@@ -55,7 +55,7 @@
 use heapless::Vec;
 use serde::{Deserialize, Serialize};
 
-use crate::error::{check_capacity, check_finite, check_len};
+use crate::error::{check_bounded, check_capacity, check_finite, check_len};
 use crate::{Error, linalg};
 
 /// Default spring gain `α` (with `β = α / 4`, critically damped).
@@ -178,16 +178,6 @@ impl<const D: usize, const K: usize> TryFrom<DmpFields<D, K>> for Dmp<D, K> {
 
 fn check_positive(v: f32, what: &'static str) -> Result<(), Error> {
     if v.is_finite() && v > 0.0 {
-        Ok(())
-    } else {
-        Err(Error::OutOfRange(what))
-    }
-}
-
-/// Checks that every value is finite and within `±bound`.
-fn check_bounded(values: &[f32], bound: f32, what: &'static str) -> Result<(), Error> {
-    check_finite(values, what)?;
-    if values.iter().all(|v| libm::fabsf(*v) <= bound) {
         Ok(())
     } else {
         Err(Error::OutOfRange(what))
@@ -641,16 +631,16 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
     }
 }
 
-/// The kernel index range `[lo, hi]` within reach of phase `s` (never empty).
-fn window(s: f32, width: f32, kernels: usize) -> (usize, usize) {
-    let last = (kernels - 1) as f32;
+/// The kernel index range `[lo, hi]` within reach of phase `s` for kernels
+/// `0..=last`, and the nearest kernel, which it always contains.
+fn window(s: f32, width: f32, last: f32) -> (usize, usize, usize) {
     let reach = libm::sqrtf(KERNEL_CUTOFF / width) * last;
     let centre = s * last;
     // `as usize` saturates, and the clamp keeps both ends inside [0, last].
     let lo = libm::ceilf(centre - reach).clamp(0.0, last) as usize;
     let hi = libm::floorf(centre + reach).clamp(0.0, last) as usize;
     let nearest = libm::roundf(centre).clamp(0.0, last) as usize;
-    (lo.min(nearest), hi.max(nearest))
+    (lo.min(nearest), hi.max(nearest), nearest)
 }
 
 /// Activations of the kernels within reach of phase `s`, relative to the
@@ -664,9 +654,9 @@ fn activations<const K: usize>(
 ) -> (usize, usize, f32) {
     let last = kernels.saturating_sub(1).max(1) as f32;
     let spacing = 1.0 / last;
-    let (lo, hi) = window(s, width, kernels);
-    let nearest = s - libm::roundf(s * last).clamp(0.0, last) * spacing;
-    let base = nearest * nearest;
+    let (lo, hi, nearest) = window(s, width, last);
+    let d0 = s - nearest as f32 * spacing;
+    let base = d0 * d0;
     let mut sum = 0.0;
     for (k, p) in (lo..=hi).zip(psi.iter_mut().skip(lo)) {
         let ds = s - k as f32 * spacing;
@@ -929,7 +919,8 @@ mod tests {
         let width = DEFAULT_OVERLAP * 29.0 * 29.0;
         for i in 0..=1000 {
             let s = i as f32 / 1000.0;
-            let (lo, hi) = window(s, width, 30);
+            let (lo, hi, nearest) = window(s, width, 29.0);
+            assert!(lo <= nearest && nearest <= hi);
             assert!(lo <= hi && hi < 30);
             assert!(hi - lo < 9, "window {lo}..={hi}");
         }

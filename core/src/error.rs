@@ -67,6 +67,16 @@ pub(crate) fn check_finite(values: &[f32], what: &'static str) -> Result<(), Err
     }
 }
 
+/// Checks that every value in `values` is finite and within `±bound`.
+pub(crate) fn check_bounded(values: &[f32], bound: f32, what: &'static str) -> Result<(), Error> {
+    check_finite(values, what)?;
+    if values.iter().all(|v| libm::fabsf(*v) <= bound) {
+        Ok(())
+    } else {
+        Err(Error::OutOfRange(what))
+    }
+}
+
 /// Checks `n <= capacity`.
 pub(crate) fn check_capacity(what: &'static str, n: usize, capacity: usize) -> Result<(), Error> {
     if n <= capacity {

@@ -202,6 +202,13 @@ impl SearchState {
         (self.low, self.high)
     }
 
+    /// The paper's step in the current bracket: 0.618 of the way up after
+    /// `ε > 0`, 0.382 after `ε ≤ 0`.
+    pub(crate) fn golden_step(&self, error: f32) -> f32 {
+        let fraction = if error > 0.0 { GOLDEN } else { 1.0 - GOLDEN };
+        self.low + (self.high - self.low) * fraction
+    }
+
     /// Sets the next query; stops with [`Status::BracketCollapsed`] if it is
     /// not strictly inside the bracket (adjacent `f32` ends).
     pub(crate) fn propose(&mut self, next: f32) -> Status {
@@ -238,8 +245,6 @@ impl ErrorLearner for GoldenSection {
             return Ok(self.state.status);
         };
         self.state.shrink(query, error);
-        let (low, high) = self.state.bracket();
-        let fraction = if error > 0.0 { GOLDEN } else { 1.0 - GOLDEN };
-        Ok(self.state.propose(low + (high - low) * fraction))
+        Ok(self.state.propose(self.state.golden_step(error)))
     }
 }

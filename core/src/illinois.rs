@@ -36,7 +36,7 @@
 use serde::Serialize;
 
 use crate::Error;
-use crate::golden::{ErrorLearner, GOLDEN, SearchConfig, SearchState, Status};
+use crate::golden::{ErrorLearner, SearchConfig, SearchState, Status};
 
 /// A known point `(q, ε)`.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -78,7 +78,7 @@ impl Illinois {
         })
     }
 
-    fn next_query(&self, side: Side, current: Point) -> f32 {
+    fn next_query(&self, current: Point) -> f32 {
         let (a, b) = self.state.bracket();
         let proposal = match (self.low_error, self.high_error) {
             // Bracketed: regula falsi between the ends.
@@ -93,10 +93,8 @@ impl Illinois {
         };
         if proposal > a && proposal < b {
             proposal
-        } else if side == Side::Low {
-            a + (b - a) * GOLDEN
         } else {
-            a + (b - a) * (1.0 - GOLDEN)
+            self.state.golden_step(current.e)
         }
     }
 }
@@ -129,7 +127,7 @@ impl ErrorLearner for Illinois {
         }
         self.last_side = Some(side);
         self.state.shrink(query, error);
-        let next = self.next_query(side, current);
+        let next = self.next_query(current);
         Ok(self.state.propose(next))
     }
 }

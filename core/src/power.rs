@@ -46,7 +46,7 @@ use rand_core::SeedableRng;
 use serde::{Deserialize, Serialize};
 
 use crate::Error;
-use crate::error::{check_capacity, check_finite, check_len};
+use crate::error::{check_bounded, check_capacity, check_finite, check_len};
 use crate::normal::StandardNormal;
 use crate::rng::Xoshiro128PlusPlus;
 
@@ -180,10 +180,11 @@ impl<const P: usize, const L: usize> Power<P, L> {
             return Err(Error::OutOfRange("PoWER needs at least one parameter"));
         }
         check_capacity("parameters", n, P)?;
-        check_finite(initial, "initial parameters")?;
-        if initial.iter().any(|v| libm::fabsf(*v) > MAX_ABS_PARAM) {
-            return Err(Error::OutOfRange("initial parameters beyond MAX_ABS_PARAM"));
-        }
+        check_bounded(
+            initial,
+            MAX_ABS_PARAM,
+            "initial parameters beyond MAX_ABS_PARAM",
+        )?;
         let total = cfg
             .blocks
             .iter()
