@@ -8,6 +8,11 @@ use primo_core::dmp::FitOptions;
 
 use crate::csv::{parse_demo, write_rows};
 use crate::dmpfile::DmpFile;
+use crate::pour::{Method, Settings, built_in_skill, learn, power_blocks};
+use crate::report::{PourSummary, PowerSummary, RolloutSummary};
+use crate::sim::cell::{CellConfig, GlassKind};
+use crate::sim::expert::{Style, synthesize};
+use crate::skill::{Skill, Space};
 use crate::{CliError, HostDmp, MAX_DOF, MAX_KERNELS, write_atomically};
 
 /// primo: learn a movement skill from a couple of demonstrations and a
@@ -24,6 +29,158 @@ enum Command {
     /// Dynamic Movement Primitives: fit to a demonstration, run.
     #[command(subcommand)]
     Dmp(DmpCommand),
+    /// Demonstrations: synthesize them on the simulated cell.
+    #[command(subcommand)]
+    Demo(DemoCommand),
+    /// Learn to pour on the simulated cell: fit the demonstrations,
+    /// generalize to the bottle, learn, and report every roll-out.
+    Pour(PourArgs),
+    /// Execute parameter vectors on the simulated cell (an objective for
+    /// any optimizer).
+    Rollout(RolloutArgs),
+    /// Reproduce the paper's experiments.
+    #[command(subcommand)]
+    Experiment(ExperimentCommand),
+}
+
+#[derive(Debug, Subcommand)]
+enum DemoCommand {
+    /// A scripted, slightly imperfect expert pours on the simulated cell;
+    /// the movement is written as CSV (`t,x,y,z,rx,ry,rz` or `t,a1..a7`).
+    Synth {
+        /// Record the bottle pose or the joint angles.
+        #[arg(long, value_enum, default_value_t = Space::Cartesian)]
+        space: Space,
+        /// Liquid in the bottle, l.
+        #[arg(long, default_value_t = 0.5)]
+        bottle: f64,
+        /// Volume to pour, l.
+        #[arg(long, default_value_t = 0.2)]
+        pour: f64,
+        /// Angle at which the demonstrator holds joint 3, rad.
+        #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+        elbow: f64,
+        /// Seed of the expert's imperfections.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Output CSV file (stdout when absent).
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+}
+
+/// The cell and skill options shared by the learning commands.
+#[derive(Debug, Clone, clap::Args)]
+struct SkillArgs {
+    /// Coordinates the movement is learned in.
+    #[arg(long, value_enum)]
+    space: Option<Space>,
+    /// Kernels per DoF of the DMPs.
+    #[arg(long, default_value_t = 30)]
+    kernels: usize,
+    /// The glass on the scale.
+    #[arg(long, value_enum)]
+    glass: Option<GlassKind>,
+    /// Demonstrations `FILE=VOLUME` (repeat; CSV in the space's columns).
+    /// Default: the built-in pair from 0.3 l and 1.0 l bottles.
+    #[arg(long = "demo", value_name = "FILE=VOLUME")]
+    demos: Vec<String>,
+}
+
+#[derive(Debug, clap::Args)]
+struct PourArgs {
+    /// Liquid in the bottle, l.
+    #[arg(long, default_value_t = 0.5)]
+    bottle: f64,
+    /// Volume to pour, l.
+    #[arg(long, default_value_t = 0.2)]
+    target: f64,
+    /// The learner.
+    #[arg(long, value_enum, default_value_t = Method::Golden)]
+    method: Method,
+    #[command(flatten)]
+    skill: SkillArgs,
+    /// Seed of exploration and of the scale's noise.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Roll-out budget (default 30 for error learning, 200 for PoWER).
+    #[arg(long)]
+    max_rollouts: Option<u32>,
+    /// Error learning stops at |error| below this, l.
+    #[arg(long, default_value_t = 0.002)]
+    precision: f64,
+    /// Output directory for rollouts.csv, summary.json, convergence.png.
+    #[arg(long, default_value = "pour-out")]
+    out: PathBuf,
+}
+
+#[derive(Debug, clap::Args)]
+struct RolloutArgs {
+    /// JSON array `[weights (dof×kernels, row by row), goals (dof), τ,
+    /// q̂]`: θ is absolute; the movement executed is θ + G(q̂) − G(bottle).
+    #[arg(long, conflicts_with_all = ["serve", "print_start"])]
+    params: Option<PathBuf>,
+    /// Answer JSON-array lines on stdin with one JSON line each.
+    #[arg(long, conflicts_with = "print_start")]
+    serve: bool,
+    /// Print the generalized start vector and PoWER's exploration std.
+    #[arg(long)]
+    print_start: bool,
+    /// Liquid in the bottle, l.
+    #[arg(long, default_value_t = 0.5)]
+    bottle: f64,
+    /// Volume to pour, l.
+    #[arg(long, default_value_t = 0.2)]
+    target: f64,
+    #[command(flatten)]
+    skill: SkillArgs,
+    /// Seed of the scale's noise.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+}
+
+#[derive(Debug, Subcommand)]
+enum ExperimentCommand {
+    /// Fig. 3: error learning (golden section and Illinois) per volume.
+    Golden {
+        /// Bottle volumes, l.
+        #[arg(
+            long,
+            value_delimiter = ',',
+            default_value = "0.3,0.4,0.5,0.6,0.7,0.8,0.9,1.0"
+        )]
+        volumes: Vec<f64>,
+        /// Stop at |error| below this, l.
+        #[arg(long, default_value_t = 0.002)]
+        precision: f64,
+        /// Seed of the scale's noise.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Output directory.
+        #[arg(long, default_value = "experiment-golden")]
+        out: PathBuf,
+    },
+    /// Figs. 5–6: extended against ordinary PoWER in joint space.
+    Power {
+        /// Seeded runs per variant.
+        #[arg(long, default_value_t = 20)]
+        runs: usize,
+        /// Kernels per joint (30 gives the paper's 219 parameters).
+        #[arg(long, default_value_t = 30)]
+        kernels: usize,
+        /// Updates per run (4 roll-outs each).
+        #[arg(long, default_value_t = 100)]
+        updates: u32,
+        /// The glass (the paper's second experiment: small).
+        #[arg(long, value_enum, default_value_t = GlassKind::Small)]
+        glass: GlassKind,
+        /// Seed of the first run.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Output directory.
+        #[arg(long, default_value = "experiment-power")]
+        out: PathBuf,
+    },
 }
 
 #[derive(Debug, Subcommand)]
@@ -85,6 +242,30 @@ pub fn main_with(args: impl IntoIterator<Item = String>) -> i32 {
 
 fn run(cli: Cli) -> Result<(), CliError> {
     match cli.command {
+        Command::Demo(DemoCommand::Synth {
+            space,
+            bottle,
+            pour,
+            elbow,
+            seed,
+            out,
+        }) => synth(space, bottle, pour, elbow, seed, out.as_deref()),
+        Command::Pour(args) => pour(&args),
+        Command::Rollout(args) => rollout(&args),
+        Command::Experiment(ExperimentCommand::Golden {
+            volumes,
+            precision,
+            seed,
+            out,
+        }) => experiment_golden(&volumes, precision, seed, &out),
+        Command::Experiment(ExperimentCommand::Power {
+            runs,
+            kernels,
+            updates,
+            glass,
+            seed,
+            out,
+        }) => experiment_power(runs, kernels, updates, glass, seed, &out),
         Command::Dmp(DmpCommand::Fit { demo, kernels, out }) => fit(&demo, kernels, out.as_deref()),
         Command::Dmp(DmpCommand::Run {
             dmp,
@@ -224,4 +405,408 @@ fn run_dmp(
     )
     .map_err(|e| CliError::other(format!("writing the trajectory: {e}")))?;
     emit(out, &buf)
+}
+
+fn synth(
+    space: Space,
+    bottle: f64,
+    pour: f64,
+    elbow: f64,
+    seed: u64,
+    out: Option<&Path>,
+) -> Result<(), CliError> {
+    let cell = CellConfig::standard(GlassKind::Normal);
+    let demo = synthesize(&cell, bottle, pour, &Style { elbow, seed }).map_err(CliError::input)?;
+    eprintln!(
+        "primo: the expert poured {:.1} ml (spilled {:.1} ml) from {bottle} l in {:.2} s",
+        demo.poured * 1e3,
+        demo.spilled * 1e3,
+        demo.t.last().copied().unwrap_or(0.0)
+    );
+    let csv = crate::pour::to_csv_demo(&demo, space);
+    let mut buf = Vec::new();
+    let dof = csv.names.len();
+    write_rows(
+        &mut buf,
+        &csv.names,
+        csv.times
+            .iter()
+            .zip(csv.positions.chunks_exact(dof))
+            .map(|(t, row)| (*t, row.iter().copied())),
+    )
+    .map_err(|e| CliError::other(format!("writing the demonstration: {e}")))?;
+    emit(out, &buf)
+}
+
+impl SkillArgs {
+    /// The cell and the skill these options describe; `space` and `glass`
+    /// fall back to the given defaults.
+    fn build(&self, space: Space, glass: GlassKind) -> Result<(CellConfig, Skill), CliError> {
+        let space = self.space.unwrap_or(space);
+        let cell = CellConfig::standard(self.glass.unwrap_or(glass));
+        if !(2..=MAX_KERNELS).contains(&self.kernels) {
+            return Err(CliError::input(format!(
+                "--kernels: {} is outside 2..={MAX_KERNELS}",
+                self.kernels
+            )));
+        }
+        if self.demos.is_empty() {
+            let skill = built_in_skill(&cell, space, self.kernels).map_err(CliError::other)?;
+            return Ok((cell, skill));
+        }
+        let mut demos = Vec::new();
+        for arg in &self.demos {
+            let (file, volume) = arg
+                .rsplit_once('=')
+                .ok_or_else(|| CliError::input(format!("--demo {arg}: expected FILE=VOLUME")))?;
+            let volume: f32 = match volume.parse() {
+                Ok(v) if f32::is_finite(v) => v,
+                _ => {
+                    return Err(CliError::input(format!(
+                        "--demo {arg}: volume `{volume}` is not a number"
+                    )));
+                }
+            };
+            demos.push((volume, parse_demo(file, &read(Path::new(file))?)?));
+        }
+        let examples: Vec<_> = demos.iter().map(|(q, d)| (*q, d)).collect();
+        let skill = Skill::fit(
+            space,
+            &examples,
+            self.kernels,
+            primo_core::generalize::Method::Lwr { bandwidth: None },
+        )
+        .map_err(CliError::input)?;
+        Ok((cell, skill))
+    }
+}
+
+fn create_dir(dir: &Path) -> Result<(), CliError> {
+    std::fs::create_dir_all(dir)
+        .map_err(|e| CliError::other(format!("{}: cannot create: {e}", dir.display())))
+}
+
+/// A progress bar on stderr, redrawn in place when stderr is a terminal.
+struct Progress {
+    total: u32,
+    tty: bool,
+}
+
+impl Progress {
+    fn new(total: u32) -> Self {
+        use std::io::IsTerminal;
+        Progress {
+            total: total.max(1),
+            tty: std::io::stderr().is_terminal(),
+        }
+    }
+
+    fn show(&self, done: u32, note: &str) {
+        if !self.tty {
+            return;
+        }
+        let width = 30;
+        let filled = (done.min(self.total) * width / self.total) as usize;
+        eprint!(
+            "\r[{}{}] {done}/{} {note}   ",
+            "#".repeat(filled),
+            ".".repeat(width as usize - filled),
+            self.total
+        );
+    }
+
+    fn clear(&self) {
+        if self.tty {
+            eprint!("\r{}\r", " ".repeat(70));
+        }
+    }
+}
+
+fn pour(args: &PourArgs) -> Result<(), CliError> {
+    let started = std::time::Instant::now();
+    let space = match args.method {
+        Method::Power => Space::Joint,
+        _ => Space::Cartesian,
+    };
+    let (cell, skill) = args.skill.build(space, GlassKind::Normal)?;
+    let mut settings = Settings::paper(args.method, args.bottle, args.target, args.seed);
+    settings.precision = args.precision;
+    if let Some(n) = args.max_rollouts {
+        settings.max_rollouts = n;
+    }
+    create_dir(&args.out)?;
+    let parameters = match args.method {
+        Method::Power => skill.param_len() + 1,
+        _ => 1,
+    };
+    println!(
+        "primo pour: {} from a {} l bottle, target {} l, {:?} space, {} learned parameter(s)",
+        match args.method {
+            Method::Golden => "golden-section error learning",
+            Method::Illinois => "Illinois error learning",
+            Method::Power => "extended PoWER",
+        },
+        args.bottle,
+        args.target,
+        skill.space(),
+        parameters
+    );
+    let progress = Progress::new(settings.max_rollouts);
+    let records = learn(&skill, &cell, &settings, |r| {
+        progress.clear();
+        println!("{}", crate::report::rollout_line(r));
+        progress.show(r.rollout, &format!("error {:+.1} ml", r.trial.error * 1e3));
+    })
+    .map_err(CliError::input)?;
+    progress.clear();
+    let last = records
+        .iter()
+        .rev()
+        .find(|r| r.mean)
+        .ok_or_else(|| CliError::other("no roll-out was made"))?;
+    let converged_at = match args.method {
+        Method::Power => None,
+        _ => records
+            .iter()
+            .find(|r| r.trial.error.abs() < args.precision)
+            .map(|r| r.rollout),
+    };
+    let summary = PourSummary {
+        settings: &settings,
+        space: skill.space(),
+        parameters,
+        rollouts: records.len(),
+        converged_at,
+        last: RolloutSummary::of(last),
+        seconds: started.elapsed().as_secs_f64(),
+    };
+    crate::report::write_pour(&args.out, &records, &summary)?;
+    let verdict = match (args.method, converged_at) {
+        (Method::Power, _) => "learned".to_string(),
+        (_, Some(n)) => format!(
+            "converged to |error| < {} ml in {n} roll-outs",
+            args.precision * 1e3
+        ),
+        (_, None) => format!("did not reach {} ml", args.precision * 1e3),
+    };
+    println!(
+        "primo pour: {verdict}; last: q {:.4} l, poured {:.1} ml, spilled {:.1} ml, reward {:.3}; wrote {}",
+        last.query,
+        last.trial.poured * 1e3,
+        last.trial.spilled * 1e3,
+        last.trial.reward,
+        args.out.display()
+    );
+    Ok(())
+}
+
+/// Parses a roll-out vector: a JSON array of `len` finite numbers.
+fn parse_params(what: &str, text: &str, len: usize) -> Result<Vec<f32>, String> {
+    let values: Vec<f64> = serde_json::from_str(text)
+        .map_err(|e| format!("{what}: not a JSON array of numbers: {e}"))?;
+    if values.len() != len {
+        return Err(format!(
+            "{what}: {} values, the layout needs {len} (weights, goals, τ, q̂)",
+            values.len()
+        ));
+    }
+    values
+        .iter()
+        .enumerate()
+        .map(|(i, v)| {
+            let x = *v as f32;
+            if x.is_finite() {
+                Ok(x)
+            } else {
+                Err(format!("{what}: value {} is out of f32 range", i + 1))
+            }
+        })
+        .collect()
+}
+
+/// One roll-out of the vector `x = [θ, q̂]`: Δθ = θ − G(bottle).
+fn rollout_json(
+    skill: &Skill,
+    cell: &CellConfig,
+    base: &[f32],
+    args: &RolloutArgs,
+    x: &[f32],
+    seed: u64,
+) -> Result<serde_json::Value, String> {
+    let (theta, query) = x.split_at(base.len());
+    let query = query.first().copied().unwrap_or(args.bottle as f32);
+    let delta: Vec<f32> = theta.iter().zip(base).map(|(t, b)| t - b).collect();
+    let trial = skill.roll_out(cell, args.bottle, args.target, query, &delta, seed)?;
+    Ok(serde_json::json!({
+        "poured": trial.poured,
+        "spilled": trial.spilled,
+        "error": trial.error,
+        "reward": trial.reward,
+        "safe": trial.rejected.is_none(),
+        "rejected": trial.rejected,
+    }))
+}
+
+fn rollout(args: &RolloutArgs) -> Result<(), CliError> {
+    let (cell, skill) = args.skill.build(Space::Joint, GlassKind::Normal)?;
+    let base = skill
+        .generalize(args.bottle as f32)
+        .map_err(CliError::input)?;
+    let len = base.len() + 1;
+    if args.print_start {
+        let blocks = power_blocks(&skill, 0.2, 0.05).map_err(CliError::other)?;
+        // Blocks are [q̂, weights, goals, τ]; the vector puts q̂ last.
+        let mut std: Vec<f32> = blocks
+            .iter()
+            .flat_map(|b| std::iter::repeat_n(b.variance.sqrt(), b.len))
+            .collect();
+        std.rotate_left(1);
+        let mut start = base.clone();
+        start.push(args.bottle as f32);
+        let out = serde_json::json!({
+            "layout": "weights (dof x kernels, row by row), goals (dof), tau (s), query (l)",
+            "space": skill.space(),
+            "dof": skill.dof(),
+            "kernels": skill.kernels(),
+            "bottle": args.bottle,
+            "start": start,
+            "std": std,
+        });
+        println!("{out}");
+        return Ok(());
+    }
+    if args.serve {
+        use std::io::BufRead;
+        let stdin = std::io::stdin();
+        let mut stdout = std::io::stdout();
+        for (i, line) in stdin.lock().lines().enumerate() {
+            let line = line.map_err(|e| CliError::other(format!("stdin: {e}")))?;
+            if line.trim().is_empty() {
+                continue;
+            }
+            let what = format!("stdin line {}", i + 1);
+            let answer = parse_params(&what, &line, len)
+                .and_then(|x| {
+                    rollout_json(
+                        &skill,
+                        &cell,
+                        &base,
+                        args,
+                        &x,
+                        args.seed.wrapping_add(i as u64),
+                    )
+                })
+                .unwrap_or_else(|e| serde_json::json!({ "error": e }));
+            writeln!(stdout, "{answer}")
+                .and_then(|()| stdout.flush())
+                .map_err(|e| CliError::other(format!("stdout: {e}")))?;
+        }
+        return Ok(());
+    }
+    let path = args
+        .params
+        .as_deref()
+        .ok_or_else(|| CliError::input("give --params FILE, --serve or --print-start"))?;
+    let x =
+        parse_params(&path.display().to_string(), &read(path)?, len).map_err(CliError::input)?;
+    let answer =
+        rollout_json(&skill, &cell, &base, args, &x, args.seed).map_err(CliError::input)?;
+    println!("{answer}");
+    Ok(())
+}
+
+fn experiment_golden(
+    volumes: &[f64],
+    precision: f64,
+    seed: u64,
+    out: &Path,
+) -> Result<(), CliError> {
+    let started = std::time::Instant::now();
+    let cell = CellConfig::standard(GlassKind::Normal);
+    let skill = built_in_skill(&cell, Space::Cartesian, 30).map_err(CliError::other)?;
+    let runs = crate::experiment::golden(&skill, &cell, volumes, precision, seed)
+        .map_err(CliError::input)?;
+    create_dir(out)?;
+    crate::report::write_golden(out, &runs, precision)?;
+    println!(
+        "volume  golden  illinois   (roll-outs to |error| < {} ml)",
+        precision * 1e3
+    );
+    for pair in runs.chunks(2) {
+        let show = |r: &crate::experiment::SearchRun| {
+            r.rollouts_to_precision
+                .map_or("-".to_string(), |n| n.to_string())
+        };
+        if let [g, i] = pair {
+            println!("{:>5.2} l {:>7} {:>9}", g.volume, show(g), show(i));
+        }
+    }
+    let median = |m| crate::report::median_rollouts(&runs, m).unwrap_or(f64::NAN);
+    println!(
+        "median: golden {}, illinois {}; {:.1} s; wrote {}",
+        median(Method::Golden),
+        median(Method::Illinois),
+        started.elapsed().as_secs_f64(),
+        out.display()
+    );
+    Ok(())
+}
+
+fn experiment_power(
+    runs: usize,
+    kernels: usize,
+    updates: u32,
+    glass: GlassKind,
+    seed: u64,
+    out: &Path,
+) -> Result<(), CliError> {
+    let started = std::time::Instant::now();
+    if runs == 0 || updates == 0 {
+        return Err(CliError::input("--runs and --updates must be at least 1"));
+    }
+    let args = SkillArgs {
+        space: Some(Space::Joint),
+        kernels,
+        glass: Some(glass),
+        demos: Vec::new(),
+    };
+    let (cell, skill) = args.build(Space::Joint, glass)?;
+    let [extended, ordinary] =
+        crate::experiment::power(&skill, &cell, runs, updates, seed).map_err(CliError::input)?;
+    let summary = PowerSummary {
+        runs,
+        updates,
+        kernels,
+        parameters: skill.param_len() + 1,
+        glass,
+        error_ratio: ordinary.error.last() / extended.error.last(),
+        spill_ratio: ordinary.spilled.last() / extended.spilled.last(),
+        extended: &extended,
+        ordinary: &ordinary,
+        seconds: started.elapsed().as_secs_f64(),
+    };
+    create_dir(out)?;
+    crate::report::write_power(out, &summary)?;
+    for (name, c) in [("extended", &extended), ("ordinary", &ordinary)] {
+        println!(
+            "{name:>8}: start |error| {:.1} ml spilled {:.1} ml -> final |error| {:.2} ± {:.2} ml, spilled {:.2} ± {:.2} ml, reward {:.3}; {} rejected roll-outs",
+            c.error.mean.first().copied().unwrap_or(f64::NAN) * 1e3,
+            c.spilled.mean.first().copied().unwrap_or(f64::NAN) * 1e3,
+            c.error.last() * 1e3,
+            c.error.std.last().copied().unwrap_or(f64::NAN) * 1e3,
+            c.spilled.last() * 1e3,
+            c.spilled.std.last().copied().unwrap_or(f64::NAN) * 1e3,
+            c.reward.last(),
+            c.rejected
+        );
+    }
+    println!(
+        "ordinary/extended: final error x{:.2}, final spill x{:.2}; {} parameters, {runs} runs x {updates} updates each; {:.1} s; wrote {}",
+        summary.error_ratio,
+        summary.spill_ratio,
+        summary.parameters,
+        summary.seconds,
+        out.display()
+    );
+    Ok(())
 }

@@ -4,13 +4,23 @@
 //! - [`dmpfile`]: the versioned JSON format of a fitted DMP.
 //! - [`cli`]: the `primo` commands.
 //! - [`sim`]: the simulated pouring cell.
+//! - [`plot`]: PNG charts (learning curves).
+//! - [`skill`]: demonstrations → DMPs → generalization → checked roll-outs.
+//! - [`pour`]: the learners driving the skill's roll-outs.
+//! - [`experiment`]: the paper's experiments, runs spread over all cores.
+//! - [`report`]: roll-out tables, summaries and charts.
 #![deny(missing_docs)]
 
 pub mod cli;
 pub mod csv;
 pub mod dmpfile;
 mod error;
+pub mod experiment;
+pub mod plot;
+pub mod pour;
+pub mod report;
 pub mod sim;
+pub mod skill;
 
 pub use error::{CliError, write_atomically};
 

@@ -1,0 +1,264 @@
+//! Learning to pour: the paper's learners (golden-section error learning,
+//! its magnitude-using sibling Illinois, extended PoWER) driving roll-outs of
+//! a [`Skill`] on the simulated cell. The learners are the core's ask/tell
+//! state machines; this module only does the roll-outs.
+
+use primo_core::generalize::Method as Regression;
+use primo_core::golden::{ErrorLearner, GoldenSection, SearchConfig};
+use primo_core::illinois::Illinois;
+use primo_core::power::{Block, Power, PowerConfig, exploration_variance};
+use serde::Serialize;
+
+use crate::csv::Demo;
+use crate::sim::cell::CellConfig;
+use crate::sim::expert::{BUILT_IN, synthesize};
+use crate::skill::{MAX_PARAMS, Skill, Space, Trial};
+
+/// Capacity of the extended parameter vector `[q̂, Δθ]`.
+pub const MAX_EXTENDED: usize = MAX_PARAMS + 1;
+/// The paper's importance sampler length.
+pub const SAMPLER: usize = 3;
+/// Per-update decay of the query's exploration variance σ1² (the paper
+/// decays it "with time" without a number).
+pub const QUERY_DECAY: f32 = 0.9;
+
+/// The learner.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Method {
+    /// The paper's error learning with golden-section search on the query.
+    Golden,
+    /// Error learning that also uses the error's magnitude (Illinois
+    /// regula falsi), with the same bracket guarantee.
+    Illinois,
+    /// PoWER over the extended parameter set `[q̂, Δθ]`.
+    Power,
+}
+
+/// What to learn and how.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Settings {
+    /// The learner.
+    pub method: Method,
+    /// Liquid in the bottle, l.
+    pub bottle: f64,
+    /// Volume to pour, l.
+    pub target: f64,
+    /// Seed of exploration and of the scale's noise.
+    pub seed: u64,
+    /// Roll-out budget.
+    pub max_rollouts: u32,
+    /// Error learning stops at |error| < precision, l.
+    pub precision: f64,
+    /// Query search limits for error learning, l.
+    pub search: [f32; 2],
+    /// PoWER exploration scales s1 (query; 0 is ordinary PoWER) and s2 (Δθ).
+    pub s1: f32,
+    /// See `s1`.
+    pub s2: f32,
+}
+
+impl Settings {
+    /// The paper's settings for `method`: golden section from the bottle's
+    /// volume within [0.1, 1.5] l to 2 ml; PoWER with s1 = 0.2, s2 = 0.05.
+    pub fn paper(method: Method, bottle: f64, target: f64, seed: u64) -> Self {
+        Settings {
+            method,
+            bottle,
+            target,
+            seed,
+            max_rollouts: match method {
+                Method::Power => 200,
+                _ => 30,
+            },
+            precision: 0.002,
+            search: [0.1, 1.5],
+            s1: 0.2,
+            s2: 0.05,
+        }
+    }
+}
+
+/// One roll-out of a learning run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Record {
+    /// Roll-out number, from 1.
+    pub rollout: u32,
+    /// PoWER updates completed before this roll-out (0 for error learning).
+    pub update: u32,
+    /// This roll-out executed PoWER's current mean (no exploration).
+    pub mean: bool,
+    /// The query `q̂` rolled out.
+    pub query: f32,
+    /// What happened.
+    pub trial: Trial,
+}
+
+/// The demonstrations from the expert: 0.2 l from 0.3 l and 1.0 l bottles,
+/// in `space` coordinates, as `(bottle volume, recording)`.
+pub fn built_in_demos(cell: &CellConfig, space: Space) -> Result<Vec<(f32, Demo)>, String> {
+    BUILT_IN
+        .iter()
+        .map(|(volume, style)| {
+            let demo = synthesize(cell, *volume, 0.2, style)?;
+            Ok((*volume as f32, to_csv_demo(&demo, space)))
+        })
+        .collect()
+}
+
+/// A recording in the CSV layout of `space`.
+pub fn to_csv_demo(demo: &crate::sim::expert::Demo, space: Space) -> Demo {
+    let positions = match space {
+        Space::Cartesian => demo.cartesian.iter().flatten().map(|v| *v as f32).collect(),
+        Space::Joint => demo.joints.iter().flatten().map(|v| *v as f32).collect(),
+    };
+    Demo {
+        names: space.names().iter().map(|s| s.to_string()).collect(),
+        times: demo.t.iter().map(|t| *t as f32).collect(),
+        positions,
+    }
+}
+
+/// The skill fitted to the built-in demonstrations (LWR over the volume,
+/// which with two examples is the paper's linear interpolation).
+pub fn built_in_skill(cell: &CellConfig, space: Space, kernels: usize) -> Result<Skill, String> {
+    let demos = built_in_demos(cell, space)?;
+    let examples: Vec<(f32, &Demo)> = demos.iter().map(|(q, d)| (*q, d)).collect();
+    Skill::fit(
+        space,
+        &examples,
+        kernels,
+        Regression::Lwr { bandwidth: None },
+    )
+}
+
+/// PoWER's exploration blocks for `skill`: the query with
+/// `σ1² = s1·max|q_i − q_j|`, then the weights, the goals and τ, each with
+/// `σ² = s2·max‖θ_i − θ_j‖` over its own part of θ: one variance for all of
+/// Δθ would give goals and τ the kernel weights' scale.
+pub fn power_blocks(skill: &Skill, s1: f32, s2: f32) -> Result<Vec<Block>, String> {
+    let queries: Vec<[f32; 1]> = skill.examples().map(|(q, _)| [q]).collect();
+    let thetas: Vec<&[f32]> = skill.examples().map(|(_, t)| t).collect();
+    let (n, k) = (skill.dof(), skill.kernels());
+    let var = |s: f32, range: std::ops::Range<usize>| {
+        exploration_variance(s, thetas.iter().copied(), range).map_err(|e| e.to_string())
+    };
+    let query = exploration_variance(s1, queries.iter().map(|q| &q[..]), 0..1)
+        .map_err(|e| e.to_string())?;
+    Ok(vec![
+        Block {
+            len: 1,
+            variance: query,
+            decay: QUERY_DECAY,
+        },
+        Block {
+            len: n * k,
+            variance: var(s2, 0..n * k)?,
+            decay: 1.0,
+        },
+        Block {
+            len: n,
+            variance: var(s2, n * k..n * k + n)?,
+            decay: 1.0,
+        },
+        Block {
+            len: 1,
+            variance: var(s2, n * k + n..n * k + n + 1)?,
+            decay: 1.0,
+        },
+    ])
+}
+
+/// The scale's noise seed for roll-out `i` of a run seeded `seed`.
+fn trial_seed(seed: u64, i: u32) -> u64 {
+    seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ u64::from(i)
+}
+
+/// Runs the learner of `s` on `skill` in `cell`, calling `each` after every
+/// roll-out; returns all roll-outs.
+pub fn learn(
+    skill: &Skill,
+    cell: &CellConfig,
+    s: &Settings,
+    mut each: impl FnMut(&Record),
+) -> Result<Vec<Record>, String> {
+    let mut records = Vec::new();
+    let mut push = |r: Record, records: &mut Vec<Record>| {
+        each(&r);
+        records.push(r);
+    };
+    match s.method {
+        Method::Golden | Method::Illinois => {
+            let cfg = SearchConfig {
+                low: s.search[0],
+                high: s.search[1],
+                desired: s.bottle as f32,
+                precision: s.precision as f32,
+                max_rollouts: s.max_rollouts,
+            };
+            let mut learner: Box<dyn ErrorLearner> = match s.method {
+                Method::Illinois => Box::new(Illinois::new(cfg).map_err(|e| e.to_string())?),
+                _ => Box::new(GoldenSection::new(cfg).map_err(|e| e.to_string())?),
+            };
+            let mut i = 0;
+            while let Some(q) = learner.ask() {
+                i += 1;
+                let trial =
+                    skill.roll_out(cell, s.bottle, s.target, q, &[], trial_seed(s.seed, i))?;
+                if let Some(why) = &trial.rejected {
+                    return Err(format!("roll-out {i} (q = {q}) rejected: {why}"));
+                }
+                // ε > 0 (poured too much) asks for a larger query: a fuller
+                // bottle needs less tilt.
+                learner
+                    .tell(trial.error as f32)
+                    .map_err(|e| e.to_string())?;
+                push(
+                    Record {
+                        rollout: i,
+                        update: 0,
+                        mean: true,
+                        query: q,
+                        trial,
+                    },
+                    &mut records,
+                );
+            }
+        }
+        Method::Power => {
+            let blocks = power_blocks(skill, s.s1, s.s2)?;
+            let cfg = PowerConfig::paper(&blocks).map_err(|e| e.to_string())?;
+            let mut start = vec![0.0f32; skill.param_len() + 1];
+            start[0] = s.bottle as f32;
+            let mut power = Box::new(
+                Power::<MAX_EXTENDED, SAMPLER>::new(&start, cfg, s.seed)
+                    .map_err(|e| e.to_string())?,
+            );
+            for i in 1..=s.max_rollouts {
+                let (update, mean) = (power.updates(), power.next_is_mean());
+                let theta = power.ask();
+                let query = theta[0];
+                let trial = skill.roll_out(
+                    cell,
+                    s.bottle,
+                    s.target,
+                    query,
+                    &theta[1..],
+                    trial_seed(s.seed, i),
+                )?;
+                power.tell(trial.reward as f32).map_err(|e| e.to_string())?;
+                push(
+                    Record {
+                        rollout: i,
+                        update,
+                        mean,
+                        query,
+                        trial,
+                    },
+                    &mut records,
+                );
+            }
+        }
+    }
+    Ok(records)
+}

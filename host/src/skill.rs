@@ -1,0 +1,347 @@
+//! The pouring skill: demonstrations fitted as DMPs, generalized over the
+//! query (the bottle's volume), and executed on the simulated cell.
+//!
+//! A movement is `θ = G(q̂) + Δθ` (paper eq. 12) with the DMP parameter
+//! layout `[weights row by row, goals, τ]`; the start is generalized with
+//! the same coefficients (it is where the robot stands, not a learned
+//! parameter). Every trajectory is checked before it reaches the cell:
+//! joint position and velocity limits in joint space, the workspace box and
+//! speed limits of the mouth in Cartesian space. A rejected roll-out has
+//! reward 0 and moves nothing.
+
+use primo_core::dmp::{Execution, FitOptions, Scaling};
+use primo_core::generalize::{Generalizer, Method};
+
+use crate::csv::Demo;
+use crate::sim::arm::{JOINTS, check_limits};
+use crate::sim::cell::{Cell, CellConfig};
+use crate::sim::expert::{CARTESIAN_NAMES, JOINT_NAMES};
+use crate::{HostDmp, MAX_DOF, MAX_KERNELS};
+
+/// Most examples a skill generalizes over.
+pub const MAX_EXAMPLES: usize = 8;
+/// Longest DMP parameter vector (weights, goals, τ).
+pub const MAX_PARAMS: usize = MAX_DOF * MAX_KERNELS + MAX_DOF + 1;
+
+type Gen = Generalizer<MAX_EXAMPLES, 1, MAX_PARAMS>;
+
+/// Which coordinates the movement is learned in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Space {
+    /// Bottle pose: mouth position (m) and rotation vector (rad).
+    Cartesian,
+    /// The arm's seven joint angles (rad).
+    Joint,
+}
+
+impl Space {
+    /// Column names of the space's trajectories.
+    pub fn names(self) -> &'static [&'static str] {
+        match self {
+            Space::Cartesian => &CARTESIAN_NAMES,
+            Space::Joint => &JOINT_NAMES,
+        }
+    }
+}
+
+/// Box the mouth must stay in during Cartesian movements (base frame, m).
+pub const WORKSPACE: [[f64; 2]; 3] = [[0.3, 1.1], [-0.5, 0.7], [0.3, 1.1]];
+/// Fastest the mouth may move, m/s.
+pub const MAX_MOUTH_SPEED: f64 = 1.0;
+/// Fastest the bottle's rotation vector may change, rad/s.
+pub const MAX_TURN_RATE: f64 = 3.0;
+
+/// Demonstrations fitted and generalized.
+#[derive(Debug, Clone)]
+pub struct Skill {
+    space: Space,
+    template: HostDmp,
+    generalizer: Box<Gen>,
+    starts: Vec<Vec<f32>>,
+}
+
+/// A trajectory sampled at the control step, row-major `dof` values per
+/// sample, in f64 for the cell.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Plan {
+    /// Sample times, s.
+    pub t: Vec<f64>,
+    /// Positions.
+    pub rows: Vec<f64>,
+    /// DoF per row.
+    pub dof: usize,
+}
+
+/// The result of one roll-out on the cell.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Trial {
+    /// Poured volume as the scale reads it, l.
+    pub poured: f64,
+    /// Spilled volume, l.
+    pub spilled: f64,
+    /// `poured − target`, l.
+    pub error: f64,
+    /// `max(0, 1 − 5 |target − poured| − 5 spilled)`.
+    pub reward: f64,
+    /// Why the trajectory never reached the cell, if it did not.
+    pub rejected: Option<String>,
+}
+
+/// The paper's reward `r = 1 − 5|v_d − v_m| − 5 v_s` (litres), kept ≥ 0.
+pub fn reward(target: f64, poured: f64, spilled: f64) -> f64 {
+    (1.0 - 5.0 * (target - poured).abs() - 5.0 * spilled).max(0.0)
+}
+
+impl Skill {
+    /// Fits one DMP per demonstration, all with the same amplitude scaling
+    /// (decided on the first: interpolating weights only makes sense when
+    /// every example scales them alike), and generalizes over the queries.
+    pub fn fit(
+        space: Space,
+        examples: &[(f32, &Demo)],
+        kernels: usize,
+        method: Method,
+    ) -> Result<Skill, String> {
+        let dof = space.names().len();
+        let mut options = FitOptions::default();
+        let mut dmps = Vec::new();
+        for (i, (q, demo)) in examples.iter().enumerate() {
+            if demo.names.len() != dof {
+                return Err(format!(
+                    "demonstration {} has {} columns; {:?} space needs {dof}",
+                    i + 1,
+                    demo.names.len(),
+                    space
+                ));
+            }
+            let dmp = HostDmp::fit(&demo.times, &demo.positions, dof, kernels, &options)
+                .map_err(|e| format!("demonstration {} (q = {q}): {e}", i + 1))?;
+            if i == 0 {
+                let mask = (0..dof)
+                    .filter(|d| dmp.is_scaled(*d))
+                    .fold(0u32, |m, d| m | 1 << d);
+                options.scaling = Scaling::Mask(mask);
+            }
+            dmps.push((*q, dmp));
+        }
+        let template = dmps
+            .first()
+            .map(|(_, d)| d.clone())
+            .ok_or("a skill needs at least one demonstration")?;
+        let mut generalizer = Box::new(Gen::new(1, template.param_len(), method));
+        let mut theta = vec![0.0; template.param_len()];
+        for (q, dmp) in &dmps {
+            dmp.params(&mut theta).map_err(|e| e.to_string())?;
+            generalizer
+                .add_example(&[*q], &theta)
+                .map_err(|e| format!("example q = {q}: {e}"))?;
+        }
+        generalizer.build().map_err(|e| e.to_string())?;
+        Ok(Skill {
+            space,
+            starts: dmps
+                .iter()
+                .map(|(_, d)| d.start_position().to_vec())
+                .collect(),
+            template,
+            generalizer,
+        })
+    }
+
+    /// The space the skill moves in.
+    pub fn space(&self) -> Space {
+        self.space
+    }
+
+    /// Length of θ (weights, goals, τ): `dof·kernels + dof + 1`.
+    pub fn param_len(&self) -> usize {
+        self.template.param_len()
+    }
+
+    /// Kernels per DoF.
+    pub fn kernels(&self) -> usize {
+        self.template.kernels()
+    }
+
+    /// DoF count.
+    pub fn dof(&self) -> usize {
+        self.template.dof()
+    }
+
+    /// The examples `(q_i, θ_i)`.
+    pub fn examples(&self) -> impl Iterator<Item = (f32, &[f32])> + Clone {
+        (0..self.generalizer.len()).filter_map(|i| {
+            let (q, theta) = self.generalizer.example(i)?;
+            Some((*q.first()?, theta))
+        })
+    }
+
+    /// `G(q)`.
+    pub fn generalize(&self, query: f32) -> Result<Vec<f32>, String> {
+        let mut theta = vec![0.0; self.param_len()];
+        self.generalizer
+            .generalize(&[query], &mut theta)
+            .map_err(|e| format!("generalizing to q = {query}: {e}"))?;
+        Ok(theta)
+    }
+
+    /// The DMP and its execution for `θ = G(q̂) + Δθ`.
+    pub fn movement(
+        &self,
+        query: f32,
+        delta: &[f32],
+    ) -> Result<(HostDmp, Execution<MAX_DOF>), String> {
+        if delta.len() > self.param_len() {
+            return Err(format!(
+                "Δθ has {} values, θ has {}",
+                delta.len(),
+                self.param_len()
+            ));
+        }
+        let mut theta = self.generalize(query)?;
+        for (t, d) in theta.iter_mut().zip(delta) {
+            *t += d;
+        }
+        let mut dmp = self.template.clone();
+        dmp.set_params(&theta)
+            .map_err(|e| format!("movement for q = {query}: {e}"))?;
+        let mut c = [0.0f32; MAX_EXAMPLES];
+        self.generalizer
+            .coefficients(&[query], &mut c)
+            .map_err(|e| e.to_string())?;
+        let mut exec = dmp.execution();
+        for (d, s) in exec.start.iter_mut().enumerate() {
+            *s = self
+                .starts
+                .iter()
+                .zip(c)
+                .map(|(start, c)| c * start.get(d).copied().unwrap_or(0.0))
+                .sum();
+        }
+        Ok((dmp, exec))
+    }
+
+    /// The movement sampled every `dt` seconds from 0 to τ.
+    pub fn plan(&self, query: f32, delta: &[f32], dt: f64) -> Result<Plan, String> {
+        let (dmp, exec) = self.movement(query, delta)?;
+        let dof = dmp.dof();
+        let mut plan = Plan {
+            t: Vec::new(),
+            rows: Vec::new(),
+            dof,
+        };
+        let steps = dmp
+            .trajectory(&exec, dt as f32)
+            .map_err(|e| format!("integrating the movement: {e}"))?;
+        for s in steps {
+            plan.t.push(f64::from(s.time));
+            plan.rows
+                .extend(s.position.iter().take(dof).map(|v| f64::from(*v)));
+        }
+        Ok(plan)
+    }
+
+    /// Checks the plan against the robot's limits (see the module docs).
+    pub fn check(&self, plan: &Plan) -> Result<(), String> {
+        match self.space {
+            Space::Joint => {
+                let rows = plan
+                    .rows
+                    .chunks_exact(JOINTS)
+                    .map(|r| std::array::from_fn::<f64, JOINTS, _>(|j| r[j]))
+                    .collect::<Vec<_>>();
+                check_limits(plan.t.iter().copied().zip(&rows)).map_err(|v| v.to_string())
+            }
+            Space::Cartesian => check_cartesian(plan),
+        }
+    }
+
+    /// Plans, checks and executes one roll-out with the bottle holding
+    /// `volume` litres; the scale's noise comes from `seed`.
+    pub fn roll_out(
+        &self,
+        cell: &CellConfig,
+        volume: f64,
+        target: f64,
+        query: f32,
+        delta: &[f32],
+        seed: u64,
+    ) -> Result<Trial, String> {
+        let rejected = |why: String| Trial {
+            poured: 0.0,
+            spilled: 0.0,
+            error: -target,
+            reward: 0.0,
+            rejected: Some(why),
+        };
+        let plan = match self
+            .plan(query, delta, cell.dt)
+            .and_then(|p| self.check(&p).map(|()| p))
+        {
+            Ok(plan) => plan,
+            Err(why) => return Ok(rejected(why)),
+        };
+        let mut sim = Cell::new(cell, volume, seed)?;
+        for row in plan.rows.chunks_exact(plan.dof) {
+            match self.space {
+                Space::Joint => sim.step_joints(&std::array::from_fn(|j| row[j])),
+                Space::Cartesian => sim.step_pose(
+                    &cell.bottle_pose([row[0], row[1], row[2]], [row[3], row[4], row[5]]),
+                ),
+            }
+        }
+        let out = sim.finish();
+        Ok(Trial {
+            poured: out.poured,
+            spilled: out.spilled,
+            error: out.poured - target,
+            reward: reward(target, out.poured, out.spilled),
+            rejected: None,
+        })
+    }
+}
+
+/// The mouth stays in [`WORKSPACE`], moves no faster than
+/// [`MAX_MOUTH_SPEED`] and turns no faster than [`MAX_TURN_RATE`].
+fn check_cartesian(plan: &Plan) -> Result<(), String> {
+    const AXES: [&str; 3] = ["x", "y", "z"];
+    let mut last: Option<(f64, &[f64])> = None;
+    for (i, (t, row)) in plan.t.iter().zip(plan.rows.chunks_exact(6)).enumerate() {
+        if row.iter().any(|v| !v.is_finite()) {
+            return Err(format!("sample {i}: non-finite pose"));
+        }
+        for (axis, (v, [lo, hi])) in row.iter().zip(WORKSPACE).enumerate() {
+            if *v < lo || *v > hi {
+                return Err(format!(
+                    "sample {i}: mouth {} = {v:.3} m outside the workspace [{lo}, {hi}] m",
+                    AXES[axis]
+                ));
+            }
+        }
+        if let Some((t0, r0)) = last {
+            let dt = t - t0;
+            let dist = |a: &[f64], b: &[f64]| {
+                a.iter()
+                    .zip(b)
+                    .map(|(x, y)| (x - y) * (x - y))
+                    .sum::<f64>()
+                    .sqrt()
+            };
+            let speed = dist(&row[..3], &r0[..3]) / dt;
+            if speed > MAX_MOUTH_SPEED {
+                return Err(format!(
+                    "sample {i}: mouth speed {speed:.2} m/s beyond {MAX_MOUTH_SPEED} m/s"
+                ));
+            }
+            let turn = dist(&row[3..], &r0[3..]) / dt;
+            if turn > MAX_TURN_RATE {
+                return Err(format!(
+                    "sample {i}: turning at {turn:.2} rad/s beyond {MAX_TURN_RATE} rad/s"
+                ));
+            }
+        }
+        last = Some((*t, row));
+    }
+    Ok(())
+}
