@@ -132,16 +132,26 @@ pub fn built_in_skill(cell: &CellConfig, space: Space, kernels: usize) -> Result
     )
 }
 
-/// PoWER's exploration blocks for `skill`: the query with
+/// PoWER's exploration blocks for `skill`: the query with the paper's
 /// `σ1² = s1·max|q_i − q_j|`, then the weights, the goals and τ, each with
-/// `σ² = s2·max‖θ_i − θ_j‖` over its own part of θ: one variance for all of
-/// Δθ would give goals and τ the kernel weights' scale.
+/// `σ² = s2·max‖θ_i − θ_j‖/√len` over its own part of θ.
+///
+/// Two departures from the paper's single `σ2² = s2·max‖θ_i − θ_j‖`, both
+/// measured on the cell: one variance for all of Δθ gives goals (rad) and
+/// τ (s) the kernel weights' scale; and the norm over a block grows with its
+/// length, so the 210 weights of 7×30 kernels explored with std 12 each
+/// and every exploration spilled everything (reward 0, no update ever).
+/// Dividing by √len makes the spread per parameter (the RMS difference);
+/// for one-parameter blocks (τ, and the query) it is the paper's formula.
 pub fn power_blocks(skill: &Skill, s1: f32, s2: f32) -> Result<Vec<Block>, String> {
     let queries: Vec<[f32; 1]> = skill.examples().map(|(q, _)| [q]).collect();
     let thetas: Vec<&[f32]> = skill.examples().map(|(_, t)| t).collect();
     let (n, k) = (skill.dof(), skill.kernels());
     let var = |s: f32, range: std::ops::Range<usize>| {
-        exploration_variance(s, thetas.iter().copied(), range).map_err(|e| e.to_string())
+        let len = range.len() as f32;
+        exploration_variance(s, thetas.iter().copied(), range)
+            .map(|v| v / len.sqrt())
+            .map_err(|e| e.to_string())
     };
     let query = exploration_variance(s1, queries.iter().map(|q| &q[..]), 0..1)
         .map_err(|e| e.to_string())?;

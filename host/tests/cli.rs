@@ -1,24 +1,8 @@
 //! `primo dmp` end to end: the binary on real files.
-use std::path::{Path, PathBuf};
-use std::process::Command;
+use std::path::Path;
 
-fn primo(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_primo"))
-        .args(args)
-        .output()
-        .unwrap();
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into(),
-        String::from_utf8_lossy(&out.stderr).into(),
-    )
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("primo-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
-}
+mod common;
+use common::{primo, tmp};
 
 fn demo_path() -> String {
     Path::new(env!("CARGO_MANIFEST_DIR"))

@@ -1,0 +1,240 @@
+//! `primo pour`, `primo rollout`, `primo demo synth` and `primo experiment`
+//! end to end: the binary, its files and its JSON.
+use std::io::Write;
+use std::process::{Command, Stdio};
+
+mod common;
+use common::{primo, tmp};
+
+#[test]
+fn pour_learns_and_writes_its_reports() {
+    let dir = tmp("golden");
+    let (code, out, err) = primo(&["pour", "--out", dir.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("roll-out   1: q 0.5000 l"), "{out}");
+    let last = out.lines().last().unwrap();
+    assert!(
+        last.starts_with("primo pour: converged to |error| < 2 ml in"),
+        "{last}"
+    );
+    let csv = std::fs::read_to_string(dir.join("rollouts.csv")).unwrap();
+    let rows = csv.lines().count() - 1;
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["rollouts"], rows);
+    assert!(summary["last"]["error"].as_f64().unwrap().abs() < 0.002);
+    let png = std::fs::read(dir.join("convergence.png")).unwrap();
+    assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
+}
+
+#[test]
+fn power_pour_runs_in_joint_space() {
+    let dir = tmp("power");
+    let (code, out, err) = primo(&[
+        "pour",
+        "--method",
+        "power",
+        "--glass",
+        "small",
+        "--kernels",
+        "10",
+        "--max-rollouts",
+        "8",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        out.contains("Joint space, 79 learned parameter(s)"),
+        "{out}"
+    );
+    assert_eq!(
+        out.lines().filter(|l| l.contains("(mean)")).count(),
+        2,
+        "{out}"
+    );
+}
+
+#[test]
+fn rollout_prints_the_start_and_serves_json_lines() {
+    let (code, out, err) = primo(&["rollout", "--print-start", "--glass", "small"]);
+    assert_eq!(code, 0, "{err}");
+    let start: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let x = start["start"].as_array().unwrap();
+    assert_eq!(x.len(), 219);
+    assert_eq!(start["std"].as_array().unwrap().len(), 219);
+    assert_eq!(x[218].as_f64().unwrap(), 0.5);
+
+    // The start executed directly is the generalized movement.
+    let file = tmp("theta.json");
+    std::fs::write(&file, serde_json::to_string(x).unwrap()).unwrap();
+    let (code, out, err) = primo(&[
+        "rollout",
+        "--glass",
+        "small",
+        "--params",
+        file.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let one: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(one["safe"], true);
+    assert!(one["spilled"].as_f64().unwrap() > 0.03, "{one}");
+
+    // Serve: one answer per line, bad lines answered with an error.
+    let mut far = x.clone();
+    far[0] = serde_json::json!(1e6); // a huge weight: an unsafe movement
+    let input = format!(
+        "{}\nnot json\n[1, 2]\n{}\n",
+        serde_json::to_string(x).unwrap(),
+        serde_json::to_string(&far).unwrap()
+    );
+    let mut child = Command::new(env!("CARGO_BIN_EXE_primo"))
+        .args(["rollout", "--serve", "--glass", "small"])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .spawn()
+        .unwrap();
+    child
+        .stdin
+        .take()
+        .unwrap()
+        .write_all(input.as_bytes())
+        .unwrap();
+    let out = child.wait_with_output().unwrap();
+    assert!(out.status.success());
+    let lines: Vec<serde_json::Value> = String::from_utf8(out.stdout)
+        .unwrap()
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(lines.len(), 4);
+    assert_eq!(lines[0]["poured"], one["poured"]);
+    assert!(lines[1]["error"].as_str().unwrap().contains("stdin line 2"));
+    assert!(
+        lines[2]["error"]
+            .as_str()
+            .unwrap()
+            .contains("2 values, the layout needs 219")
+    );
+    assert_eq!(lines[3]["safe"], false);
+    assert_eq!(lines[3]["reward"], 0.0);
+    assert!(
+        lines[3]["rejected"].as_str().unwrap().contains("limit"),
+        "{}",
+        lines[3]
+    );
+}
+
+#[test]
+fn demo_synth_writes_a_demonstration_csv() {
+    let file = tmp("demo.csv");
+    for (space, header) in [
+        ("cartesian", "t,x,y,z,rx,ry,rz"),
+        ("joint", "t,a1,a2,a3,a4,a5,a6,a7"),
+    ] {
+        let (code, _, err) = primo(&[
+            "demo",
+            "synth",
+            "--space",
+            space,
+            "--bottle",
+            "0.7",
+            "--pour",
+            "0.2",
+            "--out",
+            file.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0, "{err}");
+        assert!(err.contains("the expert poured"), "{err}");
+        let csv = std::fs::read_to_string(&file).unwrap();
+        assert_eq!(csv.lines().next().unwrap(), header);
+        assert!(csv.lines().count() > 500);
+    }
+    // The demo feeds `primo pour --demo`.
+    let other = tmp("demo2.csv");
+    primo(&[
+        "demo",
+        "synth",
+        "--bottle",
+        "0.3",
+        "--out",
+        other.to_str().unwrap(),
+    ]);
+    let cart = tmp("demo3.csv");
+    primo(&[
+        "demo",
+        "synth",
+        "--bottle",
+        "1.0",
+        "--seed",
+        "2",
+        "--out",
+        cart.to_str().unwrap(),
+    ]);
+    let (code, out, err) = primo(&[
+        "pour",
+        "--demo",
+        &format!("{}=0.3", other.display()),
+        "--demo",
+        &format!("{}=1.0", cart.display()),
+        "--out",
+        tmp("own").to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("converged"), "{out}");
+    // A demo that is not there, or not a CSV, is an input error.
+    let (code, _, err) = primo(&["pour", "--demo", "/nonexistent.csv=0.3"]);
+    assert_eq!(code, 2, "{err}");
+    let (code, _, err) = primo(&["pour", "--demo", "nonsense"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("expected FILE=VOLUME"), "{err}");
+}
+
+#[test]
+fn experiment_golden_writes_its_figure_data() {
+    let dir = tmp("exp-golden");
+    let (code, out, err) = primo(&[
+        "experiment",
+        "golden",
+        "--volumes",
+        "0.4,0.8",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("median: golden"), "{out}");
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["runs"].as_array().unwrap().len(), 4);
+    assert!(dir.join("golden.png").exists() && dir.join("golden.csv").exists());
+}
+
+#[test]
+fn experiment_power_writes_both_curves() {
+    let dir = tmp("exp-power");
+    let (code, out, err) = primo(&[
+        "experiment",
+        "power",
+        "--runs",
+        "2",
+        "--updates",
+        "3",
+        "--kernels",
+        "10",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("79 parameters, 2 runs x 3 updates"), "{out}");
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(
+        summary["extended"]["reward"]["mean"]
+            .as_array()
+            .unwrap()
+            .len(),
+        3
+    );
+    assert!(summary["spill_ratio"].is_number() || summary["spill_ratio"].is_null());
+    assert!(dir.join("power.png").exists() && dir.join("power.csv").exists());
+}
