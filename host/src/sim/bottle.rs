@@ -186,6 +186,13 @@ impl Bottle {
         self.volume_and_area(z_s, tilt).0
     }
 
+    /// Whether `volume` (m³) at tilt `θ` reaches the mouth's lowest point,
+    /// i.e. whether anything can pour.
+    pub fn reaches_lip(&self, volume: f64, tilt: f64) -> bool {
+        let (s, c) = sin_cos_folded(tilt);
+        volume > self.volume_below(self.length * c - self.mouth * s, tilt)
+    }
+
     /// The free-surface height holding `volume` (m³) at tilt `θ`: Newton on
     /// the monotone [`Bottle::volume_and_area`], safeguarded by bisection,
     /// starting from `guess` when given (the previous step's height).

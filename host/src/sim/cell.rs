@@ -251,11 +251,6 @@ impl Cell {
         })
     }
 
-    /// Simulated time, s.
-    pub fn time(&self) -> f64 {
-        self.time
-    }
-
     /// Where the liquid is now, litres.
     pub fn totals(&self) -> Totals {
         Totals {
@@ -305,10 +300,8 @@ impl Cell {
         let sin = tilt.sin();
         self.flow = 0.0;
         self.landing = None;
-        // Cheap test first: the surface is below the lip's lowest point
-        // whenever that point's level holds more than the bottle does.
-        let lip = b.length * cos - b.mouth * sin;
-        if self.bottle <= 0.0 || b.volume_below(lip, tilt) >= self.bottle {
+        // Cheap test first (one closed-form volume, no surface solve).
+        if !b.reaches_lip(self.bottle, tilt) {
             self.surface = None;
             return;
         }
@@ -442,13 +435,22 @@ mod tests {
 
     #[test]
     fn upright_bottle_pours_nothing_and_the_scale_stays_at_zero() {
-        let cfg = CellConfig::standard(GlassKind::Normal);
+        let mut cfg = CellConfig::standard(GlassKind::Normal);
+        cfg.record_every = 10;
         let mut cell = Cell::new(&cfg, 1.0, 1).unwrap();
         let pose = tilted(&cfg, over_glass(&cfg), 0.0);
         for _ in 0..500 {
             cell.step_pose(&pose);
         }
         let out = cell.finish();
+        // The time series: every 10th step, movement and settling.
+        let steps = (out.duration / cfg.dt).round() as usize;
+        assert_eq!(out.series.len(), steps / 10);
+        assert!(
+            out.series
+                .iter()
+                .all(|s| s.flow == 0.0 && s.totals.bottle == 1.0)
+        );
         assert_eq!(out.totals.bottle, 1.0);
         assert_eq!(out.poured, 0.0);
         assert!(out.settled);

@@ -89,12 +89,10 @@ fn lip_tilt(bottle: &Bottle, volume: f64) -> f64 {
     let (mut lo, mut hi) = (0.0, std::f64::consts::PI);
     for _ in 0..50 {
         let mid = 0.5 * (lo + hi);
-        let (s, c) = mid.sin_cos();
-        let lip = bottle.length * c - bottle.mouth * s;
-        if bottle.volume_below(lip, mid) > volume {
-            lo = mid;
-        } else {
+        if bottle.reaches_lip(volume, mid) {
             hi = mid;
+        } else {
+            lo = mid;
         }
     }
     lo
