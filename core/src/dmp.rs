@@ -193,6 +193,18 @@ fn check_alpha(alpha: f32) -> Result<(), Error> {
     }
 }
 
+/// A DMP's gains, kernel width and amplitude scaling: with θ and a start,
+/// all that [`Dmp::from_shape`] needs, and small enough for one wire frame.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Shape {
+    /// Spring gain `α`.
+    pub alpha: f32,
+    /// Kernel width `h`.
+    pub width: f32,
+    /// Bit `d` set: DoF `d`'s forcing term is scaled by its amplitude.
+    pub scaled: u32,
+}
+
 /// Where and how fast to execute a DMP: start, goal and duration `τ`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Execution<const D: usize> {
@@ -508,6 +520,51 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
         self.goal.copy_from_slice(goals);
         self.tau = tau;
         Ok(())
+    }
+
+    /// Everything but θ that defines the DMP's motion.
+    pub fn shape(&self) -> Shape {
+        let scaled = self
+            .scaled
+            .iter()
+            .enumerate()
+            .filter(|(d, s)| **s && *d < 32)
+            .fold(0u32, |m, (d, _)| m | 1 << d);
+        Shape {
+            alpha: self.alpha,
+            width: self.width,
+            scaled,
+        }
+    }
+
+    /// Rebuilds a DMP of `dof` DoF and `kernels` kernels from its shape, a
+    /// start and `θ = [weights row by row, goals, τ]`, with the same checks
+    /// as a deserialized one. `Dmp::from_shape(&d.shape(), …, θ of d)`
+    /// moves exactly as `d`.
+    pub fn from_shape(
+        shape: &Shape,
+        dof: usize,
+        kernels: usize,
+        start: &[f32],
+        theta: &[f32],
+    ) -> Result<Self, Error> {
+        check_capacity("DoF", dof, D)?;
+        check_capacity("kernels", kernels, K)?;
+        check_len("start", dof, start.len())?;
+        let zeros = |n| core::iter::repeat_n(0.0f32, n);
+        let mut dmp = Self::try_from(DmpFields {
+            tau: 1.0,
+            alpha: shape.alpha,
+            width: shape.width,
+            start: start.iter().copied().collect(),
+            goal: zeros(dof).collect(),
+            scaled: (0..dof)
+                .map(|d| d < 32 && shape.scaled >> d & 1 == 1)
+                .collect(),
+            weights: (0..dof).map(|_| zeros(kernels).collect()).collect(),
+        })?;
+        dmp.set_params(theta)?;
+        Ok(dmp)
     }
 
     /// The default execution: demonstrated start, current goal and `τ`.

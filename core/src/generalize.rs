@@ -101,7 +101,7 @@ impl<const E: usize, const Q: usize, const P: usize> Generalizer<E, Q, P> {
     /// An empty generalizer for queries of dimension `q_dim` and parameter
     /// vectors of length `p_dim`. Sizes are checked by
     /// [`Generalizer::add_example`].
-    pub fn new(q_dim: usize, p_dim: usize, method: Method) -> Self {
+    pub const fn new(q_dim: usize, p_dim: usize, method: Method) -> Self {
         Self {
             method,
             q_dim,
@@ -117,6 +117,17 @@ impl<const E: usize, const Q: usize, const P: usize> Generalizer<E, Q, P> {
             chol_r: [[0.0; E]; E],
             built: false,
         }
+    }
+
+    /// Forgets every example and starts over with new dimensions and
+    /// method, in place: a coprocessor reuses its one static generalizer
+    /// for each learning run.
+    pub fn reset(&mut self, q_dim: usize, p_dim: usize, method: Method) {
+        self.method = method;
+        self.q_dim = q_dim;
+        self.p_dim = p_dim;
+        self.count = 0;
+        self.built = false;
     }
 
     /// Adds an example; call [`Generalizer::build`] after the last one.

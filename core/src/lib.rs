@@ -61,5 +61,7 @@ mod linalg;
 pub mod normal;
 pub mod power;
 pub mod rng;
+pub mod service;
+pub mod wire;
 
 pub use error::Error;

@@ -1,0 +1,493 @@
+//! The learner behind the wire: what the coprocessor runs, and what the host
+//! runs in-process when it has no coprocessor, so both give the same
+//! roll-outs bit for bit.
+//!
+//! A [`Service`] holds the training examples, one learner (golden section,
+//! Illinois or PoWER) and the movement being streamed, in fixed buffers
+//! sized for the paper's arm: [`THETA`] = 7 DoF × 30 kernels + 7 goals + τ.
+//! [`Service::respond`] answers one [`Request`]; [`Service::handle`] does
+//! the same for a frame off the line and makes retransmissions idempotent:
+//! a frame with the sequence number of the previous one gets the previous
+//! reply's bytes again and changes nothing.
+//!
+//! ```
+//! use primo_core::golden::SearchConfig;
+//! use primo_core::generalize::Method;
+//! use primo_core::service::Service;
+//! use primo_core::wire::{LearnerSetup, Outcome, Reply, Request, Setup};
+//! let mut s = Service::new();
+//! let cfg = SearchConfig { low: 0.0, high: 2.0, desired: 1.0, precision: 1e-3, max_rollouts: 50 };
+//! let setup = Setup {
+//!     learner: LearnerSetup::Golden(cfg),
+//!     examples: 0,
+//!     theta_len: 0,
+//!     regression: Method::Lwr { bandwidth: None },
+//!     seed: 1,
+//! };
+//! assert_eq!(s.respond(&Request::Configure(setup)), Reply::Ok);
+//! // The "cell": the outcome is q², and we want 0.5.
+//! while let Reply::Rollout(r) = s.respond(&Request::Ask) {
+//!     let outcome = Outcome { error: 0.5 - r.query * r.query, reward: 0.0 };
+//!     assert_eq!(s.respond(&Request::Tell(outcome)), Reply::Ok);
+//! }
+//! ```
+
+use heapless::Vec;
+
+use crate::Error;
+use crate::dmp::{Dmp, Run};
+use crate::generalize::{Generalizer, Method as Regression};
+use crate::golden::{ErrorLearner, GoldenSection, Status as SearchStatus};
+use crate::illinois::Illinois;
+use crate::power::Power;
+use crate::wire::{
+    self, CHUNK, Capacities, DmpStart, Fault, FaultKind, FrameError, LearnerSetup, MAX_DOF,
+    MAX_FRAME, Outcome, Reply, Request, Rollout, Setup, Status,
+};
+
+/// Most kernels per DoF.
+pub const KERNELS: usize = 30;
+/// Largest `θ`: [`MAX_DOF`] × [`KERNELS`] weights, the goals and τ.
+pub const THETA: usize = MAX_DOF * KERNELS + MAX_DOF + 1;
+/// Most training examples.
+pub const EXAMPLES: usize = 8;
+/// Largest importance sampler of PoWER (the paper's 3).
+pub const SAMPLER: usize = 3;
+/// The sequence number of replies to frames that could not be read (hosts
+/// never send it).
+pub const UNREAD: u32 = 0;
+
+/// The learner in use.
+#[derive(Debug, Clone)]
+#[allow(clippy::large_enum_variant)] // one lives in a static; boxing is not an option
+enum Learner {
+    Idle,
+    Golden(GoldenSection),
+    Illinois(Illinois),
+    Power(Power<{ THETA + 1 }, SAMPLER>),
+}
+
+/// A movement being integrated.
+#[derive(Debug, Clone)]
+struct Motion {
+    dmp: Dmp<MAX_DOF, KERNELS>,
+    run: Run<MAX_DOF>,
+    dt: f32,
+    done: bool,
+}
+
+/// Examples received so far of those announced by the setup.
+#[derive(Debug, Clone)]
+struct Intake {
+    expected: u8,
+    theta_len: usize,
+    index: u8,
+    query: f32,
+    filled: usize,
+    theta: [f32; THETA],
+}
+
+/// The learner behind the wire; see the module docs.
+#[derive(Debug, Clone)]
+pub struct Service {
+    examples: Generalizer<EXAMPLES, 1, THETA>,
+    intake: Intake,
+    learner: Learner,
+    /// A roll-out was asked and not yet told.
+    in_flight: bool,
+    asked: u32,
+    motion: Option<Motion>,
+    /// The last frame's sequence number and reply bytes.
+    last: Option<(u32, Vec<u8, MAX_FRAME>)>,
+}
+
+impl Default for Service {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+/// A core error as a fault.
+fn fault(e: Error) -> Reply {
+    let kind = match e {
+        Error::Capacity { .. } => FaultKind::Capacity,
+        Error::BadState(_) => FaultKind::BadState,
+        _ => FaultKind::Invalid,
+    };
+    Reply::Error(Fault::new(kind, e))
+}
+
+fn bad_state(why: &str) -> Reply {
+    Reply::Error(Fault::new(FaultKind::BadState, why))
+}
+
+impl Service {
+    /// A service with no learner configured.
+    pub const fn new() -> Self {
+        Self {
+            examples: Generalizer::new(1, 0, Regression::Lwr { bandwidth: None }),
+            intake: Intake {
+                expected: 0,
+                theta_len: 0,
+                index: 0,
+                query: 0.0,
+                filled: 0,
+                theta: [0.0; THETA],
+            },
+            learner: Learner::Idle,
+            in_flight: false,
+            asked: 0,
+            motion: None,
+            last: None,
+        }
+    }
+
+    /// What fits.
+    pub const fn capacities() -> Capacities {
+        Capacities {
+            theta: THETA as u16,
+            examples: EXAMPLES as u8,
+            dof: MAX_DOF as u8,
+            kernels: KERNELS as u8,
+            sampler: SAMPLER as u8,
+        }
+    }
+
+    /// Answers one frame off the line (`raw` as [`wire::FrameReader`] gives
+    /// it) and returns the reply frame, written into `out`. A frame that
+    /// cannot be read gets a [`FaultKind::BadFrame`] reply numbered
+    /// [`UNREAD`]; a repeated sequence number gets the previous reply again.
+    pub fn handle<'a>(
+        &mut self,
+        raw: Result<&[u8], FrameError>,
+        out: &'a mut [u8; MAX_FRAME],
+    ) -> &'a [u8] {
+        let len = self.reply_len(raw, out);
+        out.get(..len).unwrap_or(&[])
+    }
+
+    /// [`Service::handle`], returning the reply's length in `out`.
+    fn reply_len(&mut self, raw: Result<&[u8], FrameError>, out: &mut [u8; MAX_FRAME]) -> usize {
+        let len = |r: Result<&[u8], FrameError>| r.map_or(0, <[u8]>::len);
+        let frame = match raw.and_then(wire::decode::<Request>) {
+            Ok(frame) => frame,
+            Err(e) => {
+                let reply = Reply::Error(Fault::new(FaultKind::BadFrame, e));
+                return len(wire::encode(UNREAD, &reply, out));
+            }
+        };
+        if let Some((seq, bytes)) = &self.last
+            && *seq == frame.seq
+            && let Some(dst) = out.get_mut(..bytes.len())
+        {
+            dst.copy_from_slice(bytes);
+            return bytes.len();
+        }
+        let reply = self.respond(&frame.body);
+        let n = match wire::encode(frame.seq, &reply, out) {
+            Ok(bytes) => bytes.len(),
+            // Every reply fits a frame (tested); should one not, say so.
+            Err(e) => {
+                let f = Reply::Error(Fault::new(FaultKind::Capacity, e));
+                len(wire::encode(frame.seq, &f, out))
+            }
+        };
+        self.last = out
+            .get(..n)
+            .and_then(|b| Vec::from_slice(b).ok())
+            .map(|b| (frame.seq, b));
+        n
+    }
+
+    /// Answers one request.
+    pub fn respond(&mut self, request: &Request) -> Reply {
+        match request {
+            Request::Hello { version } if *version == wire::VERSION => Reply::Hello {
+                version: wire::VERSION,
+                capacities: Self::capacities(),
+            },
+            Request::Hello { version } => Reply::Error(Fault::new(
+                FaultKind::Version,
+                format_args!(
+                    "coprocessor speaks version {}, host {version}",
+                    wire::VERSION
+                ),
+            )),
+            Request::Configure(setup) => self.configure(setup).map_or_else(fault, |()| Reply::Ok),
+            Request::Example {
+                index,
+                query,
+                offset,
+                values,
+            } => self.example(*index, *query, usize::from(*offset), values),
+            Request::Ask => self.ask(),
+            Request::Fetch { offset } => self.fetch(usize::from(*offset)),
+            Request::Tell(outcome) => self.tell(outcome),
+            Request::Status => self.status(),
+            Request::DmpStart(start) => self.dmp_start(start).unwrap_or_else(fault),
+            Request::DmpNext => self.dmp_next(),
+        }
+    }
+
+    fn configure(&mut self, setup: &Setup) -> Result<(), Error> {
+        let theta_len = usize::from(setup.theta_len);
+        crate::error::check_capacity("θ length", theta_len, THETA)?;
+        crate::error::check_capacity("examples", usize::from(setup.examples), EXAMPLES)?;
+        let learner = match &setup.learner {
+            LearnerSetup::Golden(cfg) => Learner::Golden(GoldenSection::new(*cfg)?),
+            LearnerSetup::Illinois(cfg) => Learner::Illinois(Illinois::new(*cfg)?),
+            LearnerSetup::Power { config, query } => {
+                let mut start = [0.0f32; THETA + 1];
+                let start = start.get_mut(..=theta_len).ok_or(Error::Capacity {
+                    what: "θ length",
+                    requested: theta_len,
+                    capacity: THETA,
+                })?;
+                if let Some(q) = start.first_mut() {
+                    *q = *query;
+                }
+                Learner::Power(Power::new(start, config.clone(), setup.seed)?)
+            }
+        };
+        // Field by field: a fresh Service would be a second 15 KiB on the
+        // coprocessor's stack.
+        self.examples.reset(1, theta_len, setup.regression);
+        self.intake.expected = setup.examples;
+        self.intake.theta_len = theta_len;
+        self.intake.index = 0;
+        self.intake.filled = 0;
+        self.learner = learner;
+        self.in_flight = false;
+        self.asked = 0;
+        self.motion = None;
+        Ok(())
+    }
+
+    /// Examples arrive in order, each in consecutive chunks.
+    fn example(&mut self, index: u8, query: f32, offset: usize, values: &[f32]) -> Reply {
+        let i = &mut self.intake;
+        if matches!(self.learner, Learner::Idle) {
+            return bad_state("example before configure");
+        }
+        if index >= i.expected {
+            return Reply::Error(Fault::new(
+                FaultKind::BadState,
+                format_args!("example {index} not announced ({} expected)", i.expected),
+            ));
+        }
+        if index != i.index
+            || offset != i.filled
+            || (offset > 0 && query.to_bits() != i.query.to_bits())
+        {
+            return Reply::Error(Fault::new(
+                FaultKind::BadState,
+                format_args!("expected example {} from value {}", i.index, i.filled),
+            ));
+        }
+        let end = offset + values.len();
+        let Some(dst) = i.theta.get_mut(offset..end).filter(|_| end <= i.theta_len) else {
+            return Reply::Error(Fault::new(
+                FaultKind::Capacity,
+                format_args!("example values up to {end}, θ has {}", i.theta_len),
+            ));
+        };
+        dst.copy_from_slice(values);
+        i.query = query;
+        i.filled = end;
+        if end < i.theta_len {
+            return Reply::Ok;
+        }
+        let theta = i.theta.get(..i.theta_len).unwrap_or(&[]);
+        if let Err(e) = self.examples.add_example(&[query], theta) {
+            return fault(e);
+        }
+        i.index += 1;
+        i.filled = 0;
+        if i.index == i.expected
+            && let Err(e) = self.examples.build()
+        {
+            return fault(e);
+        }
+        Reply::Ok
+    }
+
+    fn ask(&mut self) -> Reply {
+        let number = self.asked.wrapping_sub(u32::from(self.in_flight));
+        let search = |query| Rollout {
+            number,
+            query,
+            delta_len: 0,
+            mean: true,
+            update: 0,
+        };
+        let rollout = match &mut self.learner {
+            Learner::Idle => return bad_state("ask before configure"),
+            Learner::Golden(l) => match l.ask() {
+                Some(q) => search(q),
+                None => return Reply::Finished(l.status()),
+            },
+            Learner::Illinois(l) => match l.ask() {
+                Some(q) => search(q),
+                None => return Reply::Finished(l.status()),
+            },
+            Learner::Power(p) => {
+                let (mean, update) = (p.next_is_mean(), p.updates());
+                let theta = p.ask();
+                Rollout {
+                    number,
+                    query: theta.first().copied().unwrap_or(0.0),
+                    delta_len: theta.len().saturating_sub(1) as u16,
+                    mean,
+                    update,
+                }
+            }
+        };
+        if !self.in_flight {
+            self.asked = self.asked.wrapping_add(1);
+            self.in_flight = true;
+        }
+        Reply::Rollout(rollout)
+    }
+
+    /// `Δθ` of the roll-out in flight (PoWER only).
+    fn delta(&mut self) -> Option<&[f32]> {
+        match &mut self.learner {
+            Learner::Power(p) if self.in_flight => p.ask().get(1..),
+            _ => None,
+        }
+    }
+
+    fn fetch(&mut self, offset: usize) -> Reply {
+        let Some(delta) = self.delta() else {
+            return bad_state("fetch without a PoWER roll-out in flight");
+        };
+        let Some(rest) = delta.get(offset..) else {
+            return Reply::Error(Fault::new(
+                FaultKind::Invalid,
+                format_args!("offset {offset} beyond Δθ of {}", delta.len()),
+            ));
+        };
+        let values = rest.iter().take(CHUNK).copied().collect();
+        Reply::Chunk {
+            offset: offset as u16,
+            values,
+        }
+    }
+
+    fn tell(&mut self, outcome: &Outcome) -> Reply {
+        if !self.in_flight {
+            return bad_state("tell without a roll-out in flight");
+        }
+        let told = match &mut self.learner {
+            Learner::Idle => return bad_state("tell before configure"),
+            Learner::Golden(l) => l.tell(outcome.error).map(drop),
+            Learner::Illinois(l) => l.tell(outcome.error).map(drop),
+            Learner::Power(p) => p.tell(outcome.reward).map(drop),
+        };
+        match told {
+            Ok(()) => {
+                self.in_flight = false;
+                Reply::Ok
+            }
+            Err(e) => fault(e),
+        }
+    }
+
+    fn status(&self) -> Reply {
+        let search = |l: &dyn ErrorLearner| Status {
+            rollouts: l.rollouts(),
+            updates: 0,
+            search: l.status(),
+            best_query: l.best().map(|b| b.query),
+            best: l.best().map(|b| b.error),
+        };
+        Reply::Status(match &self.learner {
+            Learner::Idle => return bad_state("status before configure"),
+            Learner::Golden(l) => search(l),
+            Learner::Illinois(l) => search(l),
+            Learner::Power(p) => Status {
+                rollouts: self.asked.wrapping_sub(u32::from(self.in_flight)),
+                updates: p.updates(),
+                search: SearchStatus::Running,
+                best_query: p.best().and_then(|b| b.params.first().copied()),
+                best: p.best().map(|b| b.reward),
+            },
+        })
+    }
+
+    /// Builds the in-flight roll-out's DMP, `θ = G(q̂) + Δθ`.
+    fn dmp_start(&mut self, start: &DmpStart) -> Result<Reply, Error> {
+        if !self.in_flight {
+            return Ok(bad_state("movement without a roll-out in flight"));
+        }
+        if self.intake.index != self.intake.expected || self.examples.is_empty() {
+            return Ok(bad_state("movement before all examples arrived"));
+        }
+        let query = match &self.learner {
+            Learner::Golden(l) => l.ask(),
+            Learner::Illinois(l) => l.ask(),
+            Learner::Power(_) | Learner::Idle => None,
+        };
+        let len = self.intake.theta_len;
+        let mut theta = [0.0f32; THETA];
+        let theta = theta.get_mut(..len).unwrap_or(&mut []);
+        let query = match query {
+            Some(q) => q,
+            None => {
+                let Learner::Power(p) = &mut self.learner else {
+                    return Ok(bad_state("no roll-out in flight"));
+                };
+                let ext = p.ask();
+                for (t, d) in theta.iter_mut().zip(ext.get(1..).unwrap_or(&[])) {
+                    *t = *d;
+                }
+                ext.first().copied().unwrap_or(0.0)
+            }
+        };
+        let mut g = [0.0f32; THETA];
+        let g = g.get_mut(..len).unwrap_or(&mut []);
+        self.examples.generalize(&[query], g)?;
+        for (t, g) in theta.iter_mut().zip(g.iter()) {
+            *t += g;
+        }
+        let dmp = Dmp::from_shape(
+            &start.shape,
+            start.start.len(),
+            usize::from(start.kernels),
+            &start.start,
+            theta,
+        )?;
+        let run = dmp.start(&dmp.execution())?;
+        if !(start.dt.is_finite() && start.dt > 0.0) {
+            return Err(Error::OutOfRange("dt must be finite and > 0"));
+        }
+        self.motion = Some(Motion {
+            dmp,
+            run,
+            dt: start.dt,
+            done: false,
+        });
+        Ok(Reply::Ok)
+    }
+
+    /// One control step; `done` once the step reaches τ (within half a
+    /// step).
+    fn dmp_next(&mut self) -> Reply {
+        let Some(m) = &mut self.motion else {
+            return bad_state("setpoint before the movement started");
+        };
+        if m.done {
+            return bad_state("the movement has finished");
+        }
+        if let Err(e) = m.run.step(&m.dmp, m.dt) {
+            return fault(e);
+        }
+        let time = m.run.time();
+        m.done = time + 0.5 * m.dt >= m.dmp.tau();
+        Reply::Setpoint {
+            time,
+            position: m.run.position().iter().copied().collect(),
+            done: m.done,
+        }
+    }
+}
