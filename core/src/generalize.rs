@@ -44,7 +44,11 @@ use crate::{Error, linalg};
 /// spacing the covariance becomes ill-conditioned in `f32` and exactness at
 /// the examples degrades to about 1e-3 of the data's scale: give a length
 /// scale near the smallest spacing there).
+///
+/// `repr(u8)` makes `Lwr { bandwidth: None }` all zero bytes, so a static
+/// generalizer (the coprocessor's) sits in .bss with no flash image.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[repr(u8)]
 pub enum Method {
     /// Locally weighted linear regression with Gaussian weights of this
     /// bandwidth (same for every query dimension).
@@ -109,9 +113,9 @@ impl<const E: usize, const Q: usize, const P: usize> Generalizer<E, Q, P> {
             count: 0,
             queries: [[0.0; Q]; E],
             params: [[0.0; P]; E],
-            scale: [1.0; Q],
+            scale: [0.0; Q],
             centre: [0.0; Q],
-            basis: 1,
+            basis: 0,
             chol_k: [[0.0; E]; E],
             k_inv_h: [[0.0; E]; E],
             chol_r: [[0.0; E]; E],

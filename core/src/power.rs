@@ -175,6 +175,38 @@ pub struct Power<const P: usize, const L: usize> {
 impl<const P: usize, const L: usize> Power<P, L> {
     /// Starts from `initial` (e.g. `[q0, 0, …, 0]`) with a seeded generator.
     pub fn new(initial: &[f32], cfg: PowerConfig, seed: u64) -> Result<Self, Error> {
+        let mut power = Self::idle();
+        power.reset(initial, cfg, seed)?;
+        Ok(power)
+    }
+
+    /// A learner with no parameters, all zero bytes: a static holding it
+    /// needs no flash image. [`Power::reset`] configures it.
+    pub const fn idle() -> Self {
+        Self {
+            cfg: PowerConfig {
+                blocks: Vec::new(),
+                rollouts_per_update: 0,
+                roll_out_mean: false,
+                sampler: 0,
+            },
+            n: 0,
+            mean: [0.0; P],
+            current: [0.0; P],
+            pending: false,
+            variance: Vec::new(),
+            in_update: 0,
+            updates: 0,
+            sampler: Vec::new(),
+            best: None,
+            rng: Xoshiro128PlusPlus::unseeded(),
+            normal: StandardNormal::new(),
+        }
+    }
+
+    /// [`Power::new`] in place, without a second copy of the buffers (a
+    /// coprocessor's stack has no room for one). On error nothing changes.
+    pub fn reset(&mut self, initial: &[f32], cfg: PowerConfig, seed: u64) -> Result<(), Error> {
         let n = initial.len();
         if n == 0 {
             return Err(Error::OutOfRange("PoWER needs at least one parameter"));
@@ -207,23 +239,20 @@ impl<const P: usize, const L: usize> Power<P, L> {
             return Err(Error::OutOfRange("sampler length must be >= 1"));
         }
         check_capacity("sampler length", cfg.sampler, L)?;
-        let mut mean = [0.0; P];
-        mean.iter_mut().zip(initial).for_each(|(m, v)| *m = *v);
-        let variance = cfg.blocks.iter().map(|b| b.variance).collect();
-        Ok(Self {
-            cfg,
-            n,
-            mean,
-            current: mean,
-            pending: false,
-            variance,
-            in_update: 0,
-            updates: 0,
-            sampler: Vec::new(),
-            best: None,
-            rng: Xoshiro128PlusPlus::seed_from_u64(seed),
-            normal: StandardNormal::new(),
-        })
+        self.mean = [0.0; P];
+        self.mean.iter_mut().zip(initial).for_each(|(m, v)| *m = *v);
+        self.current = self.mean;
+        self.variance = cfg.blocks.iter().map(|b| b.variance).collect();
+        self.cfg = cfg;
+        self.n = n;
+        self.pending = false;
+        self.in_update = 0;
+        self.updates = 0;
+        self.sampler.clear();
+        self.best = None;
+        self.rng = Xoshiro128PlusPlus::seed_from_u64(seed);
+        self.normal = StandardNormal::new();
+        Ok(())
     }
 
     /// Roll-outs per update, counting the mean's.

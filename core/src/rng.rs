@@ -24,6 +24,12 @@ pub struct Xoshiro128PlusPlus {
 }
 
 impl Xoshiro128PlusPlus {
+    /// The all-zero state, which only ever yields 0: a placeholder to be
+    /// replaced by a seeded generator before use.
+    pub(crate) const fn unseeded() -> Self {
+        Self { s: [0; 4] }
+    }
+
     fn next(&mut self) -> u32 {
         let [s0, s1, s2, s3] = self.s;
         let result = s0.wrapping_add(s3).rotate_left(7).wrapping_add(s0);

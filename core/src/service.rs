@@ -57,14 +57,24 @@ pub const SAMPLER: usize = 3;
 /// never send it).
 pub const UNREAD: u32 = 0;
 
-/// The learner in use.
+/// The learner in use; PoWER's state lives in [`Service`], configured in
+/// place. `repr(u8)` makes `Idle` all zero bytes (see [`Service::new`]).
 #[derive(Debug, Clone)]
-#[allow(clippy::large_enum_variant)] // one lives in a static; boxing is not an option
+#[repr(u8)]
 enum Learner {
     Idle,
     Golden(GoldenSection),
     Illinois(Illinois),
-    Power(Power<{ THETA + 1 }, SAMPLER>),
+    Power,
+}
+
+/// The movement being streamed, if any; `repr(u8)` as for [`Learner`].
+#[derive(Debug, Clone)]
+#[repr(u8)]
+#[allow(clippy::large_enum_variant)] // it lives in the service, not on a stack
+enum Stream {
+    Idle,
+    Moving(Motion),
 }
 
 /// A movement being integrated.
@@ -93,10 +103,11 @@ pub struct Service {
     examples: Generalizer<EXAMPLES, 1, THETA>,
     intake: Intake,
     learner: Learner,
+    power: Power<{ THETA + 1 }, SAMPLER>,
     /// A roll-out was asked and not yet told.
     in_flight: bool,
     asked: u32,
-    motion: Option<Motion>,
+    motion: Stream,
     /// The last frame's sequence number and reply bytes.
     last: Option<(u32, Vec<u8, MAX_FRAME>)>,
 }
@@ -122,10 +133,12 @@ fn bad_state(why: &str) -> Reply {
 }
 
 impl Service {
-    /// A service with no learner configured.
+    /// A service with no learner configured. Its bytes are all zero, so a
+    /// static one costs RAM (.bss) but no flash; the coprocessor builds it
+    /// in place because a 15 KiB temporary would not fit its stack.
     pub const fn new() -> Self {
         Self {
-            examples: Generalizer::new(1, 0, Regression::Lwr { bandwidth: None }),
+            examples: Generalizer::new(0, 0, Regression::Lwr { bandwidth: None }),
             intake: Intake {
                 expected: 0,
                 theta_len: 0,
@@ -135,9 +148,10 @@ impl Service {
                 theta: [0.0; THETA],
             },
             learner: Learner::Idle,
+            power: Power::idle(),
             in_flight: false,
             asked: 0,
-            motion: None,
+            motion: Stream::Idle,
             last: None,
         }
     }
@@ -246,7 +260,8 @@ impl Service {
                 if let Some(q) = start.first_mut() {
                     *q = *query;
                 }
-                Learner::Power(Power::new(start, config.clone(), setup.seed)?)
+                self.power.reset(start, config.clone(), setup.seed)?;
+                Learner::Power
             }
         };
         // Field by field: a fresh Service would be a second 15 KiB on the
@@ -259,7 +274,7 @@ impl Service {
         self.learner = learner;
         self.in_flight = false;
         self.asked = 0;
-        self.motion = None;
+        self.motion = Stream::Idle;
         Ok(())
     }
 
@@ -330,7 +345,8 @@ impl Service {
                 Some(q) => search(q),
                 None => return Reply::Finished(l.status()),
             },
-            Learner::Power(p) => {
+            Learner::Power => {
+                let p = &mut self.power;
                 let (mean, update) = (p.next_is_mean(), p.updates());
                 let theta = p.ask();
                 Rollout {
@@ -351,8 +367,8 @@ impl Service {
 
     /// `Δθ` of the roll-out in flight (PoWER only).
     fn delta(&mut self) -> Option<&[f32]> {
-        match &mut self.learner {
-            Learner::Power(p) if self.in_flight => p.ask().get(1..),
+        match self.learner {
+            Learner::Power if self.in_flight => self.power.ask().get(1..),
             _ => None,
         }
     }
@@ -382,7 +398,7 @@ impl Service {
             Learner::Idle => return bad_state("tell before configure"),
             Learner::Golden(l) => l.tell(outcome.error).map(drop),
             Learner::Illinois(l) => l.tell(outcome.error).map(drop),
-            Learner::Power(p) => p.tell(outcome.reward).map(drop),
+            Learner::Power => self.power.tell(outcome.reward).map(drop),
         };
         match told {
             Ok(()) => {
@@ -405,12 +421,12 @@ impl Service {
             Learner::Idle => return bad_state("status before configure"),
             Learner::Golden(l) => search(l),
             Learner::Illinois(l) => search(l),
-            Learner::Power(p) => Status {
+            Learner::Power => Status {
                 rollouts: self.asked.wrapping_sub(u32::from(self.in_flight)),
-                updates: p.updates(),
+                updates: self.power.updates(),
                 search: SearchStatus::Running,
-                best_query: p.best().and_then(|b| b.params.first().copied()),
-                best: p.best().map(|b| b.reward),
+                best_query: self.power.best().and_then(|b| b.params.first().copied()),
+                best: self.power.best().map(|b| b.reward),
             },
         })
     }
@@ -426,7 +442,7 @@ impl Service {
         let query = match &self.learner {
             Learner::Golden(l) => l.ask(),
             Learner::Illinois(l) => l.ask(),
-            Learner::Power(_) | Learner::Idle => None,
+            Learner::Power | Learner::Idle => None,
         };
         let len = self.intake.theta_len;
         let mut theta = [0.0f32; THETA];
@@ -434,10 +450,7 @@ impl Service {
         let query = match query {
             Some(q) => q,
             None => {
-                let Learner::Power(p) = &mut self.learner else {
-                    return Ok(bad_state("no roll-out in flight"));
-                };
-                let ext = p.ask();
+                let ext = self.power.ask();
                 for (t, d) in theta.iter_mut().zip(ext.get(1..).unwrap_or(&[])) {
                     *t = *d;
                 }
@@ -461,7 +474,7 @@ impl Service {
         if !(start.dt.is_finite() && start.dt > 0.0) {
             return Err(Error::OutOfRange("dt must be finite and > 0"));
         }
-        self.motion = Some(Motion {
+        self.motion = Stream::Moving(Motion {
             dmp,
             run,
             dt: start.dt,
@@ -473,7 +486,7 @@ impl Service {
     /// One control step; `done` once the step reaches τ (within half a
     /// step).
     fn dmp_next(&mut self) -> Reply {
-        let Some(m) = &mut self.motion else {
+        let Stream::Moving(m) = &mut self.motion else {
             return bad_state("setpoint before the movement started");
         };
         if m.done {

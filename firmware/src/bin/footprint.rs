@@ -1,0 +1,218 @@
+//! Measures the coprocessor's costs on the target, under QEMU with
+//! `-icount shift=0` (virtual time counts instructions; SysTick is
+//! calibrated against a loop of known length): instructions per 7×30 DMP
+//! step and per 219-parameter PoWER update, and the stack the service needs
+//! for a whole PoWER run, frames and all, as the firmware runs it.
+#![no_std]
+#![no_main]
+
+use cortex_m::peripheral::{SYST, syst::SystClkSource};
+use cortex_m_rt::entry;
+use cortex_m_semihosting::hprintln;
+use heapless::Vec;
+use primo_core::dmp::{Dmp, FitOptions};
+use primo_core::generalize::Method;
+use primo_core::power::{Block, PowerConfig};
+use primo_core::service::{Service, THETA};
+use primo_core::wire::{
+    self, CHUNK, DmpStart, FrameReader, LearnerSetup, MAX_DOF, MAX_FRAME, Outcome, Reply, Request,
+    Setup,
+};
+
+const UPDATES: u32 = 20;
+const STEPS: u32 = 1000;
+const KERNELS: usize = 30;
+
+/// SysTick ticks elapsed while `f` runs (24-bit counter, counting down).
+fn ticks(syst: &mut SYST, f: impl FnOnce()) -> u64 {
+    syst.clear_current();
+    let start = SYST::get_current();
+    f();
+    u64::from(start.wrapping_sub(SYST::get_current()) & 0x00FF_FFFF)
+}
+
+/// Instructions per tick as (instructions, ticks) of a loop of known length.
+fn calibrate(syst: &mut SYST) -> (u64, u64) {
+    const N: u32 = 100_000;
+    let t = ticks(syst, || {
+        // SAFETY: a register-only countdown loop, two instructions a turn.
+        unsafe {
+            core::arch::asm!("1:", "subs {0}, #1", "bne 1b", inout(reg) N => _);
+        }
+    });
+    (2 * u64::from(N), t.max(1))
+}
+
+fn fail(what: &str) -> ! {
+    hprintln!("footprint: {} failed", what);
+    primo_firmware::exit(false)
+}
+
+/// One request through the firmware's path: encode, frame reader,
+/// `Service::handle`, decode.
+fn send(service: &mut Service, seq: &mut u32, request: &Request) -> Reply {
+    *seq += 1;
+    let (mut buf, mut out) = ([0u8; MAX_FRAME], [0u8; MAX_FRAME]);
+    let Ok(frame) = wire::encode(*seq, request, &mut buf) else {
+        fail("encode")
+    };
+    let mut reader = FrameReader::new();
+    for b in frame {
+        if let Some(raw) = reader.push(*b) {
+            let reply = service.handle(raw, &mut out);
+            match wire::decode::<Reply>(reply.split_last().map_or(&[], |(_, r)| r)) {
+                Ok(wire::Frame {
+                    body: Reply::Error(f),
+                    ..
+                }) => {
+                    hprintln!("footprint: {}", f.detail.as_str());
+                    fail("request")
+                }
+                Ok(f) => return f.body,
+                Err(_) => fail("decode"),
+            }
+        }
+    }
+    fail("framing")
+}
+
+/// A 7 × 30 DMP fitted to a smooth reach of 2 s.
+fn reach() -> Dmp<MAX_DOF, KERNELS> {
+    let mut t = [0.0f32; 100];
+    let mut y = [0.0f32; 100 * MAX_DOF];
+    for (i, (ti, row)) in t.iter_mut().zip(y.chunks_exact_mut(MAX_DOF)).enumerate() {
+        let s = i as f32 / 99.0;
+        *ti = 2.0 * s;
+        for (d, v) in row.iter_mut().enumerate() {
+            *v = (0.2 + 0.1 * d as f32) * s * s * (3.0 - 2.0 * s);
+        }
+    }
+    Dmp::fit(&t, &y, MAX_DOF, KERNELS, &FitOptions::default()).unwrap_or_else(|_| fail("fit"))
+}
+
+/// PoWER over `[q̂, Δθ]` of 219 parameters through the service: two
+/// examples, every roll-out's `Δθ` fetched and its movement streamed.
+/// Returns the ticks spent in the tells that completed an update.
+fn power_run(service: &mut Service, syst: &mut SYST, dmp: &Dmp<MAX_DOF, KERNELS>) -> u64 {
+    let mut seq = 0;
+    let config = PowerConfig::paper(&[
+        Block {
+            len: 1,
+            variance: 0.01,
+            decay: 0.9,
+        },
+        Block {
+            len: THETA,
+            variance: 1e-4,
+            decay: 1.0,
+        },
+    ])
+    .unwrap_or_else(|_| fail("config"));
+    let setup = Setup {
+        learner: LearnerSetup::Power { config, query: 0.5 },
+        examples: 2,
+        theta_len: THETA as u16,
+        regression: Method::Lwr { bandwidth: None },
+        seed: 3,
+    };
+    send(service, &mut seq, &Request::Configure(setup));
+    let mut theta = [0.0f32; THETA];
+    if dmp.params(&mut theta).is_err() {
+        fail("params");
+    }
+    for (i, q) in [0.3f32, 1.0].iter().enumerate() {
+        for (c, chunk) in theta.chunks(CHUNK).enumerate() {
+            let values = Vec::from_slice(chunk).unwrap_or_default();
+            let offset = (c * CHUNK) as u16;
+            send(
+                service,
+                &mut seq,
+                &Request::Example {
+                    index: i as u8,
+                    query: *q,
+                    offset,
+                    values,
+                },
+            );
+        }
+    }
+    let start: Vec<f32, MAX_DOF> = dmp.start_position().iter().copied().collect();
+    let mut update_ticks = 0;
+    for i in 0..UPDATES * 4 {
+        let Reply::Rollout(r) = send(service, &mut seq, &Request::Ask) else {
+            fail("ask")
+        };
+        let mut offset = 0;
+        while offset < r.delta_len {
+            send(service, &mut seq, &Request::Fetch { offset });
+            offset += CHUNK as u16;
+        }
+        let motion = DmpStart {
+            shape: dmp.shape(),
+            kernels: KERNELS as u8,
+            start: start.clone(),
+            dt: 0.01,
+        };
+        send(service, &mut seq, &Request::DmpStart(motion));
+        while let Reply::Setpoint { done: false, .. } = send(service, &mut seq, &Request::DmpNext) {
+        }
+        let tell = Request::Tell(Outcome {
+            error: 0.0,
+            reward: 1.0 / (1.0 + r.query * r.query),
+        });
+        let t = ticks(syst, || {
+            send(service, &mut seq, &tell);
+        });
+        // The fourth tell of an update runs the update.
+        if i % 4 == 3 {
+            update_ticks += t;
+        }
+    }
+    update_ticks
+}
+
+#[entry]
+fn main() -> ! {
+    static mut SERVICE: Service = Service::new();
+    let Some(mut p) = cortex_m::Peripherals::take() else {
+        fail("peripherals")
+    };
+    p.SYST.set_clock_source(SystClkSource::Core);
+    p.SYST.set_reload(0x00FF_FFFF);
+    p.SYST.enable_counter();
+    let (calib_instr, calib_ticks) = calibrate(&mut p.SYST);
+    let instructions = |ticks: u64, n: u32| ticks * calib_instr / calib_ticks / u64::from(n);
+
+    let dmp = reach();
+    let Ok(mut run) = dmp.start(&dmp.execution()) else {
+        fail("start")
+    };
+    let mut ok = true;
+    let dmp_ticks = ticks(&mut p.SYST, || {
+        for _ in 0..STEPS {
+            ok &= run.step(&dmp, 0.001).is_ok();
+        }
+    });
+    if !ok {
+        fail("step");
+    }
+    let mut update_ticks = 0;
+    let stack = primo_firmware::stack_used_by(|| {
+        update_ticks = power_run(SERVICE, &mut p.SYST, &dmp);
+    });
+    hprintln!(
+        "calibration: {} instructions in {} ticks",
+        calib_instr,
+        calib_ticks
+    );
+    hprintln!(
+        "dmp step 7x30: {} instructions",
+        instructions(dmp_ticks, STEPS)
+    );
+    hprintln!(
+        "power update 219: {} instructions",
+        instructions(update_ticks, UPDATES)
+    );
+    hprintln!("service stack: {} bytes", stack);
+    primo_firmware::exit(true)
+}
