@@ -3,6 +3,8 @@
 //! - [`csv`]: demonstration and trajectory CSV files (`t,<DoF names>`).
 //! - [`dmpfile`]: the versioned JSON format of a fitted DMP.
 //! - [`cli`]: the `primo` commands.
+//! - [`coprocessor`]: the learning coprocessor over a serial port, and the
+//!   firmware booted in QEMU.
 //! - [`sim`]: the simulated pouring cell.
 //! - [`plot`]: PNG charts (learning curves).
 //! - [`skill`]: demonstrations → DMPs → generalization → checked roll-outs.
@@ -12,6 +14,7 @@
 #![deny(missing_docs)]
 
 pub mod cli;
+pub mod coprocessor;
 pub mod csv;
 pub mod dmpfile;
 mod error;
