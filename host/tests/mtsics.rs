@@ -11,9 +11,8 @@ use primo_host::mtsics::{
 };
 use primo_host::sim::scale::ScaleModel;
 
-#[allow(dead_code)] // this file uses `primo` only
 mod common;
-use common::primo;
+use common::{primo, primo_with_input};
 
 /// A running `primo scale serve`, driven through its stdin.
 struct Served {
@@ -343,21 +342,11 @@ fn primo_scale_read_prints_one_stable_weight() {
 
 #[test]
 fn serve_answers_every_operator_line() {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_primo"))
-        .args(["scale", "serve"])
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .spawn()
-        .unwrap();
-    child
-        .stdin
-        .take()
-        .unwrap()
-        .write_all(b"load x\nsilent -1\njump\n\ngarbage \\q\npower-on\n")
-        .unwrap();
-    let out = child.wait_with_output().unwrap();
-    assert!(out.status.success());
-    let text = String::from_utf8(out.stdout).unwrap();
+    let (code, text, err) = primo_with_input(
+        &["scale", "serve"],
+        b"load x\nsilent -1\njump\n\ngarbage \\q\npower-on\n",
+    );
+    assert_eq!(code, 0, "{err}");
     let lines: Vec<&str> = text.lines().collect();
     assert_eq!(lines.len(), 6, "{text}");
     assert!(lines[1].starts_with("error: stdin line 1: load <grams>: `x` is not a number"));

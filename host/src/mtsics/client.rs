@@ -135,6 +135,8 @@ impl std::error::Error for ScaleError {}
 
 /// A precision scale speaking MT-SICS on a serial port.
 ///
+/// Every command is sent up to 1 + `retries` times: again after a timeout
+/// or an `I` answer (busy, or no stable reading in the scale's own time).
 /// Lines the scale sends unprompted at power-on (`I4 A "<serial>"`) are
 /// skipped wherever they arrive. After a garbled or unexpected line the
 /// answer to the command may still be on its way, so the next command
@@ -211,7 +213,7 @@ impl Scale {
         Ok(())
     }
 
-    /// `S`: the stable weight. Retries on `S I` and on timeouts.
+    /// `S`: the stable weight.
     pub fn stable(&mut self) -> Result<Weight, ScaleError> {
         match self.transact("S", Reply::Weight)? {
             (Response::Weight(w, Stability::Stable), _) => Ok(w),
@@ -249,6 +251,12 @@ impl Scale {
             (Response::TareCleared, _) => Ok(()),
             (_, line) => Err(self.unexpected("TAC", line)),
         }
+    }
+
+    /// When the answer to a command sent now is late (the timeout capped
+    /// at a day, so the sum cannot overflow).
+    fn deadline(&self) -> Instant {
+        Instant::now() + self.config.timeout.min(Duration::from_secs(86_400))
     }
 
     fn error(&self, sent: &str, kind: ErrorKind) -> ScaleError {
@@ -312,7 +320,7 @@ impl Scale {
         loop {
             attempts += 1;
             self.send(command)?;
-            let deadline = Instant::now() + self.config.timeout;
+            let deadline = self.deadline();
             while let Some(line) = self.read_line(command, deadline)? {
                 if let Ok(Response::Serial(serial)) = parse_response(&line) {
                     return Ok(serial);
@@ -372,7 +380,7 @@ impl Scale {
 
     /// The answer to `command`, skipping power-on lines; `None` on timeout.
     fn answer(&mut self, command: &str) -> Result<Option<(Response, String)>, ScaleError> {
-        let deadline = Instant::now() + self.config.timeout;
+        let deadline = self.deadline();
         while let Some(line) = self.read_line(command, deadline)? {
             match parse_response(&line) {
                 Ok(Response::Serial(_)) => self.power_on_lines += 1,

@@ -31,14 +31,19 @@ pub enum ScaleCommand {
 #[derive(Debug, Args)]
 pub struct ServeArgs {
     /// Load on the pan from the start (already settled), g.
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    #[arg(
+        long,
+        value_name = "GRAMS",
+        default_value_t = 0.0,
+        allow_hyphen_values = true
+    )]
     load: f64,
     /// Seed of the scale's noise.
     #[arg(long, default_value_t = 1)]
     seed: u64,
     /// How long `S`, `Z` and `T` wait for a stable reading before they
     /// answer `I`, s.
-    #[arg(long, default_value_t = 8.0)]
+    #[arg(long, value_name = "SECONDS", default_value_t = 8.0)]
     stable_timeout: f64,
 }
 
@@ -47,7 +52,7 @@ pub struct ServeArgs {
 pub struct ReadArgs {
     /// Serial port of the scale (e.g. /dev/ttyUSB0, or the path `primo
     /// scale serve` printed).
-    #[arg(long)]
+    #[arg(long, value_name = "PATH")]
     port: String,
     /// Baud rate (8N1, no handshake).
     #[arg(long, default_value_t = 9600)]
@@ -56,10 +61,10 @@ pub struct ReadArgs {
     #[arg(long, value_enum, default_value_t = OutputUnit::G)]
     unit: OutputUnit,
     /// Density of the liquid for `--unit ml`, g/ml (water: 0.998).
-    #[arg(long, default_value_t = Density::WATER.g_per_ml())]
+    #[arg(long, value_name = "G_PER_ML", default_value_t = Density::WATER.g_per_ml())]
     density: f64,
     /// How long to wait for each answer, s.
-    #[arg(long, default_value_t = 10.0)]
+    #[arg(long, value_name = "SECONDS", default_value_t = 10.0)]
     timeout: f64,
     /// Retries after a timeout or a busy answer.
     #[arg(long, default_value_t = 2)]

@@ -480,7 +480,11 @@ fn serve<L: LoadSource>(
                 Ok((control, done)) => {
                     match control {
                         Control::Garbage(bytes) => send(&mut master, &bytes)?,
-                        Control::Silent(d) => silent_until = Some(Instant::now() + d),
+                        Control::Silent(d) => {
+                            // Capped at a year, so the sum cannot overflow.
+                            let d = d.min(Duration::from_secs(365 * 86_400));
+                            silent_until = Some(Instant::now() + d);
+                        }
                         Control::PowerOn => {
                             send(&mut master, device.power_on_line().to_string().as_bytes())?
                         }
