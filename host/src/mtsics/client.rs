@@ -347,9 +347,10 @@ impl Scale {
             attempts += 1;
             self.send(command)?;
             let Some((response, line)) = self.answer(command)? else {
+                // The late answer may still come: whatever this exchange
+                // ends in, the next command first resyncs.
+                self.resync = true;
                 if attempts > self.config.retries {
-                    // A late answer may still come: resync before the next command.
-                    self.resync = true;
                     return Err(self.error(command, ErrorKind::Timeout { attempts }));
                 }
                 continue;
