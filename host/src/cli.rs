@@ -41,6 +41,9 @@ enum Command {
     /// Reproduce the paper's experiments.
     #[command(subcommand)]
     Experiment(ExperimentCommand),
+    /// The precision scale over MT-SICS: serve the simulated one, read one.
+    #[command(subcommand)]
+    Scale(crate::mtsics::commands::ScaleCommand),
 }
 
 #[derive(Debug, Subcommand)]
@@ -266,6 +269,7 @@ fn run(cli: Cli) -> Result<(), CliError> {
             seed,
             out,
         }) => experiment_power(runs, kernels, updates, glass, seed, &out),
+        Command::Scale(command) => crate::mtsics::commands::run(command),
         Command::Dmp(DmpCommand::Fit { demo, kernels, out }) => fit(&demo, kernels, out.as_deref()),
         Command::Dmp(DmpCommand::Run {
             dmp,

@@ -11,6 +11,7 @@
 //! - [`pour`]: the learners driving the skill's roll-outs.
 //! - [`experiment`]: the paper's experiments, runs spread over all cores.
 //! - [`report`]: roll-out tables, summaries and charts.
+//! - [`mtsics`]: MT-SICS precision scales: client, simulated device, `primo scale`.
 #![deny(missing_docs)]
 
 pub mod cli;
@@ -19,6 +20,7 @@ pub mod csv;
 pub mod dmpfile;
 mod error;
 pub mod experiment;
+pub mod mtsics;
 pub mod plot;
 pub mod pour;
 pub mod report;

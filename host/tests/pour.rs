@@ -1,10 +1,7 @@
 //! `primo pour`, `primo rollout`, `primo demo synth` and `primo experiment`
 //! end to end: the binary, its files and its JSON.
-use std::io::Write;
-use std::process::{Command, Stdio};
-
 mod common;
-use common::{primo, tmp};
+use common::{primo, primo_with_input, tmp};
 
 #[test]
 fn pour_learns_and_writes_its_reports() {
@@ -88,22 +85,12 @@ fn rollout_prints_the_start_and_serves_json_lines() {
         serde_json::to_string(x).unwrap(),
         serde_json::to_string(&far).unwrap()
     );
-    let mut child = Command::new(env!("CARGO_BIN_EXE_primo"))
-        .args(["rollout", "--serve", "--glass", "small"])
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .spawn()
-        .unwrap();
-    child
-        .stdin
-        .take()
-        .unwrap()
-        .write_all(input.as_bytes())
-        .unwrap();
-    let out = child.wait_with_output().unwrap();
-    assert!(out.status.success());
-    let lines: Vec<serde_json::Value> = String::from_utf8(out.stdout)
-        .unwrap()
+    let (code, out, err) = primo_with_input(
+        &["rollout", "--serve", "--glass", "small"],
+        input.as_bytes(),
+    );
+    assert_eq!(code, 0, "{err}");
+    let lines: Vec<serde_json::Value> = out
         .lines()
         .map(|l| serde_json::from_str(l).unwrap())
         .collect();
