@@ -10,7 +10,7 @@ use cortex_m::peripheral::{SYST, syst::SystClkSource};
 use cortex_m_rt::entry;
 use cortex_m_semihosting::hprintln;
 use heapless::Vec;
-use primo_core::dmp::{Dmp, FitOptions};
+use primo_core::dmp::{DEFAULT_ALPHA, DEFAULT_OVERLAP, Dmp, Shape};
 use primo_core::generalize::Method;
 use primo_core::power::{Block, PowerConfig};
 use primo_core::service::{Service, THETA};
@@ -76,18 +76,21 @@ fn send(service: &mut Service, seq: &mut u32, request: &Request) -> Reply {
     fail("framing")
 }
 
-/// A 7 × 30 DMP fitted to a smooth reach of 2 s.
+/// A 7 × 30 DMP of 2 s with smooth, made-up weights (the coprocessor
+/// builds its DMPs from a shape and θ too; fitting is the host's job).
 fn reach() -> Dmp<MAX_DOF, KERNELS> {
-    let mut t = [0.0f32; 100];
-    let mut y = [0.0f32; 100 * MAX_DOF];
-    for (i, (ti, row)) in t.iter_mut().zip(y.chunks_exact_mut(MAX_DOF)).enumerate() {
-        let s = i as f32 / 99.0;
-        *ti = 2.0 * s;
-        for (d, v) in row.iter_mut().enumerate() {
-            *v = (0.2 + 0.1 * d as f32) * s * s * (3.0 - 2.0 * s);
-        }
+    let mut theta = [0.0f32; THETA];
+    for (i, w) in theta.iter_mut().enumerate() {
+        *w = 50.0 * libm::sinf(0.37 * i as f32);
     }
-    Dmp::fit(&t, &y, MAX_DOF, KERNELS, &FitOptions::default()).unwrap_or_else(|_| fail("fit"))
+    let n = MAX_DOF * KERNELS;
+    theta[n..n + MAX_DOF].copy_from_slice(&[0.3, -0.2, 0.5, 1.1, 0.0, 0.4, -0.6]);
+    theta[THETA - 1] = 2.0;
+    // The width `Dmp::fit` gives 30 kernels at the default overlap.
+    let width = DEFAULT_OVERLAP * ((KERNELS - 1) * (KERNELS - 1)) as f32;
+    let shape = Shape { alpha: DEFAULT_ALPHA, width, scaled: 0x7F };
+    Dmp::from_shape(&shape, MAX_DOF, KERNELS, &[0.0; MAX_DOF], &theta)
+        .unwrap_or_else(|_| fail("dmp"))
 }
 
 /// PoWER over `[q̂, Δθ]` of 219 parameters through the service: two
