@@ -789,7 +789,7 @@ fn experiment_power(
     crate::report::write_power(out, &summary)?;
     for (name, c) in [("extended", &extended), ("ordinary", &ordinary)] {
         println!(
-            "{name:>8}: start |error| {:.1} ml spilled {:.1} ml -> final |error| {:.2} ± {:.2} ml, spilled {:.2} ± {:.2} ml, reward {:.3}; {} rejected roll-outs",
+            "{name:>8}: start |error| {:.1} ml spilled {:.1} ml -> final |error| {:.2} ± {:.2} ml, spilled {:.2} ± {:.2} ml, reward {:.3}; {:.0} % of roll-outs reward 0, {} rejected",
             c.error.mean.first().copied().unwrap_or(f64::NAN) * 1e3,
             c.spilled.mean.first().copied().unwrap_or(f64::NAN) * 1e3,
             c.error.last() * 1e3,
@@ -797,6 +797,7 @@ fn experiment_power(
             c.spilled.last() * 1e3,
             c.spilled.std.last().copied().unwrap_or(f64::NAN) * 1e3,
             c.reward.last(),
+            100.0 * c.zero_reward as f64 / c.rollouts.max(1) as f64,
             c.rejected
         );
     }

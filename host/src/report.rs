@@ -316,7 +316,8 @@ pub fn write_golden(dir: &Path, runs: &[SearchRun], precision: f64) -> Result<()
 pub struct PowerSummary<'a> {
     /// Runs per variant.
     pub runs: usize,
-    /// Updates per run (4 roll-outs each).
+    /// Updates per run (4 roll-outs each; the curves have `updates + 1`
+    /// points, the start's and one after each update).
     pub updates: u32,
     /// DMP kernels per joint.
     pub kernels: usize,

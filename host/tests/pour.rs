@@ -228,13 +228,21 @@ fn experiment_power_writes_both_curves() {
     assert!(out.contains("79 parameters, 2 runs x 3 updates"), "{out}");
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    // The start and the mean after each of the 3 updates.
     assert_eq!(
         summary["extended"]["reward"]["mean"]
             .as_array()
             .unwrap()
             .len(),
-        3
+        4
     );
+    for variant in ["extended", "ordinary"] {
+        let c = &summary[variant];
+        assert_eq!(c["rollouts"], 2 * (4 * 3 + 1), "{variant}");
+        let count = |k: &str| c[k].as_u64().unwrap();
+        assert!(count("rejected") <= count("zero_reward") && count("zero_reward") <= 26);
+    }
+    assert!(out.contains("% of roll-outs reward 0"), "{out}");
     assert!(summary["spill_ratio"].is_number() || summary["spill_ratio"].is_null());
     assert!(dir.join("power.png").exists() && dir.join("power.csv").exists());
 }
