@@ -9,6 +9,7 @@
 //! - [`pour`]: the learners driving the skill's roll-outs.
 //! - [`experiment`]: the paper's experiments, runs spread over all cores.
 //! - [`report`]: roll-out tables, summaries and charts.
+//! - [`series`]: a roll-out's time series and its CSV.
 #![deny(missing_docs)]
 
 pub mod cli;
@@ -19,6 +20,7 @@ pub mod experiment;
 pub mod plot;
 pub mod pour;
 pub mod report;
+pub mod series;
 pub mod sim;
 pub mod skill;
 

@@ -183,7 +183,8 @@ fn trial_seed(seed: u64, i: u32) -> u64 {
 }
 
 /// Runs the learner of `s` on `skill` in `cell`, calling `each` after every
-/// roll-out; returns all roll-outs.
+/// roll-out; returns all roll-outs. When `cell` records, `each` sees each
+/// roll-out's time series; the returned records hold none.
 pub fn learn(
     skill: &Skill,
     cell: &CellConfig,
@@ -191,8 +192,10 @@ pub fn learn(
     mut each: impl FnMut(&Record),
 ) -> Result<Vec<Record>, String> {
     let mut records = Vec::new();
-    let mut push = |r: Record, records: &mut Vec<Record>| {
+    let mut push = |mut r: Record, records: &mut Vec<Record>| {
         each(&r);
+        // A recorded series (megabytes) goes to `each` only.
+        r.trial.series = None;
         records.push(r);
     };
     match s.method {

@@ -65,6 +65,9 @@ pub struct PourSummary<'a> {
     pub converged_at: Option<u32>,
     /// The last roll-out (PoWER: the last roll-out of the mean).
     pub last: RolloutSummary,
+    /// The best executed roll-out (highest reward, the later of equals):
+    /// `series.csv` is its time series.
+    pub best: Option<RolloutSummary>,
     /// Wall-clock time, s.
     pub seconds: f64,
 }
