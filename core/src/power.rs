@@ -52,8 +52,9 @@ use crate::normal::StandardNormal;
 use crate::rng::Xoshiro128PlusPlus;
 
 /// At most this many exploration blocks: room for the query, one block of
-/// kernel weights per DoF of a 16-DoF movement, the goals and τ.
-pub const MAX_BLOCKS: usize = 20;
+/// kernel weights per joint of a 7-DoF arm, the goals and τ. Kept small:
+/// the coprocessor holds the configuration and receives it in one frame.
+pub const MAX_BLOCKS: usize = 10;
 /// Largest |initial parameter|.
 pub const MAX_ABS_PARAM: f32 = 1e9;
 /// Largest block variance.
