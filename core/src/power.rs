@@ -5,8 +5,9 @@
 //!   with its own exploration variance `σ_b²` and per-update decay factor.
 //!   The paper uses two: the query `q̂` (`σ1² = s1·max|q_i − q_j|`, decaying)
 //!   and `Δθ` (`σ2² = s2·max‖θ_i − θ_j‖`); [`exploration_variance`] computes
-//!   `s·max_ij ‖x_i − x_j‖` from the training examples. Ordinary PoWER is
-//!   the same with `s1 = 0`.
+//!   `s·max_ij ‖x_i − x_j‖` from the training examples, [`widest_distance`]
+//!   the distance alone (for callers that scale it differently). Ordinary
+//!   PoWER is the same with `s1 = 0`.
 //! - **Roll-outs.** Each update rolls out the current mean once (optional:
 //!   it measures the policy being learned and feeds the sampler like any
 //!   roll-out), then `rollouts_per_update` explorations
@@ -50,8 +51,10 @@ use crate::error::{check_bounded, check_capacity, check_finite, check_len};
 use crate::normal::StandardNormal;
 use crate::rng::Xoshiro128PlusPlus;
 
-/// At most this many exploration blocks.
-pub const MAX_BLOCKS: usize = 8;
+/// At most this many exploration blocks: room for the query, one block of
+/// kernel weights per joint of a 7-DoF arm, the goals and τ. Kept small:
+/// the coprocessor holds the configuration and receives it in one frame.
+pub const MAX_BLOCKS: usize = 10;
 /// Largest |initial parameter|.
 pub const MAX_ABS_PARAM: f32 = 1e9;
 /// Largest block variance.
@@ -110,6 +113,20 @@ pub fn exploration_variance<'a>(
             "exploration scale s must be finite and >= 0",
         ));
     }
+    let v = s * widest_distance(examples, range)?;
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(Error::NotFinite("exploration variance"))
+    }
+}
+
+/// `max_ij ‖x_i − x_j‖` over the examples, each restricted to `range`
+/// (0 for fewer than two examples).
+pub fn widest_distance<'a>(
+    examples: impl Iterator<Item = &'a [f32]> + Clone,
+    range: core::ops::Range<usize>,
+) -> Result<f32, Error> {
     let mut widest = 0.0f32;
     for (i, a) in examples.clone().enumerate() {
         let a = a
@@ -124,11 +141,10 @@ pub fn exploration_variance<'a>(
             widest = widest.max(libm::sqrtf(d2));
         }
     }
-    let v = s * widest;
-    if v.is_finite() {
-        Ok(v)
+    if widest.is_finite() {
+        Ok(widest)
     } else {
-        Err(Error::NotFinite("exploration variance"))
+        Err(Error::NotFinite("distance between examples"))
     }
 }
 
@@ -685,6 +701,12 @@ mod tests {
         let ex: [&[f32]; 3] = [&[0.0, 0.0, 5.0], &[3.0, 4.0, 5.0], &[1.0, 1.0, -5.0]];
         let v = exploration_variance(0.05, ex.iter().copied(), 0..2).unwrap();
         assert!((v - 0.25).abs() < 1e-6);
+        let d = widest_distance(ex.iter().copied(), 0..2).unwrap();
+        assert!((d - 5.0).abs() < 1e-6);
+        let one: [&[f32]; 1] = [&[1.0, 2.0]];
+        assert_eq!(widest_distance(one.iter().copied(), 0..2), Ok(0.0));
+        let far: [&[f32]; 2] = [&[3e38, 0.0], &[-3e38, 0.0]];
+        assert!(widest_distance(far.iter().copied(), 0..2).is_err());
         assert!(exploration_variance(0.2, ex.iter().copied(), 2..5).is_err());
         let nan: [&[f32]; 2] = [&[0.0, f32::NAN], &[1.0, 2.0]];
         assert!(exploration_variance(1.0, nan.iter().copied(), 0..2).is_err());

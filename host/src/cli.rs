@@ -112,7 +112,8 @@ struct PourArgs {
     /// Error learning stops at |error| below this, l.
     #[arg(long, default_value_t = 0.002)]
     precision: f64,
-    /// Output directory for rollouts.csv, summary.json, convergence.png.
+    /// Output directory for rollouts.csv, summary.json, convergence.png
+    /// and series.csv (the best roll-out's time series).
     #[arg(long, default_value = "pour-out")]
     out: PathBuf,
 }
@@ -129,6 +130,10 @@ struct RolloutArgs {
     /// Print the generalized start vector and PoWER's exploration std.
     #[arg(long)]
     print_start: bool,
+    /// With --params: write the roll-out's time series (every 2 ms control
+    /// step) to this CSV file.
+    #[arg(long, requires = "params", conflicts_with_all = ["serve", "print_start"], value_name = "FILE")]
+    series: Option<PathBuf>,
     /// Liquid in the bottle, l.
     #[arg(long, default_value_t = 0.5)]
     bottle: f64,
@@ -532,7 +537,9 @@ fn pour(args: &PourArgs) -> Result<(), CliError> {
         Method::Power => Space::Joint,
         _ => Space::Cartesian,
     };
-    let (cell, skill) = args.skill.build(space, GlassKind::Normal)?;
+    let (mut cell, skill) = args.skill.build(space, GlassKind::Normal)?;
+    cell.record_every = 1;
+    let mut best = crate::series::Best::default();
     let mut settings = Settings::paper(args.method, args.bottle, args.target, args.seed);
     settings.precision = args.precision;
     if let Some(n) = args.max_rollouts {
@@ -560,6 +567,7 @@ fn pour(args: &PourArgs) -> Result<(), CliError> {
         progress.clear();
         println!("{}", crate::report::rollout_line(r));
         progress.show(r.rollout, &format!("error {:+.1} ml", r.trial.error * 1e3));
+        best.offer(r);
     })
     .map_err(CliError::input)?;
     progress.clear();
@@ -582,9 +590,16 @@ fn pour(args: &PourArgs) -> Result<(), CliError> {
         rollouts: records.len(),
         converged_at,
         last: RolloutSummary::of(last),
+        best: best.get().map(RolloutSummary::of),
         seconds: started.elapsed().as_secs_f64(),
     };
     crate::report::write_pour(&args.out, &records, &summary)?;
+    let best = best.get();
+    crate::series::write_csv(
+        &args.out.join("series.csv"),
+        skill.space(),
+        best.and_then(|r| r.trial.series.as_ref()),
+    )?;
     let verdict = match (args.method, converged_at) {
         (Method::Power, _) => "learned".to_string(),
         (_, Some(n)) => format!(
@@ -594,11 +609,12 @@ fn pour(args: &PourArgs) -> Result<(), CliError> {
         (_, None) => format!("did not reach {} ml", args.precision * 1e3),
     };
     println!(
-        "primo pour: {verdict}; last: q {:.4} l, poured {:.1} ml, spilled {:.1} ml, reward {:.3}; wrote {}",
+        "primo pour: {verdict}; last: q {:.4} l, poured {:.1} ml, spilled {:.1} ml, reward {:.3}; series.csv: roll-out {} (best reward); wrote {}",
         last.query,
         last.trial.poured * 1e3,
         last.trial.spilled * 1e3,
         last.trial.reward,
+        best.map_or("none".to_string(), |r| r.rollout.to_string()),
         args.out.display()
     );
     Ok(())
@@ -636,23 +652,25 @@ fn rollout_json(
     args: &RolloutArgs,
     x: &[f32],
     seed: u64,
-) -> Result<serde_json::Value, String> {
+) -> Result<(serde_json::Value, crate::skill::Trial), String> {
     let (theta, query) = x.split_at(base.len());
     let query = query.first().copied().unwrap_or(args.bottle as f32);
     let delta: Vec<f32> = theta.iter().zip(base).map(|(t, b)| t - b).collect();
     let trial = skill.roll_out(cell, args.bottle, args.target, query, &delta, seed)?;
-    Ok(serde_json::json!({
+    let answer = serde_json::json!({
         "poured": trial.poured,
         "spilled": trial.spilled,
         "error": trial.error,
         "reward": trial.reward,
         "safe": trial.rejected.is_none(),
         "rejected": trial.rejected,
-    }))
+    });
+    Ok((answer, trial))
 }
 
 fn rollout(args: &RolloutArgs) -> Result<(), CliError> {
-    let (cell, skill) = args.skill.build(Space::Joint, GlassKind::Normal)?;
+    let (mut cell, skill) = args.skill.build(Space::Joint, GlassKind::Normal)?;
+    cell.record_every = usize::from(args.series.is_some());
     let base = skill
         .generalize(args.bottle as f32)
         .map_err(CliError::input)?;
@@ -699,6 +717,7 @@ fn rollout(args: &RolloutArgs) -> Result<(), CliError> {
                         &x,
                         args.seed.wrapping_add(i as u64),
                     )
+                    .map(|(answer, _)| answer)
                 })
                 .unwrap_or_else(|e| serde_json::json!({ "error": e }));
             writeln!(stdout, "{answer}")
@@ -713,10 +732,13 @@ fn rollout(args: &RolloutArgs) -> Result<(), CliError> {
         .ok_or_else(|| CliError::input("give --params FILE, --serve or --print-start"))?;
     let x =
         parse_params(&path.display().to_string(), &read(path)?, len).map_err(CliError::input)?;
-    let answer =
+    let (answer, trial) =
         rollout_json(&skill, &cell, &base, args, &x, args.seed).map_err(CliError::input)?;
     println!("{answer}");
-    Ok(())
+    match &args.series {
+        Some(file) => crate::series::write_csv(file, skill.space(), trial.series.as_ref()),
+        None => Ok(()),
+    }
 }
 
 fn experiment_golden(
@@ -793,7 +815,7 @@ fn experiment_power(
     crate::report::write_power(out, &summary)?;
     for (name, c) in [("extended", &extended), ("ordinary", &ordinary)] {
         println!(
-            "{name:>8}: start |error| {:.1} ml spilled {:.1} ml -> final |error| {:.2} ± {:.2} ml, spilled {:.2} ± {:.2} ml, reward {:.3}; {} rejected roll-outs",
+            "{name:>8}: start |error| {:.1} ml spilled {:.1} ml -> final |error| {:.2} ± {:.2} ml, spilled {:.2} ± {:.2} ml, reward {:.3}; {:.0} % of roll-outs reward 0, {} rejected",
             c.error.mean.first().copied().unwrap_or(f64::NAN) * 1e3,
             c.spilled.mean.first().copied().unwrap_or(f64::NAN) * 1e3,
             c.error.last() * 1e3,
@@ -801,6 +823,7 @@ fn experiment_power(
             c.spilled.last() * 1e3,
             c.spilled.std.last().copied().unwrap_or(f64::NAN) * 1e3,
             c.reward.last(),
+            100.0 * c.zero_reward as f64 / c.rollouts.max(1) as f64,
             c.rejected
         );
     }

@@ -128,6 +128,13 @@ pub fn parse_demo(file: &str, text: &str) -> Result<Demo, CliError> {
     })
 }
 
+/// A time in seconds to the microsecond, without trailing zeros: 9·0.1
+/// prints as 0.9, not as f32's 0.90000004 or a sum of steps' 0.9000000000000001.
+pub fn seconds(t: f64) -> String {
+    let t = format!("{t:.6}");
+    t.trim_end_matches('0').trim_end_matches('.').to_string()
+}
+
 /// Writes a trajectory CSV: header `t,<names>` then one row per sample.
 pub fn write_rows<V: IntoIterator<Item = f32>>(
     out: &mut impl std::io::Write,
@@ -136,9 +143,7 @@ pub fn write_rows<V: IntoIterator<Item = f32>>(
 ) -> std::io::Result<()> {
     writeln!(out, "t,{}", names.join(","))?;
     for (t, values) in rows {
-        // Microseconds: 9·0.1 prints as 0.9, not as f32's 0.90000004.
-        let t = format!("{t:.6}");
-        write!(out, "{}", t.trim_end_matches('0').trim_end_matches('.'))?;
+        write!(out, "{}", seconds(f64::from(t)))?;
         for v in values {
             write!(out, ",{v}")?;
         }

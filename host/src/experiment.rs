@@ -122,8 +122,9 @@ impl Curve {
     }
 }
 
-/// Learning curves of one PoWER variant: the mean policy's roll-out at
-/// every update (its |error| and spill in litres, its reward).
+/// Learning curves of one PoWER variant: the mean policy's roll-out after
+/// 0, 1, …, `updates` updates (its |error| and spill in litres, its
+/// reward), and how informative the roll-outs were.
 #[derive(Debug, Clone, Default, Serialize)]
 pub struct PowerCurves {
     /// |poured − target|, l.
@@ -132,12 +133,18 @@ pub struct PowerCurves {
     pub spilled: Curve,
     /// Reward.
     pub reward: Curve,
-    /// Roll-outs rejected by the safety check, over all runs.
+    /// Roll-outs over all runs (explorations and the mean's).
+    pub rollouts: usize,
+    /// Of those, roll-outs with reward 0 (the sampler averages nothing
+    /// from them), rejected ones included.
+    pub zero_reward: usize,
+    /// Of those, roll-outs rejected by the safety check.
     pub rejected: usize,
 }
 
 /// Figs. 5 and 6: `runs` seeded runs of extended (s1 = 0.2) and ordinary
-/// (s1 = 0) PoWER from the same generalized start, `updates` updates each.
+/// (s1 = 0) PoWER from the same generalized start, `updates` updates of 4
+/// roll-outs each, then one more roll-out of the final mean.
 pub fn power(
     skill: &Skill,
     cell: &CellConfig,
@@ -154,7 +161,7 @@ pub fn power(
         let (s1, seed) = jobs[i];
         let mut s = Settings::paper(Method::Power, 0.5, 0.2, seed);
         s.s1 = s1;
-        s.max_rollouts = updates * per_update;
+        s.max_rollouts = updates * per_update + 1;
         learn(skill, cell, &s, |_| {})
     });
     let mut out: [PowerCurves; 2] = Default::default();
@@ -168,6 +175,8 @@ pub fn power(
             error.push(means.iter().map(|r| r.trial.error.abs()).collect());
             spilled.push(means.iter().map(|r| r.trial.spilled).collect());
             reward.push(means.iter().map(|r| r.trial.reward).collect());
+            curves.rollouts += records.len();
+            curves.zero_reward += records.iter().filter(|r| r.trial.reward == 0.0).count();
             curves.rejected += records
                 .iter()
                 .filter(|r| r.trial.rejected.is_some())

@@ -12,6 +12,7 @@
 //! - [`experiment`]: the paper's experiments, runs spread over all cores.
 //! - [`report`]: roll-out tables, summaries and charts.
 //! - [`mtsics`]: MT-SICS precision scales: client, simulated device, `primo scale`.
+//! - [`series`]: a roll-out's time series and its CSV.
 #![deny(missing_docs)]
 
 pub mod cli;
@@ -24,6 +25,7 @@ pub mod mtsics;
 pub mod plot;
 pub mod pour;
 pub mod report;
+pub mod series;
 pub mod sim;
 pub mod skill;
 

@@ -6,7 +6,7 @@
 use primo_core::generalize::Method as Regression;
 use primo_core::golden::{ErrorLearner, GoldenSection, SearchConfig};
 use primo_core::illinois::Illinois;
-use primo_core::power::{Block, Power, PowerConfig, exploration_variance};
+use primo_core::power::{Block, Power, PowerConfig, widest_distance};
 use serde::Serialize;
 
 use crate::csv::Demo;
@@ -132,51 +132,49 @@ pub fn built_in_skill(cell: &CellConfig, space: Space, kernels: usize) -> Result
     )
 }
 
-/// PoWER's exploration blocks for `skill`: the query with the paper's
-/// `σ1² = s1·max|q_i − q_j|`, then the weights, the goals and τ, each with
-/// `σ² = s2·max‖θ_i − θ_j‖/√len` over its own part of θ.
+/// PoWER's exploration blocks for `skill`, in the order of the extended
+/// vector: the query, the kernel weights of each DoF (one block per DoF),
+/// the goals, τ. Each block explores with the standard deviation
+/// `σ = s·max_ij ‖x_i − x_j‖/√len`, `s` times the examples' RMS spread over
+/// the block (`s1` for the query, decaying by [`QUERY_DECAY`] per update;
+/// `s2` for the rest).
 ///
-/// Two departures from the paper's single `σ2² = s2·max‖θ_i − θ_j‖`, both
-/// measured on the cell: one variance for all of Δθ gives goals (rad) and
-/// τ (s) the kernel weights' scale; and the norm over a block grows with its
-/// length, so the 210 weights of 7×30 kernels explored with std 12 each
-/// and every exploration spilled everything (reward 0, no update ever).
-/// Dividing by √len makes the spread per parameter (the RMS difference);
-/// for one-parameter blocks (τ, and the query) it is the paper's formula.
+/// The paper writes `σ² = s·max‖θ_i − θ_j‖` with one `σ2` for all of Δθ,
+/// and calls `s` the span of exploration. Three departures, each measured
+/// on the cell (joint space, small glass, 219 parameters; README):
+/// - `s` scales the standard deviation, not the variance: a variance
+///   proportional to a distance depends on the units (radians or degrees,
+///   litres or millilitres). Read as a variance, the goals explored with
+///   0.11 rad per joint and the query with 0.37 l, and 98–99 % of all
+///   explorations spilled enough for reward 0, leaving PoWER nothing to
+///   average. Read as a standard deviation: 0.013 rad and 0.14 l.
+/// - Weights, goals (rad) and τ (s) each get their own spread.
+/// - Each DoF's weights get their own spread: an amplitude-scaled DoF's
+///   weights are per unit of its amplitude (a5 moves 0.07 rad, its weights
+///   reach 2000), so one spread over all weights gave the unscaled joints
+///   five times their own.
 pub fn power_blocks(skill: &Skill, s1: f32, s2: f32) -> Result<Vec<Block>, String> {
     let queries: Vec<[f32; 1]> = skill.examples().map(|(q, _)| [q]).collect();
     let thetas: Vec<&[f32]> = skill.examples().map(|(_, t)| t).collect();
-    let (n, k) = (skill.dof(), skill.kernels());
-    let var = |s: f32, range: std::ops::Range<usize>| {
-        let len = range.len() as f32;
-        exploration_variance(s, thetas.iter().copied(), range)
-            .map(|v| v / len.sqrt())
-            .map_err(|e| e.to_string())
+    let block = |s: f32, examples: &[&[f32]], range: std::ops::Range<usize>, decay: f32| {
+        let len = range.len();
+        let widest = widest_distance(examples.iter().copied(), range).map_err(|e| e.to_string())?;
+        let sigma = s * widest / (len as f32).sqrt();
+        Ok::<_, String>(Block {
+            len,
+            variance: sigma * sigma,
+            decay,
+        })
     };
-    let query = exploration_variance(s1, queries.iter().map(|q| &q[..]), 0..1)
-        .map_err(|e| e.to_string())?;
-    Ok(vec![
-        Block {
-            len: 1,
-            variance: query,
-            decay: QUERY_DECAY,
-        },
-        Block {
-            len: n * k,
-            variance: var(s2, 0..n * k)?,
-            decay: 1.0,
-        },
-        Block {
-            len: n,
-            variance: var(s2, n * k..n * k + n)?,
-            decay: 1.0,
-        },
-        Block {
-            len: 1,
-            variance: var(s2, n * k + n..n * k + n + 1)?,
-            decay: 1.0,
-        },
-    ])
+    let query: Vec<&[f32]> = queries.iter().map(|q| &q[..]).collect();
+    let (n, k) = (skill.dof(), skill.kernels());
+    let mut blocks = vec![block(s1, &query, 0..1, QUERY_DECAY)?];
+    for d in 0..n {
+        blocks.push(block(s2, &thetas, d * k..(d + 1) * k, 1.0)?);
+    }
+    blocks.push(block(s2, &thetas, n * k..n * k + n, 1.0)?);
+    blocks.push(block(s2, &thetas, n * k + n..n * k + n + 1, 1.0)?);
+    Ok(blocks)
 }
 
 /// The scale's noise seed for roll-out `i` of a run seeded `seed`.
@@ -185,7 +183,8 @@ fn trial_seed(seed: u64, i: u32) -> u64 {
 }
 
 /// Runs the learner of `s` on `skill` in `cell`, calling `each` after every
-/// roll-out; returns all roll-outs.
+/// roll-out; returns all roll-outs. When `cell` records, `each` sees each
+/// roll-out's time series; the returned records hold none.
 pub fn learn(
     skill: &Skill,
     cell: &CellConfig,
@@ -193,8 +192,10 @@ pub fn learn(
     mut each: impl FnMut(&Record),
 ) -> Result<Vec<Record>, String> {
     let mut records = Vec::new();
-    let mut push = |r: Record, records: &mut Vec<Record>| {
+    let mut push = |mut r: Record, records: &mut Vec<Record>| {
         each(&r);
+        // A recorded series (megabytes) goes to `each` only.
+        r.trial.series = None;
         records.push(r);
     };
     match s.method {
@@ -271,4 +272,42 @@ pub fn learn(
         }
     }
     Ok(records)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::cell::GlassKind;
+
+    #[test]
+    fn power_blocks_explore_a_fraction_of_each_blocks_spread() {
+        let cell = CellConfig::standard(GlassKind::Small);
+        let skill = built_in_skill(&cell, Space::Joint, 10).unwrap();
+        let blocks = power_blocks(&skill, 0.2, 0.05).unwrap();
+        assert_eq!(blocks.len(), 1 + skill.dof() + 2);
+        let lens: Vec<usize> = blocks.iter().map(|b| b.len).collect();
+        assert_eq!(lens[1..=skill.dof()], vec![skill.kernels(); skill.dof()]);
+        assert_eq!(lens.iter().sum::<usize>(), skill.param_len() + 1);
+        // The query: σ1 = s1·|1.0 l − 0.3 l|, decaying.
+        assert!((blocks[0].variance.sqrt() - 0.14).abs() < 1e-6);
+        assert_eq!(blocks[0].decay, QUERY_DECAY);
+        // Every other block: σ = s2 × the examples' RMS difference over it.
+        let ex: Vec<&[f32]> = skill.examples().map(|(_, t)| t).collect();
+        let mut start = 0;
+        for b in &blocks[1..] {
+            let rms = ((start..start + b.len)
+                .map(|j| (ex[0][j] - ex[1][j]).powi(2))
+                .sum::<f32>()
+                / b.len as f32)
+                .sqrt();
+            assert!(
+                (b.variance.sqrt() - 0.05 * rms).abs() <= 1e-5 * rms,
+                "{b:?}"
+            );
+            assert_eq!(b.decay, 1.0);
+            start += b.len;
+        }
+        // Ordinary PoWER explores no query.
+        assert_eq!(power_blocks(&skill, 0.0, 0.05).unwrap()[0].variance, 0.0);
+    }
 }

@@ -65,6 +65,9 @@ pub struct PourSummary<'a> {
     pub converged_at: Option<u32>,
     /// The last roll-out (PoWER: the last roll-out of the mean).
     pub last: RolloutSummary,
+    /// The best executed roll-out (highest reward, the later of equals):
+    /// `series.csv` is its time series.
+    pub best: Option<RolloutSummary>,
     /// Wall-clock time, s.
     pub seconds: f64,
 }
@@ -316,7 +319,8 @@ pub fn write_golden(dir: &Path, runs: &[SearchRun], precision: f64) -> Result<()
 pub struct PowerSummary<'a> {
     /// Runs per variant.
     pub runs: usize,
-    /// Updates per run (4 roll-outs each).
+    /// Updates per run (4 roll-outs each; the curves have `updates + 1`
+    /// points, the start's and one after each update).
     pub updates: u32,
     /// DMP kernels per joint.
     pub kernels: usize,

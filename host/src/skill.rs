@@ -13,6 +13,7 @@ use primo_core::dmp::{Execution, FitOptions, Scaling};
 use primo_core::generalize::{Generalizer, Method};
 
 use crate::csv::Demo;
+use crate::series::Series;
 use crate::sim::arm::{JOINTS, check_limits};
 use crate::sim::cell::{Cell, CellConfig};
 use crate::sim::expert::{CARTESIAN_NAMES, JOINT_NAMES};
@@ -86,6 +87,8 @@ pub struct Trial {
     pub reward: f64,
     /// Why the trajectory never reached the cell, if it did not.
     pub rejected: Option<String>,
+    /// The time series, if the cell records one (`record_every > 0`).
+    pub series: Option<Series>,
 }
 
 /// The paper's reward `r = 1 − 5|v_d − v_m| − 5 v_s` (litres), kept ≥ 0.
@@ -258,7 +261,8 @@ impl Skill {
     }
 
     /// Plans, checks and executes one roll-out with the bottle holding
-    /// `volume` litres; the scale's noise comes from `seed`.
+    /// `volume` litres; the scale's noise comes from `seed`. The trial
+    /// carries the time series when `cell.record_every > 0`.
     pub fn roll_out(
         &self,
         cell: &CellConfig,
@@ -274,6 +278,7 @@ impl Skill {
             error: -target,
             reward: 0.0,
             rejected: Some(why),
+            series: None,
         };
         let plan = match self
             .plan(query, delta, cell.dt)
@@ -292,12 +297,22 @@ impl Skill {
             }
         }
         let out = sim.finish();
+        let recorded = !out.series.is_empty();
         Ok(Trial {
             poured: out.poured,
             spilled: out.spilled,
             error: out.poured - target,
             reward: reward(target, out.poured, out.spilled),
             rejected: None,
+            series: recorded.then(|| {
+                Series::new(
+                    self.space,
+                    &plan.rows,
+                    plan.dof,
+                    cell.record_every,
+                    out.series,
+                )
+            }),
         })
     }
 }

@@ -215,13 +215,154 @@ fn experiment_power_writes_both_curves() {
     assert!(out.contains("79 parameters, 2 runs x 3 updates"), "{out}");
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    // The start and the mean after each of the 3 updates.
     assert_eq!(
         summary["extended"]["reward"]["mean"]
             .as_array()
             .unwrap()
             .len(),
-        3
+        4
     );
+    for variant in ["extended", "ordinary"] {
+        let c = &summary[variant];
+        assert_eq!(c["rollouts"], 2 * (4 * 3 + 1), "{variant}");
+        let count = |k: &str| c[k].as_u64().unwrap();
+        assert!(count("rejected") <= count("zero_reward") && count("zero_reward") <= 26);
+    }
+    assert!(out.contains("% of roll-outs reward 0"), "{out}");
     assert!(summary["spill_ratio"].is_number() || summary["spill_ratio"].is_null());
     assert!(dir.join("power.png").exists() && dir.join("power.csv").exists());
+}
+
+/// Checks a `series.csv`: its header, strictly increasing time, volume
+/// conserved on every row, and the settled end: the scale stable, its
+/// display the reported `poured`, the glass within the scale's digits of it.
+fn check_series(csv: &str, coordinates: &str, initial: f64, poured: f64) -> usize {
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let expected = format!(
+        "t,{coordinates},tilt_rad,mouth_x_m,mouth_y_m,mouth_z_m,flow_l_per_s,bottle_l,in_flight_l,glass_l,spilled_l,scale_g,stable"
+    );
+    assert_eq!(header.join(","), expected);
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    assert!(rows.len() > 1000, "{} rows", rows.len());
+    let mut last_t = 0.0;
+    for row in &rows {
+        assert_eq!(row.len(), header.len());
+        let t = row[0];
+        assert!(t > last_t, "time {t} after {last_t}");
+        last_t = t;
+        let sum: f64 = ["bottle_l", "in_flight_l", "glass_l", "spilled_l"]
+            .iter()
+            .map(|c| row[col(c)])
+            .sum();
+        assert!((sum - initial).abs() < 1e-9, "t {t}: {sum} l in all");
+        assert!(row[col("flow_l_per_s")] >= 0.0);
+    }
+    let first = &rows[0];
+    assert!((first[0] - 0.002).abs() < 1e-9 && (first[col("bottle_l")] - initial).abs() < 1e-4);
+    let end = rows.last().unwrap();
+    assert_eq!(end[col("stable")], 1.0);
+    assert_eq!(end[col("in_flight_l")], 0.0);
+    let shown = end[col("scale_g")] / 998.0;
+    assert!(
+        (shown - poured).abs() < 1e-9,
+        "display {shown} l vs {poured} l"
+    );
+    // 0.01 g digits, 2 mg noise: the glass within 3 digits of the display.
+    let glass = end[col("glass_l")];
+    assert!(
+        (glass - poured).abs() < 0.03e-3,
+        "glass {glass} l vs {poured} l"
+    );
+    rows.len()
+}
+
+#[test]
+fn rollout_writes_the_executed_time_series() {
+    let (code, out, err) = primo(&["rollout", "--print-start", "--glass", "small"]);
+    assert_eq!(code, 0, "{err}");
+    let start: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let theta = tmp("series-theta.json");
+    std::fs::write(&theta, start["start"].to_string()).unwrap();
+    let csv = tmp("series.csv");
+    let args = [
+        "rollout",
+        "--glass",
+        "small",
+        "--params",
+        theta.to_str().unwrap(),
+        "--series",
+        csv.to_str().unwrap(),
+    ];
+    let (code, out, err) = primo(&args);
+    assert_eq!(code, 0, "{err}");
+    let answer: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let text = std::fs::read_to_string(&csv).unwrap();
+    check_series(
+        &text,
+        "a1,a2,a3,a4,a5,a6,a7",
+        0.5,
+        answer["poured"].as_f64().unwrap(),
+    );
+    // The generalized start spills: the series shows it on the table.
+    let spilled: f64 = text
+        .lines()
+        .last()
+        .unwrap()
+        .split(',')
+        .nth(16)
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!((spilled - answer["spilled"].as_f64().unwrap()).abs() < 1e-12 && spilled > 0.03);
+
+    // A rejected roll-out never ran: the header and no rows.
+    let mut far: Vec<f64> = serde_json::from_value(start["start"].clone()).unwrap();
+    far[0] = 1e6;
+    std::fs::write(&theta, serde_json::to_string(&far).unwrap()).unwrap();
+    let (code, out, err) = primo(&args);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("\"safe\":false"), "{out}");
+    assert_eq!(std::fs::read_to_string(&csv).unwrap().lines().count(), 1);
+    // --series needs --params.
+    let (code, _, err) = primo(&["rollout", "--serve", "--series", "x.csv"]);
+    assert_eq!(code, 2, "{err}");
+}
+
+#[test]
+fn pour_writes_the_best_rollouts_time_series() {
+    let dir = tmp("series-pour");
+    let (code, out, err) = primo(&["pour", "--out", dir.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    let best = &summary["best"];
+    // The best reward of all roll-outs in rollouts.csv, the later of equals.
+    let table = std::fs::read_to_string(dir.join("rollouts.csv")).unwrap();
+    let rewards: Vec<(u64, f64)> = table
+        .lines()
+        .skip(1)
+        .map(|l| {
+            let c: Vec<&str> = l.split(',').collect();
+            (c[0].parse().unwrap(), c[7].parse().unwrap())
+        })
+        .collect();
+    let top = rewards.iter().map(|r| r.1).fold(f64::MIN, f64::max);
+    let expected = rewards.iter().rev().find(|r| r.1 == top).unwrap().0;
+    assert_eq!(best["rollout"], expected);
+    assert!(
+        out.contains(&format!("series.csv: roll-out {expected} (best reward)")),
+        "{out}"
+    );
+    let text = std::fs::read_to_string(dir.join("series.csv")).unwrap();
+    check_series(
+        &text,
+        "x,y,z,rx,ry,rz",
+        0.5,
+        best["poured"].as_f64().unwrap(),
+    );
 }

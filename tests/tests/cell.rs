@@ -65,30 +65,37 @@ fn joint_space_generalization_spills_where_cartesian_does_not() {
 }
 
 #[test]
-fn power_raises_the_reward_from_the_joint_space_start() {
+fn power_learns_to_pour_without_spilling_from_the_joint_space_start() {
     let cell = CellConfig::standard(GlassKind::Small);
     let skill = built_in_skill(&cell, Space::Joint, 30).unwrap();
-    let updates = 25;
-    let [extended, ordinary] = experiment::power(&skill, &cell, 3, updates, 7).unwrap();
+    let (runs, updates) = (3, 25);
+    let [extended, ordinary] = experiment::power(&skill, &cell, runs, updates, 7).unwrap();
     for (name, c) in [("extended", &extended), ("ordinary", &ordinary)] {
+        let zero = c.zero_reward as f64 / c.rollouts as f64;
         println!(
-            "{name}: reward {:.3} -> {:.3}, spilled {:.1} -> {:.1} ml, |error| {:.1} -> {:.1} ml",
+            "{name}: reward {:.3} -> {:.3}, spilled {:.1} -> {:.2} ml, |error| {:.1} -> {:.2} ml, {:.0} % reward 0",
             c.reward.mean[0],
             c.reward.last(),
             c.spilled.mean[0] * 1e3,
             c.spilled.last() * 1e3,
             c.error.mean[0] * 1e3,
-            c.error.last() * 1e3
+            c.error.last() * 1e3,
+            zero * 100.0
         );
-        assert_eq!(c.reward.mean.len(), updates as usize);
-        assert!(
-            c.reward.last() > c.reward.mean[0] + 0.1,
-            "{name} did not learn"
-        );
-        // The mean policy never gets worse: the sampler keeps the best.
-        for w in c.reward.mean.windows(2) {
-            assert!(w[1] >= w[0] - 0.05, "{name}: {:?}", c.reward.mean);
-        }
+        // The start and one point after each update; 4 roll-outs per
+        // update and the final mean's.
+        assert_eq!(c.reward.mean.len(), updates as usize + 1);
+        assert_eq!(c.rollouts, runs * (4 * updates as usize + 1));
+        // Point 0 is the generalized start, the same in every run: it spills.
+        assert!(c.spilled.mean[0] > 0.05 && c.reward.std[0] < 1e-3, "{name}");
+        // Measured over 8 seeds at this size: final reward 0.98-1.0, spill
+        // below 1.4 ml, 20-35 % of roll-outs with reward 0 (exploring with
+        // s as a variance: 98-99 %, and the reward only reached 0.44).
+        // Whether extended beats ordinary at this size depends on the seed:
+        // not asserted.
+        assert!(c.reward.last() > 0.9, "{name} did not learn");
+        assert!(c.spilled.last() < 0.005, "{name} still spills");
+        assert!(zero < 0.5, "{name}: {:.0} % reward 0", zero * 100.0);
     }
 }
 
