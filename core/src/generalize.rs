@@ -163,6 +163,11 @@ impl<const E: usize, const Q: usize, const P: usize> Generalizer<E, Q, P> {
         Ok(())
     }
 
+    /// How `G(q)` is computed.
+    pub fn method(&self) -> Method {
+        self.method
+    }
+
     /// Number of examples.
     pub fn len(&self) -> usize {
         self.count

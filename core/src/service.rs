@@ -3,8 +3,9 @@
 //! roll-outs bit for bit.
 //!
 //! A [`Service`] holds the training examples, one learner (golden section,
-//! Illinois or PoWER) and the movement being streamed, in fixed buffers
-//! sized for the paper's arm: [`THETA`] = 7 DoF × 30 kernels + 7 goals + τ.
+//! Illinois or PoWER) and the movement being streamed, in fixed buffers;
+//! the coprocessor's, [`Coprocessor`], is sized for the paper's arm:
+//! [`THETA`] = 7 DoF × 30 kernels + 7 goals + τ.
 //! [`Service::respond`] answers one [`Request`]; [`Service::handle`] does
 //! the same for a frame off the line and makes retransmissions idempotent:
 //! a frame with the sequence number of the previous one gets the previous
@@ -13,9 +14,9 @@
 //! ```
 //! use primo_core::golden::SearchConfig;
 //! use primo_core::generalize::Method;
-//! use primo_core::service::Service;
+//! use primo_core::service::Coprocessor;
 //! use primo_core::wire::{LearnerSetup, Outcome, Reply, Request, Setup};
-//! let mut s = Service::new();
+//! let mut s = Coprocessor::new();
 //! let cfg = SearchConfig { low: 0.0, high: 2.0, desired: 1.0, precision: 1e-3, max_rollouts: 50 };
 //! let setup = Setup {
 //!     learner: LearnerSetup::Golden(cfg),
@@ -45,12 +46,16 @@ use crate::wire::{
     MAX_FRAME, Outcome, Reply, Request, Rollout, Setup, Status,
 };
 
-/// Most kernels per DoF.
+/// The coprocessor's kernels per DoF.
 pub const KERNELS: usize = 30;
-/// Largest `θ`: [`MAX_DOF`] × [`KERNELS`] weights, the goals and τ.
+/// The coprocessor's largest `θ`: [`MAX_DOF`] × [`KERNELS`] weights, the
+/// goals and τ.
 pub const THETA: usize = MAX_DOF * KERNELS + MAX_DOF + 1;
-/// Most training examples.
+/// The coprocessor's most training examples.
 pub const EXAMPLES: usize = 8;
+/// The service the coprocessor runs: the paper's arm, 7 DoF × 30 kernels,
+/// `[q̂, Δθ]` of 219 values.
+pub type Coprocessor = Service<{ THETA + 1 }, EXAMPLES, KERNELS>;
 /// Largest importance sampler of PoWER (the paper's 3).
 pub const SAMPLER: usize = 3;
 /// The sequence number of replies to frames that could not be read (hosts
@@ -72,15 +77,15 @@ enum Learner {
 #[derive(Debug, Clone)]
 #[repr(u8)]
 #[allow(clippy::large_enum_variant)] // it lives in the service, not on a stack
-enum Stream {
+enum Stream<const K: usize> {
     Idle,
-    Moving(Motion),
+    Moving(Motion<K>),
 }
 
 /// A movement being integrated.
 #[derive(Debug, Clone)]
-struct Motion {
-    dmp: Dmp<MAX_DOF, KERNELS>,
+struct Motion<const K: usize> {
+    dmp: Dmp<MAX_DOF, K>,
     run: Run<MAX_DOF>,
     dt: f32,
     done: bool,
@@ -88,31 +93,33 @@ struct Motion {
 
 /// Examples received so far of those announced by the setup.
 #[derive(Debug, Clone)]
-struct Intake {
+struct Intake<const P: usize> {
     expected: u8,
     theta_len: usize,
     index: u8,
     query: f32,
     filled: usize,
-    theta: [f32; THETA],
+    theta: [f32; P],
 }
 
-/// The learner behind the wire; see the module docs.
+/// The learner behind the wire (see the module docs) for `[q̂, Δθ]` of up
+/// to `P` values (θ of up to `P − 1`), `E` training examples and DMPs of
+/// up to `K` kernels per DoF.
 #[derive(Debug, Clone)]
-pub struct Service {
-    examples: Generalizer<EXAMPLES, 1, THETA>,
-    intake: Intake,
+pub struct Service<const P: usize, const E: usize, const K: usize> {
+    examples: Generalizer<E, 1, P>,
+    intake: Intake<P>,
     learner: Learner,
-    power: Power<{ THETA + 1 }, SAMPLER>,
+    power: Power<P, SAMPLER>,
     /// A roll-out was asked and not yet told.
     in_flight: bool,
     asked: u32,
-    motion: Stream,
+    motion: Stream<K>,
     /// The last frame's sequence number and reply bytes.
     last: Option<(u32, Vec<u8, MAX_FRAME>)>,
 }
 
-impl Default for Service {
+impl<const P: usize, const E: usize, const K: usize> Default for Service<P, E, K> {
     fn default() -> Self {
         Self::new()
     }
@@ -132,7 +139,7 @@ fn bad_state(why: &str) -> Reply {
     Reply::Error(Fault::new(FaultKind::BadState, why))
 }
 
-impl Service {
+impl<const P: usize, const E: usize, const K: usize> Service<P, E, K> {
     /// A service with no learner configured. Its bytes are all zero, so a
     /// static one costs RAM (.bss) but no flash; the coprocessor builds it
     /// in place because a 15 KiB temporary would not fit its stack.
@@ -145,7 +152,7 @@ impl Service {
                 index: 0,
                 query: 0.0,
                 filled: 0,
-                theta: [0.0; THETA],
+                theta: [0.0; P],
             },
             learner: Learner::Idle,
             power: Power::idle(),
@@ -157,12 +164,13 @@ impl Service {
     }
 
     /// What fits.
-    pub const fn capacities() -> Capacities {
+    pub fn capacities() -> Capacities {
+        let clamp = |n: usize, max: usize| n.min(max);
         Capacities {
-            theta: THETA as u16,
-            examples: EXAMPLES as u8,
+            theta: clamp(P.saturating_sub(1), u16::MAX as usize) as u16,
+            examples: clamp(E, u8::MAX as usize) as u8,
             dof: MAX_DOF as u8,
-            kernels: KERNELS as u8,
+            kernels: clamp(K, u8::MAX as usize) as u8,
             sampler: SAMPLER as u8,
         }
     }
@@ -245,17 +253,17 @@ impl Service {
 
     fn configure(&mut self, setup: &Setup) -> Result<(), Error> {
         let theta_len = usize::from(setup.theta_len);
-        crate::error::check_capacity("θ length", theta_len, THETA)?;
-        crate::error::check_capacity("examples", usize::from(setup.examples), EXAMPLES)?;
+        crate::error::check_capacity("θ length", theta_len, P.saturating_sub(1))?;
+        crate::error::check_capacity("examples", usize::from(setup.examples), E)?;
         let learner = match &setup.learner {
             LearnerSetup::Golden(cfg) => Learner::Golden(GoldenSection::new(*cfg)?),
             LearnerSetup::Illinois(cfg) => Learner::Illinois(Illinois::new(*cfg)?),
             LearnerSetup::Power { config, query } => {
-                let mut start = [0.0f32; THETA + 1];
+                let mut start = [0.0f32; P];
                 let start = start.get_mut(..=theta_len).ok_or(Error::Capacity {
                     what: "θ length",
                     requested: theta_len,
-                    capacity: THETA,
+                    capacity: P.saturating_sub(1),
                 })?;
                 if let Some(q) = start.first_mut() {
                     *q = *query;
@@ -445,7 +453,7 @@ impl Service {
             Learner::Power | Learner::Idle => None,
         };
         let len = self.intake.theta_len;
-        let mut theta = [0.0f32; THETA];
+        let mut theta = [0.0f32; P];
         let theta = theta.get_mut(..len).unwrap_or(&mut []);
         let query = match query {
             Some(q) => q,
@@ -457,7 +465,7 @@ impl Service {
                 ext.first().copied().unwrap_or(0.0)
             }
         };
-        let mut g = [0.0f32; THETA];
+        let mut g = [0.0f32; P];
         let g = g.get_mut(..len).unwrap_or(&mut []);
         self.examples.generalize(&[query], g)?;
         for (t, g) in theta.iter_mut().zip(g.iter()) {

@@ -6,7 +6,7 @@ use primo_core::dmp::{Dmp, FitOptions};
 use primo_core::generalize::{Generalizer, Method};
 use primo_core::golden::{ErrorLearner, GoldenSection, SearchConfig, Status as SearchStatus};
 use primo_core::power::{Block, Power, PowerConfig};
-use primo_core::service::{Service, THETA, UNREAD};
+use primo_core::service::{Coprocessor as Service, THETA, UNREAD};
 use primo_core::wire::{
     self, CHUNK, DmpStart, FaultKind, FrameReader, LearnerSetup, MAX_FRAME, Outcome, Reply,
     Request, Setup,

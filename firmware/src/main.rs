@@ -3,7 +3,7 @@
 #![no_main]
 
 use cortex_m_rt::entry;
-use primo_core::service::Service;
+use primo_core::service::Coprocessor as Service;
 use primo_core::wire::{FrameReader, MAX_FRAME};
 use primo_firmware::uart::Uart;
 

@@ -6,9 +6,10 @@ use std::path::{Path, PathBuf};
 use clap::{Parser, Subcommand};
 use primo_core::dmp::FitOptions;
 
+use crate::coprocessor::{Link, Qemu};
 use crate::csv::{parse_demo, write_rows};
 use crate::dmpfile::DmpFile;
-use crate::pour::{Method, Settings, built_in_skill, learn, power_blocks};
+use crate::pour::{Learner, Method, Settings, built_in_skill, learn, power_blocks};
 use crate::report::{PourSummary, PowerSummary, RolloutSummary};
 use crate::sim::cell::{CellConfig, GlassKind};
 use crate::sim::expert::{Style, synthesize};
@@ -116,6 +117,15 @@ struct PourArgs {
     /// and series.csv (the best roll-out's time series).
     #[arg(long, default_value = "pour-out")]
     out: PathBuf,
+    /// Run the learner on a coprocessor: a serial port (e.g.
+    /// /dev/ttyACM0), or `qemu` to boot the firmware on an emulated
+    /// Cortex-M4F (qemu-system-arm) for the run.
+    #[arg(long, value_name = "PORT|qemu")]
+    coprocessor: Option<String>,
+    /// With --coprocessor qemu: the firmware ELF (default: the release
+    /// build in firmware/).
+    #[arg(long, requires = "coprocessor", value_name = "ELF")]
+    firmware: Option<PathBuf>,
 }
 
 #[derive(Debug, clap::Args)]
@@ -562,8 +572,24 @@ fn pour(args: &PourArgs) -> Result<(), CliError> {
         skill.space(),
         parameters
     );
+    // QEMU (when asked for) lives until the run ends.
+    let (_qemu, mut learner) = match args.coprocessor.as_deref() {
+        None => (None, Learner::local()),
+        Some("qemu") => {
+            let elf = args.firmware.clone().unwrap_or_else(Qemu::default_firmware);
+            let qemu = Qemu::start(&elf).map_err(CliError::other)?;
+            let link = Link::open(qemu.pty()).map_err(CliError::other)?;
+            println!("learner: firmware {} on QEMU mps2-an386, {}", elf.display(), qemu.pty());
+            (Some(qemu), Learner::Remote(link))
+        }
+        Some(port) => {
+            let link = Link::open(port).map_err(CliError::other)?;
+            println!("learner: coprocessor on {port}");
+            (None, Learner::Remote(link))
+        }
+    };
     let progress = Progress::new(settings.max_rollouts);
-    let records = learn(&skill, &cell, &settings, |r| {
+    let records = learn(&skill, &cell, &settings, &mut learner, |r| {
         progress.clear();
         println!("{}", crate::report::rollout_line(r));
         progress.show(r.rollout, &format!("error {:+.1} ml", r.trial.error * 1e3));

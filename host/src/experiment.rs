@@ -13,7 +13,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 
 use serde::Serialize;
 
-use crate::pour::{Method, Record, Settings, learn};
+use crate::pour::{Learner, Method, Record, Settings, learn};
 use crate::sim::cell::CellConfig;
 use crate::skill::Skill;
 
@@ -78,7 +78,7 @@ pub fn golden(
         let (volume, method) = jobs[i];
         let mut s = Settings::paper(method, volume, 0.2, seed);
         s.precision = precision;
-        let records = learn(skill, cell, &s, |_| {})?;
+        let records = learn(skill, cell, &s, &mut Learner::local(), |_| {})?;
         Ok(SearchRun {
             volume,
             method,
@@ -162,7 +162,7 @@ pub fn power(
         let mut s = Settings::paper(Method::Power, 0.5, 0.2, seed);
         s.s1 = s1;
         s.max_rollouts = updates * per_update + 1;
-        learn(skill, cell, &s, |_| {})
+        learn(skill, cell, &s, &mut Learner::local(), |_| {})
     });
     let mut out: [PowerCurves; 2] = Default::default();
     for (k, curves) in out.iter_mut().enumerate() {

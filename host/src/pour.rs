@@ -1,23 +1,25 @@
 //! Learning to pour: the paper's learners (golden-section error learning,
 //! its magnitude-using sibling Illinois, extended PoWER) driving roll-outs of
 //! a [`Skill`] on the simulated cell. The learners are the core's ask/tell
-//! state machines; this module only does the roll-outs.
+//! state machines behind the wire protocol's [`Service`], in this process or
+//! on a coprocessor ([`Learner`]); this module only does the roll-outs.
 
 use primo_core::generalize::Method as Regression;
-use primo_core::golden::{ErrorLearner, GoldenSection, SearchConfig};
-use primo_core::illinois::Illinois;
-use primo_core::power::{Block, Power, PowerConfig, widest_distance};
+use primo_core::golden::SearchConfig;
+use primo_core::power::{Block, PowerConfig, widest_distance};
+use primo_core::service::Service;
+use primo_core::wire::{CHUNK, LearnerSetup, Outcome, Reply, Request, Setup};
 use serde::Serialize;
 
 use crate::csv::Demo;
 use crate::sim::cell::CellConfig;
 use crate::sim::expert::{BUILT_IN, synthesize};
-use crate::skill::{MAX_PARAMS, Skill, Space, Trial};
+use crate::MAX_KERNELS;
+use crate::coprocessor::Link;
+use crate::skill::{MAX_EXAMPLES, MAX_PARAMS, Skill, Space, Trial};
 
 /// Capacity of the extended parameter vector `[q̂, Δθ]`.
 pub const MAX_EXTENDED: usize = MAX_PARAMS + 1;
-/// The paper's importance sampler length.
-pub const SAMPLER: usize = 3;
 /// Per-update decay of the query's exploration variance σ1² (the paper
 /// decays it "with time" without a number).
 pub const QUERY_DECAY: f32 = 0.9;
@@ -182,94 +184,139 @@ fn trial_seed(seed: u64, i: u32) -> u64 {
     seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ u64::from(i)
 }
 
+/// The in-process learner: room for any skill the host can fit.
+pub type HostService = Service<MAX_EXTENDED, MAX_EXAMPLES, MAX_KERNELS>;
+
+/// Where the learner runs. Both ends run the core's [`Service`], so with the
+/// same settings, seed and outcomes they ask for the same roll-outs, bit
+/// for bit.
+pub enum Learner {
+    /// In this process.
+    Local(Box<HostService>),
+    /// On a coprocessor, over a serial line.
+    Remote(Link),
+}
+
+impl Learner {
+    /// An in-process learner.
+    pub fn local() -> Self {
+        Learner::Local(Box::new(HostService::new()))
+    }
+
+    /// One request; an error reply becomes an error.
+    fn call(&mut self, request: &Request) -> Result<Reply, String> {
+        let reply = match self {
+            Learner::Local(s) => s.respond(request),
+            Learner::Remote(link) => link.call(request)?,
+        };
+        match reply {
+            Reply::Error(f) => Err(format!("learner: {f} (after {request:?})")),
+            reply => Ok(reply),
+        }
+    }
+
+    /// Starts a run of `s` on `skill`: the learner and the examples.
+    fn configure(&mut self, skill: &Skill, s: &Settings) -> Result<(), String> {
+        let search = SearchConfig {
+            low: s.search[0],
+            high: s.search[1],
+            desired: s.bottle as f32,
+            precision: s.precision as f32,
+            max_rollouts: s.max_rollouts,
+        };
+        let learner = match s.method {
+            Method::Golden => LearnerSetup::Golden(search),
+            Method::Illinois => LearnerSetup::Illinois(search),
+            Method::Power => LearnerSetup::Power {
+                config: PowerConfig::paper(&power_blocks(skill, s.s1, s.s2)?)
+                    .map_err(|e| e.to_string())?,
+                query: s.bottle as f32,
+            },
+        };
+        let examples: Vec<(f32, &[f32])> = skill.examples().collect();
+        let setup = Setup {
+            learner,
+            examples: u8::try_from(examples.len()).map_err(|_| "too many examples")?,
+            theta_len: u16::try_from(skill.param_len()).map_err(|_| "θ too long")?,
+            regression: skill.regression(),
+            seed: s.seed,
+        };
+        self.call(&Request::Configure(setup))?;
+        for (index, (query, theta)) in examples.into_iter().enumerate() {
+            for (c, values) in theta.chunks(CHUNK).enumerate() {
+                self.call(&Request::Example {
+                    index: index as u8,
+                    query,
+                    offset: (c * CHUNK) as u16,
+                    values: heapless::Vec::from_slice(values).map_err(|_| "chunk too long")?,
+                })?;
+            }
+        }
+        Ok(())
+    }
+
+    /// The asked roll-out's `Δθ`, chunk by chunk.
+    fn delta(&mut self, len: u16) -> Result<Vec<f32>, String> {
+        let mut delta = Vec::with_capacity(usize::from(len));
+        while delta.len() < usize::from(len) {
+            match self.call(&Request::Fetch {
+                offset: delta.len() as u16,
+            })? {
+                Reply::Chunk { offset, values }
+                    if usize::from(offset) == delta.len() && !values.is_empty() =>
+                {
+                    delta.extend_from_slice(&values)
+                }
+                other => return Err(format!("learner: fetching Δθ got {other:?}")),
+            }
+        }
+        delta.truncate(usize::from(len));
+        Ok(delta)
+    }
+}
+
 /// Runs the learner of `s` on `skill` in `cell`, calling `each` after every
-/// roll-out; returns all roll-outs. When `cell` records, `each` sees each
-/// roll-out's time series; the returned records hold none.
+/// roll-out; returns all roll-outs.
 pub fn learn(
     skill: &Skill,
     cell: &CellConfig,
     s: &Settings,
+    learner: &mut Learner,
     mut each: impl FnMut(&Record),
 ) -> Result<Vec<Record>, String> {
+    learner.configure(skill, s)?;
     let mut records = Vec::new();
-    let mut push = |mut r: Record, records: &mut Vec<Record>| {
-        each(&r);
+    for i in 1..=s.max_rollouts {
+        let rollout = match learner.call(&Request::Ask)? {
+            Reply::Rollout(r) => r,
+            Reply::Finished(_) => break,
+            other => return Err(format!("learner: asked for a roll-out, got {other:?}")),
+        };
+        let delta = learner.delta(rollout.delta_len)?;
+        let query = rollout.query;
+        let seed = trial_seed(s.seed, i);
+        let trial = skill.roll_out(cell, s.bottle, s.target, query, &delta, seed)?;
+        if let (Some(why), Method::Golden | Method::Illinois) = (&trial.rejected, s.method) {
+            return Err(format!("roll-out {i} (q = {query}) rejected: {why}"));
+        }
+        // Error learning: ε > 0 (poured too much) asks for a larger query,
+        // a fuller bottle needs less tilt. PoWER: a rejected roll-out's
+        // reward is 0.
+        learner.call(&Request::Tell(Outcome {
+            error: trial.error as f32,
+            reward: trial.reward as f32,
+        }))?;
+        let mut record = Record {
+            rollout: i,
+            update: rollout.update,
+            mean: rollout.mean,
+            query,
+            trial,
+        };
+        each(&record);
         // A recorded series (megabytes) goes to `each` only.
-        r.trial.series = None;
-        records.push(r);
-    };
-    match s.method {
-        Method::Golden | Method::Illinois => {
-            let cfg = SearchConfig {
-                low: s.search[0],
-                high: s.search[1],
-                desired: s.bottle as f32,
-                precision: s.precision as f32,
-                max_rollouts: s.max_rollouts,
-            };
-            let mut learner: Box<dyn ErrorLearner> = match s.method {
-                Method::Illinois => Box::new(Illinois::new(cfg).map_err(|e| e.to_string())?),
-                _ => Box::new(GoldenSection::new(cfg).map_err(|e| e.to_string())?),
-            };
-            let mut i = 0;
-            while let Some(q) = learner.ask() {
-                i += 1;
-                let trial =
-                    skill.roll_out(cell, s.bottle, s.target, q, &[], trial_seed(s.seed, i))?;
-                if let Some(why) = &trial.rejected {
-                    return Err(format!("roll-out {i} (q = {q}) rejected: {why}"));
-                }
-                // ε > 0 (poured too much) asks for a larger query: a fuller
-                // bottle needs less tilt.
-                learner
-                    .tell(trial.error as f32)
-                    .map_err(|e| e.to_string())?;
-                push(
-                    Record {
-                        rollout: i,
-                        update: 0,
-                        mean: true,
-                        query: q,
-                        trial,
-                    },
-                    &mut records,
-                );
-            }
-        }
-        Method::Power => {
-            let blocks = power_blocks(skill, s.s1, s.s2)?;
-            let cfg = PowerConfig::paper(&blocks).map_err(|e| e.to_string())?;
-            let mut start = vec![0.0f32; skill.param_len() + 1];
-            start[0] = s.bottle as f32;
-            let mut power = Box::new(
-                Power::<MAX_EXTENDED, SAMPLER>::new(&start, cfg, s.seed)
-                    .map_err(|e| e.to_string())?,
-            );
-            for i in 1..=s.max_rollouts {
-                let (update, mean) = (power.updates(), power.next_is_mean());
-                let theta = power.ask();
-                let query = theta[0];
-                let trial = skill.roll_out(
-                    cell,
-                    s.bottle,
-                    s.target,
-                    query,
-                    &theta[1..],
-                    trial_seed(s.seed, i),
-                )?;
-                power.tell(trial.reward as f32).map_err(|e| e.to_string())?;
-                push(
-                    Record {
-                        rollout: i,
-                        update,
-                        mean,
-                        query,
-                        trial,
-                    },
-                    &mut records,
-                );
-            }
-        }
+        record.trial.series = None;
+        records.push(record);
     }
     Ok(records)
 }

@@ -180,6 +180,11 @@ impl Skill {
         })
     }
 
+    /// How the skill generalizes.
+    pub fn regression(&self) -> primo_core::generalize::Method {
+        self.generalizer.method()
+    }
+
     /// `G(q)`.
     pub fn generalize(&self, query: f32) -> Result<Vec<f32>, String> {
         let mut theta = vec![0.0; self.param_len()];

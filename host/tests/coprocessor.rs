@@ -3,7 +3,7 @@
 
 use primo_core::golden::SearchConfig;
 use primo_core::generalize::Method;
-use primo_core::service::Service;
+use primo_core::service::Coprocessor as Service;
 use primo_core::wire::{LearnerSetup, Outcome, Reply, Request, Setup};
 use primo_host::coprocessor::{Link, Qemu};
 

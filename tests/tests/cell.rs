@@ -1,7 +1,7 @@
 //! The paper's experiments on the simulated cell, at reduced sizes (the
 //! full sizes run with `primo experiment golden|power`).
 use primo_host::experiment;
-use primo_host::pour::{Method, Settings, built_in_skill, learn};
+use primo_host::pour::{Learner, Method, Settings, built_in_skill, learn};
 use primo_host::report::median_rollouts;
 use primo_host::sim::cell::{CellConfig, GlassKind};
 use primo_host::skill::Space;
@@ -106,7 +106,7 @@ fn runs_are_reproducible() {
     let run = || {
         let mut s = Settings::paper(Method::Power, 0.5, 0.2, 3);
         s.max_rollouts = 12;
-        learn(&skill, &cell, &s, |_| {}).unwrap()
+        learn(&skill, &cell, &s, &mut Learner::local(), |_| {}).unwrap()
     };
     assert_eq!(run(), run());
 }
