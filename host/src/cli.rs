@@ -579,7 +579,11 @@ fn pour(args: &PourArgs) -> Result<(), CliError> {
             let elf = args.firmware.clone().unwrap_or_else(Qemu::default_firmware);
             let qemu = Qemu::start(&elf).map_err(CliError::other)?;
             let link = Link::open(qemu.pty()).map_err(CliError::other)?;
-            println!("learner: firmware {} on QEMU mps2-an386, {}", elf.display(), qemu.pty());
+            println!(
+                "learner: firmware {} on QEMU mps2-an386, {}",
+                elf.display(),
+                qemu.pty()
+            );
             (Some(qemu), Learner::Remote(link))
         }
         Some(port) => {

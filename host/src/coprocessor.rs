@@ -189,7 +189,9 @@ impl Qemu {
             .stderr(Stdio::piped())
             .spawn()
             .map_err(|e| {
-                format!("cannot start qemu-system-arm: {e} (Debian: apt-get install qemu-system-arm)")
+                format!(
+                    "cannot start qemu-system-arm: {e} (Debian: apt-get install qemu-system-arm)"
+                )
             })?;
         let stdout = child.stdout.take().ok_or("qemu-system-arm: no stdout")?;
         // QEMU prints "char device redirected to /dev/pts/N (label serial0)".

@@ -11,11 +11,11 @@ use primo_core::service::Service;
 use primo_core::wire::{CHUNK, LearnerSetup, Outcome, Reply, Request, Setup};
 use serde::Serialize;
 
+use crate::MAX_KERNELS;
+use crate::coprocessor::Link;
 use crate::csv::Demo;
 use crate::sim::cell::CellConfig;
 use crate::sim::expert::{BUILT_IN, synthesize};
-use crate::MAX_KERNELS;
-use crate::coprocessor::Link;
 use crate::skill::{MAX_EXAMPLES, MAX_PARAMS, Skill, Space, Trial};
 
 /// Capacity of the extended parameter vector `[q̂, Δθ]`.

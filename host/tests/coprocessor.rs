@@ -1,32 +1,55 @@
-//! Hardware in the loop: the firmware on an emulated Cortex-M4F (QEMU
-//! mps2-an386), reached through a pseudo-terminal like a USB-serial adapter.
+//! `primo pour --coprocessor`: the learner on the firmware in QEMU
+//! (mps2-an386, a Cortex-M4F), reached through a pseudo-terminal like a
+//! USB-serial adapter, and clear errors when it cannot be reached.
 
-use primo_core::golden::SearchConfig;
-use primo_core::generalize::Method;
-use primo_core::service::Coprocessor as Service;
-use primo_core::wire::{LearnerSetup, Outcome, Reply, Request, Setup};
-use primo_host::coprocessor::{Link, Qemu};
+mod common;
+
+use common::{primo, tmp};
 
 #[test]
-fn golden_section_on_the_mcu_matches_the_host() {
-    let qemu = Qemu::start(&Qemu::default_firmware()).unwrap();
-    let mut link = Link::open(qemu.pty()).unwrap();
-    let mut local = Service::new();
-    let cfg = SearchConfig { low: 0.1, high: 1.5, desired: 0.5, precision: 1e-4, max_rollouts: 40 };
-    let setup = Request::Configure(Setup {
-        learner: LearnerSetup::Golden(cfg),
-        examples: 0,
-        theta_len: 0,
-        regression: Method::Lwr { bandwidth: None },
-        seed: 1,
-    });
-    assert_eq!(link.call(&setup).unwrap(), local.respond(&setup));
-    loop {
-        let (a, b) = (link.call(&Request::Ask).unwrap(), local.respond(&Request::Ask));
-        assert_eq!(a, b);
-        let Reply::Rollout(r) = a else { break };
-        let tell = Request::Tell(Outcome { error: 0.7 - r.query, reward: 0.0 });
-        assert_eq!(link.call(&tell).unwrap(), local.respond(&tell));
-    }
-    println!("{:?}", link.stats());
+fn pour_with_the_learner_on_the_emulated_mcu() {
+    let out = tmp("copro-pour");
+    let (status, stdout, stderr) = primo(&[
+        "pour",
+        "--coprocessor",
+        "qemu",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(status, 0, "{stderr}");
+    assert!(stdout.contains("learner: firmware"), "{stdout}");
+    // The same run in-process: the same roll-outs, line for line.
+    let host = tmp("copro-pour-host");
+    let (status, local, stderr) = primo(&["pour", "--out", host.to_str().unwrap()]);
+    assert_eq!(status, 0, "{stderr}");
+    let rollouts = |s: &str| -> Vec<String> {
+        s.lines()
+            .filter(|l| l.starts_with("roll-out"))
+            .map(String::from)
+            .collect()
+    };
+    assert!(!rollouts(&local).is_empty(), "{local}");
+    assert_eq!(rollouts(&stdout), rollouts(&local));
+}
+
+#[test]
+fn an_unreachable_coprocessor_is_a_clear_error() {
+    let (status, _, stderr) = primo(&["pour", "--coprocessor", "/dev/primo-no-such-port"]);
+    assert_eq!(status, 1);
+    assert!(
+        stderr.contains("/dev/primo-no-such-port: cannot open"),
+        "{stderr}"
+    );
+    let (status, _, stderr) = primo(&[
+        "pour",
+        "--coprocessor",
+        "qemu",
+        "--firmware",
+        "/nonexistent/primo-firmware",
+    ]);
+    assert_eq!(status, 1);
+    assert!(
+        stderr.contains("/nonexistent/primo-firmware not found"),
+        "{stderr}"
+    );
 }

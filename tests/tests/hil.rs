@@ -51,11 +51,17 @@ impl Relay {
             .timeout(Duration::from_millis(10))
             .open()
             .unwrap();
-        let (damage, stop) = (Arc::new(Damage::default()), Arc::new(AtomicBool::new(false)));
+        let (damage, stop) = (
+            Arc::new(Damage::default()),
+            Arc::new(AtomicBool::new(false)),
+        );
         let mut host_side = host_side;
         host_side.set_timeout(Duration::from_millis(10)).unwrap();
         let pipes: [(Box<dyn SerialPort>, Box<dyn SerialPort>); 2] = [
-            (Box::new(host_side.try_clone_native().unwrap()), device.try_clone().unwrap()),
+            (
+                Box::new(host_side.try_clone_native().unwrap()),
+                device.try_clone().unwrap(),
+            ),
             (device, Box::new(host_side)),
         ];
         let threads = pipes
@@ -125,7 +131,13 @@ fn bits(records: &[Record]) -> Vec<(u32, u32, u64, u64)> {
         .collect()
 }
 
-fn run(method: Method, space: Space, kernels: usize, rollouts: u32, learner: &mut Learner) -> Vec<Record> {
+fn run(
+    method: Method,
+    space: Space,
+    kernels: usize,
+    rollouts: u32,
+    learner: &mut Learner,
+) -> Vec<Record> {
     let cell = CellConfig::standard(GlassKind::Normal);
     let skill = built_in_skill(&cell, space, kernels).unwrap();
     let mut s = Settings::paper(method, 0.5, 0.2, 7);
@@ -140,8 +152,20 @@ fn coprocessor(qemu: &Qemu) -> Learner {
 #[test]
 fn golden_section_on_the_mcu_gives_the_host_only_roll_outs() {
     let qemu = Qemu::start(&Qemu::default_firmware()).unwrap();
-    let host = run(Method::Golden, Space::Cartesian, 30, 30, &mut Learner::local());
-    let mcu = run(Method::Golden, Space::Cartesian, 30, 30, &mut coprocessor(&qemu));
+    let host = run(
+        Method::Golden,
+        Space::Cartesian,
+        30,
+        30,
+        &mut Learner::local(),
+    );
+    let mcu = run(
+        Method::Golden,
+        Space::Cartesian,
+        30,
+        30,
+        &mut coprocessor(&qemu),
+    );
     assert!(host.len() >= 3);
     assert_eq!(bits(&mcu), bits(&host));
 }
@@ -164,7 +188,13 @@ fn a_lossy_line_changes_nothing_but_the_time() {
     let host = run(Method::Power, Space::Joint, 10, 8, &mut Learner::local());
     let mcu = run(Method::Power, Space::Joint, 10, 8, &mut link);
     assert_eq!(bits(&mcu), bits(&host));
-    let golden_host = run(Method::Golden, Space::Cartesian, 30, 30, &mut Learner::local());
+    let golden_host = run(
+        Method::Golden,
+        Space::Cartesian,
+        30,
+        30,
+        &mut Learner::local(),
+    );
     let golden_mcu = run(Method::Golden, Space::Cartesian, 30, 30, &mut link);
     assert_eq!(bits(&golden_mcu), bits(&golden_host));
     let Learner::Remote(link) = link else {
