@@ -190,6 +190,7 @@ pub type HostService = Service<MAX_EXTENDED, MAX_EXAMPLES, MAX_KERNELS>;
 /// Where the learner runs. Both ends run the core's [`Service`], so with the
 /// same settings, seed and outcomes they ask for the same roll-outs, bit
 /// for bit.
+#[allow(clippy::large_enum_variant)] // one per run
 pub enum Learner {
     /// In this process.
     Local(Box<HostService>),
