@@ -88,7 +88,11 @@ fn reach() -> Dmp<MAX_DOF, KERNELS> {
     theta[THETA - 1] = 2.0;
     // The width `Dmp::fit` gives 30 kernels at the default overlap.
     let width = DEFAULT_OVERLAP * ((KERNELS - 1) * (KERNELS - 1)) as f32;
-    let shape = Shape { alpha: DEFAULT_ALPHA, width, scaled: 0x7F };
+    let shape = Shape {
+        alpha: DEFAULT_ALPHA,
+        width,
+        scaled: 0x7F,
+    };
     Dmp::from_shape(&shape, MAX_DOF, KERNELS, &[0.0; MAX_DOF], &theta)
         .unwrap_or_else(|_| fail("dmp"))
 }
