@@ -9,6 +9,7 @@
 //! - [`pour`]: the learners driving the skill's roll-outs.
 //! - [`experiment`]: the paper's experiments, runs spread over all cores.
 //! - [`report`]: roll-out tables, summaries and charts.
+//! - [`safety`]: the limit checks every trajectory passes before it moves anything.
 #![deny(missing_docs)]
 
 pub mod cli;
@@ -19,6 +20,7 @@ pub mod experiment;
 pub mod plot;
 pub mod pour;
 pub mod report;
+pub mod safety;
 pub mod sim;
 pub mod skill;
 
