@@ -41,6 +41,9 @@ enum Command {
     /// Reproduce the paper's experiments.
     #[command(subcommand)]
     Experiment(ExperimentCommand),
+    /// The robot over KUKA FRI: stream a trajectory, or simulate the KRC.
+    #[command(subcommand)]
+    Robot(crate::fri::robot::RobotCommand),
 }
 
 #[derive(Debug, Subcommand)]
@@ -266,6 +269,7 @@ fn run(cli: Cli) -> Result<(), CliError> {
             seed,
             out,
         }) => experiment_power(runs, kernels, updates, glass, seed, &out),
+        Command::Robot(command) => crate::fri::robot::run(command),
         Command::Dmp(DmpCommand::Fit { demo, kernels, out }) => fit(&demo, kernels, out.as_deref()),
         Command::Dmp(DmpCommand::Run {
             dmp,
@@ -332,7 +336,7 @@ fn fit(demo_path: &Path, kernels: usize, out: Option<&Path>) -> Result<(), CliEr
 }
 
 /// Parses `a,b,...` with exactly one value per DoF.
-fn parse_vector(flag: &str, text: &str, names: &[String]) -> Result<Vec<f32>, CliError> {
+pub(crate) fn parse_vector(flag: &str, text: &str, names: &[String]) -> Result<Vec<f32>, CliError> {
     let values: Vec<&str> = text.split(',').map(str::trim).collect();
     if values.len() != names.len() {
         return Err(CliError::input(format!(

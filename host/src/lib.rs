@@ -8,6 +8,7 @@
 //! - [`skill`]: demonstrations → DMPs → generalization → checked roll-outs.
 //! - [`pour`]: the learners driving the skill's roll-outs.
 //! - [`experiment`]: the paper's experiments, runs spread over all cores.
+//! - [`fri`]: the KUKA LWR4 over FRI (UDP), and a simulated KRC.
 //! - [`report`]: roll-out tables, summaries and charts.
 //! - [`safety`]: the limit checks every trajectory passes before it moves anything.
 #![deny(missing_docs)]
@@ -17,6 +18,7 @@ pub mod csv;
 pub mod dmpfile;
 mod error;
 pub mod experiment;
+pub mod fri;
 pub mod plot;
 pub mod pour;
 pub mod report;
