@@ -71,14 +71,7 @@ impl JointPath {
 /// the joint position and velocity limits; the message names the first
 /// offending sample and joint.
 pub fn check_joints(times: Vec<f64>, positions: Vec<[f64; JOINTS]>) -> Result<JointPath, String> {
-    if times.is_empty() || times.len() != positions.len() {
-        return Err(format!(
-            "a trajectory needs at least one sample and one time per sample \
-             ({} times, {} samples)",
-            times.len(),
-            positions.len()
-        ));
-    }
+    aligned(times.len(), positions.len())?;
     check_limits(times.iter().copied().zip(&positions)).map_err(|v| v.to_string())?;
     Ok(JointPath { times, positions })
 }
@@ -109,18 +102,22 @@ pub fn check_cartesian(
         .map_err(|e| format!("{e} (joint angles of the bottle poses, by inverse kinematics)"))
 }
 
+/// At least one sample, and one time per sample.
+fn aligned(times: usize, samples: usize) -> Result<(), String> {
+    if times == 0 || times != samples {
+        return Err(format!(
+            "a trajectory needs at least one sample and one time per sample \
+             ({times} times, {samples} samples)"
+        ));
+    }
+    Ok(())
+}
+
 /// The mouth stays in [`WORKSPACE`], moves no faster than
 /// [`MAX_MOUTH_SPEED`] and turns no faster than [`MAX_TURN_RATE`].
 fn check_mouth(times: &[f64], poses: &[[f64; 6]]) -> Result<(), String> {
     const AXES: [&str; 3] = ["x", "y", "z"];
-    if times.is_empty() || times.len() != poses.len() {
-        return Err(format!(
-            "a trajectory needs at least one sample and one time per sample \
-             ({} times, {} samples)",
-            times.len(),
-            poses.len()
-        ));
-    }
+    aligned(times.len(), poses.len())?;
     let mut last: Option<(f64, &[f64; 6])> = None;
     for (i, (&t, row)) in times.iter().zip(poses).enumerate() {
         if !t.is_finite() || row.iter().any(|v| !v.is_finite()) {

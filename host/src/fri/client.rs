@@ -310,9 +310,9 @@ impl Session {
         };
         let t = &mut self.tracking;
         t.samples += 1;
-        for j in 0..JOINTS {
-            let e = m.measured()[j] - commanded[j];
-            t.last[j] = e;
+        let measured = m.measured();
+        t.last = std::array::from_fn(|j| measured[j] - commanded[j]);
+        for (j, e) in t.last.iter().enumerate() {
             t.max[j] = t.max[j].max(e.abs());
             self.sum_sq[j] += e * e;
             t.rms[j] = (self.sum_sq[j] / t.samples as f64).sqrt();
@@ -479,7 +479,11 @@ pub fn bind(addr: SocketAddr) -> Result<UdpSocket, CliError> {
 /// Streams `path` to the KRC that sends to `socket`, answering every
 /// measurement to its sender, until the session is done, stops, or a
 /// timeout passes. Errors are socket failures only.
-pub fn play(socket: &UdpSocket, path: &JointPath, cfg: &PlayConfig) -> Result<PlayResult, CliError> {
+pub fn play(
+    socket: &UdpSocket,
+    path: &JointPath,
+    cfg: &PlayConfig,
+) -> Result<PlayResult, CliError> {
     let io = |e: std::io::Error| CliError::other(format!("FRI socket: {e}"));
     let poll = cfg.cycle_timeout.min(Duration::from_millis(50));
     socket
@@ -529,17 +533,7 @@ pub fn play(socket: &UdpSocket, path: &JointPath, cfg: &PlayConfig) -> Result<Pl
         }
         let (n, from) = match socket.recv_from(&mut buf) {
             Ok(got) => got,
-            Err(e)
-                if matches!(
-                    e.kind(),
-                    std::io::ErrorKind::WouldBlock
-                        | std::io::ErrorKind::TimedOut
-                        | std::io::ErrorKind::Interrupted
-                        | std::io::ErrorKind::ConnectionRefused
-                ) =>
-            {
-                continue;
-            }
+            Err(e) if super::transient(&e) => continue,
             Err(e) => return Err(io(e)),
         };
         let mut reject = |why: String| {
@@ -611,7 +605,10 @@ mod tests {
     #[test]
     fn echoes_in_monitor_mode_and_reflects_the_sequence() {
         let mut s = Session::new(&path(), SessionConfig::default());
-        for (i, state) in [State::Off, State::Monitor, State::Monitor].into_iter().enumerate() {
+        for (i, state) in [State::Off, State::Monitor, State::Monitor]
+            .into_iter()
+            .enumerate()
+        {
             let mut m = measurement(state, Quality::Perfect, [0.3; JOINTS]);
             m.head.send_seq_count = 100 + i as u16;
             m.data.cmd_jnt_pos_fri_offset[2] = 0.5;
@@ -649,13 +646,23 @@ mod tests {
         let mut s = Session::new(&path(), SessionConfig::default());
         let start = [0.1, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
         let sent = run(&mut s, start, 1000);
-        assert_eq!(sent[0], start, "the first setpoint is the measured position");
+        assert_eq!(
+            sent[0], start,
+            "the first setpoint is the measured position"
+        );
         // Approach: 0.1 rad on joint 1 at ≤ 20 % of 110 °/s.
         let approach = s.approach_len();
         let expected = (1.875 * 0.1 / (0.2 * 110f64.to_radians()) / 0.01).ceil() as usize + 1;
         assert_eq!(approach, expected);
-        let speeds: Vec<f64> = sent.windows(2).map(|w| f64::from(w[1][0] - w[0][0]).abs() / 0.01).collect();
-        assert!(speeds[..approach - 1].iter().all(|v| *v <= 0.2 * 110f64.to_radians() + 1e-6));
+        let speeds: Vec<f64> = sent
+            .windows(2)
+            .map(|w| f64::from(w[1][0] - w[0][0]).abs() / 0.01)
+            .collect();
+        assert!(
+            speeds[..approach - 1]
+                .iter()
+                .all(|v| *v <= 0.2 * 110f64.to_radians() + 1e-6)
+        );
         assert_eq!(sent[approach - 1], [0.0; JOINTS]);
         // Then the trajectory at 10 ms: 0.2 rad/s up, 0.2 rad/s down.
         assert_eq!(s.planned(), approach + 200);
@@ -664,7 +671,11 @@ mod tests {
         assert_eq!(sent[approach - 1 + 200], [0.0; JOINTS]);
         // Settling: holds the end for 0.3 s (30 cycles), then done.
         assert_eq!(s.phase(), &Phase::Done);
-        assert!(sent[approach - 1 + 200..].iter().all(|q| *q == [0.0; JOINTS]));
+        assert!(
+            sent[approach - 1 + 200..]
+                .iter()
+                .all(|q| *q == [0.0; JOINTS])
+        );
         // The ideal robot is always where it was commanded (to f32).
         let t = s.tracking();
         assert!(t.samples > 200);
@@ -705,7 +716,11 @@ mod tests {
             let mut m = measurement(state, Quality::Perfect, sent[59]);
             m.robot.power = power;
             s.answer(&m);
-            assert!(matches!(s.phase(), Phase::Stopped { at: 60, .. }), "{:?}", s.phase());
+            assert!(
+                matches!(s.phase(), Phase::Stopped { at: 60, .. }),
+                "{:?}",
+                s.phase()
+            );
         }
     }
 

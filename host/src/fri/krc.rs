@@ -44,6 +44,8 @@ pub const STAT_WINDOW: usize = 100;
 pub const RAMP: u64 = 10;
 /// Consecutive on-time echoes in monitor mode before command mode.
 pub const HANDSHAKE: usize = 20;
+/// How often the KRC looks for the answer within a cycle.
+const POLL: Duration = Duration::from_micros(100);
 /// Time constant of the joint position servo, s.
 pub const SERVO_LAG: f64 = 0.005;
 
@@ -234,7 +236,9 @@ impl Window {
         let mean = l.iter().sum::<f64>() / l.len() as f64;
         let (lo, hi) = l
             .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| (a.min(*x), b.max(*x)));
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+                (a.min(*x), b.max(*x))
+            });
         (mean, hi - lo)
     }
 
@@ -334,6 +338,7 @@ impl SimKrc {
         let mut last_answer = 0u64;
         let mut refl = 0u16;
         let mut buf = [0u8; 2048];
+        self.socket.set_nonblocking(true).map_err(io)?;
         let (mut anchor, mut anchor_k) = (Instant::now(), 0u64);
         for k in 0u64.. {
             let t = k as f64 * cycle;
@@ -402,42 +407,41 @@ impl SimKrc {
             }
             let deadline = anchor + cfg.cycle.mul_f64((k - anchor_k + 1) as f64);
             let mut answer = None;
+            // Poll rather than block with a timeout: socket timeouts round
+            // up to the kernel's tick (4 ms at 250 Hz), sleeps do not.
             loop {
+                match self.socket.recv_from(&mut buf) {
+                    Ok((n, _)) => {
+                        match buf.get(..n).map(Command::parse) {
+                            Some(Ok(c))
+                                if sent && answer.is_none() && c.head.refl_seq_count == seq =>
+                            {
+                                answer = Some((c, sent_at.elapsed().as_secs_f64()));
+                            }
+                            Some(Ok(_)) => report.stale += 1,
+                            Some(Err(e)) => {
+                                report.malformed += 1;
+                                if report.rejections.len() < 10 {
+                                    report.rejections.push(e.to_string());
+                                }
+                            }
+                            None => {}
+                        }
+                        continue;
+                    }
+                    Err(e) if super::transient(&e) => {}
+                    Err(e) => return Err(io(e)),
+                }
                 let now = Instant::now();
                 if now >= deadline {
                     break;
                 }
-                self.socket
-                    .set_read_timeout(Some(deadline - now))
-                    .map_err(io)?;
-                let (n, _) = match self.socket.recv_from(&mut buf) {
-                    Ok(got) => got,
-                    Err(e)
-                        if matches!(
-                            e.kind(),
-                            std::io::ErrorKind::WouldBlock
-                                | std::io::ErrorKind::TimedOut
-                                | std::io::ErrorKind::Interrupted
-                                | std::io::ErrorKind::ConnectionRefused
-                        ) =>
-                    {
-                        continue;
-                    }
-                    Err(e) => return Err(io(e)),
-                };
-                match buf.get(..n).map(Command::parse) {
-                    Some(Ok(c)) if sent && answer.is_none() && c.head.refl_seq_count == seq => {
-                        answer = Some((c, sent_at.elapsed().as_secs_f64()));
-                    }
-                    Some(Ok(_)) => report.stale += 1,
-                    Some(Err(e)) => {
-                        report.malformed += 1;
-                        if report.rejections.len() < 10 {
-                            report.rejections.push(e.to_string());
-                        }
-                    }
-                    None => {}
-                }
+                let left = deadline - now;
+                std::thread::sleep(if answer.is_some() {
+                    left
+                } else {
+                    left.min(POLL)
+                });
             }
             window.push(answer.map(|(_, l)| l));
             match answer {
@@ -457,13 +461,12 @@ impl SimKrc {
                             if (0..JOINTS).any(|j| wanted[j].abs() > position[j]) {
                                 report.beyond_limits += 1;
                             }
-                            target = std::array::from_fn(|j| {
-                                wanted[j].clamp(-position[j], position[j])
-                            });
+                            target =
+                                std::array::from_fn(|j| wanted[j].clamp(-position[j], position[j]));
                         }
                         State::Monitor => {
-                            let echo = moves
-                                && (0..JOINTS).all(|j| (wanted[j] - target[j]).abs() < 1e-4);
+                            let echo =
+                                moves && (0..JOINTS).all(|j| (wanted[j] - target[j]).abs() < 1e-4);
                             echoes = if echo { echoes + 1 } else { 0 };
                         }
                         _ => {}

@@ -76,6 +76,16 @@ pub fn parse_robot(spec: &str) -> Result<SocketAddr, CliError> {
     check_port(addr).map_err(bad)
 }
 
+/// Socket errors a UDP loop waits out: no datagram yet, a signal, or an
+/// ICMP "port unreachable" from a peer that is not listening yet.
+fn transient(e: &std::io::Error) -> bool {
+    use std::io::ErrorKind::*;
+    matches!(
+        e.kind(),
+        WouldBlock | TimedOut | Interrupted | ConnectionRefused
+    )
+}
+
 fn check_port(addr: SocketAddr) -> Result<SocketAddr, String> {
     if addr.port() == 0 {
         return Err("port 0: the KRC needs a fixed port to send to".into());

@@ -90,9 +90,14 @@ impl State {
 
 impl Quality {
     fn from_wire(v: u16) -> Option<Self> {
-        [Quality::Unacceptable, Quality::Bad, Quality::Ok, Quality::Perfect]
-            .into_iter()
-            .find(|q| *q as u16 == v)
+        [
+            Quality::Unacceptable,
+            Quality::Bad,
+            Quality::Ok,
+            Quality::Perfect,
+        ]
+        .into_iter()
+        .find(|q| *q as u16 == v)
     }
 }
 
@@ -494,7 +499,11 @@ impl<'a> Reader<'a> {
     ) -> Result<(Self, Header, KrlData), PacketError> {
         if bytes.len() != size {
             let shown = bytes.get(..16).unwrap_or(bytes);
-            let more = if bytes.len() > shown.len() { " ..." } else { "" };
+            let more = if bytes.len() > shown.len() {
+                " ..."
+            } else {
+                ""
+            };
             return Err(PacketError::Size {
                 packet,
                 expected: size,
@@ -694,7 +703,9 @@ impl Measurement {
     /// cmdJntPosFriOffset`, what a remote echoes in monitor mode.
     pub fn commanded(&self) -> [f64; JOINTS] {
         let d = &self.data;
-        std::array::from_fn(|j| f64::from(d.cmd_jnt_pos[j]) + f64::from(d.cmd_jnt_pos_fri_offset[j]))
+        std::array::from_fn(|j| {
+            f64::from(d.cmd_jnt_pos[j]) + f64::from(d.cmd_jnt_pos_fri_offset[j])
+        })
     }
 
     /// The measured joint positions, rad.

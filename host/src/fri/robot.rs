@@ -133,9 +133,7 @@ pub fn run(command: RobotCommand) -> Result<(), CliError> {
                 .map(|s| seconds("--quality-drop-at", s))
                 .transpose()?;
             cfg.monitor_only = monitor_only;
-            cfg.stop_after = stop_after
-                .map(|s| seconds("--stop-after", s))
-                .transpose()?;
+            cfg.stop_after = stop_after.map(|s| seconds("--stop-after", s)).transpose()?;
             cfg.once = once;
             sim_krc(cfg)
         }
@@ -146,7 +144,9 @@ fn in_range(flag: &str, v: f64, lo: f64, hi: f64) -> Result<f64, CliError> {
     if (lo..=hi).contains(&v) {
         Ok(v)
     } else {
-        Err(CliError::input(format!("{flag}: {v} is outside [{lo}, {hi}]")))
+        Err(CliError::input(format!(
+            "{flag}: {v} is outside [{lo}, {hi}]"
+        )))
     }
 }
 
@@ -251,7 +251,12 @@ fn sim_krc(cfg: KrcConfig) -> Result<(), CliError> {
     println!(
         "primo robot sim-krc: {} cycles, {} answered on time, {} missed ({} lost on purpose), \
          {} stale answers, {} malformed datagrams",
-        report.cycles, report.answered, report.missed, report.dropped, report.stale, report.malformed
+        report.cycles,
+        report.answered,
+        report.missed,
+        report.dropped,
+        report.stale,
+        report.malformed
     );
     for why in &report.rejections {
         println!("primo robot sim-krc: malformed datagram: {why}");
