@@ -11,14 +11,17 @@
 //!    position; a minimum-jerk approach at a bounded fraction of the
 //!    velocity limits brings the robot to the trajectory's start.
 //! 3. The trajectory, resampled at the FRI cycle (`desiredCmdSampleTime`),
-//!    one setpoint per answered cycle: a lost packet delays the rest by a
-//!    cycle instead of making the robot jump.
+//!    one setpoint per cycle in which the robot reports the previous one as
+//!    commanded (`cmdJntPos + cmdJntPosFriOffset`): a lost measurement or a
+//!    lost or late answer delays the rest by a cycle instead of making the
+//!    robot jump two steps.
 //! 4. It holds the last setpoint for a settling time, then is done.
 //!
 //! It stops for good, holding the last setpoint (or echoing once the robot
 //! is back in monitor mode), when the quality drops below OK, the robot
-//! leaves command mode or loses power, or the next setpoint would cross a
-//! joint position or velocity limit. [`play`] also stops when packets stop
+//! leaves command mode or loses power, does not take the setpoints for a
+//! quarter of a second, or the next setpoint would cross a joint position
+//! or velocity limit. [`play`] also stops when packets stop
 //! coming for longer than a timeout.
 //!
 //! ```
@@ -55,6 +58,14 @@ use crate::sim::arm::{JOINTS, VELOCITY_LIMITS_DEG, check_limits};
 /// Shortest and longest FRI cycle the session accepts, s.
 pub const CYCLE_RANGE: [f64; 2] = [0.0005, 0.1];
 
+/// How far the robot's commanded position (`cmdJntPos +
+/// cmdJntPosFriOffset`, two f32 summed) may be from the last setpoint for
+/// it to count as taken, rad.
+const TAKEN_TOLERANCE: f64 = 1e-5;
+/// How long the robot may go on not taking the setpoints before the
+/// session stops (at least 10 cycles), s.
+const UNACKNOWLEDGED_TIME: f64 = 0.25;
+
 /// How the session moves.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SessionConfig {
@@ -88,6 +99,9 @@ pub enum Stop {
     Limit(String),
     /// `desiredCmdSampleTime` outside [`CYCLE_RANGE`].
     SampleTime(f32),
+    /// The robot's commanded position stayed off the last setpoint for
+    /// this many cycles.
+    NotFollowing(usize),
 }
 
 impl fmt::Display for Stop {
@@ -97,6 +111,10 @@ impl fmt::Display for Stop {
             Stop::LeftCommandMode(s) => write!(f, "the robot left command mode (now {s:?})"),
             Stop::Unpowered(p) => write!(f, "drives lost power (power bits {p:#04x})"),
             Stop::Limit(why) => write!(f, "the next setpoint would cross a limit: {why}"),
+            Stop::NotFollowing(n) => write!(
+                f,
+                "the robot did not take the commanded position for {n} cycles"
+            ),
             Stop::SampleTime(t) => write!(
                 f,
                 "desiredCmdSampleTime {t} s is outside [{}, {}] s",
@@ -150,6 +168,7 @@ pub struct Session {
     dt: f64,
     last: Option<[f64; JOINTS]>,
     settle_cycles: usize,
+    unacknowledged: usize,
     sum_sq: [f64; JOINTS],
     tracking: Tracking,
 }
@@ -168,6 +187,7 @@ impl Session {
             dt: 0.0,
             last: None,
             settle_cycles: 0,
+            unacknowledged: 0,
             sum_sq: [0.0; JOINTS],
             tracking: Tracking::default(),
         }
@@ -271,9 +291,24 @@ impl Session {
         self.phase = Phase::Streaming;
     }
 
-    /// The next setpoint, checked against the limits; after the last one,
-    /// holds it for the settling time.
+    /// The next setpoint, checked against the limits, once the robot
+    /// reports the last one as commanded; after the last setpoint, holds it
+    /// for the settling time.
     fn advance(&mut self, m: &Measurement) -> [f64; JOINTS] {
+        if let Some(last) = self.last {
+            // A lost or late answer: send it again rather than the next,
+            // which would be two steps away from what the robot follows.
+            let taken = m.commanded();
+            if (0..JOINTS).any(|j| (taken[j] - last[j]).abs() > TAKEN_TOLERANCE) {
+                self.unacknowledged += 1;
+                let patience = (UNACKNOWLEDGED_TIME / self.dt).ceil().max(10.0) as usize;
+                if self.unacknowledged >= patience {
+                    self.stop(Stop::NotFollowing(self.unacknowledged));
+                }
+                return last;
+            }
+        }
+        self.unacknowledged = 0;
         let Some(&next) = self.setpoints.get(self.next) else {
             let last = self.last.unwrap_or_else(|| m.commanded());
             self.settle_cycles += 1;
@@ -289,10 +324,7 @@ impl Session {
         if let Err(v) = step {
             let why = format!("setpoint {}: {v}", self.next);
             self.stop(Stop::Limit(why));
-            return match (m.intf.state, self.last) {
-                (State::Command, Some(q)) => q,
-                _ => m.commanded(),
-            };
+            return self.last.unwrap_or_else(|| m.commanded());
         }
         self.next += 1;
         self.last = Some(next);
@@ -680,6 +712,51 @@ mod tests {
         let t = s.tracking();
         assert!(t.samples > 200);
         assert!(t.max.iter().all(|e| *e < 1e-7), "{t:?}");
+    }
+
+    #[test]
+    fn lost_answers_are_sent_again_never_skipped() {
+        let mut s = Session::new(&path(), SessionConfig::default());
+        // A robot that loses every third answer: it keeps what it had.
+        let mut taken = [0.0f32; JOINTS];
+        let mut accepted = vec![taken];
+        for cycle in 0..1000 {
+            let c = s.answer(&measurement(State::Command, Quality::Ok, taken));
+            if cycle % 3 != 2 {
+                taken = c.cmd.jnt_pos;
+                if accepted.last() != Some(&taken) {
+                    accepted.push(taken);
+                }
+            }
+        }
+        assert_eq!(s.phase(), &Phase::Done);
+        // Every setpoint reached the robot, in order, one step at a time.
+        let planned = s.planned();
+        let mut ideal = Session::new(&path(), SessionConfig::default());
+        let mut every = run(&mut ideal, [0.0; JOINTS], 1000);
+        every.dedup();
+        assert_eq!(accepted, every);
+        assert!(
+            accepted.len() >= planned - 1,
+            "{} of {planned}",
+            accepted.len()
+        );
+        // A robot that never takes a command: stop after 0.25 s.
+        let mut s = Session::new(&path(), SessionConfig::default());
+        let mut m = measurement(State::Command, Quality::Ok, [0.1; JOINTS]);
+        s.answer(&m);
+        m.data.msr_jnt_pos = [0.0; JOINTS];
+        m.data.cmd_jnt_pos = [0.0; JOINTS];
+        for _ in 0..25 {
+            s.answer(&m);
+        }
+        assert_eq!(
+            s.phase(),
+            &Phase::Stopped {
+                why: Stop::NotFollowing(25),
+                at: 1
+            }
+        );
     }
 
     #[test]

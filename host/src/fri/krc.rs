@@ -76,6 +76,10 @@ pub struct KrcConfig {
     pub once: bool,
     /// Silence in command mode before falling back to monitor mode.
     pub release_after: Duration,
+    /// Answer rates (over [`STAT_WINDOW`] cycles) for the qualities BAD,
+    /// OK and PERFECT; below the first it is UNACCEPTABLE. A real KRC's
+    /// thresholds are configured too.
+    pub thresholds: [f64; 3],
     /// Keep a [`CycleRecord`] of every cycle in the report.
     pub record: bool,
 }
@@ -83,7 +87,8 @@ pub struct KrcConfig {
 impl KrcConfig {
     /// A 2 ms KRC sending to `remote`: the arm at the pouring rest
     /// posture, 0.5 l in the bottle, the normal glass, no faults, falling
-    /// back to monitor mode after 0.5 s of silence.
+    /// back to monitor mode after 0.5 s of silence, quality OK from 80 %
+    /// answers on time, PERFECT from 98 %.
     pub fn new(remote: SocketAddr) -> Self {
         KrcConfig {
             remote,
@@ -98,6 +103,7 @@ impl KrcConfig {
             stop_after: None,
             once: false,
             release_after: Duration::from_millis(500),
+            thresholds: [0.5, 0.8, 0.98],
             record: false,
         }
     }
@@ -115,6 +121,13 @@ impl KrcConfig {
         }
         if let Err(v) = crate::sim::arm::check_limits([(0.0, &self.start)]) {
             return Err(format!("start position: {v}"));
+        }
+        let [bad, ok, perfect] = self.thresholds;
+        if !(0.0 <= bad && bad <= ok && ok <= perfect && perfect <= 1.0) {
+            return Err(format!(
+                "quality thresholds {:?}: must rise within [0, 1]",
+                self.thresholds
+            ));
         }
         if self.release_after < self.cycle {
             return Err("release time must be at least one cycle".into());
@@ -242,14 +255,15 @@ impl Window {
         (mean, hi - lo)
     }
 
-    /// The quality: the answer rate, capped by the ramp after opening.
-    fn quality(&self) -> Quality {
+    /// The quality: the answer rate against `[bad, ok, perfect]`, capped
+    /// by the ramp after opening.
+    fn quality(&self, [bad, ok, perfect]: [f64; 3]) -> Quality {
         let rate = self.answer_rate();
-        let by_rate = if rate >= 0.98 {
+        let by_rate = if rate >= perfect {
             Quality::Perfect
-        } else if rate >= 0.8 {
+        } else if rate >= ok {
             Quality::Ok
-        } else if rate >= 0.5 {
+        } else if rate >= bad {
             Quality::Bad
         } else {
             Quality::Unacceptable
@@ -349,7 +363,7 @@ impl SimKrc {
             let quality = if past(cfg.quality_drop_at) {
                 Quality::Bad
             } else {
-                window.quality()
+                window.quality(cfg.thresholds)
             };
             match state {
                 State::Command if k.saturating_sub(last_answer) > release => {

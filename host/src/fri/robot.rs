@@ -158,7 +158,7 @@ fn seconds(flag: &str, v: f64) -> Result<Duration, CliError> {
 }
 
 /// Reads a `t,a1..a7` trajectory and passes it through the safety checks.
-pub fn load_trajectory(path: &Path) -> Result<JointPath, CliError> {
+fn load_trajectory(path: &Path) -> Result<JointPath, CliError> {
     let file = path.display().to_string();
     let text = std::fs::read_to_string(path)
         .map_err(|e| CliError::input(format!("{file}: cannot read: {e}")))?;
