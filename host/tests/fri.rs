@@ -230,8 +230,8 @@ fn a_quality_drop_mid_run_holds_the_position() {
     let path = swing();
     let (socket, addr) = client_socket();
     let mut cfg = krc_config(addr);
-    // The handshake takes ~0.1 s and the approach ~1.5 s: drop during the
-    // swing.
+    // The handshake takes ~0.1 s and the approach ~1 s, so the swing runs
+    // from about 1.1 s to 3.1 s: drop during it.
     let drop_at = 2.5;
     cfg.quality_drop_at = Some(Duration::from_secs_f64(drop_at));
     let krc = Krc::start(cfg);

@@ -18,7 +18,7 @@
 //! 4. It holds the last setpoint for a settling time, then is done.
 //!
 //! It stops for good, holding the last setpoint (or echoing once the robot
-//! is back in monitor mode), when the quality drops below OK, the robot
+//! is back in monitor mode or unpowered), when the quality drops below OK, the robot
 //! leaves command mode or loses power, does not take the setpoints for a
 //! quarter of a second, or the next setpoint would cross a joint position
 //! or velocity limit. [`play`] also stops when packets stop
@@ -251,8 +251,9 @@ impl Session {
 
     /// The position to command in answer to `m`.
     fn setpoint(&mut self, m: &Measurement) -> [f64; JOINTS] {
-        let hold = |last: Option<[f64; JOINTS]>| match (m.intf.state, last) {
-            (State::Command, Some(q)) => q,
+        // Monitor mode or unpowered: echo; in command mode: the last setpoint.
+        let hold = |last: Option<[f64; JOINTS]>| match last {
+            Some(q) if m.intf.state == State::Command && m.robot.powered() => q,
             _ => m.commanded(),
         };
         match self.phase {
@@ -792,7 +793,9 @@ mod tests {
             let sent = run(&mut s, [0.0; JOINTS], 60);
             let mut m = measurement(state, Quality::Perfect, sent[59]);
             m.robot.power = power;
-            s.answer(&m);
+            m.data.cmd_jnt_pos = [0.05; JOINTS];
+            // Both echo the robot's commanded position.
+            assert_eq!(s.answer(&m).cmd.jnt_pos, [0.05; JOINTS]);
             assert!(
                 matches!(s.phase(), Phase::Stopped { at: 60, .. }),
                 "{:?}",

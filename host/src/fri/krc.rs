@@ -332,30 +332,16 @@ impl SimKrc {
     /// command session ends. Errors are socket failures.
     pub fn run(self, stop: &AtomicBool) -> Result<KrcReport, String> {
         let cfg = self.cfg;
-        let io = |e: std::io::Error| format!("KRC socket: {e}");
-        let cycle = cfg.cycle.as_secs_f64();
-        let arm = Lwr4::with_flange();
-        let velocity = VELOCITY_LIMITS_DEG.map(f64::to_radians);
-        let position = POSITION_LIMITS_DEG.map(f64::to_radians);
-        let follow = 1.0 - (-cycle / SERVO_LAG).exp();
-        let release = (cfg.release_after.as_secs_f64() / cycle).ceil() as u64;
-        let drop_below = (cfg.drop * f64::from(u32::MAX)) as u32;
         let mut rng = Xoshiro128PlusPlus::seed_from_u64(cfg.seed);
-        let mut report = KrcReport {
-            measured: cfg.start,
-            ..KrcReport::default()
-        };
+        let drop_below = (cfg.drop * f64::from(u32::MAX)) as u32;
+        let release = (cfg.release_after.as_secs_f64() / cfg.cycle.as_secs_f64()).ceil() as u64;
+        let mut report = KrcReport::default();
         let mut window = Window::default();
-        let mut state = State::Monitor;
-        let (mut measured, mut target, mut krl) = (cfg.start, cfg.start, cfg.start);
-        let mut echoes = 0usize;
-        let mut last_answer = 0u64;
-        let mut refl = 0u16;
-        let mut buf = [0u8; 2048];
-        self.socket.set_nonblocking(true).map_err(io)?;
+        let mut robot = Robot::new(cfg.start, cfg.cycle.as_secs_f64());
+        self.socket.set_nonblocking(true).map_err(socket_error)?;
         let (mut anchor, mut anchor_k) = (Instant::now(), 0u64);
         for k in 0u64.. {
-            let t = k as f64 * cycle;
+            let t = k as f64 * robot.cycle;
             let past = |d: Option<Duration>| d.is_some_and(|d| t >= d.as_secs_f64());
             if stop.load(Ordering::Relaxed) || past(cfg.stop_after) {
                 break;
@@ -365,162 +351,66 @@ impl SimKrc {
             } else {
                 window.quality(cfg.thresholds)
             };
-            match state {
-                State::Command if k.saturating_sub(last_answer) > release => {
-                    state = State::Monitor;
-                    krl = target;
+            match robot.state {
+                State::Command if k.saturating_sub(robot.last_answer) > release => {
+                    robot.switch(State::Monitor);
                     report.left_command = Some(t);
                     if cfg.once {
                         break;
                     }
                 }
                 State::Monitor
-                    if !cfg.monitor_only && quality >= Quality::Ok && echoes >= HANDSHAKE =>
+                    if !cfg.monitor_only && quality >= Quality::Ok && robot.echoes >= HANDSHAKE =>
                 {
-                    state = State::Command;
-                    krl = target;
+                    robot.switch(State::Command);
                     report.entered_command.get_or_insert(t);
                 }
                 _ => {}
             }
             let seq = k as u16;
-            let mut m = Measurement::default();
-            m.head.send_seq_count = seq;
-            m.head.refl_seq_count = refl;
-            let (latency, jitter) = window.latency();
-            let rate = window.answer_rate();
-            m.intf.timestamp = t as f32;
-            m.intf.state = state;
-            m.intf.quality = quality;
-            m.intf.desired_msr_sample_time = cycle as f32;
-            m.intf.desired_cmd_sample_time = cycle as f32;
-            m.intf.stat.answer_rate = rate as f32;
-            m.intf.stat.miss_rate = (1.0 - rate) as f32;
-            m.intf.stat.latency = latency as f32;
-            m.intf.stat.jitter = jitter as f32;
-            m.intf.stat.miss_counter = report.missed as u32;
-            m.robot.power = 0x7f;
-            m.robot.control = 1;
-            m.robot.temperature = [30.0; JOINTS];
-            let d = &mut m.data;
-            d.msr_jnt_pos = measured.map(|v| v as f32);
-            d.msr_cart_pos = pose_row_major(&arm.forward(&measured));
-            d.cmd_jnt_pos = krl.map(|v| v as f32);
-            d.cmd_jnt_pos_fri_offset = std::array::from_fn(|j| (target[j] - krl[j]) as f32);
-            d.cmd_cart_pos = pose_row_major(&arm.forward(&target));
-            let jacobian = arm.jacobian(&measured);
-            d.jacobian = std::array::from_fn(|k| jacobian[k / JOINTS][k % JOINTS] as f32);
-
+            let m = robot.measurement(seq, t, quality, &window, report.missed);
             let sent = rng.next_u32() >= drop_below;
             let sent_at = Instant::now();
             if sent {
-                self.socket.send_to(&m.encode(), cfg.remote).map_err(io)?;
+                self.socket
+                    .send_to(&m.encode(), cfg.remote)
+                    .map_err(socket_error)?;
                 report.sent += 1;
             } else {
                 report.dropped += 1;
             }
             let deadline = anchor + cfg.cycle.mul_f64((k - anchor_k + 1) as f64);
-            let mut answer = None;
-            // Poll rather than block with a timeout: socket timeouts round
-            // up to the kernel's tick (4 ms at 250 Hz), sleeps do not.
-            loop {
-                match self.socket.recv_from(&mut buf) {
-                    Ok((n, _)) => {
-                        match buf.get(..n).map(Command::parse) {
-                            Some(Ok(c))
-                                if sent && answer.is_none() && c.head.refl_seq_count == seq =>
-                            {
-                                answer = Some((c, sent_at.elapsed().as_secs_f64()));
-                            }
-                            Some(Ok(_)) => report.stale += 1,
-                            Some(Err(e)) => {
-                                report.malformed += 1;
-                                if report.rejections.len() < 10 {
-                                    report.rejections.push(e.to_string());
-                                }
-                            }
-                            None => {}
-                        }
-                        continue;
-                    }
-                    Err(e) if super::transient(&e) => {}
-                    Err(e) => return Err(io(e)),
-                }
-                let now = Instant::now();
-                if now >= deadline {
-                    break;
-                }
-                let left = deadline - now;
-                std::thread::sleep(if answer.is_some() {
-                    left
-                } else {
-                    left.min(POLL)
-                });
-            }
-            window.push(answer.map(|(_, l)| l));
+            let expected = sent.then_some(seq);
+            let answer = self.answer(expected, sent_at, deadline, &mut report)?;
+            window.push(answer.map(|(_, latency)| latency));
             match answer {
                 Some((c, _)) => {
                     report.answered += 1;
-                    last_answer = k;
-                    refl = c.head.send_seq_count;
-                    let wanted = c.cmd.jnt_pos.map(f64::from);
-                    let moves = c.cmd.cmd_flags & flags::JNTPOS != 0;
-                    match state {
-                        State::Command if moves => {
-                            if (0..JOINTS).any(|j| {
-                                (wanted[j] - target[j]).abs() > velocity[j] * cycle * 1.001
-                            }) {
-                                report.too_fast += 1;
-                            }
-                            if (0..JOINTS).any(|j| wanted[j].abs() > position[j]) {
-                                report.beyond_limits += 1;
-                            }
-                            target =
-                                std::array::from_fn(|j| wanted[j].clamp(-position[j], position[j]));
-                        }
-                        State::Monitor => {
-                            let echo =
-                                moves && (0..JOINTS).all(|j| (wanted[j] - target[j]).abs() < 1e-4);
-                            echoes = if echo { echoes + 1 } else { 0 };
-                        }
-                        _ => {}
-                    }
+                    robot.take(&c, k, &mut report);
                 }
                 None => {
                     report.missed += 1;
-                    echoes = 0;
+                    robot.echoes = 0;
                 }
             }
-            // The servo, then the cell along the way.
-            let before = measured;
-            for j in 0..JOINTS {
-                let step = ((target[j] - measured[j]) * follow)
-                    .clamp(-velocity[j] * cycle, velocity[j] * cycle);
-                measured[j] += step;
-            }
-            {
-                let mut cell = self.cell.lock();
-                for i in 1..=self.cell_steps {
-                    let s = i as f64 / self.cell_steps as f64;
-                    let q = std::array::from_fn(|j| before[j] + (measured[j] - before[j]) * s);
-                    cell.step_joints(&q);
-                }
-            }
+            let before = robot.measured;
+            robot.servo();
+            self.step_cell(before, robot.measured);
             report.cycles += 1;
-            report.command_cycles += u64::from(state == State::Command);
+            report.command_cycles += u64::from(robot.state == State::Command);
             let excursion = (0..JOINTS)
-                .map(|j| (measured[j] - cfg.start[j]).abs())
+                .map(|j| (robot.measured[j] - cfg.start[j]).abs())
                 .fold(0.0, f64::max);
             report.max_excursion = report.max_excursion.max(excursion);
             if cfg.record {
                 report.log.push(CycleRecord {
                     t,
-                    state,
+                    state: robot.state,
                     quality,
                     sent,
                     answered: answer.is_some(),
-                    target,
-                    measured,
+                    target: robot.target,
+                    measured: robot.measured,
                 });
             }
             // Fell behind (a loaded machine): skip ahead rather than burst.
@@ -530,7 +420,268 @@ impl SimKrc {
                 anchor_k = k + 1;
             }
         }
-        report.measured = measured;
+        report.measured = robot.measured;
         Ok(report)
+    }
+
+    /// Reads datagrams until `deadline`; returns the answer to `expected`
+    /// (the measurement's `sendSeqCount`, if it was sent) and its latency,
+    /// counting stale answers and malformed datagrams in `report`.
+    fn answer(
+        &self,
+        expected: Option<u16>,
+        sent_at: Instant,
+        deadline: Instant,
+        report: &mut KrcReport,
+    ) -> Result<Option<(Command, f64)>, String> {
+        let mut buf = [0u8; 2048];
+        let mut answer = None;
+        // Poll rather than block with a timeout: socket timeouts round up
+        // to the kernel's tick (4 ms at 250 Hz), sleeps do not.
+        loop {
+            match self.socket.recv_from(&mut buf) {
+                Ok((n, _)) => {
+                    match buf.get(..n).map(Command::parse) {
+                        Some(Ok(c))
+                            if answer.is_none() && Some(c.head.refl_seq_count) == expected =>
+                        {
+                            answer = Some((c, sent_at.elapsed().as_secs_f64()));
+                        }
+                        Some(Ok(_)) => report.stale += 1,
+                        Some(Err(e)) => {
+                            report.malformed += 1;
+                            if report.rejections.len() < 10 {
+                                report.rejections.push(e.to_string());
+                            }
+                        }
+                        None => {}
+                    }
+                    continue;
+                }
+                Err(e) if super::transient(&e) => {}
+                Err(e) => return Err(socket_error(e)),
+            }
+            let now = Instant::now();
+            if now >= deadline {
+                return Ok(answer);
+            }
+            let left = deadline - now;
+            std::thread::sleep(if answer.is_some() {
+                left
+            } else {
+                left.min(POLL)
+            });
+        }
+    }
+
+    /// Steps the cell through the cycle, the joints interpolated from
+    /// `from` to `to`.
+    fn step_cell(&self, from: [f64; JOINTS], to: [f64; JOINTS]) {
+        let mut cell = self.cell.lock();
+        for i in 1..=self.cell_steps {
+            let s = i as f64 / self.cell_steps as f64;
+            cell.step_joints(&std::array::from_fn(|j| from[j] + (to[j] - from[j]) * s));
+        }
+    }
+}
+
+fn socket_error(e: std::io::Error) -> String {
+    format!("KRC socket: {e}")
+}
+
+/// The robot side's state from cycle to cycle.
+#[derive(Debug)]
+struct Robot {
+    arm: Lwr4,
+    cycle: f64,
+    state: State,
+    /// Measured joint positions.
+    measured: [f64; JOINTS],
+    /// Commanded joint positions.
+    target: [f64; JOINTS],
+    /// The KRL program's part of the commanded position (`cmdJntPos`).
+    krl: [f64; JOINTS],
+    /// Consecutive on-time echoes in monitor mode.
+    echoes: usize,
+    /// The cycle of the last on-time answer.
+    last_answer: u64,
+    /// The last answer's `sendSeqCount`.
+    refl: u16,
+}
+
+impl Robot {
+    fn new(start: [f64; JOINTS], cycle: f64) -> Self {
+        Robot {
+            arm: Lwr4::with_flange(),
+            cycle,
+            state: State::Monitor,
+            measured: start,
+            target: start,
+            krl: start,
+            echoes: 0,
+            last_answer: 0,
+            refl: 0,
+        }
+    }
+
+    /// `friStart` / `friStop`: the KRL program's position becomes the
+    /// commanded one, the remote's offset zero.
+    fn switch(&mut self, state: State) {
+        self.state = state;
+        self.krl = self.target;
+    }
+
+    fn measurement(
+        &self,
+        seq: u16,
+        t: f64,
+        quality: Quality,
+        window: &Window,
+        missed: u64,
+    ) -> Measurement {
+        let mut m = Measurement::default();
+        m.head.send_seq_count = seq;
+        m.head.refl_seq_count = self.refl;
+        let (latency, jitter) = window.latency();
+        let rate = window.answer_rate();
+        m.intf.timestamp = t as f32;
+        m.intf.state = self.state;
+        m.intf.quality = quality;
+        m.intf.desired_msr_sample_time = self.cycle as f32;
+        m.intf.desired_cmd_sample_time = self.cycle as f32;
+        m.intf.stat.answer_rate = rate as f32;
+        m.intf.stat.miss_rate = (1.0 - rate) as f32;
+        m.intf.stat.latency = latency as f32;
+        m.intf.stat.jitter = jitter as f32;
+        m.intf.stat.miss_counter = missed as u32;
+        m.robot.power = 0x7f;
+        m.robot.control = 1;
+        m.robot.temperature = [30.0; JOINTS];
+        let d = &mut m.data;
+        d.msr_jnt_pos = self.measured.map(|v| v as f32);
+        d.msr_cart_pos = pose_row_major(&self.arm.forward(&self.measured));
+        d.cmd_jnt_pos = self.krl.map(|v| v as f32);
+        d.cmd_jnt_pos_fri_offset = std::array::from_fn(|j| (self.target[j] - self.krl[j]) as f32);
+        d.cmd_cart_pos = pose_row_major(&self.arm.forward(&self.target));
+        let jacobian = self.arm.jacobian(&self.measured);
+        d.jacobian = std::array::from_fn(|k| jacobian[k / JOINTS][k % JOINTS] as f32);
+        m
+    }
+
+    /// An on-time answer in cycle `k`: in command mode its `jntPos` is the
+    /// new commanded position (clamped to the position limits; too fast or
+    /// too far counted); in monitor mode it counts towards the handshake if
+    /// it echoes the commanded position.
+    fn take(&mut self, c: &Command, k: u64, report: &mut KrcReport) {
+        self.last_answer = k;
+        self.refl = c.head.send_seq_count;
+        let wanted = c.cmd.jnt_pos.map(f64::from);
+        let moves = c.cmd.cmd_flags & flags::JNTPOS != 0;
+        let velocity = VELOCITY_LIMITS_DEG.map(f64::to_radians);
+        let position = POSITION_LIMITS_DEG.map(f64::to_radians);
+        match self.state {
+            State::Command if moves => {
+                let step = |j: usize| (wanted[j] - self.target[j]).abs();
+                if (0..JOINTS).any(|j| step(j) > velocity[j] * self.cycle * 1.001) {
+                    report.too_fast += 1;
+                }
+                if (0..JOINTS).any(|j| wanted[j].abs() > position[j]) {
+                    report.beyond_limits += 1;
+                }
+                self.target = std::array::from_fn(|j| wanted[j].clamp(-position[j], position[j]));
+            }
+            State::Monitor => {
+                let echo = moves && (0..JOINTS).all(|j| (wanted[j] - self.target[j]).abs() < 1e-4);
+                self.echoes = if echo { self.echoes + 1 } else { 0 };
+            }
+            _ => {}
+        }
+    }
+
+    /// One cycle of the joint servo: a first-order lag of [`SERVO_LAG`]
+    /// toward the commanded position, no faster than the velocity limits.
+    fn servo(&mut self) {
+        let follow = 1.0 - (-self.cycle / SERVO_LAG).exp();
+        for (j, limit) in VELOCITY_LIMITS_DEG.iter().enumerate() {
+            let max = limit.to_radians() * self.cycle;
+            self.measured[j] += ((self.target[j] - self.measured[j]) * follow).clamp(-max, max);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const THRESHOLDS: [f64; 3] = [0.5, 0.8, 0.98];
+
+    #[test]
+    fn quality_ramps_up_with_answers_and_falls_with_misses() {
+        let mut w = Window::default();
+        assert_eq!(w.quality(THRESHOLDS), Quality::Unacceptable);
+        let mut seen = Vec::new();
+        for _ in 0..2 * RAMP {
+            w.push(Some(1e-4));
+            seen.push(w.quality(THRESHOLDS));
+        }
+        seen.dedup();
+        assert_eq!(seen, [Quality::Bad, Quality::Ok, Quality::Perfect]);
+        // One answer in 20 missing: OK, not PERFECT.
+        for i in 0..STAT_WINDOW {
+            w.push((i % 20 != 0).then_some(2e-4));
+        }
+        assert_eq!(w.quality(THRESHOLDS), Quality::Ok);
+        assert!((w.answer_rate() - 0.95).abs() < 1e-12);
+        let (latency, jitter) = w.latency();
+        assert!((latency - 2e-4).abs() < 1e-15 && jitter == 0.0);
+        // Silence: down to UNACCEPTABLE.
+        for _ in 0..40 {
+            w.push(None);
+        }
+        assert!((w.answer_rate() - 0.57).abs() < 1e-12);
+        assert_eq!(w.quality(THRESHOLDS), Quality::Bad);
+        for _ in 0..60 {
+            w.push(None);
+        }
+        assert_eq!(w.quality(THRESHOLDS), Quality::Unacceptable);
+    }
+
+    #[test]
+    fn the_servo_lags_and_respects_the_velocity_limits() {
+        let mut robot = Robot::new([0.0; JOINTS], 0.002);
+        robot.target = [1.0, 1e-3, 0.0, 0.0, 0.0, 0.0, 0.0];
+        robot.servo();
+        // Joint 1 at its 110 °/s limit; joint 2 a third of the way (lag).
+        assert!((robot.measured[0] - 110f64.to_radians() * 0.002).abs() < 1e-12);
+        let follow = 1.0 - (-0.002f64 / SERVO_LAG).exp();
+        assert!((robot.measured[1] - 1e-3 * follow).abs() < 1e-15);
+        for _ in 0..1000 {
+            robot.servo();
+        }
+        assert!((0..JOINTS).all(|j| (robot.measured[j] - robot.target[j]).abs() < 1e-12));
+    }
+
+    #[test]
+    fn bad_settings_are_refused() {
+        let remote = SocketAddr::from(([127, 0, 0, 1], 49938));
+        let mut cfg = KrcConfig::new(remote);
+        cfg.cycle = Duration::from_millis(20);
+        assert_eq!(
+            SimKrc::new(cfg).unwrap_err(),
+            "FRI cycle 20 ms: must be 1 to 10 ms"
+        );
+        let mut cfg = KrcConfig::new(remote);
+        cfg.drop = 1.0;
+        assert!(SimKrc::new(cfg).unwrap_err().starts_with("packet loss 1"));
+        let mut cfg = KrcConfig::new(remote);
+        cfg.start[1] = 2.2;
+        assert!(
+            SimKrc::new(cfg)
+                .unwrap_err()
+                .starts_with("start position: joint 2")
+        );
+        let mut cfg = KrcConfig::new(remote);
+        cfg.thresholds = [0.9, 0.8, 0.98];
+        assert!(SimKrc::new(cfg).is_err());
     }
 }
