@@ -502,3 +502,53 @@ fn the_binaries_play_against_sim_krc() {
         "{krc_out}"
     );
 }
+
+#[test]
+fn robot_commands_refuse_bad_input_with_one_line() {
+    let xy = tmp("xy.csv");
+    std::fs::write(&xy, "t,x,y\n0,1,2\n1,2,3\n2,3,4\n").unwrap();
+    let xy = xy.to_str().unwrap();
+    let swing = write_csv("ok.csv", &swing());
+    let swing = swing.to_str().unwrap();
+    let cases: &[(&[&str], &str)] = &[
+        (
+            &["robot", "play", xy, "--robot", "fri:127.0.0.1"],
+            "xy.csv:1: columns `t,x,y`: a joint trajectory has the columns t,a1,a2,a3,a4,a5,a6,a7 (radians)",
+        ),
+        (
+            &["robot", "play", swing, "--robot", "udp:1.2.3.4"],
+            "--robot `udp:1.2.3.4`: unknown robot driver; expected fri:ADDR[:PORT]",
+        ),
+        (
+            &["robot", "play", swing, "--robot", "fri:127.0.0.1:99999"],
+            "--robot `fri:127.0.0.1:99999`: port `99999` is not a number in 1..=65535",
+        ),
+        (
+            &[
+                "robot",
+                "play",
+                swing,
+                "--robot",
+                "fri:127.0.0.1",
+                "--approach-speed",
+                "2",
+            ],
+            "--approach-speed: 2 is outside [0.001, 1]",
+        ),
+        (
+            &["robot", "sim-krc", "--cycle-ms", "20"],
+            "FRI cycle 20 ms: must be 1 to 10 ms",
+        ),
+        (
+            &["robot", "sim-krc", "--start", "1,2"],
+            "--start: expected 7 values (one per DoF: a1,a2,a3,a4,a5,a6,a7), found 2",
+        ),
+    ];
+    for (args, message) in cases {
+        let (code, out, err) = primo(args);
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert!(out.is_empty(), "{out}");
+        assert_eq!(err.lines().count(), 1, "{err}");
+        assert!(err.contains(message), "{args:?}: {err}");
+    }
+}

@@ -196,7 +196,10 @@ fn robot_play(trajectory: &Path, robot: &str, cfg: &PlayConfig) -> Result<(), Cl
     let result = play(&socket, &path, cfg)?;
     print_result(&result);
     match result.ended {
-        Ended::Completed => Ok(()),
+        Ended::Completed => {
+            println!("primo robot play: completed");
+            Ok(())
+        }
         ended => Err(CliError::other(format!("robot play: {ended}"))),
     }
 }
@@ -234,7 +237,6 @@ fn print_result(r: &PlayResult) {
             );
         }
     }
-    println!("primo robot play: {}", r.ended);
 }
 
 fn sim_krc(cfg: KrcConfig) -> Result<(), CliError> {
