@@ -45,6 +45,9 @@ enum Command {
     /// The precision scale over MT-SICS: serve the simulated one, read one.
     #[command(subcommand)]
     Scale(crate::mtsics::commands::ScaleCommand),
+    /// The robot over KUKA FRI: stream a trajectory, or simulate the KRC.
+    #[command(subcommand)]
+    Robot(crate::fri::robot::RobotCommand),
 }
 
 #[derive(Debug, Subcommand)]
@@ -285,6 +288,7 @@ fn run(cli: Cli) -> Result<(), CliError> {
             out,
         }) => experiment_power(runs, kernels, updates, glass, seed, &out),
         Command::Scale(command) => crate::mtsics::commands::run(command),
+        Command::Robot(command) => crate::fri::robot::run(command),
         Command::Dmp(DmpCommand::Fit { demo, kernels, out }) => fit(&demo, kernels, out.as_deref()),
         Command::Dmp(DmpCommand::Run {
             dmp,
@@ -351,7 +355,7 @@ fn fit(demo_path: &Path, kernels: usize, out: Option<&Path>) -> Result<(), CliEr
 }
 
 /// Parses `a,b,...` with exactly one value per DoF.
-fn parse_vector(flag: &str, text: &str, names: &[String]) -> Result<Vec<f32>, CliError> {
+pub(crate) fn parse_vector(flag: &str, text: &str, names: &[String]) -> Result<Vec<f32>, CliError> {
     let values: Vec<&str> = text.split(',').map(str::trim).collect();
     if values.len() != names.len() {
         return Err(CliError::input(format!(

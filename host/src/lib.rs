@@ -10,9 +10,11 @@
 //! - [`skill`]: demonstrations → DMPs → generalization → checked roll-outs.
 //! - [`pour`]: the learners driving the skill's roll-outs.
 //! - [`experiment`]: the paper's experiments, runs spread over all cores.
+//! - [`fri`]: the KUKA LWR4 over FRI (UDP), and a simulated KRC.
 //! - [`report`]: roll-out tables, summaries and charts.
 //! - [`mtsics`]: MT-SICS precision scales: client, simulated device, `primo scale`.
 //! - [`series`]: a roll-out's time series and its CSV.
+//! - [`safety`]: the limit checks every trajectory passes before it moves anything.
 #![deny(missing_docs)]
 
 pub mod cli;
@@ -21,10 +23,12 @@ pub mod csv;
 pub mod dmpfile;
 mod error;
 pub mod experiment;
+pub mod fri;
 pub mod mtsics;
 pub mod plot;
 pub mod pour;
 pub mod report;
+pub mod safety;
 pub mod series;
 pub mod sim;
 pub mod skill;

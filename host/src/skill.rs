@@ -4,19 +4,20 @@
 //! A movement is `θ = G(q̂) + Δθ` (paper eq. 12) with the DMP parameter
 //! layout `[weights row by row, goals, τ]`; the start is generalized with
 //! the same coefficients (it is where the robot stands, not a learned
-//! parameter). Every trajectory is checked before it reaches the cell:
-//! joint position and velocity limits in joint space, the workspace box and
-//! speed limits of the mouth in Cartesian space. A rejected roll-out has
-//! reward 0 and moves nothing.
+//! parameter). Every trajectory passes [`crate::safety`] before it reaches
+//! the cell: joint position and velocity limits in joint space; in
+//! Cartesian space the mouth's workspace box and speed limits, and the
+//! joint limits of the arm's inverse kinematics along the poses. A
+//! rejected roll-out has reward 0 and moves nothing.
 
 use primo_core::dmp::{Execution, FitOptions, Scaling};
 use primo_core::generalize::{Generalizer, Method};
 
 use crate::csv::Demo;
+use crate::safety::{self, JointPath};
 use crate::series::Series;
-use crate::sim::arm::{JOINTS, check_limits};
 use crate::sim::cell::{Cell, CellConfig};
-use crate::sim::expert::{CARTESIAN_NAMES, JOINT_NAMES};
+use crate::sim::expert::{CARTESIAN_NAMES, JOINT_NAMES, rest_configuration};
 use crate::{HostDmp, MAX_DOF, MAX_KERNELS};
 
 /// Most examples a skill generalizes over.
@@ -45,13 +46,6 @@ impl Space {
         }
     }
 }
-
-/// Box the mouth must stay in during Cartesian movements (base frame, m).
-pub const WORKSPACE: [[f64; 2]; 3] = [[0.3, 1.1], [-0.5, 0.7], [0.3, 1.1]];
-/// Fastest the mouth may move, m/s.
-pub const MAX_MOUTH_SPEED: f64 = 1.0;
-/// Fastest the bottle's rotation vector may change, rad/s.
-pub const MAX_TURN_RATE: f64 = 3.0;
 
 /// Demonstrations fitted and generalized.
 #[derive(Debug, Clone)]
@@ -250,18 +244,17 @@ impl Skill {
         Ok(plan)
     }
 
-    /// Checks the plan against the robot's limits (see the module docs).
-    pub fn check(&self, plan: &Plan) -> Result<(), String> {
+    /// Checks the plan with [`crate::safety`] (see the module docs): in
+    /// joint space directly, in Cartesian space also the joint angles the
+    /// inverse kinematics of `cell`'s arm gives for the bottle poses, from
+    /// the rest posture between the demonstrators' elbows. Returns the
+    /// checked joint angles.
+    pub fn check(&self, cell: &CellConfig, plan: &Plan) -> Result<JointPath, String> {
         match self.space {
-            Space::Joint => {
-                let rows = plan
-                    .rows
-                    .chunks_exact(JOINTS)
-                    .map(|r| std::array::from_fn::<f64, JOINTS, _>(|j| r[j]))
-                    .collect::<Vec<_>>();
-                check_limits(plan.t.iter().copied().zip(&rows)).map_err(|v| v.to_string())
+            Space::Joint => safety::check_joints(plan.t.clone(), rows(plan)),
+            Space::Cartesian => {
+                safety::check_cartesian(cell, &plan.t, &rows(plan), &rest_configuration(0.0))
             }
-            Space::Cartesian => check_cartesian(plan),
         }
     }
 
@@ -287,7 +280,7 @@ impl Skill {
         };
         let plan = match self
             .plan(query, delta, cell.dt)
-            .and_then(|p| self.check(&p).map(|()| p))
+            .and_then(|p| self.check(cell, &p).map(|_| p))
         {
             Ok(plan) => plan,
             Err(why) => return Ok(rejected(why)),
@@ -322,46 +315,10 @@ impl Skill {
     }
 }
 
-/// The mouth stays in [`WORKSPACE`], moves no faster than
-/// [`MAX_MOUTH_SPEED`] and turns no faster than [`MAX_TURN_RATE`].
-fn check_cartesian(plan: &Plan) -> Result<(), String> {
-    const AXES: [&str; 3] = ["x", "y", "z"];
-    let mut last: Option<(f64, &[f64])> = None;
-    for (i, (t, row)) in plan.t.iter().zip(plan.rows.chunks_exact(6)).enumerate() {
-        if row.iter().any(|v| !v.is_finite()) {
-            return Err(format!("sample {i}: non-finite pose"));
-        }
-        for (axis, (v, [lo, hi])) in row.iter().zip(WORKSPACE).enumerate() {
-            if *v < lo || *v > hi {
-                return Err(format!(
-                    "sample {i}: mouth {} = {v:.3} m outside the workspace [{lo}, {hi}] m",
-                    AXES[axis]
-                ));
-            }
-        }
-        if let Some((t0, r0)) = last {
-            let dt = t - t0;
-            let dist = |a: &[f64], b: &[f64]| {
-                a.iter()
-                    .zip(b)
-                    .map(|(x, y)| (x - y) * (x - y))
-                    .sum::<f64>()
-                    .sqrt()
-            };
-            let speed = dist(&row[..3], &r0[..3]) / dt;
-            if speed > MAX_MOUTH_SPEED {
-                return Err(format!(
-                    "sample {i}: mouth speed {speed:.2} m/s beyond {MAX_MOUTH_SPEED} m/s"
-                ));
-            }
-            let turn = dist(&row[3..], &r0[3..]) / dt;
-            if turn > MAX_TURN_RATE {
-                return Err(format!(
-                    "sample {i}: turning at {turn:.2} rad/s beyond {MAX_TURN_RATE} rad/s"
-                ));
-            }
-        }
-        last = Some((*t, row));
-    }
-    Ok(())
+/// The plan's samples as fixed-size rows (`N` = its DoF).
+fn rows<const N: usize>(plan: &Plan) -> Vec<[f64; N]> {
+    plan.rows
+        .chunks_exact(N)
+        .map(|r| std::array::from_fn(|j| r[j]))
+        .collect()
 }

@@ -1,0 +1,852 @@
+//! primo's side of FRI: a sans-I/O [`Session`] (one measurement in, exactly
+//! one command out) and [`play`], the UDP loop around it.
+//!
+//! The session streams a [`JointPath`] (so only trajectories that passed
+//! [`crate::safety`] can reach the robot):
+//!
+//! 1. In monitor mode, or before the robot is powered and in command mode
+//!    with quality ≥ OK, it echoes `cmdJntPos + cmdJntPosFriOffset`: the
+//!    robot stays where it is commanded.
+//! 2. At the first commandable cycle the first setpoint is the measured
+//!    position; a minimum-jerk approach at a bounded fraction of the
+//!    velocity limits brings the robot to the trajectory's start.
+//! 3. The trajectory, resampled at the FRI cycle (`desiredCmdSampleTime`),
+//!    one setpoint per cycle in which the robot reports the previous one as
+//!    commanded (`cmdJntPos + cmdJntPosFriOffset`): a lost measurement or a
+//!    lost or late answer delays the rest by a cycle instead of making the
+//!    robot jump two steps.
+//! 4. It holds the last setpoint for a settling time, then is done.
+//!
+//! It stops for good, holding the last setpoint (or echoing once the robot
+//! is back in monitor mode or unpowered), when the quality drops below OK, the robot
+//! leaves command mode or loses power, does not take the setpoints for a
+//! quarter of a second, or the next setpoint would cross a joint position
+//! or velocity limit. [`play`] also stops when packets stop
+//! coming for longer than a timeout.
+//!
+//! ```
+//! use primo_host::fri::client::{Phase, Session, SessionConfig};
+//! use primo_host::fri::packet::{Measurement, Quality, State};
+//! use primo_host::safety::check_joints;
+//! let path = check_joints(vec![0.0, 1.0], vec![[0.1; 7], [0.2; 7]]).unwrap();
+//! let mut session = Session::new(&path, SessionConfig::default());
+//! let mut m = Measurement::default();
+//! m.intf.desired_cmd_sample_time = 0.002;
+//! m.robot.power = 0x7f;
+//! m.intf.state = State::Monitor;
+//! m.data.cmd_jnt_pos = [0.5; 7];
+//! let c = session.answer(&m);
+//! assert_eq!(c.cmd.jnt_pos, [0.5; 7]); // monitor mode: echo
+//! m.intf.state = State::Command;
+//! m.intf.quality = Quality::Perfect;
+//! m.head.send_seq_count = 1;
+//! let c = session.answer(&m);
+//! assert_eq!(c.head.refl_seq_count, 1);
+//! assert_eq!(c.cmd.jnt_pos, m.data.msr_jnt_pos); // first setpoint: where it is
+//! assert_eq!(session.phase(), &Phase::Streaming);
+//! ```
+
+use std::fmt;
+use std::net::{SocketAddr, UdpSocket};
+use std::time::{Duration, Instant};
+
+use super::packet::{Command, Measurement, Quality, State};
+use crate::CliError;
+use crate::safety::JointPath;
+use crate::sim::arm::{JOINTS, VELOCITY_LIMITS_DEG, check_limits};
+
+/// Shortest and longest FRI cycle the session accepts, s.
+pub const CYCLE_RANGE: [f64; 2] = [0.0005, 0.1];
+
+/// How far the robot's commanded position (`cmdJntPos +
+/// cmdJntPosFriOffset`, two f32 summed) may be from the last setpoint for
+/// it to count as taken, rad.
+const TAKEN_TOLERANCE: f64 = 1e-5;
+/// How long the robot may go on not taking the setpoints before the
+/// session stops (at least 10 cycles), s.
+const UNACKNOWLEDGED_TIME: f64 = 0.25;
+
+/// How the session moves.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SessionConfig {
+    /// Peak speed of the approach to the trajectory's start, as a fraction
+    /// of each joint's velocity limit.
+    pub approach_speed: f64,
+    /// How long to hold the final setpoint after the trajectory, s.
+    pub settle: f64,
+}
+
+impl Default for SessionConfig {
+    /// Approach at up to 20 % of the velocity limits; settle 0.3 s.
+    fn default() -> Self {
+        SessionConfig {
+            approach_speed: 0.2,
+            settle: 0.3,
+        }
+    }
+}
+
+/// Why the session stopped before the end.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Stop {
+    /// The communication quality fell below OK.
+    Quality(Quality),
+    /// The robot left command mode.
+    LeftCommandMode(State),
+    /// A drive lost power (the `power` bits).
+    Unpowered(u16),
+    /// The next setpoint would cross a joint limit.
+    Limit(String),
+    /// `desiredCmdSampleTime` outside [`CYCLE_RANGE`].
+    SampleTime(f32),
+    /// The robot's commanded position stayed off the last setpoint for
+    /// this many cycles.
+    NotFollowing(usize),
+}
+
+impl fmt::Display for Stop {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Stop::Quality(q) => write!(f, "the communication quality dropped to {q:?}"),
+            Stop::LeftCommandMode(s) => write!(f, "the robot left command mode (now {s:?})"),
+            Stop::Unpowered(p) => write!(f, "drives lost power (power bits {p:#04x})"),
+            Stop::Limit(why) => write!(f, "the next setpoint would cross a limit: {why}"),
+            Stop::NotFollowing(n) => write!(
+                f,
+                "the robot did not take the commanded position for {n} cycles"
+            ),
+            Stop::SampleTime(t) => write!(
+                f,
+                "desiredCmdSampleTime {t} s is outside [{}, {}] s",
+                CYCLE_RANGE[0], CYCLE_RANGE[1]
+            ),
+        }
+    }
+}
+
+/// Where the session is.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Phase {
+    /// Echoing, waiting for command mode with quality ≥ OK and power.
+    Waiting,
+    /// Streaming setpoints (approach, trajectory, settling).
+    Streaming,
+    /// Every setpoint sent and settled; holding the last.
+    Done,
+    /// Stopped early; holding (see [`Stop`]).
+    Stopped {
+        /// Why.
+        why: Stop,
+        /// Setpoints sent before the stop.
+        at: usize,
+    },
+}
+
+/// Measured minus commanded joint positions while streaming, rad.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Tracking {
+    /// Largest |error| per joint.
+    pub max: [f64; JOINTS],
+    /// Root mean square per joint.
+    pub rms: [f64; JOINTS],
+    /// Measurements compared.
+    pub samples: usize,
+    /// The last measured minus the last commanded position.
+    pub last: [f64; JOINTS],
+}
+
+/// The remote side of one FRI trajectory run, sans I/O.
+#[derive(Debug, Clone)]
+pub struct Session {
+    cfg: SessionConfig,
+    path: JointPath,
+    phase: Phase,
+    seq: u16,
+    setpoints: Vec<[f64; JOINTS]>,
+    approach: usize,
+    next: usize,
+    dt: f64,
+    last: Option<[f64; JOINTS]>,
+    settle_cycles: usize,
+    unacknowledged: usize,
+    sum_sq: [f64; JOINTS],
+    tracking: Tracking,
+}
+
+impl Session {
+    /// A session that will stream `path`.
+    pub fn new(path: &JointPath, cfg: SessionConfig) -> Self {
+        Session {
+            cfg,
+            path: path.clone(),
+            phase: Phase::Waiting,
+            seq: 0,
+            setpoints: Vec::new(),
+            approach: 0,
+            next: 0,
+            dt: 0.0,
+            last: None,
+            settle_cycles: 0,
+            unacknowledged: 0,
+            sum_sq: [0.0; JOINTS],
+            tracking: Tracking::default(),
+        }
+    }
+
+    /// Where the session is.
+    pub fn phase(&self) -> &Phase {
+        &self.phase
+    }
+
+    /// The tracking error so far.
+    pub fn tracking(&self) -> Tracking {
+        self.tracking
+    }
+
+    /// Setpoints planned (approach and trajectory; 0 before streaming).
+    pub fn planned(&self) -> usize {
+        self.setpoints.len()
+    }
+
+    /// Setpoints of the approach (0 before streaming).
+    pub fn approach_len(&self) -> usize {
+        self.approach
+    }
+
+    /// Setpoints sent so far.
+    pub fn sent(&self) -> usize {
+        self.next
+    }
+
+    /// The FRI cycle the setpoints were planned for, s (0 before streaming).
+    pub fn cycle(&self) -> f64 {
+        self.dt
+    }
+
+    /// Done or stopped: no more setpoints will move the robot.
+    pub fn is_finished(&self) -> bool {
+        matches!(self.phase, Phase::Done | Phase::Stopped { .. })
+    }
+
+    /// The one answer to `m`: `reflSeqCount` is its `sendSeqCount`.
+    pub fn answer(&mut self, m: &Measurement) -> Command {
+        let seq = self.seq;
+        self.seq = seq.wrapping_add(1);
+        let q = self.setpoint(m);
+        Command::joint_position(seq, m, &q)
+    }
+
+    /// Why `m` does not allow commanding motion, if it does not.
+    fn not_commandable(m: &Measurement) -> Option<Stop> {
+        if m.intf.state != State::Command {
+            Some(Stop::LeftCommandMode(m.intf.state))
+        } else if !m.robot.powered() {
+            Some(Stop::Unpowered(m.robot.power))
+        } else if m.intf.quality < Quality::Ok {
+            Some(Stop::Quality(m.intf.quality))
+        } else {
+            None
+        }
+    }
+
+    /// The position to command in answer to `m`.
+    fn setpoint(&mut self, m: &Measurement) -> [f64; JOINTS] {
+        // Monitor mode or unpowered: echo; in command mode: the last setpoint.
+        let hold = |last: Option<[f64; JOINTS]>| match last {
+            Some(q) if m.intf.state == State::Command && m.robot.powered() => q,
+            _ => m.commanded(),
+        };
+        match self.phase {
+            Phase::Done | Phase::Stopped { .. } => hold(self.last),
+            Phase::Waiting => {
+                if Self::not_commandable(m).is_some() {
+                    return m.commanded();
+                }
+                // An f32 on the wire: 0.002 arrives as 0.0020000000949949.
+                let dt = (f64::from(m.intf.desired_cmd_sample_time) * 1e6).round() / 1e6;
+                if !(CYCLE_RANGE[0]..=CYCLE_RANGE[1]).contains(&dt) {
+                    self.stop(Stop::SampleTime(m.intf.desired_cmd_sample_time));
+                    return m.commanded();
+                }
+                self.start(m.measured(), dt);
+                self.advance(m)
+            }
+            Phase::Streaming => {
+                self.track(m);
+                if let Some(why) = Self::not_commandable(m) {
+                    self.stop(why);
+                    return hold(self.last);
+                }
+                self.advance(m)
+            }
+        }
+    }
+
+    /// Plans the approach from `measured` and the resampled trajectory.
+    fn start(&mut self, measured: [f64; JOINTS], dt: f64) {
+        self.dt = dt;
+        self.setpoints = approach(measured, self.path.start(), dt, self.cfg.approach_speed);
+        self.approach = self.setpoints.len();
+        self.setpoints
+            .extend(resample(&self.path, dt).into_iter().skip(1));
+        self.phase = Phase::Streaming;
+    }
+
+    /// The next setpoint, checked against the limits, once the robot
+    /// reports the last one as commanded; after the last setpoint, holds it
+    /// for the settling time.
+    fn advance(&mut self, m: &Measurement) -> [f64; JOINTS] {
+        if let Some(last) = self.last {
+            // A lost or late answer: send it again rather than the next,
+            // which would be two steps away from what the robot follows.
+            let taken = m.commanded();
+            if (0..JOINTS).any(|j| (taken[j] - last[j]).abs() > TAKEN_TOLERANCE) {
+                self.unacknowledged += 1;
+                let patience = (UNACKNOWLEDGED_TIME / self.dt).ceil().max(10.0) as usize;
+                if self.unacknowledged >= patience {
+                    self.stop(Stop::NotFollowing(self.unacknowledged));
+                }
+                return last;
+            }
+        }
+        self.unacknowledged = 0;
+        let Some(&next) = self.setpoints.get(self.next) else {
+            let last = self.last.unwrap_or_else(|| m.commanded());
+            self.settle_cycles += 1;
+            if self.settle_cycles as f64 * self.dt >= self.cfg.settle {
+                self.phase = Phase::Done;
+            }
+            return last;
+        };
+        let step = match self.last {
+            Some(last) => check_limits([(0.0, &last), (self.dt, &next)]),
+            None => check_limits([(0.0, &next)]),
+        };
+        if let Err(v) = step {
+            let why = format!("setpoint {}: {v}", self.next);
+            self.stop(Stop::Limit(why));
+            return self.last.unwrap_or_else(|| m.commanded());
+        }
+        self.next += 1;
+        self.last = Some(next);
+        next
+    }
+
+    fn stop(&mut self, why: Stop) {
+        self.phase = Phase::Stopped { why, at: self.next };
+    }
+
+    /// Compares the measured position with the setpoint in force.
+    fn track(&mut self, m: &Measurement) {
+        let Some(commanded) = self.last else {
+            return;
+        };
+        let t = &mut self.tracking;
+        t.samples += 1;
+        let measured = m.measured();
+        t.last = std::array::from_fn(|j| measured[j] - commanded[j]);
+        for (j, e) in t.last.iter().enumerate() {
+            t.max[j] = t.max[j].max(e.abs());
+            self.sum_sq[j] += e * e;
+            t.rms[j] = (self.sum_sq[j] / t.samples as f64).sqrt();
+        }
+    }
+}
+
+/// Minimum-jerk setpoints every `dt` from `from` (the first) to `to` (the
+/// last), with each joint's peak speed at most `speed` times its limit.
+fn approach(from: [f64; JOINTS], to: [f64; JOINTS], dt: f64, speed: f64) -> Vec<[f64; JOINTS]> {
+    // Minimum jerk peaks at 1.875·Δ/T.
+    let duration = (0..JOINTS)
+        .map(|j| 1.875 * (to[j] - from[j]).abs() / (speed * VELOCITY_LIMITS_DEG[j].to_radians()))
+        .fold(0.0, f64::max);
+    let steps = (duration / dt).ceil().max(1.0) as usize;
+    (0..=steps)
+        .map(|k| {
+            let s = k as f64 / steps as f64;
+            let blend = s * s * s * (10.0 - 15.0 * s + 6.0 * s * s);
+            std::array::from_fn(|j| from[j] + (to[j] - from[j]) * blend)
+        })
+        .collect()
+}
+
+/// The path linearly interpolated every `dt` from its first sample, ending
+/// exactly on its last.
+fn resample(path: &JointPath, dt: f64) -> Vec<[f64; JOINTS]> {
+    let (times, q) = (path.times(), path.positions());
+    let t0 = times.first().copied().unwrap_or(0.0);
+    // Grid points strictly before the end (to rounding), then the end.
+    let steps = (path.duration() / dt - 1e-9).ceil().max(0.0) as usize;
+    let mut out = Vec::with_capacity(steps + 1);
+    let mut i = 0;
+    for n in 0..steps {
+        let t = t0 + n as f64 * dt;
+        while times.get(i + 1).is_some_and(|&next| next <= t) {
+            i += 1;
+        }
+        match (times.get(i), times.get(i + 1), q.get(i), q.get(i + 1)) {
+            (Some(&ta), Some(&tb), Some(a), Some(b)) => {
+                let s = (t - ta) / (tb - ta);
+                out.push(std::array::from_fn(|j| a[j] + (b[j] - a[j]) * s));
+            }
+            (_, _, Some(a), _) => out.push(*a),
+            _ => break,
+        }
+    }
+    out.extend(q.last());
+    out
+}
+
+/// How a [`play`] run ended.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Ended {
+    /// Every setpoint streamed and settled.
+    Completed,
+    /// The session stopped (it held position for a while before [`play`]
+    /// returned).
+    Stopped(Stop),
+    /// No valid packet for longer than the cycle timeout while streaming.
+    Silent {
+        /// How long nothing came.
+        after: Duration,
+    },
+    /// The robot never became commandable within the start timeout.
+    NeverCommanded {
+        /// How long primo waited.
+        after: Duration,
+        /// The last measurement's state and quality, if any came.
+        last: Option<(State, Quality)>,
+    },
+}
+
+impl fmt::Display for Ended {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Ended::Completed => f.write_str("completed"),
+            Ended::Stopped(why) => write!(f, "stopped: {why}; held position"),
+            Ended::Silent { after } => write!(
+                f,
+                "stopped: no packet from the KRC for {:.3} s; the robot holds its last commanded position",
+                after.as_secs_f64()
+            ),
+            Ended::NeverCommanded {
+                after,
+                last: Some((state, quality)),
+            } => write!(
+                f,
+                "the robot did not become commandable within {:.1} s (last: state {state:?}, \
+                 quality {quality:?}, needs Command with quality >= Ok and all drives powered; \
+                 friStart on the KRC?); nothing was moved",
+                after.as_secs_f64()
+            ),
+            Ended::NeverCommanded { after, last: None } => write!(
+                f,
+                "no FRI packet from a KRC within {:.1} s (is the KRC sending to this address \
+                 and port?); nothing was moved",
+                after.as_secs_f64()
+            ),
+        }
+    }
+}
+
+/// Timeouts of [`play`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PlayConfig {
+    /// How the session moves.
+    pub session: SessionConfig,
+    /// Longest silence while streaming before stopping.
+    pub cycle_timeout: Duration,
+    /// Longest wait for the robot to become commandable.
+    pub start_timeout: Duration,
+    /// How long to keep answering (holding) after a stop.
+    pub hold: Duration,
+}
+
+impl Default for PlayConfig {
+    /// 0.2 s cycle timeout, 60 s start timeout, hold 0.5 s after a stop.
+    fn default() -> Self {
+        PlayConfig {
+            session: SessionConfig::default(),
+            cycle_timeout: Duration::from_millis(200),
+            start_timeout: Duration::from_secs(60),
+            hold: Duration::from_millis(500),
+        }
+    }
+}
+
+/// What a [`play`] run did.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlayResult {
+    /// How it ended.
+    pub ended: Ended,
+    /// Measured minus commanded positions while streaming.
+    pub tracking: Tracking,
+    /// The KRC's address (where the first valid packet came from).
+    pub krc: Option<SocketAddr>,
+    /// Measurements answered.
+    pub answered: u64,
+    /// Measurements missing from the KRC's `sendSeqCount` sequence.
+    pub gaps: u64,
+    /// Setpoints planned: the approach and the trajectory.
+    pub planned: usize,
+    /// Setpoints of the approach.
+    pub approach: usize,
+    /// Setpoints sent.
+    pub sent: usize,
+    /// The FRI cycle, s (0 if streaming never started).
+    pub cycle: f64,
+    /// Datagrams rejected (malformed, or not from the KRC).
+    pub rejected: u64,
+    /// Why the first few were rejected.
+    pub rejections: Vec<String>,
+}
+
+/// How many rejection messages a [`PlayResult`] keeps.
+const KEEP_REJECTIONS: usize = 10;
+
+/// Binds the local FRI address (see [`super::parse_robot`]).
+pub fn bind(addr: SocketAddr) -> Result<UdpSocket, CliError> {
+    UdpSocket::bind(addr).map_err(|e| CliError::other(format!("cannot bind UDP {addr}: {e}")))
+}
+
+/// Streams `path` to the KRC that sends to `socket`, answering every
+/// measurement to its sender, until the session is done, stops, or a
+/// timeout passes. Errors are socket failures only.
+pub fn play(
+    socket: &UdpSocket,
+    path: &JointPath,
+    cfg: &PlayConfig,
+) -> Result<PlayResult, CliError> {
+    let io = |e: std::io::Error| CliError::other(format!("FRI socket: {e}"));
+    let poll = cfg.cycle_timeout.min(Duration::from_millis(50));
+    socket
+        .set_read_timeout(Some(poll.max(Duration::from_millis(1))))
+        .map_err(io)?;
+    let mut session = Session::new(path, cfg.session);
+    let mut result = PlayResult {
+        ended: Ended::Completed,
+        tracking: Tracking::default(),
+        krc: None,
+        answered: 0,
+        gaps: 0,
+        planned: 0,
+        approach: 0,
+        sent: 0,
+        cycle: 0.0,
+        rejected: 0,
+        rejections: Vec::new(),
+    };
+    let started = Instant::now();
+    let mut last_packet = started;
+    let mut last_seen: Option<(u16, State, Quality)> = None;
+    let mut stopped_at: Option<Instant> = None;
+    let mut buf = [0u8; 2048];
+    let ended = loop {
+        let now = Instant::now();
+        match &session.phase {
+            Phase::Done => break Ended::Completed,
+            Phase::Stopped { why, .. } => {
+                let since = *stopped_at.get_or_insert(now);
+                if now - since >= cfg.hold || now - last_packet > cfg.cycle_timeout {
+                    break Ended::Stopped(why.clone());
+                }
+            }
+            Phase::Waiting if now - started > cfg.start_timeout => {
+                break Ended::NeverCommanded {
+                    after: now - started,
+                    last: last_seen.map(|(_, s, q)| (s, q)),
+                };
+            }
+            Phase::Streaming if now - last_packet > cfg.cycle_timeout => {
+                break Ended::Silent {
+                    after: now - last_packet,
+                };
+            }
+            _ => {}
+        }
+        let (n, from) = match socket.recv_from(&mut buf) {
+            Ok(got) => got,
+            Err(e) if super::transient(&e) => continue,
+            Err(e) => return Err(io(e)),
+        };
+        let mut reject = |why: String| {
+            result.rejected += 1;
+            if result.rejections.len() < KEEP_REJECTIONS {
+                result.rejections.push(why);
+            }
+        };
+        if let Some(krc) = result.krc.filter(|k| *k != from) {
+            reject(format!("datagram from {from} ignored: the KRC is {krc}"));
+            continue;
+        }
+        let m = match buf.get(..n).map(Measurement::parse) {
+            Some(Ok(m)) => m,
+            Some(Err(e)) => {
+                reject(format!("from {from}: {e}"));
+                continue;
+            }
+            None => continue,
+        };
+        let command = session.answer(&m);
+        socket.send_to(&command.encode(), from).map_err(io)?;
+        result.krc = Some(from);
+        result.answered += 1;
+        if let Some((seq, _, _)) = last_seen {
+            // Forward steps only: a restarted or reordered sequence is no gap.
+            let step = m.head.send_seq_count.wrapping_sub(seq);
+            if (1..0x8000).contains(&step) {
+                result.gaps += u64::from(step - 1);
+            }
+        }
+        last_seen = Some((m.head.send_seq_count, m.intf.state, m.intf.quality));
+        last_packet = Instant::now();
+    };
+    result.ended = ended;
+    result.tracking = session.tracking();
+    result.planned = session.planned();
+    result.approach = session.approach_len();
+    result.sent = session.sent();
+    result.cycle = session.cycle();
+    Ok(result)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fri::packet::{COMMAND_ID, flags};
+    use crate::safety::check_joints;
+
+    fn measurement(state: State, quality: Quality, q: [f32; JOINTS]) -> Measurement {
+        let mut m = Measurement::default();
+        m.intf.state = state;
+        m.intf.quality = quality;
+        m.intf.desired_cmd_sample_time = 0.01;
+        m.robot.power = 0x7f;
+        m.data.msr_jnt_pos = q;
+        m.data.cmd_jnt_pos = q;
+        m
+    }
+
+    fn path() -> JointPath {
+        // 0.2 rad on joint 1 in 1 s, then back in 1 s.
+        let t = vec![0.0, 1.0, 2.0];
+        let mut a = [0.0; JOINTS];
+        a[0] = 0.2;
+        check_joints(t, vec![[0.0; JOINTS], a, [0.0; JOINTS]]).unwrap()
+    }
+
+    #[test]
+    fn echoes_in_monitor_mode_and_reflects_the_sequence() {
+        let mut s = Session::new(&path(), SessionConfig::default());
+        for (i, state) in [State::Off, State::Monitor, State::Monitor]
+            .into_iter()
+            .enumerate()
+        {
+            let mut m = measurement(state, Quality::Perfect, [0.3; JOINTS]);
+            m.head.send_seq_count = 100 + i as u16;
+            m.data.cmd_jnt_pos_fri_offset[2] = 0.5;
+            let c = s.answer(&m);
+            assert_eq!(c.head.refl_seq_count, 100 + i as u16);
+            assert_eq!(c.head.send_seq_count, i as u16);
+            assert_eq!(c.head.datagram_id, COMMAND_ID);
+            assert_eq!(c.cmd.cmd_flags, flags::JNTPOS);
+            assert_eq!(c.cmd.jnt_pos[2], 0.8);
+            assert_eq!(c.cmd.jnt_pos[0], 0.3);
+        }
+        // Command mode but quality BAD, or unpowered: still echo.
+        let m = measurement(State::Command, Quality::Bad, [0.3; JOINTS]);
+        assert_eq!(s.answer(&m).cmd.jnt_pos, [0.3; JOINTS]);
+        let mut m = measurement(State::Command, Quality::Perfect, [0.3; JOINTS]);
+        m.robot.power = 0x3f;
+        assert_eq!(s.answer(&m).cmd.jnt_pos, [0.3; JOINTS]);
+        assert_eq!(s.phase(), &Phase::Waiting);
+    }
+
+    /// Runs a session against an ideal robot (measured = last command).
+    fn run(s: &mut Session, start: [f32; JOINTS], cycles: usize) -> Vec<[f32; JOINTS]> {
+        let mut q = start;
+        let mut sent = Vec::new();
+        for _ in 0..cycles {
+            let m = measurement(State::Command, Quality::Ok, q);
+            q = s.answer(&m).cmd.jnt_pos;
+            sent.push(q);
+        }
+        sent
+    }
+
+    #[test]
+    fn approaches_then_streams_the_resampled_trajectory_then_settles() {
+        let mut s = Session::new(&path(), SessionConfig::default());
+        let start = [0.1, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
+        let sent = run(&mut s, start, 1000);
+        assert_eq!(
+            sent[0], start,
+            "the first setpoint is the measured position"
+        );
+        // Approach: 0.1 rad on joint 1 at ≤ 20 % of 110 °/s.
+        let approach = s.approach_len();
+        let expected = (1.875 * 0.1 / (0.2 * 110f64.to_radians()) / 0.01).ceil() as usize + 1;
+        assert_eq!(approach, expected);
+        let speeds: Vec<f64> = sent
+            .windows(2)
+            .map(|w| f64::from(w[1][0] - w[0][0]).abs() / 0.01)
+            .collect();
+        assert!(
+            speeds[..approach - 1]
+                .iter()
+                .all(|v| *v <= 0.2 * 110f64.to_radians() + 1e-6)
+        );
+        assert_eq!(sent[approach - 1], [0.0; JOINTS]);
+        // Then the trajectory at 10 ms: 0.2 rad/s up, 0.2 rad/s down.
+        assert_eq!(s.planned(), approach + 200);
+        assert!((sent[approach - 1 + 100][0] - 0.2).abs() < 1e-6);
+        assert!((sent[approach - 1 + 50][0] - 0.1).abs() < 1e-6);
+        assert_eq!(sent[approach - 1 + 200], [0.0; JOINTS]);
+        // Settling: holds the end for 0.3 s (30 cycles), then done.
+        assert_eq!(s.phase(), &Phase::Done);
+        assert!(
+            sent[approach - 1 + 200..]
+                .iter()
+                .all(|q| *q == [0.0; JOINTS])
+        );
+        // The ideal robot is always where it was commanded (to f32).
+        let t = s.tracking();
+        assert!(t.samples > 200);
+        assert!(t.max.iter().all(|e| *e < 1e-7), "{t:?}");
+    }
+
+    #[test]
+    fn lost_answers_are_sent_again_never_skipped() {
+        let mut s = Session::new(&path(), SessionConfig::default());
+        // A robot that loses every third answer: it keeps what it had.
+        let mut taken = [0.0f32; JOINTS];
+        let mut accepted = vec![taken];
+        for cycle in 0..1000 {
+            let c = s.answer(&measurement(State::Command, Quality::Ok, taken));
+            if cycle % 3 != 2 {
+                taken = c.cmd.jnt_pos;
+                if accepted.last() != Some(&taken) {
+                    accepted.push(taken);
+                }
+            }
+        }
+        assert_eq!(s.phase(), &Phase::Done);
+        // Every setpoint reached the robot, in order, one step at a time.
+        let planned = s.planned();
+        let mut ideal = Session::new(&path(), SessionConfig::default());
+        let mut every = run(&mut ideal, [0.0; JOINTS], 1000);
+        every.dedup();
+        assert_eq!(accepted, every);
+        assert!(
+            accepted.len() >= planned - 1,
+            "{} of {planned}",
+            accepted.len()
+        );
+        // A robot that never takes a command: stop after 0.25 s.
+        let mut s = Session::new(&path(), SessionConfig::default());
+        let mut m = measurement(State::Command, Quality::Ok, [0.1; JOINTS]);
+        s.answer(&m);
+        m.data.msr_jnt_pos = [0.0; JOINTS];
+        m.data.cmd_jnt_pos = [0.0; JOINTS];
+        for _ in 0..25 {
+            s.answer(&m);
+        }
+        assert_eq!(
+            s.phase(),
+            &Phase::Stopped {
+                why: Stop::NotFollowing(25),
+                at: 1
+            }
+        );
+    }
+
+    #[test]
+    fn quality_drop_holds_position_for_good() {
+        let mut s = Session::new(&path(), SessionConfig::default());
+        let sent = run(&mut s, [0.0; JOINTS], 60);
+        let held = sent[59];
+        assert!(held[0] > 0.0);
+        let bad = measurement(State::Command, Quality::Bad, held);
+        for _ in 0..5 {
+            assert_eq!(s.answer(&bad).cmd.jnt_pos, held);
+        }
+        assert!(matches!(
+            s.phase(),
+            Phase::Stopped {
+                why: Stop::Quality(Quality::Bad),
+                ..
+            }
+        ));
+        // Quality back: still holding, nothing moves.
+        let good = measurement(State::Command, Quality::Perfect, held);
+        assert_eq!(s.answer(&good).cmd.jnt_pos, held);
+        // Back in monitor mode: echo.
+        let mut mon = measurement(State::Monitor, Quality::Perfect, held);
+        mon.data.cmd_jnt_pos = [0.7; JOINTS];
+        assert_eq!(s.answer(&mon).cmd.jnt_pos, [0.7; JOINTS]);
+    }
+
+    #[test]
+    fn leaving_command_mode_or_power_stops() {
+        for (state, power) in [(State::Monitor, 0x7f), (State::Command, 0x7e)] {
+            let mut s = Session::new(&path(), SessionConfig::default());
+            let sent = run(&mut s, [0.0; JOINTS], 60);
+            let mut m = measurement(state, Quality::Perfect, sent[59]);
+            m.robot.power = power;
+            m.data.cmd_jnt_pos = [0.05; JOINTS];
+            // Both echo the robot's commanded position.
+            assert_eq!(s.answer(&m).cmd.jnt_pos, [0.05; JOINTS]);
+            assert!(
+                matches!(s.phase(), Phase::Stopped { at: 60, .. }),
+                "{:?}",
+                s.phase()
+            );
+        }
+    }
+
+    #[test]
+    fn a_setpoint_beyond_a_limit_is_never_sent() {
+        // Measured far away and a near-zero approach speed bound would be
+        // fine; a measured position beyond the limit is not.
+        let mut s = Session::new(&path(), SessionConfig::default());
+        let beyond = [3.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
+        let c = s.answer(&measurement(State::Command, Quality::Perfect, beyond));
+        assert_eq!(c.cmd.jnt_pos, beyond, "held where commanded, not moved");
+        match s.phase() {
+            Phase::Stopped {
+                why: Stop::Limit(why),
+                at: 0,
+            } => assert!(
+                why.starts_with("setpoint 0: joint 1 at sample 0: 171.89 deg beyond"),
+                "{why}"
+            ),
+            p => panic!("{p:?}"),
+        }
+        // An approach speed above the limits is caught step by step.
+        let cfg = SessionConfig {
+            approach_speed: 3.0,
+            settle: 0.0,
+        };
+        let mut s = Session::new(&path(), cfg);
+        run(&mut s, [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0], 20);
+        match s.phase() {
+            Phase::Stopped {
+                why: Stop::Limit(why),
+                ..
+            } => assert!(why.contains("velocity limit"), "{why}"),
+            p => panic!("{p:?}"),
+        }
+    }
+
+    #[test]
+    fn resampling_hits_the_knots_and_ends_on_the_last_sample() {
+        let t = vec![0.5, 0.52, 0.535];
+        let p = check_joints(t, vec![[0.0; JOINTS], [0.02; JOINTS], [0.035; JOINTS]]).unwrap();
+        let r = resample(&p, 0.01);
+        let first: Vec<f64> = r.iter().map(|q| q[0]).collect();
+        assert_eq!(first.len(), 5);
+        for (a, b) in first.iter().zip([0.0, 0.01, 0.02, 0.03, 0.035]) {
+            assert!((a - b).abs() < 1e-12, "{first:?}");
+        }
+    }
+}

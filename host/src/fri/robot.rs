@@ -1,0 +1,281 @@
+//! The `primo robot` commands: stream a joint trajectory to a KUKA LWR4 over
+//! FRI (`play`), or be the KRC with the simulated arm and cell (`sim-krc`).
+
+use std::net::SocketAddr;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
+use std::time::Duration;
+
+use super::client::{Ended, PlayConfig, PlayResult, SessionConfig, bind, play};
+use super::krc::{KrcConfig, SimKrc};
+use super::{DEFAULT_PORT, parse_robot};
+use crate::CliError;
+use crate::csv::parse_demo;
+use crate::safety::{JointPath, check_joints};
+use crate::sim::arm::JOINTS;
+use crate::sim::cell::GlassKind;
+use crate::sim::expert::JOINT_NAMES;
+
+/// `primo robot …`.
+#[derive(Debug, clap::Subcommand)]
+pub enum RobotCommand {
+    /// Stream a joint trajectory (CSV `t,a1,...,a7`, radians, as `primo dmp
+    /// run` writes) to the robot after the joint limit checks, and report
+    /// the tracking error.
+    Play {
+        /// Trajectory CSV: header `t,a1,...,a7`, t in seconds, angles in rad.
+        trajectory: PathBuf,
+        /// `fri:ADDR[:PORT]`: the local UDP address to bind, where the KRC
+        /// sends its packets (default port 49938).
+        #[arg(long)]
+        robot: String,
+        /// Longest silence from the KRC while streaming before stopping, s.
+        #[arg(long, default_value_t = 0.2)]
+        cycle_timeout: f64,
+        /// Longest wait for the KRC's command mode, s.
+        #[arg(long, default_value_t = 60.0)]
+        start_timeout: f64,
+        /// Peak speed of the approach to the trajectory's start, as a
+        /// fraction of the joint velocity limits.
+        #[arg(long, default_value_t = 0.2)]
+        approach_speed: f64,
+        /// How long to hold the final position after the trajectory, s.
+        #[arg(long, default_value_t = 0.3)]
+        settle: f64,
+    },
+    /// Be the KRC: send FRI measurements to 127.0.0.1:PORT every cycle,
+    /// drive the simulated arm and pouring cell by the answers.
+    SimKrc {
+        /// The remote's UDP port on 127.0.0.1.
+        #[arg(long, default_value_t = DEFAULT_PORT)]
+        port: u16,
+        /// The FRI cycle, ms (1 to 10).
+        #[arg(long, default_value_t = 2)]
+        cycle_ms: u64,
+        /// Joint angles at power-on, rad, `a1,...,a7` (default: the
+        /// pouring rest posture).
+        #[arg(long, allow_hyphen_values = true)]
+        start: Option<String>,
+        /// Liquid in the bottle, l.
+        #[arg(long, default_value_t = 0.5)]
+        bottle: f64,
+        /// The glass on the scale.
+        #[arg(long, value_enum, default_value_t = GlassKind::Normal)]
+        glass: GlassKind,
+        /// Fault: fraction of measurement packets lost.
+        #[arg(long, default_value_t = 0.0)]
+        drop: f64,
+        /// Seed of the losses and the scale's noise.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Fault: the quality drops to BAD at this time, s.
+        #[arg(long)]
+        quality_drop_at: Option<f64>,
+        /// Fault: never switch to command mode.
+        #[arg(long)]
+        monitor_only: bool,
+        /// Fault: stop sending at this time, s (and exit).
+        #[arg(long)]
+        stop_after: Option<f64>,
+        /// Exit when a command session ends (the remote falls silent).
+        #[arg(long)]
+        once: bool,
+    },
+}
+
+/// Runs a `primo robot` command.
+pub fn run(command: RobotCommand) -> Result<(), CliError> {
+    match command {
+        RobotCommand::Play {
+            trajectory,
+            robot,
+            cycle_timeout,
+            start_timeout,
+            approach_speed,
+            settle,
+        } => {
+            let cfg = PlayConfig {
+                session: SessionConfig {
+                    approach_speed: in_range("--approach-speed", approach_speed, 1e-3, 1.0)?,
+                    settle: in_range("--settle", settle, 0.0, 60.0)?,
+                },
+                cycle_timeout: seconds("--cycle-timeout", cycle_timeout)?,
+                start_timeout: seconds("--start-timeout", start_timeout)?,
+                ..PlayConfig::default()
+            };
+            robot_play(&trajectory, &robot, &cfg)
+        }
+        RobotCommand::SimKrc {
+            port,
+            cycle_ms,
+            start,
+            bottle,
+            glass,
+            drop,
+            seed,
+            quality_drop_at,
+            monitor_only,
+            stop_after,
+            once,
+        } => {
+            let mut cfg = KrcConfig::new(SocketAddr::from(([127, 0, 0, 1], port)));
+            cfg.cycle = Duration::from_millis(cycle_ms);
+            if let Some(text) = start {
+                let names = JOINT_NAMES.map(String::from);
+                let q = crate::cli::parse_vector("--start", &text, &names)?;
+                cfg.start = std::array::from_fn(|j| q.get(j).copied().map_or(0.0, f64::from));
+            }
+            cfg.bottle = bottle;
+            cfg.glass = glass;
+            cfg.drop = drop;
+            cfg.seed = seed;
+            cfg.quality_drop_at = quality_drop_at
+                .map(|s| seconds("--quality-drop-at", s))
+                .transpose()?;
+            cfg.monitor_only = monitor_only;
+            cfg.stop_after = stop_after.map(|s| seconds("--stop-after", s)).transpose()?;
+            cfg.once = once;
+            sim_krc(cfg)
+        }
+    }
+}
+
+fn in_range(flag: &str, v: f64, lo: f64, hi: f64) -> Result<f64, CliError> {
+    if (lo..=hi).contains(&v) {
+        Ok(v)
+    } else {
+        Err(CliError::input(format!(
+            "{flag}: {v} is outside [{lo}, {hi}]"
+        )))
+    }
+}
+
+fn seconds(flag: &str, v: f64) -> Result<Duration, CliError> {
+    Duration::try_from_secs_f64(v)
+        .ok()
+        .filter(|d| !d.is_zero())
+        .ok_or_else(|| CliError::input(format!("{flag}: {v} is not a positive number of seconds")))
+}
+
+/// Reads a `t,a1..a7` trajectory and passes it through the safety checks.
+fn load_trajectory(path: &Path) -> Result<JointPath, CliError> {
+    let file = path.display().to_string();
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| CliError::input(format!("{file}: cannot read: {e}")))?;
+    let demo = parse_demo(&file, &text)?;
+    if demo.names != JOINT_NAMES {
+        return Err(CliError::input(format!(
+            "{file}:1: columns `t,{}`: a joint trajectory has the columns t,{} (radians)",
+            demo.names.join(","),
+            JOINT_NAMES.join(",")
+        )));
+    }
+    let times = demo.times.iter().map(|t| f64::from(*t)).collect();
+    let rows = demo
+        .positions
+        .chunks_exact(JOINTS)
+        .map(|r| std::array::from_fn(|j| f64::from(r[j])))
+        .collect();
+    check_joints(times, rows).map_err(|why| {
+        CliError::input(format!(
+            "{file}: trajectory rejected, nothing sent to the robot: {why}"
+        ))
+    })
+}
+
+fn robot_play(trajectory: &Path, robot: &str, cfg: &PlayConfig) -> Result<(), CliError> {
+    let addr = parse_robot(robot)?;
+    let path = load_trajectory(trajectory)?;
+    let socket = bind(addr)?;
+    println!(
+        "primo robot play: {} samples over {:.3} s passed the limit checks; \
+         waiting for the KRC's packets on {addr}",
+        path.times().len(),
+        path.duration()
+    );
+    let result = play(&socket, &path, cfg)?;
+    print_result(&result);
+    match result.ended {
+        Ended::Completed => {
+            println!("primo robot play: completed");
+            Ok(())
+        }
+        ended => Err(CliError::other(format!("robot play: {ended}"))),
+    }
+}
+
+fn print_result(r: &PlayResult) {
+    for why in &r.rejections {
+        eprintln!("primo robot play: rejected a datagram: {why}");
+    }
+    if r.rejected > r.rejections.len() as u64 {
+        eprintln!(
+            "primo robot play: {} more datagrams rejected",
+            r.rejected - r.rejections.len() as u64
+        );
+    }
+    if let Some(krc) = r.krc {
+        println!(
+            "KRC {krc}: {} packets answered, {} missing from its sequence",
+            r.answered, r.gaps
+        );
+    }
+    if r.planned > 0 {
+        println!(
+            "sent {} of {} setpoints at {:.1} ms ({} approaching the start)",
+            r.sent,
+            r.planned,
+            r.cycle * 1e3,
+            r.approach
+        );
+        println!("joint  max error [deg]  rms error [deg]  (measured - commanded)");
+        for (j, name) in JOINT_NAMES.iter().enumerate() {
+            println!(
+                "{name:>5}  {:>15.4}  {:>15.4}",
+                r.tracking.max[j].to_degrees(),
+                r.tracking.rms[j].to_degrees()
+            );
+        }
+    }
+}
+
+fn sim_krc(cfg: KrcConfig) -> Result<(), CliError> {
+    let krc = SimKrc::new(cfg).map_err(CliError::input)?;
+    let cell = krc.cell();
+    println!(
+        "primo robot sim-krc: FRI measurements every {} ms from {} to {}, monitor mode",
+        cfg.cycle.as_millis(),
+        krc.local_addr().map_err(CliError::other)?,
+        cfg.remote
+    );
+    let report = krc.run(&AtomicBool::new(false)).map_err(CliError::other)?;
+    let totals = cell.lock().totals();
+    println!(
+        "primo robot sim-krc: {} cycles, {} answered on time, {} missed ({} lost on purpose), \
+         {} stale answers, {} malformed datagrams",
+        report.cycles,
+        report.answered,
+        report.missed,
+        report.dropped,
+        report.stale,
+        report.malformed
+    );
+    for why in &report.rejections {
+        println!("primo robot sim-krc: malformed datagram: {why}");
+    }
+    println!(
+        "primo robot sim-krc: command mode for {:.3} s; commands too fast {}, beyond limits {}; \
+         moved up to {:.2} deg from the start",
+        report.command_cycles as f64 * cfg.cycle.as_secs_f64(),
+        report.too_fast,
+        report.beyond_limits,
+        report.max_excursion.to_degrees()
+    );
+    println!(
+        "primo robot sim-krc: in the glass {:.1} ml, spilled {:.1} ml, in the bottle {:.1} ml",
+        totals.glass * 1e3,
+        totals.spilled * 1e3,
+        totals.bottle * 1e3
+    );
+    Ok(())
+}
