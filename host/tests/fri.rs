@@ -15,10 +15,11 @@ use std::thread::JoinHandle;
 use std::time::Duration;
 
 use primo_core::power::{Power, PowerConfig};
+use primo_core::service::SAMPLER;
 use primo_host::fri::client::{Ended, PlayConfig, PlayResult, Stop, play};
 use primo_host::fri::krc::{CellHandle, KrcConfig, KrcReport, SimKrc};
 use primo_host::fri::packet::{Measurement, Quality, State};
-use primo_host::pour::{MAX_EXTENDED, SAMPLER, built_in_skill, power_blocks};
+use primo_host::pour::{MAX_EXTENDED, built_in_skill, power_blocks};
 use primo_host::safety::{JointPath, check_joints};
 use primo_host::sim::arm::JOINTS;
 use primo_host::sim::cell::{CellConfig, GlassKind};
