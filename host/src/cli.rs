@@ -6,11 +6,11 @@ use std::path::{Path, PathBuf};
 use clap::{Parser, Subcommand};
 use primo_core::dmp::FitOptions;
 
-use crate::coprocessor::{Link, Qemu};
 use crate::csv::{parse_demo, write_rows};
 use crate::dmpfile::DmpFile;
-use crate::pour::{Learner, Method, Settings, built_in_skill, learn, power_blocks};
-use crate::report::{PourSummary, PowerSummary, RolloutSummary};
+use crate::pour::{Method, Settings, built_in_skill, power_blocks};
+use crate::report::PowerSummary;
+use crate::run::{CellSpec, DemoFile, LearnerSpec, SkillSpec, Start, create_dir};
 use crate::sim::cell::{CellConfig, GlassKind};
 use crate::sim::expert::{Style, synthesize};
 use crate::skill::{Skill, Space};
@@ -116,10 +116,19 @@ struct PourArgs {
     /// Error learning stops at |error| below this, l.
     #[arg(long, default_value_t = 0.002)]
     precision: f64,
-    /// Output directory for rollouts.csv, summary.json, convergence.png
-    /// and series.csv (the best roll-out's time series).
+    /// Output directory: run.log (every roll-out, appended as it is made),
+    /// and at the end rollouts.csv, summary.json, convergence.png and
+    /// series.csv (the best roll-out's time series).
     #[arg(long, default_value = "pour-out")]
     out: PathBuf,
+    /// Continue the run logged in DIR (after a crash, a kill or a failed
+    /// instrument): its settings come from the log, and no roll-out is
+    /// lost or repeated.
+    #[arg(long, value_name = "DIR", conflicts_with_all = [
+        "bottle", "target", "method", "seed", "max_rollouts", "precision", "out",
+        "space", "kernels", "glass", "demos",
+    ])]
+    resume: Option<PathBuf>,
     /// Run the learner on a coprocessor: a serial port (e.g.
     /// /dev/ttyACM0), or `qemu` to boot the firmware on an emulated
     /// Cortex-M4F (qemu-system-arm) for the run.
@@ -462,21 +471,10 @@ fn synth(
 }
 
 impl SkillArgs {
-    /// The cell and the skill these options describe; `space` and `glass`
-    /// fall back to the given defaults.
-    fn build(&self, space: Space, glass: GlassKind) -> Result<(CellConfig, Skill), CliError> {
-        let space = self.space.unwrap_or(space);
-        let cell = CellConfig::standard(self.glass.unwrap_or(glass));
-        if !(2..=MAX_KERNELS).contains(&self.kernels) {
-            return Err(CliError::input(format!(
-                "--kernels: {} is outside 2..={MAX_KERNELS}",
-                self.kernels
-            )));
-        }
-        if self.demos.is_empty() {
-            let skill = built_in_skill(&cell, space, self.kernels).map_err(CliError::other)?;
-            return Ok((cell, skill));
-        }
+    /// The skill these options describe; `space` and `glass` fall back to
+    /// the given defaults. Demonstration paths become absolute, so a run
+    /// log names them from anywhere.
+    fn spec(&self, space: Space, glass: GlassKind) -> Result<SkillSpec, CliError> {
         let mut demos = Vec::new();
         for arg in &self.demos {
             let (file, volume) = arg
@@ -490,168 +488,50 @@ impl SkillArgs {
                     )));
                 }
             };
-            demos.push((volume, parse_demo(file, &read(Path::new(file))?)?));
+            let file = std::path::absolute(file)
+                .map_err(|e| CliError::input(format!("--demo {arg}: {e}")))?;
+            demos.push(DemoFile { file, volume });
         }
-        let examples: Vec<_> = demos.iter().map(|(q, d)| (*q, d)).collect();
-        let skill = Skill::fit(
-            space,
-            &examples,
-            self.kernels,
-            primo_core::generalize::Method::Lwr { bandwidth: None },
-        )
-        .map_err(CliError::input)?;
-        Ok((cell, skill))
-    }
-}
-
-fn create_dir(dir: &Path) -> Result<(), CliError> {
-    std::fs::create_dir_all(dir)
-        .map_err(|e| CliError::other(format!("{}: cannot create: {e}", dir.display())))
-}
-
-/// A progress bar on stderr, redrawn in place when stderr is a terminal.
-struct Progress {
-    total: u32,
-    tty: bool,
-}
-
-impl Progress {
-    fn new(total: u32) -> Self {
-        use std::io::IsTerminal;
-        Progress {
-            total: total.max(1),
-            tty: std::io::stderr().is_terminal(),
-        }
+        Ok(SkillSpec {
+            space: self.space.unwrap_or(space),
+            glass: self.glass.unwrap_or(glass),
+            kernels: self.kernels,
+            demos,
+        })
     }
 
-    fn show(&self, done: u32, note: &str) {
-        if !self.tty {
-            return;
-        }
-        let width = 30;
-        let filled = (done.min(self.total) * width / self.total) as usize;
-        eprint!(
-            "\r[{}{}] {done}/{} {note}   ",
-            "#".repeat(filled),
-            ".".repeat(width as usize - filled),
-            self.total
-        );
-    }
-
-    fn clear(&self) {
-        if self.tty {
-            eprint!("\r{}\r", " ".repeat(70));
-        }
+    /// The cell and skill these options describe (see [`SkillArgs::spec`]).
+    fn build(&self, space: Space, glass: GlassKind) -> Result<(CellConfig, Skill), CliError> {
+        self.spec(space, glass)?.build()
     }
 }
 
 fn pour(args: &PourArgs) -> Result<(), CliError> {
-    let started = std::time::Instant::now();
-    let space = match args.method {
-        Method::Power => Space::Joint,
-        _ => Space::Cartesian,
-    };
-    let (mut cell, skill) = args.skill.build(space, GlassKind::Normal)?;
-    cell.record_every = 1;
-    let mut best = crate::series::Best::default();
-    let mut settings = Settings::paper(args.method, args.bottle, args.target, args.seed);
-    settings.precision = args.precision;
-    if let Some(n) = args.max_rollouts {
-        settings.max_rollouts = n;
-    }
-    create_dir(&args.out)?;
-    let parameters = match args.method {
-        Method::Power => skill.param_len() + 1,
-        _ => 1,
-    };
-    println!(
-        "primo pour: {} from a {} l bottle, target {} l, {:?} space, {} learned parameter(s)",
-        match args.method {
-            Method::Golden => "golden-section error learning",
-            Method::Illinois => "Illinois error learning",
-            Method::Power => "extended PoWER",
-        },
-        args.bottle,
-        args.target,
-        skill.space(),
-        parameters
-    );
-    // QEMU (when asked for) lives until the run ends.
-    let (_qemu, mut learner) = match args.coprocessor.as_deref() {
-        None => (None, Learner::local()),
-        Some("qemu") => {
-            let elf = args.firmware.clone().unwrap_or_else(Qemu::default_firmware);
-            let qemu = Qemu::start(&elf).map_err(CliError::other)?;
-            let link = Link::open(qemu.pty()).map_err(CliError::other)?;
-            println!(
-                "learner: firmware {} on QEMU mps2-an386, {}",
-                elf.display(),
-                qemu.pty()
-            );
-            (Some(qemu), Learner::Remote(link))
-        }
-        Some(port) => {
-            let link = Link::open(port).map_err(CliError::other)?;
-            println!("learner: coprocessor on {port}");
-            (None, Learner::Remote(link))
+    let start = match &args.resume {
+        Some(dir) => Start::Resume { dir: dir.clone() },
+        None => {
+            let space = match args.method {
+                Method::Power => Space::Joint,
+                _ => Space::Cartesian,
+            };
+            let mut settings = Settings::paper(args.method, args.bottle, args.target, args.seed);
+            settings.precision = args.precision;
+            if let Some(n) = args.max_rollouts {
+                settings.max_rollouts = n;
+            }
+            Start::New {
+                out: args.out.clone(),
+                settings,
+                skill: args.skill.spec(space, GlassKind::Normal)?,
+                cell: CellSpec::Simulated,
+            }
         }
     };
-    let progress = Progress::new(settings.max_rollouts);
-    let records = learn(&skill, &cell, &settings, &mut learner, |r| {
-        progress.clear();
-        println!("{}", crate::report::rollout_line(r));
-        progress.show(r.rollout, &format!("error {:+.1} ml", r.trial.error * 1e3));
-        best.offer(r);
-    })
-    .map_err(CliError::input)?;
-    progress.clear();
-    let last = records
-        .iter()
-        .rev()
-        .find(|r| r.mean)
-        .ok_or_else(|| CliError::other("no roll-out was made"))?;
-    let converged_at = match args.method {
-        Method::Power => None,
-        _ => records
-            .iter()
-            .find(|r| r.trial.error.abs() < args.precision)
-            .map(|r| r.rollout),
+    let learner = LearnerSpec {
+        coprocessor: args.coprocessor.clone(),
+        firmware: args.firmware.clone(),
     };
-    let summary = PourSummary {
-        settings: &settings,
-        space: skill.space(),
-        parameters,
-        rollouts: records.len(),
-        converged_at,
-        last: RolloutSummary::of(last),
-        best: best.get().map(RolloutSummary::of),
-        seconds: started.elapsed().as_secs_f64(),
-    };
-    crate::report::write_pour(&args.out, &records, &summary)?;
-    let best = best.get();
-    crate::series::write_csv(
-        &args.out.join("series.csv"),
-        skill.space(),
-        best.and_then(|r| r.trial.series.as_ref()),
-    )?;
-    let verdict = match (args.method, converged_at) {
-        (Method::Power, _) => "learned".to_string(),
-        (_, Some(n)) => format!(
-            "converged to |error| < {} ml in {n} roll-outs",
-            args.precision * 1e3
-        ),
-        (_, None) => format!("did not reach {} ml", args.precision * 1e3),
-    };
-    println!(
-        "primo pour: {verdict}; last: q {:.4} l, poured {:.1} ml, spilled {:.1} ml, reward {:.3}; series.csv: roll-out {} (best reward); wrote {}",
-        last.query,
-        last.trial.poured * 1e3,
-        last.trial.spilled * 1e3,
-        last.trial.reward,
-        best.map_or("none".to_string(), |r| r.rollout.to_string()),
-        args.out.display()
-    );
-    Ok(())
+    crate::run::pour(start, &learner)
 }
 
 /// Parses a roll-out vector: a JSON array of `len` finite numbers.

@@ -12,6 +12,9 @@
 //! - [`experiment`]: the paper's experiments, runs spread over all cores.
 //! - [`fri`]: the KUKA LWR4 over FRI (UDP), and a simulated KRC.
 //! - [`report`]: roll-out tables, summaries and charts.
+//! - [`rig`]: where roll-outs happen: the simulated cell or the real instruments.
+//! - [`run`]: a `primo pour` run: its header, log, resumption and reports.
+//! - [`runlog`]: the durable log of a learning run, and its recovery.
 //! - [`mtsics`]: MT-SICS precision scales: client, simulated device, `primo scale`.
 //! - [`series`]: a roll-out's time series and its CSV.
 //! - [`safety`]: the limit checks every trajectory passes before it moves anything.
@@ -28,6 +31,9 @@ pub mod mtsics;
 pub mod plot;
 pub mod pour;
 pub mod report;
+pub mod rig;
+pub mod run;
+pub mod runlog;
 pub mod safety;
 pub mod series;
 pub mod sim;

@@ -8,12 +8,14 @@ use primo_core::generalize::Method as Regression;
 use primo_core::golden::SearchConfig;
 use primo_core::power::{Block, PowerConfig, widest_distance};
 use primo_core::service::Service;
-use primo_core::wire::{CHUNK, LearnerSetup, Outcome, Reply, Request, Setup};
-use serde::Serialize;
+use primo_core::wire::{CHUNK, LearnerSetup, Outcome, Reply, Request, Rollout, Setup, Status};
+use serde::{Deserialize, Serialize};
 
 use crate::MAX_KERNELS;
 use crate::coprocessor::Link;
 use crate::csv::Demo;
+use crate::rig::{Rig, Simulated};
+use crate::runlog::RunLog;
 use crate::sim::cell::CellConfig;
 use crate::sim::expert::{BUILT_IN, synthesize};
 use crate::skill::{MAX_EXAMPLES, MAX_PARAMS, Skill, Space, Trial};
@@ -25,7 +27,7 @@ pub const MAX_EXTENDED: usize = MAX_PARAMS + 1;
 pub const QUERY_DECAY: f32 = 0.9;
 
 /// The learner.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Method {
     /// The paper's error learning with golden-section search on the query.
@@ -38,7 +40,7 @@ pub enum Method {
 }
 
 /// What to learn and how.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Settings {
     /// The learner.
     pub method: Method,
@@ -82,7 +84,7 @@ impl Settings {
 }
 
 /// One roll-out of a learning run.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Record {
     /// Roll-out number, from 1.
     pub rollout: u32,
@@ -179,11 +181,6 @@ pub fn power_blocks(skill: &Skill, s1: f32, s2: f32) -> Result<Vec<Block>, Strin
     Ok(blocks)
 }
 
-/// The scale's noise seed for roll-out `i` of a run seeded `seed`.
-fn trial_seed(seed: u64, i: u32) -> u64 {
-    seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ u64::from(i)
-}
-
 /// The in-process learner: room for any skill the host can fit.
 pub type HostService = Service<MAX_EXTENDED, MAX_EXAMPLES, MAX_KERNELS>;
 
@@ -276,8 +273,8 @@ impl Learner {
     }
 }
 
-/// Runs the learner of `s` on `skill` in `cell`, calling `each` after every
-/// roll-out; returns all roll-outs.
+/// Runs the learner of `s` on `skill` in the simulated `cell`, calling
+/// `each` after every roll-out; returns all roll-outs.
 pub fn learn(
     skill: &Skill,
     cell: &CellConfig,
@@ -285,18 +282,72 @@ pub fn learn(
     learner: &mut Learner,
     mut each: impl FnMut(&Record),
 ) -> Result<Vec<Record>, String> {
+    let mut rig = Simulated {
+        cell: *cell,
+        bottle: s.bottle,
+        target: s.target,
+        seed: s.seed,
+    };
+    let run = learn_on(skill, s, learner, &mut rig, None, &[], |e, _| {
+        each(&e.record)
+    })?;
+    Ok(run.into_iter().map(|e| e.record).collect())
+}
+
+/// A roll-out as the run log keeps it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Entry {
+    /// The roll-out and what happened.
+    #[serde(flatten)]
+    pub record: Record,
+    /// The learner's `Δθ` (empty for the error learners).
+    pub delta: Vec<f32>,
+    /// The learner's state after it was told the outcome.
+    pub status: Status,
+    /// CRC-32C of what the learner asked (the roll-out and `Δθ`) and of its
+    /// status, bit for bit: a resumed run checks its learner against it.
+    pub check: u32,
+}
+
+/// The CRC of [`Entry::check`].
+fn check(asked: &Rollout, delta: &[f32], status: &Status) -> Result<u32, String> {
+    let bytes = postcard::to_allocvec(&(asked, delta, status)).map_err(|e| e.to_string())?;
+    Ok(crc::Crc::<u32>::new(&crc::CRC_32_ISCSI).checksum(&bytes))
+}
+
+/// Runs the learner of `s` on `skill` with roll-outs on `rig`, calling
+/// `each` after every roll-out (with `true` for a logged one), appending
+/// each to `log` before the next begins; returns all roll-outs.
+///
+/// `logged` are the roll-outs of an interrupted run of the same settings:
+/// the learner is told their outcomes again instead of rolling them out,
+/// and must ask for exactly the logged roll-outs and reach exactly the
+/// logged states (bit for bit), so the run goes on as if it had never
+/// stopped.
+pub fn learn_on(
+    skill: &Skill,
+    s: &Settings,
+    learner: &mut Learner,
+    rig: &mut dyn Rig,
+    mut log: Option<&mut RunLog>,
+    logged: &[Entry],
+    mut each: impl FnMut(&Entry, bool),
+) -> Result<Vec<Entry>, String> {
     learner.configure(skill, s)?;
-    let mut records = Vec::new();
+    let mut run = Vec::new();
     for i in 1..=s.max_rollouts {
-        let rollout = match learner.call(&Request::Ask)? {
+        let asked = match learner.call(&Request::Ask)? {
             Reply::Rollout(r) => r,
             Reply::Finished(_) => break,
             other => return Err(format!("learner: asked for a roll-out, got {other:?}")),
         };
-        let delta = learner.delta(rollout.delta_len)?;
-        let query = rollout.query;
-        let seed = trial_seed(s.seed, i);
-        let trial = skill.roll_out(cell, s.bottle, s.target, query, &delta, seed)?;
+        let delta = learner.delta(asked.delta_len)?;
+        let query = asked.query;
+        let before = logged.get(run.len());
+        let trial = match before {
+            Some(e) => e.record.trial.clone(),
+            None => rig.roll_out(skill, i, query, &delta)?,
+        };
         if let (Some(why), Method::Golden | Method::Illinois) = (&trial.rejected, s.method) {
             return Err(format!("roll-out {i} (q = {query}) rejected: {why}"));
         }
@@ -307,19 +358,68 @@ pub fn learn(
             error: trial.error as f32,
             reward: trial.reward as f32,
         }))?;
-        let mut record = Record {
-            rollout: i,
-            update: rollout.update,
-            mean: rollout.mean,
-            query,
-            trial,
+        let status = match learner.call(&Request::Status)? {
+            Reply::Status(status) => status,
+            other => return Err(format!("learner: asked for its status, got {other:?}")),
         };
-        each(&record);
-        // A recorded series (megabytes) goes to `each` only.
-        record.trial.series = None;
-        records.push(record);
+        let mut entry = Entry {
+            check: check(&asked, &delta, &status)?,
+            record: Record {
+                rollout: i,
+                update: asked.update,
+                mean: asked.mean,
+                query,
+                trial,
+            },
+            delta,
+            status,
+        };
+        match before {
+            Some(e) if e.check != entry.check || e.record.rollout != i => {
+                return Err(format!(
+                    "the run log's roll-out {} is not what the learner asks for and reaches \
+                     as roll-out {i} (q = {query}, logged q = {}): the log is of another \
+                     learner, seed or skill",
+                    e.record.rollout, e.record.query
+                ));
+            }
+            Some(_) => {}
+            None => {
+                if let Some(log) = log.as_deref_mut() {
+                    // A series (megabytes) stays out of the log.
+                    let series = entry.record.trial.series.take();
+                    log.append(&entry).map_err(|e| e.message)?;
+                    entry.record.trial.series = series;
+                }
+            }
+        }
+        each(&entry, before.is_some());
+        entry.record.trial.series = None;
+        run.push(entry);
     }
-    Ok(records)
+    if run.len() < logged.len() {
+        return Err(format!(
+            "the run log has {} roll-outs, the learner finished after {}: the log is of \
+             another learner, seed or skill",
+            logged.len(),
+            run.len()
+        ));
+    }
+    if let Some(log) = log {
+        log.end().map_err(|e| e.message)?;
+    }
+    Ok(run)
+}
+
+/// The best executed roll-out: the highest reward, the later of equals
+/// (the more learned).
+pub fn best(run: &[Entry]) -> Option<&Entry> {
+    run.iter()
+        .filter(|e| e.record.trial.rejected.is_none())
+        .fold(None, |best: Option<&Entry>, e| match best {
+            Some(b) if b.record.trial.reward > e.record.trial.reward => Some(b),
+            _ => Some(e),
+        })
 }
 
 #[cfg(test)]

@@ -21,7 +21,6 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use crate::csv::seconds;
-use crate::pour::Record;
 use crate::sim::cell::Sample;
 use crate::skill::Space;
 use crate::{CliError, write_atomically};
@@ -119,37 +118,11 @@ pub fn write_csv(path: &Path, space: Space, series: Option<&Series>) -> Result<(
     write_atomically(path, csv.as_bytes())
 }
 
-/// Keeps the best roll-out offered that has a time series: the highest
-/// reward, the later of equal ones (the more learned).
-#[derive(Debug, Clone, Default)]
-pub struct Best {
-    record: Option<Record>,
-}
-
-impl Best {
-    /// Keeps `r` if it has a series and is the best so far.
-    pub fn offer(&mut self, r: &Record) {
-        let better = self
-            .record
-            .as_ref()
-            .is_none_or(|b| r.trial.reward >= b.trial.reward);
-        if r.trial.series.is_some() && better {
-            self.record = Some(r.clone());
-        }
-    }
-
-    /// The best roll-out, with its series.
-    pub fn get(&self) -> Option<&Record> {
-        self.record.as_ref()
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::pour::built_in_skill;
     use crate::sim::cell::{CellConfig, GlassKind};
-    use crate::skill::Trial;
 
     #[test]
     fn commands_line_up_with_the_samples() {
@@ -190,35 +163,5 @@ mod tests {
         assert_eq!(s.commands, [2.0, 20.0, 3.0, 30.0, 3.0, 30.0, 3.0, 30.0]);
         let none = Series::new(Space::Joint, &[], 2, 1, vec![sample]);
         assert!(none.commands.iter().all(|v| v.is_nan()) && none.commands.len() == 2);
-    }
-
-    #[test]
-    fn best_keeps_the_highest_reward_with_a_series_the_later_of_equals() {
-        let record = |rollout, reward: f64, recorded: bool| Record {
-            rollout,
-            update: 0,
-            mean: true,
-            query: 0.5,
-            trial: Trial {
-                poured: 0.2,
-                spilled: 0.0,
-                error: 0.0,
-                reward,
-                rejected: None,
-                series: recorded.then(|| Series::new(Space::Joint, &[], 7, 1, Vec::new())),
-            },
-        };
-        let mut best = Best::default();
-        assert!(best.get().is_none());
-        for r in [
-            record(1, 0.5, true),
-            record(2, 0.9, false),
-            record(3, 0.7, true),
-            record(4, 0.7, true),
-            record(5, 0.6, true),
-        ] {
-            best.offer(&r);
-        }
-        assert_eq!(best.get().map(|r| r.rollout), Some(4));
     }
 }

@@ -28,7 +28,9 @@ pub const MAX_PARAMS: usize = MAX_DOF * MAX_KERNELS + MAX_DOF + 1;
 type Gen = Generalizer<MAX_EXAMPLES, 1, MAX_PARAMS>;
 
 /// Which coordinates the movement is learned in.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum, serde::Serialize, serde::Deserialize,
+)]
 #[serde(rename_all = "lowercase")]
 pub enum Space {
     /// Bottle pose: mouth position (m) and rotation vector (rad).
@@ -69,7 +71,7 @@ pub struct Plan {
 }
 
 /// The result of one roll-out on the cell.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Trial {
     /// Poured volume as the scale reads it, l.
     pub poured: f64,
@@ -82,7 +84,11 @@ pub struct Trial {
     /// Why the trajectory never reached the cell, if it did not.
     pub rejected: Option<String>,
     /// The time series, if the cell records one (`record_every > 0`).
+    #[serde(skip)]
     pub series: Option<Series>,
+    /// What the instruments read, on a real cell.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub readings: Option<crate::rig::Readings>,
 }
 
 /// The paper's reward `r = 1 − 5|v_d − v_m| − 5 v_s` (litres), kept ≥ 0.
@@ -277,6 +283,7 @@ impl Skill {
             reward: 0.0,
             rejected: Some(why),
             series: None,
+            readings: None,
         };
         let plan = match self
             .plan(query, delta, cell.dt)
@@ -311,6 +318,7 @@ impl Skill {
                     out.series,
                 )
             }),
+            readings: None,
         })
     }
 }

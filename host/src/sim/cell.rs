@@ -29,7 +29,9 @@ use super::stream::{Glass, land};
 const LITRE: f64 = 1e3;
 
 /// Which glass stands on the scale.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum, serde::Serialize, serde::Deserialize,
+)]
 #[serde(rename_all = "lowercase")]
 pub enum GlassKind {
     /// 7 cm opening.

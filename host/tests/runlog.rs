@@ -1,0 +1,224 @@
+//! `primo pour`'s run log end to end: a run killed with SIGKILL and
+//! resumed reaches exactly the uninterrupted run's result; torn and
+//! corrupt logs are recovered or refused, never silently used.
+mod common;
+use std::path::Path;
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+use common::{primo, tmp};
+
+/// A PoWER run on the simulated cell, small enough to be quick.
+fn power_args(out: &Path, rollouts: u32) -> Vec<String> {
+    [
+        "pour",
+        "--method",
+        "power",
+        "--glass",
+        "small",
+        "--kernels",
+        "10",
+        "--seed",
+        "3",
+        "--max-rollouts",
+        &rollouts.to_string(),
+        "--out",
+        out.to_str().unwrap(),
+    ]
+    .map(String::from)
+    .to_vec()
+}
+
+fn run_to_end(out: &Path, rollouts: u32) {
+    let args = power_args(out, rollouts);
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let (code, _, err) = primo(&args);
+    assert_eq!(code, 0, "{err}");
+}
+
+fn read(path: &Path) -> Vec<u8> {
+    std::fs::read(path).unwrap()
+}
+
+fn lines(path: &Path) -> usize {
+    std::fs::read(path).map_or(0, |b| b.iter().filter(|c| **c == b'\n').count())
+}
+
+fn resume(dir: &Path) -> (i32, String, String) {
+    primo(&["pour", "--resume", dir.to_str().unwrap()])
+}
+
+#[test]
+fn a_killed_run_resumes_to_exactly_the_uninterrupted_result() {
+    const ROLLOUTS: u32 = 80;
+    let whole = tmp("whole");
+    run_to_end(&whole, ROLLOUTS);
+
+    let killed = tmp("killed");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_primo"))
+        .args(power_args(&killed, ROLLOUTS))
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let log = killed.join("run.log");
+    let deadline = Instant::now() + Duration::from_secs(120);
+    while lines(&log) < 12 {
+        assert!(
+            Instant::now() < deadline,
+            "the run never logged 11 roll-outs"
+        );
+        std::thread::sleep(Duration::from_micros(200));
+    }
+    child.kill().unwrap(); // SIGKILL: no chance to tidy up
+    child.wait().unwrap();
+    let at_kill = lines(&log) - 1;
+    assert!(at_kill < ROLLOUTS as usize, "the run ended before the kill");
+    assert!(!killed.join("rollouts.csv").exists());
+
+    let (code, out, err) = resume(&killed);
+    assert_eq!(code, 0, "{err}");
+    let resumed_after: usize = out
+        .lines()
+        .find_map(|l| {
+            l.strip_prefix(&format!(
+                "primo pour: resuming {} after roll-out ",
+                killed.display()
+            ))
+        })
+        .unwrap_or_else(|| panic!("{out}"))
+        .parse()
+        .unwrap();
+    assert!(
+        (at_kill..=at_kill + 1).contains(&resumed_after),
+        "{at_kill} {resumed_after}"
+    );
+    // The logged roll-outs are told again, not made again; the rest are new.
+    assert_eq!(
+        out.lines().filter(|l| l.ends_with("(logged)")).count(),
+        resumed_after
+    );
+    let made = out.lines().filter(|l| l.starts_with("roll-out")).count();
+    assert_eq!(made, ROLLOUTS as usize, "{out}");
+    // Bit for bit the uninterrupted run: every roll-out, the learner's
+    // state after each, the reports.
+    assert_eq!(read(&killed.join("run.log")), read(&whole.join("run.log")));
+    assert_eq!(
+        read(&killed.join("rollouts.csv")),
+        read(&whole.join("rollouts.csv"))
+    );
+    assert_eq!(
+        read(&killed.join("series.csv")),
+        read(&whole.join("series.csv"))
+    );
+}
+
+/// An unfinished run of 6 roll-outs (the end record cut off), and the
+/// log of the same run finished.
+fn unfinished(name: &str) -> (std::path::PathBuf, Vec<u8>) {
+    let dir = tmp(name);
+    run_to_end(&dir, 6);
+    let finished = read(&dir.join("run.log"));
+    let mut bytes = finished.clone();
+    bytes.pop();
+    let end = bytes.iter().rposition(|b| *b == b'\n').unwrap() + 1;
+    std::fs::write(dir.join("run.log"), &bytes[..end]).unwrap();
+    std::fs::remove_file(dir.join("rollouts.csv")).unwrap();
+    (dir, finished)
+}
+
+#[test]
+fn a_torn_tail_is_set_aside_and_the_run_completes() {
+    let (dir, finished) = unfinished("torn");
+    let log = dir.join("run.log");
+    let mut bytes = read(&log);
+    let last = bytes[..bytes.len() - 1]
+        .iter()
+        .rposition(|b| *b == b'\n')
+        .unwrap()
+        + 1;
+    // The write of roll-out 6 torn half way.
+    let torn = bytes[last..].to_vec();
+    bytes.truncate(last + torn.len() / 2);
+    std::fs::write(&log, &bytes).unwrap();
+    let (code, out, err) = resume(&dir);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains("the last record, line 7 (torn:") && err.contains("were moved to"),
+        "{err}"
+    );
+    assert!(out.contains("after roll-out 5"), "{out}");
+    assert_eq!(read(&log), finished);
+    let aside = std::fs::read_dir(&dir)
+        .unwrap()
+        .filter_map(Result::ok)
+        .find(|e| {
+            e.file_name()
+                .to_string_lossy()
+                .starts_with("run.log.damaged-")
+        })
+        .unwrap();
+    assert_eq!(read(&aside.path()), torn[..torn.len() / 2]);
+}
+
+#[test]
+fn a_corrupt_log_is_refused_and_left_as_it_is() {
+    let (dir, _) = unfinished("corrupt");
+    let log = dir.join("run.log");
+    let mut bytes = read(&log);
+    // A digit of roll-out 2's poured volume changed.
+    let second = bytes
+        .iter()
+        .enumerate()
+        .filter(|(_, b)| **b == b'\n')
+        .nth(1)
+        .unwrap()
+        .0;
+    let at = second
+        + 1
+        + bytes[second + 1..]
+            .windows(8)
+            .position(|w| w == b"\"poured\"")
+            .unwrap()
+        + 10;
+    bytes[at] = if bytes[at] == b'1' { b'2' } else { b'1' };
+    std::fs::write(&log, &bytes).unwrap();
+    let (code, _, err) = resume(&dir);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("run.log:3: CRC") && err.contains("corrupt, not torn"),
+        "{err}"
+    );
+    assert_eq!(read(&log), bytes);
+    assert!(!dir.join("rollouts.csv").exists());
+}
+
+#[test]
+fn an_unfinished_run_is_never_overwritten_and_settings_come_from_its_log() {
+    let (dir, _) = unfinished("keep");
+    let before = read(&dir.join("run.log"));
+    let args = power_args(&dir, 6);
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let (code, _, err) = primo(&args);
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("an unfinished run (6 roll-outs)") && err.contains("--resume"),
+        "{err}"
+    );
+    assert_eq!(read(&dir.join("run.log")), before);
+    // Settings cannot change on resuming.
+    let (code, _, err) = primo(&["pour", "--resume", dir.to_str().unwrap(), "--seed", "4"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("cannot be used with"), "{err}");
+    // A complete run resumed only reports.
+    let (code, out, err) = resume(&dir);
+    assert_eq!(code, 0, "{err}");
+    let (code, again, err) = resume(&dir);
+    assert_eq!(code, 0, "{err}");
+    assert!(again.contains("the run is complete: reporting"), "{again}");
+    assert_eq!(
+        again.lines().filter(|l| l.ends_with("(logged)")).count(),
+        6,
+        "{out}"
+    );
+}
