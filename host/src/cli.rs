@@ -10,6 +10,7 @@ use crate::csv::{parse_demo, write_rows};
 use crate::dmpfile::DmpFile;
 use crate::pour::{Method, Settings, built_in_skill, power_blocks};
 use crate::report::PowerSummary;
+use crate::rig::InstrumentsSpec;
 use crate::run::{CellSpec, DemoFile, LearnerSpec, SkillSpec, Start, create_dir};
 use crate::sim::cell::{CellConfig, GlassKind};
 use crate::sim::expert::{Style, synthesize};
@@ -33,8 +34,9 @@ enum Command {
     /// Demonstrations: synthesize them on the simulated cell.
     #[command(subcommand)]
     Demo(DemoCommand),
-    /// Learn to pour on the simulated cell: fit the demonstrations,
-    /// generalize to the bottle, learn, and report every roll-out.
+    /// Learn to pour, on the simulated cell or a real one (--robot,
+    /// --scale): fit the demonstrations, generalize to the bottle, learn,
+    /// log and report every roll-out.
     Pour(PourArgs),
     /// Execute parameter vectors on the simulated cell (an objective for
     /// any optimizer).
@@ -138,6 +140,24 @@ struct PourArgs {
     /// build in firmware/).
     #[arg(long, requires = "coprocessor", value_name = "ELF")]
     firmware: Option<PathBuf>,
+    /// Roll out on a real cell: the robot, `fri:ADDR[:PORT]`, the local
+    /// UDP address the KRC sends its FRI packets to (default port 49938).
+    #[arg(long, requires = "scale", value_name = "fri:ADDR[:PORT]")]
+    robot: Option<String>,
+    /// With --robot: the MT-SICS scale's serial port.
+    #[arg(long, requires = "robot", value_name = "PORT")]
+    scale: Option<String>,
+    /// The scale's baud rate.
+    #[arg(long, requires = "robot", default_value_t = 9600)]
+    baud: u32,
+    /// The liquid's density, g/ml (the scale weighs, the learner wants
+    /// volumes).
+    #[arg(long, requires = "robot", default_value_t = 0.998)]
+    density: f64,
+    /// With --robot: before every roll-out, ask the operator to refill the
+    /// bottle and empty the glass, and wait for Enter.
+    #[arg(long, requires = "robot")]
+    confirm: bool,
 }
 
 #[derive(Debug, clap::Args)]
@@ -507,8 +527,21 @@ impl SkillArgs {
 }
 
 fn pour(args: &PourArgs) -> Result<(), CliError> {
+    let instruments = match (&args.robot, &args.scale) {
+        (Some(robot), Some(scale)) => Some(InstrumentsSpec {
+            robot: robot.clone(),
+            scale: scale.clone(),
+            baud: args.baud,
+            density: args.density,
+            confirm: args.confirm,
+        }),
+        _ => None,
+    };
     let start = match &args.resume {
-        Some(dir) => Start::Resume { dir: dir.clone() },
+        Some(dir) => Start::Resume {
+            dir: dir.clone(),
+            instruments,
+        },
         None => {
             let space = match args.method {
                 Method::Power => Space::Joint,
@@ -523,7 +556,7 @@ fn pour(args: &PourArgs) -> Result<(), CliError> {
                 out: args.out.clone(),
                 settings,
                 skill: args.skill.spec(space, GlassKind::Normal)?,
-                cell: CellSpec::Simulated,
+                cell: instruments.map_or(CellSpec::Simulated, CellSpec::Instruments),
             }
         }
     };

@@ -2,10 +2,20 @@
 //! instruments (a KUKA LWR4 over FRI and an MT-SICS scale) of a pouring
 //! cell. The learners of [`crate::pour`] do not know which.
 
+use std::io::{BufRead, Write};
+use std::net::UdpSocket;
+use std::time::{Duration, Instant};
+
 use serde::{Deserialize, Serialize};
 
+use crate::fri::client::{Ended, PlayConfig, bind, play};
+use crate::fri::parse_robot;
+use crate::mtsics::{ClientConfig, ErrorKind, Scale};
 use crate::sim::cell::CellConfig;
-use crate::skill::{Skill, Trial};
+use crate::skill::{Skill, Trial, reward};
+
+/// Standard gravity, m/s².
+const G: f64 = 9.80665;
 
 /// Executes roll-outs of a skill.
 pub trait Rig {
@@ -86,4 +96,168 @@ pub struct Readings {
     /// bottle) standing still before and after, N; `None` if the robot
     /// reported too few still measurements.
     pub load: Option<[f64; 2]>,
+}
+
+/// A real cell (in a run log's header): where its instruments are.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct InstrumentsSpec {
+    /// `fri:ADDR[:PORT]`: the local UDP address the KRC sends to.
+    pub robot: String,
+    /// The MT-SICS scale's serial port.
+    pub scale: String,
+    /// Its baud rate.
+    pub baud: u32,
+    /// The liquid's density, g/ml.
+    pub density: f64,
+    /// Ask the operator to reset the cell before every roll-out.
+    pub confirm: bool,
+}
+
+/// How long to wait for a stable scale reading before giving up.
+const SETTLE_LIMIT: Duration = Duration::from_secs(120);
+
+/// A real pouring cell: a KUKA LWR4 over FRI and an MT-SICS scale.
+///
+/// A roll-out: the movement is planned and passes the safety checks (a
+/// rejected one moves nothing); the operator resets the cell if asked to
+/// confirm; the scale's stable weight is read; the joint trajectory is
+/// streamed over FRI (approach, movement, hold); the stable weight is read
+/// again. The poured volume is the weight's increase over the density;
+/// the spill is, as in the paper, the bottle's loss, estimated from the
+/// robot's external force at the tool standing still before and after,
+/// minus the poured volume.
+pub struct Instruments {
+    spec: InstrumentsSpec,
+    cell: CellConfig,
+    bottle: f64,
+    target: f64,
+    socket: UdpSocket,
+    scale: Scale,
+    play: PlayConfig,
+    operator: Box<dyn BufRead>,
+}
+
+impl Instruments {
+    /// Binds the robot's address and opens the scale; `cell` is the arm's
+    /// model for the checks. The operator answers on `operator`.
+    pub fn open(
+        spec: InstrumentsSpec,
+        cell: CellConfig,
+        bottle: f64,
+        target: f64,
+        operator: Box<dyn BufRead>,
+    ) -> Result<Instruments, String> {
+        if !(spec.density.is_finite() && spec.density > 0.0) {
+            return Err(format!(
+                "--density {}: must be a positive number of g/ml",
+                spec.density
+            ));
+        }
+        let addr = parse_robot(&spec.robot).map_err(|e| e.message)?;
+        let socket = bind(addr).map_err(|e| e.message)?;
+        let scale = Scale::open(
+            &spec.scale,
+            ClientConfig {
+                baud: spec.baud,
+                ..ClientConfig::default()
+            },
+        )
+        .map_err(|e| e.to_string())?;
+        Ok(Instruments {
+            spec,
+            cell,
+            bottle,
+            target,
+            socket,
+            scale,
+            play: PlayConfig::default(),
+            operator,
+        })
+    }
+
+    /// The scale's serial number.
+    pub fn scale_serial(&self) -> &str {
+        self.scale.serial()
+    }
+
+    /// The stable weight, g, waiting up to [`SETTLE_LIMIT`] for it.
+    fn weigh(&mut self) -> Result<f64, String> {
+        let started = Instant::now();
+        loop {
+            match self.scale.stable() {
+                Ok(w) => return Ok(w.grams()),
+                // Still settling (`S I`): the liquid is still moving.
+                Err(e)
+                    if matches!(e.kind, ErrorKind::NotExecutable { .. })
+                        && started.elapsed() < SETTLE_LIMIT => {}
+                Err(e) => return Err(e.to_string()),
+            }
+        }
+    }
+
+    /// Asks the operator to reset the cell and waits for Enter.
+    fn confirm(&mut self, rollout: u32) -> Result<(), String> {
+        println!(
+            "roll-out {rollout}: reset the cell (the bottle filled to {} l, the glass on the \
+             scale emptied), then press Enter",
+            self.bottle
+        );
+        std::io::stdout()
+            .flush()
+            .map_err(|e| format!("stdout: {e}"))?;
+        let mut line = String::new();
+        match self.operator.read_line(&mut line) {
+            Ok(0) => Err("the operator's input closed before the cell was reset".into()),
+            Ok(_) => Ok(()),
+            Err(e) => Err(format!("reading the operator's answer: {e}")),
+        }
+    }
+}
+
+impl Rig for Instruments {
+    fn roll_out(
+        &mut self,
+        skill: &Skill,
+        rollout: u32,
+        query: f32,
+        delta: &[f32],
+    ) -> Result<Trial, String> {
+        let path = match skill
+            .plan(query, delta, self.cell.dt)
+            .and_then(|plan| skill.check(&self.cell, &plan))
+        {
+            Ok(path) => path,
+            Err(why) => return Ok(Trial::rejected(self.target, why)),
+        };
+        if self.spec.confirm {
+            self.confirm(rollout)?;
+        }
+        let before = self.weigh()?;
+        let played = play(&self.socket, &path, &self.play).map_err(|e| e.message)?;
+        if played.ended != Ended::Completed {
+            return Err(format!(
+                "roll-out {rollout} on the robot: {}; the cell may need a reset",
+                played.ended
+            ));
+        }
+        let after = self.weigh()?;
+        let poured = (after - before) / self.spec.density * 1e-3;
+        let load = played.load;
+        // The bottle's loss: its liquid's weight, before minus after.
+        let spilled = load.map_or(0.0, |[b, a]| {
+            ((b - a) / G / self.spec.density - poured).max(0.0)
+        });
+        Ok(Trial {
+            poured,
+            spilled,
+            error: poured - self.target,
+            reward: reward(self.target, poured, spilled),
+            rejected: None,
+            series: None,
+            readings: Some(Readings {
+                scale: [before, after],
+                load,
+            }),
+        })
+    }
 }

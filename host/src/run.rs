@@ -17,7 +17,7 @@ use crate::coprocessor::{Link, Qemu};
 use crate::csv::parse_demo;
 use crate::pour::{Entry, Learner, Method, Settings, best, built_in_skill, learn_on};
 use crate::report::{PourSummary, RolloutSummary};
-use crate::rig::{Rig, Simulated};
+use crate::rig::{Instruments, InstrumentsSpec, Rig, Simulated};
 use crate::runlog::RunLog;
 use crate::sim::cell::{CellConfig, GlassKind};
 use crate::skill::{Skill, Space};
@@ -87,6 +87,8 @@ impl SkillSpec {
 pub enum CellSpec {
     /// The simulated cell in this process.
     Simulated,
+    /// A real cell's instruments.
+    Instruments(InstrumentsSpec),
 }
 
 /// The first record of a run log.
@@ -144,6 +146,9 @@ pub enum Start {
     Resume {
         /// Its directory.
         dir: PathBuf,
+        /// Where the real cell's instruments are now (a serial port's
+        /// name may change between runs), if not where the log says.
+        instruments: Option<InstrumentsSpec>,
     },
 }
 
@@ -171,12 +176,23 @@ pub fn pour(start: Start, learner: &LearnerSpec) -> Result<(), CliError> {
             let log = RunLog::create(&out, &header)?;
             (out, header, Vec::new(), log, false)
         }
-        Start::Resume { dir } => {
+        Start::Resume { dir, instruments } => {
             let opened = RunLog::open::<Header, Entry>(&dir)?;
             if let Some(note) = &opened.recovered {
                 eprintln!("primo pour: {note}");
             }
-            let header = opened.header;
+            let mut header = opened.header;
+            match (&mut header.cell, instruments) {
+                (CellSpec::Instruments(logged), Some(now)) => *logged = now,
+                (CellSpec::Simulated, Some(_)) => {
+                    return Err(CliError::input(format!(
+                        "the run in {} is on the simulated cell: it cannot continue on \
+                         instruments",
+                        dir.display()
+                    )));
+                }
+                (_, None) => {}
+            }
             if header.version != VERSION {
                 return Err(CliError::input(format!(
                     "{}: run log version {}, this primo reads version {VERSION}",
@@ -230,6 +246,28 @@ pub fn pour(start: Start, learner: &LearnerSpec) -> Result<(), CliError> {
     };
     let mut rig: Box<dyn Rig> = match &header.cell {
         CellSpec::Simulated => Box::new(simulated.clone()),
+        CellSpec::Instruments(spec) => {
+            let rig = Instruments::open(
+                spec.clone(),
+                cell,
+                s.bottle,
+                s.target,
+                Box::new(std::io::stdin().lock()),
+            )
+            .map_err(CliError::other)?;
+            println!(
+                "cell: robot {}, scale {} (serial {}){}",
+                spec.robot,
+                spec.scale,
+                rig.scale_serial(),
+                if spec.confirm {
+                    "; the operator resets the cell before every roll-out"
+                } else {
+                    ""
+                }
+            );
+            Box::new(rig)
+        }
     };
     let progress = Progress::new(s.max_rollouts);
     let run = learn_on(

@@ -91,6 +91,22 @@ pub struct Trial {
     pub readings: Option<crate::rig::Readings>,
 }
 
+impl Trial {
+    /// A roll-out the safety checks rejected (`why`): nothing moved, so
+    /// nothing poured, and its reward is 0.
+    pub fn rejected(target: f64, why: String) -> Trial {
+        Trial {
+            poured: 0.0,
+            spilled: 0.0,
+            error: -target,
+            reward: 0.0,
+            rejected: Some(why),
+            series: None,
+            readings: None,
+        }
+    }
+}
+
 /// The paper's reward `r = 1 − 5|v_d − v_m| − 5 v_s` (litres), kept ≥ 0.
 pub fn reward(target: f64, poured: f64, spilled: f64) -> f64 {
     (1.0 - 5.0 * (target - poured).abs() - 5.0 * spilled).max(0.0)
@@ -276,21 +292,12 @@ impl Skill {
         delta: &[f32],
         seed: u64,
     ) -> Result<Trial, String> {
-        let rejected = |why: String| Trial {
-            poured: 0.0,
-            spilled: 0.0,
-            error: -target,
-            reward: 0.0,
-            rejected: Some(why),
-            series: None,
-            readings: None,
-        };
         let plan = match self
             .plan(query, delta, cell.dt)
             .and_then(|p| self.check(cell, &p).map(|_| p))
         {
             Ok(plan) => plan,
-            Err(why) => return Ok(rejected(why)),
+            Err(why) => return Ok(Trial::rejected(target, why)),
         };
         let mut sim = Cell::new(cell, volume, seed)?;
         for row in plan.rows.chunks_exact(plan.dof) {
