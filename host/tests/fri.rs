@@ -20,7 +20,7 @@ use std::time::{Duration, Instant};
 
 use primo_core::power::{Power, PowerConfig};
 use primo_core::service::SAMPLER;
-use primo_host::fri::client::{Ended, HeldLoad, PlayConfig, PlayResult, SessionConfig, Stop, play};
+use primo_host::fri::client::{Ended, PlayConfig, PlayResult, SessionConfig, Stop, play};
 use primo_host::fri::krc::{CellHandle, FORCE_NOISE, KrcConfig, KrcReport, SimKrc};
 use primo_host::fri::packet::{Measurement, Quality, State};
 use primo_host::mtsics::{ClientConfig, Scale};
@@ -628,7 +628,7 @@ fn repeated_roll_outs_on_one_socket_each_complete_and_pour() {
     let krc = Krc::start(cfg);
     let cell = krc.cell.clone();
     let mut bottle = vec![cell.lock().totals().bottle];
-    let mut loads: Vec<HeldLoad> = Vec::new();
+    let mut loads = Vec::new();
     // The host waits for its scale between roll-outs: seconds in which
     // nobody answers the KRC, which falls back to monitor mode after 1 s.
     for pause in [0.0, 1.2, 1.8] {
@@ -651,7 +651,7 @@ fn repeated_roll_outs_on_one_socket_each_complete_and_pour() {
             assert!(result.stale > 50, "{result:?}");
         }
         bottle.push(totals.bottle);
-        loads.push(result.load.unwrap());
+        loads.push((result.load.unwrap(), result.load_samples));
     }
     let report = krc.finish();
     // Each roll-out poured, and the KRC shook hands each time anew.
@@ -674,12 +674,12 @@ fn repeated_roll_outs_on_one_socket_each_complete_and_pour() {
     assert_eq!((report.too_fast, report.beyond_limits), (0, 0));
     // What the robot held, before and after each roll-out: the liquid in
     // the bottle.
-    for (k, load) in loads.iter().enumerate() {
+    for (k, ([before, after], [n_before, n_after])) in loads.iter().enumerate() {
         assert!(
-            weighs(load.before, bottle[k], load.samples[0])
-                && weighs(load.after, bottle[k + 1], load.samples[1]),
-            "roll-out {}: {load:?} vs {bottle:?}",
-            k + 1
+            weighs(*before, bottle[k], *n_before) && weighs(*after, bottle[k + 1], *n_after),
+            "roll-out {}: {:?} vs {bottle:?}",
+            k + 1,
+            loads[k]
         );
     }
 }
@@ -718,9 +718,12 @@ fn the_served_scale_and_the_force_estimate_weigh_the_pour() {
     krc.finish();
     drop(scale);
     server.stop().unwrap();
-    let load = result.load.unwrap();
+    let [before, after] = result.load.unwrap();
+    let [n_before, n_after] = result.load_samples;
     let drop = 0.5 - totals.bottle;
-    println!("{load:?}; {totals:?}; the scale read {weighed} g, the pan carries {on_pan} g");
+    println!(
+        "held {before} N, {after} N; {totals:?}; the scale read {weighed} g, the pan carries {on_pan} g"
+    );
     // The scale weighs the glass to its resolution.
     assert_eq!(totals.in_flight, 0.0);
     assert!(totals.glass > 0.015, "{totals:?}");
@@ -731,12 +734,11 @@ fn the_served_scale_and_the_force_estimate_weigh_the_pour() {
     );
     // The force estimate: the bottle's liquid before and after, and the
     // drop between, within the noise of the means.
-    let [n_before, n_after] = load.samples;
-    assert!(n_before >= 500 && n_after >= 500, "{load:?}");
-    assert!(weighs(load.before, 0.5, n_before), "{load:?}");
-    assert!(weighs(load.after, totals.bottle, n_after), "{load:?}");
+    assert!(n_before >= 500 && n_after >= 500, "{n_before} {n_after}");
+    assert!(weighs(before, 0.5, n_before), "{before} N");
+    assert!(weighs(after, totals.bottle, n_after), "{after} N");
     let sigma = FORCE_NOISE * (1.0 / n_before as f64 + 1.0 / n_after as f64).sqrt();
-    let lost = load.before - load.after;
+    let lost = before - after;
     assert!(
         (lost - drop * KG_PER_LITRE * G).abs() < 4.0 * sigma,
         "{lost} N for {drop} l"
@@ -815,8 +817,8 @@ fn sim_krc_serves_its_scale_and_an_operator_resets_the_cell() {
     // The bottle holds 0.4 l again.
     let again = play(&socket, &path, &play_cfg).unwrap();
     assert_eq!(again.ended, Ended::Completed, "{again:?}");
-    let load = again.load.unwrap();
-    assert!(weighs(load.before, 0.4, load.samples[0]), "{load:?}");
+    let [refilled, _] = again.load.unwrap();
+    assert!(weighs(refilled, 0.4, again.load_samples[0]), "{refilled} N");
     // End of stdin changes nothing: the KRC runs on until stopped.
     drop(krc.child.stdin.take());
     std::thread::sleep(Duration::from_millis(300));

@@ -19,8 +19,9 @@
 //! 4. It holds the last setpoint for a settling time, averaging the held
 //!    force again, then is done.
 //!
-//! The two averages ([`HeldLoad`]) weigh what the robot holds before and
-//! after the movement: with a bottle, the drop is the liquid that left it.
+//! The two averages ([`Session::held_load`]) weigh what the robot holds
+//! before and after the movement: with a bottle, the drop is the liquid
+//! that left it.
 //!
 //! It stops for good, holding the last setpoint (or echoing once the robot
 //! is back in monitor mode or unpowered), when the quality drops below OK, the robot
@@ -71,8 +72,8 @@ const TAKEN_TOLERANCE: f64 = 1e-5;
 /// session stops (at least 10 cycles), s.
 const UNACKNOWLEDGED_TIME: f64 = 0.25;
 
-/// Fewest measurements a standstill's mean force ([`HeldLoad`]) is taken
-/// from.
+/// Fewest measurements a standstill's mean force
+/// ([`Session::held_load`]) is taken from.
 pub const MIN_HELD_SAMPLES: usize = 10;
 
 /// How the session moves.
@@ -99,23 +100,6 @@ impl Default for SessionConfig {
             settle: 0.3,
         }
     }
-}
-
-/// The load the robot holds, from the estimated external force at the TCP
-/// (`estExtTcpFT`), before and after the movement.
-///
-/// Each is the magnitude of the mean force vector over a standstill: the
-/// TCP frame does not turn then, and averaging the vector first keeps the
-/// noise out of the magnitude (the mean of the magnitudes would be biased
-/// up by about σ²/|F|).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct HeldLoad {
-    /// Held still before the approach, N.
-    pub before: f64,
-    /// Held still while settling after the trajectory, N.
-    pub after: f64,
-    /// Measurements averaged: before, after.
-    pub samples: [usize; 2],
 }
 
 /// The sum of the forces measured during a standstill.
@@ -288,17 +272,25 @@ impl Session {
         self.dt
     }
 
-    /// The load held before and after the movement, once each standstill
-    /// had at least [`MIN_HELD_SAMPLES`] measurements.
-    pub fn held_load(&self) -> Option<HeldLoad> {
+    /// The load the robot held standing still before the approach and
+    /// while settling after the trajectory, N, from the estimated external
+    /// force at the TCP (`estExtTcpFT`); once each standstill had at least
+    /// [`MIN_HELD_SAMPLES`] measurements.
+    ///
+    /// Each is the magnitude of the mean force vector: the TCP frame does
+    /// not turn during a standstill, and averaging the vector first keeps
+    /// the noise out of the magnitude (the mean of the magnitudes would be
+    /// biased up by about σ²/|F|).
+    pub fn held_load(&self) -> Option<[f64; 2]> {
         let [before, after] = self.held;
-        (before.samples >= MIN_HELD_SAMPLES && after.samples >= MIN_HELD_SAMPLES).then(|| {
-            HeldLoad {
-                before: before.magnitude(),
-                after: after.magnitude(),
-                samples: [before.samples, after.samples],
-            }
-        })
+        (before.samples >= MIN_HELD_SAMPLES && after.samples >= MIN_HELD_SAMPLES)
+            .then(|| [before.magnitude(), after.magnitude()])
+    }
+
+    /// Measurements averaged into [`Session::held_load`] so far: before,
+    /// after.
+    pub fn held_samples(&self) -> [usize; 2] {
+        self.held.map(|h| h.samples)
     }
 
     /// Done or stopped: no more setpoints will move the robot.
@@ -593,9 +585,12 @@ pub struct PlayResult {
     /// Measurements queued before the run started, discarded unanswered
     /// (malformed datagrams among them count as rejected).
     pub stale: u64,
-    /// The load the robot held before and after the movement (`None` if
-    /// a standstill had too few measurements, e.g. after a stop).
-    pub load: Option<HeldLoad>,
+    /// The load the robot held standing still before and after the
+    /// movement, N ([`Session::held_load`]; `None` if a standstill had
+    /// too few measurements, e.g. after a stop).
+    pub load: Option<[f64; 2]>,
+    /// Measurements averaged into `load`: before, after.
+    pub load_samples: [usize; 2],
 }
 
 /// How many rejection messages a [`PlayResult`] keeps.
@@ -650,6 +645,7 @@ pub fn play(
         rejections: Vec::new(),
         stale: 0,
         load: None,
+        load_samples: [0; 2],
     };
     drain(socket, &mut result).map_err(io)?;
     let started = Instant::now();
@@ -719,6 +715,7 @@ pub fn play(
     result.sent = session.sent();
     result.cycle = session.cycle();
     result.load = session.held_load();
+    result.load_samples = session.held_samples();
     Ok(result)
 }
 
@@ -933,9 +930,9 @@ mod tests {
         // 20 holds: 21 measurements standing still (the first included),
         // 30 settling (0.3 s).
         assert_eq!(s.weigh_len(), 20);
-        let load = s.held_load().unwrap();
-        assert_eq!(load.samples, [21, 30]);
-        assert!((load.before - 4.9).abs() < 1e-6 && (load.after - 3.0).abs() < 1e-6);
+        assert_eq!(s.held_samples(), [21, 30]);
+        let [before, after] = s.held_load().unwrap();
+        assert!((before - 4.9).abs() < 1e-6 && (after - 3.0).abs() < 1e-6);
         // Noise along the force averages out of the magnitude: ±1 N across
         // it alternately leaves |mean| at 3 N, where the mean of the
         // magnitudes would say 3.16 N.
@@ -950,10 +947,7 @@ mod tests {
             q = s.answer(&m).cmd.jnt_pos;
         }
         let load = s.held_load().unwrap();
-        assert!(
-            (load.before - 3.0).abs() < 0.1 && (load.after - 3.0).abs() < 0.1,
-            "{load:?}"
-        );
+        assert!(load.iter().all(|f| (f - 3.0).abs() < 0.1), "{load:?}");
     }
 
     #[test]

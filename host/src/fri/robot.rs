@@ -53,11 +53,10 @@ pub enum RobotCommand {
     /// Be the KRC: send FRI measurements to 127.0.0.1:PORT every cycle,
     /// drive the simulated arm and pouring cell by the answers.
     ///
-    /// Operator commands on stdin, one a line, when it is a pipe or a file:
-    /// `reset` refills the bottle and puts an empty glass back (the arm
-    /// stays where it is). End of stdin changes nothing. A terminal is not
-    /// read (`sim-krc &` in a shell would be stopped for reading it):
-    /// `cat | primo robot sim-krc` to type commands.
+    /// Operator commands on stdin, one a line: `reset` refills the bottle
+    /// and puts an empty glass back (the arm stays where it is). End of
+    /// stdin changes nothing. Started in a shell's background (`sim-krc
+    /// &`), it leaves the terminal alone: reading it would stop the job.
     SimKrc {
         /// The remote's UDP port on 127.0.0.1.
         #[arg(long, default_value_t = DEFAULT_PORT)]
@@ -264,10 +263,11 @@ fn print_result(r: &PlayResult) {
             );
         }
     }
-    if let Some(load) = r.load {
+    if let Some([before, after]) = r.load {
+        let [n_before, n_after] = r.load_samples;
         println!(
-            "held load (estExtTcpFT): {:.3} N before, {:.3} N after ({} and {} measurements)",
-            load.before, load.after, load.samples[0], load.samples[1]
+            "held load (estExtTcpFT): {before:.3} N before, {after:.3} N after \
+             ({n_before} and {n_after} measurements)"
         );
     }
 }
@@ -294,7 +294,7 @@ fn sim_krc(cfg: KrcConfig, scale: bool) -> Result<(), CliError> {
     } else {
         None
     };
-    if !std::io::stdin().is_terminal() {
+    if !in_background() {
         let operator = cell.clone();
         std::thread::Builder::new()
             .name("sim-krc-stdin".into())
@@ -342,6 +342,25 @@ fn sim_krc(cfg: KrcConfig, scale: bool) -> Result<(), CliError> {
         totals.bottle * 1e3
     );
     Ok(())
+}
+
+/// Whether stdin is a terminal this process is in the background of (a
+/// shell's `&`): reading it would stop the process (SIGTTIN). From
+/// `/proc/self/stat` (process group and the terminal's foreground group);
+/// without it, assume the foreground.
+fn in_background() -> bool {
+    if !std::io::stdin().is_terminal() {
+        return false;
+    }
+    let Ok(stat) = std::fs::read_to_string("/proc/self/stat") else {
+        return false;
+    };
+    // After `pid (comm)`: state, ppid, pgrp, session, tty_nr, tpgid.
+    let fields: Vec<&str> = stat
+        .rsplit_once(')')
+        .map(|(_, rest)| rest.split_whitespace().collect())
+        .unwrap_or_default();
+    matches!((fields.get(2), fields.get(5)), (Some(pgrp), Some(tpgid)) if pgrp != tpgid)
 }
 
 /// The operator's commands on stdin, one a line, until it closes: `reset`
