@@ -224,12 +224,6 @@ fn robot_play(trajectory: &Path, robot: &str, cfg: &PlayConfig) -> Result<(), Cl
 }
 
 fn print_result(r: &PlayResult) {
-    if r.stale > 0 {
-        eprintln!(
-            "primo robot play: discarded {} measurements queued before the run",
-            r.stale
-        );
-    }
     for why in &r.rejections {
         eprintln!("primo robot play: rejected a datagram: {why}");
     }
