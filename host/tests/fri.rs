@@ -2,28 +2,34 @@
 //! KRC (in-process threads, and the real `primo robot` binaries), with the
 //! faults a real cell has: lost packets, a quality drop, a robot that stays
 //! in monitor mode, packets that stop, malformed datagrams, and
-//! trajectories that would cross a joint limit.
+//! trajectories that would cross a joint limit. And the KRC as the whole
+//! simulated cell: repeated roll-outs on one socket, the held load from the
+//! force estimate, the cell's scale over MT-SICS on a real pseudo-terminal,
+//! the operator's reset.
 //!
 //! The tests run one at a time (they are real-time loops on a machine that
 //! may have two cores), with cycles of 4 ms, and of 2 ms (the default) for
 //! the long pouring movement.
+use std::io::{BufRead, BufReader, Write};
 use std::net::{SocketAddr, UdpSocket};
 use std::process::{Command, Stdio};
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::{Arc, Mutex, MutexGuard};
+use std::sync::{Arc, Mutex, MutexGuard, mpsc};
 use std::thread::JoinHandle;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use primo_core::power::{Power, PowerConfig};
 use primo_core::service::SAMPLER;
-use primo_host::fri::client::{Ended, PlayConfig, PlayResult, Stop, play};
-use primo_host::fri::krc::{CellHandle, KrcConfig, KrcReport, SimKrc};
+use primo_host::fri::client::{Ended, PlayConfig, PlayResult, SessionConfig, Stop, play};
+use primo_host::fri::krc::{CellHandle, FORCE_NOISE, KrcConfig, KrcReport, SimKrc};
 use primo_host::fri::packet::{Measurement, Quality, State};
+use primo_host::mtsics::{ClientConfig, Scale};
 use primo_host::pour::{MAX_EXTENDED, built_in_skill, power_blocks};
 use primo_host::safety::{JointPath, check_joints};
 use primo_host::sim::arm::JOINTS;
+use primo_host::sim::bottle::G;
 use primo_host::sim::cell::{CellConfig, GlassKind};
-use primo_host::sim::expert::rest_configuration;
+use primo_host::sim::expert::{Style, rest_configuration, synthesize};
 use primo_host::skill::Space;
 
 mod common;
@@ -51,7 +57,10 @@ struct Krc {
 
 impl Krc {
     fn start(cfg: KrcConfig) -> Krc {
-        let krc = SimKrc::new(cfg).unwrap();
+        Krc::run(SimKrc::new(cfg).unwrap())
+    }
+
+    fn run(krc: SimKrc) -> Krc {
         let (cell, addr) = (krc.cell(), krc.local_addr().unwrap());
         let stop = Arc::new(AtomicBool::new(false));
         let flag = stop.clone();
@@ -497,6 +506,23 @@ fn the_binaries_play_against_sim_krc() {
         .unwrap();
     let max: f64 = a1.split_whitespace().nth(1).unwrap().parse().unwrap();
     assert!(max > 0.0 && max < 1.0, "{a1}");
+    // Standing still before and after, the arm holds 0.5 l of water
+    // (4.9 N); the swing pours nothing.
+    let held = out
+        .lines()
+        .find_map(|l| l.strip_prefix("held load (estExtTcpFT): "))
+        .unwrap_or_else(|| panic!("{out}"));
+    let newtons: Vec<f64> = held
+        .split(" N ")
+        .take(2)
+        .map(|v| v.split_whitespace().last().unwrap().parse().unwrap())
+        .collect();
+    assert!(
+        newtons
+            .iter()
+            .all(|n| (n - 0.5 * KG_PER_LITRE * G).abs() < 0.2),
+        "{held}"
+    );
     assert!(krc.status.success());
     assert!(
         krc_out.contains("commands too fast 0, beyond limits 0"),
@@ -552,4 +578,257 @@ fn robot_commands_refuse_bad_input_with_one_line() {
         assert_eq!(err.lines().count(), 1, "{err}");
         assert!(err.contains(message), "{args:?}: {err}");
     }
+}
+
+/// A short pour (1 s, about 23 ml from 0.5 l): the expert's 50 ml
+/// demonstration cut to its pouring part and played twice as fast. It
+/// starts and ends within 0.07 rad of where it starts.
+fn short_pour() -> JointPath {
+    let cfg = CellConfig::standard(GlassKind::Normal);
+    let style = Style {
+        elbow: 0.0,
+        seed: 1,
+    };
+    let demo = synthesize(&cfg, 0.5, 0.05, &style).unwrap();
+    let keep = 240..440;
+    let t0 = demo.t[keep.start];
+    let times = demo.t[keep.clone()]
+        .iter()
+        .map(|t| (t - t0) / 2.0)
+        .collect();
+    check_joints(times, demo.joints[keep].to_vec()).unwrap()
+}
+
+/// Water, kg per litre.
+const KG_PER_LITRE: f64 = 0.998;
+
+/// The held load is the weight of `litres` of water within 4 σ of the
+/// mean of `samples` noisy measurements (and the f32 rounding).
+fn weighs(newtons: f64, litres: f64, samples: usize) -> bool {
+    let sigma = FORCE_NOISE / (samples as f64).sqrt();
+    (newtons - litres * KG_PER_LITRE * G).abs() < 4.0 * sigma + 1e-5
+}
+
+/// Waits until nothing is in flight between the bottle and the glass.
+fn landed(cell: &CellHandle) {
+    let until = Instant::now() + Duration::from_secs(5);
+    while cell.lock().totals().in_flight > 0.0 {
+        assert!(Instant::now() < until, "the stream never landed");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+#[test]
+fn repeated_roll_outs_on_one_socket_each_complete_and_pour() {
+    let _serial = serial();
+    let path = short_pour();
+    let (socket, addr) = client_socket();
+    let mut cfg = krc_config(addr);
+    cfg.start = path.start();
+    let krc = Krc::start(cfg);
+    let cell = krc.cell.clone();
+    let mut bottle = vec![cell.lock().totals().bottle];
+    let mut loads = Vec::new();
+    // The host waits for its scale between roll-outs: seconds in which
+    // nobody answers the KRC, which falls back to monitor mode after 1 s.
+    for pause in [0.0, 1.2, 1.8] {
+        std::thread::sleep(Duration::from_secs_f64(pause));
+        let started = Instant::now();
+        let result = play(&socket, &path, &fast_config()).unwrap();
+        landed(&cell);
+        let totals = cell.lock().totals();
+        println!(
+            "after {pause} s: {:?} in {:.2?}, {} stale datagrams discarded, load {:?}; {totals:?}",
+            result.ended,
+            started.elapsed(),
+            result.stale,
+            result.load
+        );
+        assert_eq!(result.ended, Ended::Completed, "{result:?}");
+        assert_eq!(result.sent, result.planned);
+        if pause > 0.0 {
+            // As many as the socket's receive buffer holds.
+            assert!(result.stale > 50, "{result:?}");
+        }
+        bottle.push(totals.bottle);
+        loads.push((result.load.unwrap(), result.load_samples));
+    }
+    let report = krc.finish();
+    // Each roll-out poured, and the KRC shook hands each time anew.
+    for (k, w) in bottle.windows(2).enumerate() {
+        assert!(w[0] - w[1] > 0.01, "roll-out {}: {bottle:?}", k + 1);
+    }
+    let mut modes: Vec<State> = report.log.iter().map(|c| c.state).collect();
+    modes.dedup();
+    assert_eq!(
+        modes,
+        [
+            State::Monitor,
+            State::Command,
+            State::Monitor,
+            State::Command,
+            State::Monitor,
+            State::Command
+        ]
+    );
+    assert_eq!((report.too_fast, report.beyond_limits), (0, 0));
+    // What the robot held, before and after each roll-out: the liquid in
+    // the bottle.
+    for (k, ([before, after], [n_before, n_after])) in loads.iter().enumerate() {
+        assert!(
+            weighs(*before, bottle[k], *n_before) && weighs(*after, bottle[k + 1], *n_after),
+            "roll-out {}: {:?} vs {bottle:?}",
+            k + 1,
+            loads[k]
+        );
+    }
+}
+
+#[test]
+fn the_served_scale_and_the_force_estimate_weigh_the_pour() {
+    let _serial = serial();
+    let path = short_pour();
+    let (socket, addr) = client_socket();
+    let mut cfg = krc_config(addr);
+    cfg.cycle = Duration::from_millis(2);
+    cfg.record = false;
+    cfg.start = path.start();
+    let krc = SimKrc::new(cfg).unwrap();
+    let server = krc.serve_scale().unwrap();
+    let krc = Krc::run(krc);
+    let mut scale = Scale::open(server.path(), ClientConfig::default()).unwrap();
+    let empty = scale.stable().unwrap().grams();
+    assert!(empty.abs() <= 0.01, "{empty} g");
+    // A second's standstill before and after: 500 measurements each.
+    let play_cfg = PlayConfig {
+        session: SessionConfig {
+            weigh: 1.0,
+            settle: 1.0,
+            ..SessionConfig::default()
+        },
+        ..fast_config()
+    };
+    let result = play(&socket, &path, &play_cfg).unwrap();
+    assert_eq!(result.ended, Ended::Completed, "{result:?}");
+    let weighed = scale.stable().unwrap().grams();
+    let (totals, on_pan) = {
+        let cell = krc.cell.lock();
+        (cell.totals(), cell.load_on_pan())
+    };
+    krc.finish();
+    drop(scale);
+    server.stop().unwrap();
+    let [before, after] = result.load.unwrap();
+    let [n_before, n_after] = result.load_samples;
+    let drop = 0.5 - totals.bottle;
+    println!(
+        "held {before} N, {after} N; {totals:?}; the scale read {weighed} g, the pan carries {on_pan} g"
+    );
+    // The scale weighs the glass to its resolution.
+    assert_eq!(totals.in_flight, 0.0);
+    assert!(totals.glass > 0.015, "{totals:?}");
+    assert!((on_pan - totals.glass * KG_PER_LITRE * 1e3).abs() < 1e-9);
+    assert!(
+        (weighed - on_pan).abs() <= 0.02,
+        "{weighed} g vs {on_pan} g"
+    );
+    // The force estimate: the bottle's liquid before and after, and the
+    // drop between, within the noise of the means.
+    assert!(n_before >= 500 && n_after >= 500, "{n_before} {n_after}");
+    assert!(weighs(before, 0.5, n_before), "{before} N");
+    assert!(weighs(after, totals.bottle, n_after), "{after} N");
+    let sigma = FORCE_NOISE * (1.0 / n_before as f64 + 1.0 / n_after as f64).sqrt();
+    let lost = before - after;
+    assert!(
+        (lost - drop * KG_PER_LITRE * G).abs() < 4.0 * sigma,
+        "{lost} N for {drop} l"
+    );
+}
+
+/// A running `primo robot sim-krc --scale`, its stdout read line by line.
+struct SimKrcProcess {
+    child: std::process::Child,
+    lines: mpsc::Receiver<String>,
+}
+
+impl SimKrcProcess {
+    fn next_line(&self) -> String {
+        self.lines
+            .recv_timeout(Duration::from_secs(30))
+            .expect("a line from sim-krc")
+    }
+
+    fn say(&mut self, line: &str) {
+        let stdin = self.child.stdin.as_mut().unwrap();
+        writeln!(stdin, "{line}").unwrap();
+        stdin.flush().unwrap();
+    }
+}
+
+#[test]
+fn sim_krc_serves_its_scale_and_an_operator_resets_the_cell() {
+    let _serial = serial();
+    let path = short_pour();
+    let start: Vec<String> = path.start().iter().map(|v| v.to_string()).collect();
+    let (socket, addr) = client_socket();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_primo"))
+        .args(["robot", "sim-krc", "--scale", "--cycle-ms", "4"])
+        .args(["--port", &addr.port().to_string()])
+        .args(["--start", &start.join(","), "--bottle", "0.4"])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let stdout = BufReader::new(child.stdout.take().unwrap());
+    let (send, lines) = mpsc::channel();
+    std::thread::spawn(move || {
+        for line in stdout.lines().map_while(Result::ok) {
+            if send.send(line).is_err() {
+                return;
+            }
+        }
+    });
+    let mut krc = SimKrcProcess { child, lines };
+    let first = krc.next_line();
+    let pty = first
+        .strip_prefix("primo robot sim-krc: scale served on ")
+        .unwrap_or_else(|| panic!("{first}"))
+        .to_string();
+    let mut scale = Scale::open(&pty, ClientConfig::default()).unwrap();
+    let play_cfg = fast_config();
+    let poured = play(&socket, &path, &play_cfg).unwrap();
+    assert_eq!(poured.ended, Ended::Completed, "{poured:?}");
+    let glass = scale.stable().unwrap().grams();
+    assert!(glass > 5.0, "{glass} g");
+    // A typo is refused; `reset` refills the bottle, empties the glass.
+    krc.say("rest");
+    krc.say("reset");
+    let mut line = krc.next_line();
+    while line.starts_with("primo robot sim-krc: FRI measurements") {
+        line = krc.next_line();
+    }
+    assert_eq!(
+        line,
+        "primo robot sim-krc: cell reset: bottle 0.4 l, glass empty"
+    );
+    let empty = scale.stable().unwrap().grams();
+    assert!(empty.abs() <= 0.01, "{empty} g");
+    // The bottle holds 0.4 l again.
+    let again = play(&socket, &path, &play_cfg).unwrap();
+    assert_eq!(again.ended, Ended::Completed, "{again:?}");
+    let [refilled, _] = again.load.unwrap();
+    assert!(weighs(refilled, 0.4, again.load_samples[0]), "{refilled} N");
+    // End of stdin changes nothing: the KRC runs on until stopped.
+    drop(krc.child.stdin.take());
+    std::thread::sleep(Duration::from_millis(300));
+    assert!(krc.child.try_wait().unwrap().is_none(), "sim-krc exited");
+    krc.child.kill().unwrap();
+    let out = krc.child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(
+        err.lines().collect::<Vec<_>>(),
+        ["primo robot sim-krc: stdin line 1: `rest`: unknown command; expected `reset`"],
+        "{err}"
+    );
 }

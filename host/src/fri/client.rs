@@ -7,15 +7,21 @@
 //! 1. In monitor mode, or before the robot is powered and in command mode
 //!    with quality ≥ OK, it echoes `cmdJntPos + cmdJntPosFriOffset`: the
 //!    robot stays where it is commanded.
-//! 2. At the first commandable cycle the first setpoint is the measured
-//!    position; a minimum-jerk approach at a bounded fraction of the
-//!    velocity limits brings the robot to the trajectory's start.
+//! 2. At the first commandable cycle it holds the measured position for a
+//!    while (`weigh`), averaging the force the robot holds
+//!    (`estExtTcpFT`); then a minimum-jerk approach at a bounded fraction
+//!    of the velocity limits brings the robot to the trajectory's start.
 //! 3. The trajectory, resampled at the FRI cycle (`desiredCmdSampleTime`),
 //!    one setpoint per cycle in which the robot reports the previous one as
 //!    commanded (`cmdJntPos + cmdJntPosFriOffset`): a lost measurement or a
 //!    lost or late answer delays the rest by a cycle instead of making the
 //!    robot jump two steps.
-//! 4. It holds the last setpoint for a settling time, then is done.
+//! 4. It holds the last setpoint for a settling time, averaging the held
+//!    force again, then is done.
+//!
+//! The two averages ([`Session::held_load`]) weigh what the robot holds
+//! before and after the movement: with a bottle, the drop is the liquid
+//! that left it.
 //!
 //! It stops for good, holding the last setpoint (or echoing once the robot
 //! is back in monitor mode or unpowered), when the quality drops below OK, the robot
@@ -66,23 +72,54 @@ const TAKEN_TOLERANCE: f64 = 1e-5;
 /// session stops (at least 10 cycles), s.
 const UNACKNOWLEDGED_TIME: f64 = 0.25;
 
+/// Fewest measurements a standstill's mean force
+/// ([`Session::held_load`]) is taken from.
+pub const MIN_HELD_SAMPLES: usize = 10;
+
 /// How the session moves.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SessionConfig {
     /// Peak speed of the approach to the trajectory's start, as a fraction
     /// of each joint's velocity limit.
     pub approach_speed: f64,
-    /// How long to hold the final setpoint after the trajectory, s.
+    /// How long to hold the measured position in command mode before the
+    /// approach, weighing what the robot holds, s.
+    pub weigh: f64,
+    /// How long to hold the final setpoint after the trajectory (weighing
+    /// again), s.
     pub settle: f64,
 }
 
 impl Default for SessionConfig {
-    /// Approach at up to 20 % of the velocity limits; settle 0.3 s.
+    /// Approach at up to 20 % of the velocity limits; weigh 0.3 s before
+    /// it; settle 0.3 s.
     fn default() -> Self {
         SessionConfig {
             approach_speed: 0.2,
+            weigh: 0.3,
             settle: 0.3,
         }
+    }
+}
+
+/// The sum of the forces measured during a standstill.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+struct HeldForce {
+    sum: [f64; 3],
+    samples: usize,
+}
+
+impl HeldForce {
+    fn add(&mut self, m: &Measurement) {
+        for (s, f) in self.sum.iter_mut().zip(m.data.est_ext_tcp_ft) {
+            *s += f64::from(f);
+        }
+        self.samples += 1;
+    }
+
+    /// |mean force|, N.
+    fn magnitude(&self) -> f64 {
+        self.sum.iter().map(|s| s * s).sum::<f64>().sqrt() / self.samples as f64
     }
 }
 
@@ -163,6 +200,7 @@ pub struct Session {
     phase: Phase,
     seq: u16,
     setpoints: Vec<[f64; JOINTS]>,
+    weighing: usize,
     approach: usize,
     next: usize,
     dt: f64,
@@ -171,6 +209,8 @@ pub struct Session {
     unacknowledged: usize,
     sum_sq: [f64; JOINTS],
     tracking: Tracking,
+    /// Before the approach, after the trajectory.
+    held: [HeldForce; 2],
 }
 
 impl Session {
@@ -182,6 +222,7 @@ impl Session {
             phase: Phase::Waiting,
             seq: 0,
             setpoints: Vec::new(),
+            weighing: 0,
             approach: 0,
             next: 0,
             dt: 0.0,
@@ -190,6 +231,7 @@ impl Session {
             unacknowledged: 0,
             sum_sq: [0.0; JOINTS],
             tracking: Tracking::default(),
+            held: [HeldForce::default(); 2],
         }
     }
 
@@ -203,9 +245,16 @@ impl Session {
         self.tracking
     }
 
-    /// Setpoints planned (approach and trajectory; 0 before streaming).
+    /// Setpoints planned (holding to weigh, approach and trajectory; 0
+    /// before streaming).
     pub fn planned(&self) -> usize {
         self.setpoints.len()
+    }
+
+    /// Setpoints holding the measured position to weigh before the
+    /// approach (0 before streaming).
+    pub fn weigh_len(&self) -> usize {
+        self.weighing
     }
 
     /// Setpoints of the approach (0 before streaming).
@@ -221,6 +270,27 @@ impl Session {
     /// The FRI cycle the setpoints were planned for, s (0 before streaming).
     pub fn cycle(&self) -> f64 {
         self.dt
+    }
+
+    /// The load the robot held standing still before the approach and
+    /// while settling after the trajectory, N, from the estimated external
+    /// force at the TCP (`estExtTcpFT`); once each standstill had at least
+    /// [`MIN_HELD_SAMPLES`] measurements.
+    ///
+    /// Each is the magnitude of the mean force vector: the TCP frame does
+    /// not turn during a standstill, and averaging the vector first keeps
+    /// the noise out of the magnitude (the mean of the magnitudes would be
+    /// biased up by about σ²/|F|).
+    pub fn held_load(&self) -> Option<[f64; 2]> {
+        let [before, after] = self.held;
+        (before.samples >= MIN_HELD_SAMPLES && after.samples >= MIN_HELD_SAMPLES)
+            .then(|| [before.magnitude(), after.magnitude()])
+    }
+
+    /// Measurements averaged into [`Session::held_load`] so far: before,
+    /// after.
+    pub fn held_samples(&self) -> [usize; 2] {
+        self.held.map(|h| h.samples)
     }
 
     /// Done or stopped: no more setpoints will move the robot.
@@ -282,11 +352,16 @@ impl Session {
         }
     }
 
-    /// Plans the approach from `measured` and the resampled trajectory.
+    /// Plans the standstill at `measured`, the approach from there and the
+    /// resampled trajectory.
     fn start(&mut self, measured: [f64; JOINTS], dt: f64) {
         self.dt = dt;
-        self.setpoints = approach(measured, self.path.start(), dt, self.cfg.approach_speed);
-        self.approach = self.setpoints.len();
+        // A negative or NaN time saturates to no standstill.
+        self.weighing = (self.cfg.weigh / dt).ceil() as usize;
+        self.setpoints = vec![measured; self.weighing];
+        let approach = approach(measured, self.path.start(), dt, self.cfg.approach_speed);
+        self.approach = approach.len();
+        self.setpoints.extend(approach);
         self.setpoints
             .extend(resample(&self.path, dt).into_iter().skip(1));
         self.phase = Phase::Streaming;
@@ -296,6 +371,10 @@ impl Session {
     /// reports the last one as commanded; after the last setpoint, holds it
     /// for the settling time.
     fn advance(&mut self, m: &Measurement) -> [f64; JOINTS] {
+        if self.next <= self.weighing {
+            // Every setpoint so far held the robot where it stood.
+            self.held[0].add(m);
+        }
         if let Some(last) = self.last {
             // A lost or late answer: send it again rather than the next,
             // which would be two steps away from what the robot follows.
@@ -312,6 +391,7 @@ impl Session {
         self.unacknowledged = 0;
         let Some(&next) = self.setpoints.get(self.next) else {
             let last = self.last.unwrap_or_else(|| m.commanded());
+            self.held[1].add(m);
             self.settle_cycles += 1;
             if self.settle_cycles as f64 * self.dt >= self.cfg.settle {
                 self.phase = Phase::Done;
@@ -487,8 +567,11 @@ pub struct PlayResult {
     pub answered: u64,
     /// Measurements missing from the KRC's `sendSeqCount` sequence.
     pub gaps: u64,
-    /// Setpoints planned: the approach and the trajectory.
+    /// Setpoints planned: holding to weigh, the approach and the
+    /// trajectory.
     pub planned: usize,
+    /// Setpoints holding still to weigh before the approach.
+    pub weighing: usize,
     /// Setpoints of the approach.
     pub approach: usize,
     /// Setpoints sent.
@@ -499,10 +582,28 @@ pub struct PlayResult {
     pub rejected: u64,
     /// Why the first few were rejected.
     pub rejections: Vec<String>,
+    /// Measurements queued before the run started, discarded unanswered
+    /// (malformed datagrams among them count as rejected).
+    pub stale: u64,
+    /// The load the robot held standing still before and after the
+    /// movement, N ([`Session::held_load`]; `None` if a standstill had
+    /// too few measurements, e.g. after a stop).
+    pub load: Option<[f64; 2]>,
+    /// Measurements averaged into `load`: before, after.
+    pub load_samples: [usize; 2],
 }
 
 /// How many rejection messages a [`PlayResult`] keeps.
 const KEEP_REJECTIONS: usize = 10;
+
+impl PlayResult {
+    fn reject(&mut self, why: String) {
+        self.rejected += 1;
+        if self.rejections.len() < KEEP_REJECTIONS {
+            self.rejections.push(why);
+        }
+    }
+}
 
 /// Binds the local FRI address (see [`super::parse_robot`]).
 pub fn bind(addr: SocketAddr) -> Result<UdpSocket, CliError> {
@@ -512,6 +613,12 @@ pub fn bind(addr: SocketAddr) -> Result<UdpSocket, CliError> {
 /// Streams `path` to the KRC that sends to `socket`, answering every
 /// measurement to its sender, until the session is done, stops, or a
 /// timeout passes. Errors are socket failures only.
+///
+/// One socket serves any number of runs: the measurements that queued up
+/// while nobody answered (between runs, the KRC sends on) are discarded
+/// first, as their state and quality are past. The KRC has meanwhile
+/// counted its packets unanswered and, after its release time, fallen
+/// back to monitor mode: the run starts with the handshake again.
 pub fn play(
     socket: &UdpSocket,
     path: &JointPath,
@@ -530,12 +637,17 @@ pub fn play(
         answered: 0,
         gaps: 0,
         planned: 0,
+        weighing: 0,
         approach: 0,
         sent: 0,
         cycle: 0.0,
         rejected: 0,
         rejections: Vec::new(),
+        stale: 0,
+        load: None,
+        load_samples: [0; 2],
     };
+    drain(socket, &mut result).map_err(io)?;
     let started = Instant::now();
     let mut last_packet = started;
     let mut last_seen: Option<(u16, State, Quality)> = None;
@@ -569,20 +681,14 @@ pub fn play(
             Err(e) if super::transient(&e) => continue,
             Err(e) => return Err(io(e)),
         };
-        let mut reject = |why: String| {
-            result.rejected += 1;
-            if result.rejections.len() < KEEP_REJECTIONS {
-                result.rejections.push(why);
-            }
-        };
         if let Some(krc) = result.krc.filter(|k| *k != from) {
-            reject(format!("datagram from {from} ignored: the KRC is {krc}"));
+            result.reject(format!("datagram from {from} ignored: the KRC is {krc}"));
             continue;
         }
         let m = match buf.get(..n).map(Measurement::parse) {
             Some(Ok(m)) => m,
             Some(Err(e)) => {
-                reject(format!("from {from}: {e}"));
+                result.reject(format!("from {from}: {e}"));
                 continue;
             }
             None => continue,
@@ -604,10 +710,35 @@ pub fn play(
     result.ended = ended;
     result.tracking = session.tracking();
     result.planned = session.planned();
+    result.weighing = session.weigh_len();
     result.approach = session.approach_len();
     result.sent = session.sent();
     result.cycle = session.cycle();
+    result.load = session.held_load();
+    result.load_samples = session.held_samples();
     Ok(result)
+}
+
+/// Reads every datagram queued on `socket` without answering: the
+/// measurements count as stale, anything else as rejected.
+fn drain(socket: &UdpSocket, result: &mut PlayResult) -> std::io::Result<()> {
+    socket.set_nonblocking(true)?;
+    let mut buf = [0u8; 2048];
+    let drained = loop {
+        match socket.recv_from(&mut buf) {
+            Ok((n, from)) => match buf.get(..n).map(Measurement::parse) {
+                Some(Ok(_)) => result.stale += 1,
+                Some(Err(e)) => result.reject(format!("from {from}: {e}")),
+                None => {}
+            },
+            Err(e) if e.kind() == std::io::ErrorKind::WouldBlock => break Ok(()),
+            // A signal, or an ICMP error from an earlier answer: read on.
+            Err(e) if super::transient(&e) => {}
+            Err(e) => break Err(e),
+        }
+    };
+    socket.set_nonblocking(false)?;
+    drained
 }
 
 #[cfg(test)]
@@ -675,13 +806,17 @@ mod tests {
     }
 
     #[test]
-    fn approaches_then_streams_the_resampled_trajectory_then_settles() {
+    fn weighs_approaches_then_streams_the_resampled_trajectory_then_settles() {
         let mut s = Session::new(&path(), SessionConfig::default());
         let start = [0.1, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
         let sent = run(&mut s, start, 1000);
-        assert_eq!(
-            sent[0], start,
-            "the first setpoint is the measured position"
+        // Holding still for 0.3 s (30 cycles of 10 ms) where it stood, then
+        // the approach from there.
+        let weigh = s.weigh_len();
+        assert_eq!(weigh, 30);
+        assert!(
+            sent[..=weigh].iter().all(|q| *q == start),
+            "the first setpoints are the measured position"
         );
         // Approach: 0.1 rad on joint 1 at ≤ 20 % of 110 °/s.
         let approach = s.approach_len();
@@ -692,23 +827,20 @@ mod tests {
             .map(|w| f64::from(w[1][0] - w[0][0]).abs() / 0.01)
             .collect();
         assert!(
-            speeds[..approach - 1]
+            speeds[..weigh + approach - 1]
                 .iter()
                 .all(|v| *v <= 0.2 * 110f64.to_radians() + 1e-6)
         );
-        assert_eq!(sent[approach - 1], [0.0; JOINTS]);
+        let at_start = weigh + approach - 1;
+        assert_eq!(sent[at_start], [0.0; JOINTS]);
         // Then the trajectory at 10 ms: 0.2 rad/s up, 0.2 rad/s down.
-        assert_eq!(s.planned(), approach + 200);
-        assert!((sent[approach - 1 + 100][0] - 0.2).abs() < 1e-6);
-        assert!((sent[approach - 1 + 50][0] - 0.1).abs() < 1e-6);
-        assert_eq!(sent[approach - 1 + 200], [0.0; JOINTS]);
+        assert_eq!(s.planned(), weigh + approach + 200);
+        assert!((sent[at_start + 100][0] - 0.2).abs() < 1e-6);
+        assert!((sent[at_start + 50][0] - 0.1).abs() < 1e-6);
+        assert_eq!(sent[at_start + 200], [0.0; JOINTS]);
         // Settling: holds the end for 0.3 s (30 cycles), then done.
         assert_eq!(s.phase(), &Phase::Done);
-        assert!(
-            sent[approach - 1 + 200..]
-                .iter()
-                .all(|q| *q == [0.0; JOINTS])
-        );
+        assert!(sent[at_start + 200..].iter().all(|q| *q == [0.0; JOINTS]));
         // The ideal robot is always where it was commanded (to f32).
         let t = s.tracking();
         assert!(t.samples > 200);
@@ -737,9 +869,11 @@ mod tests {
         let mut every = run(&mut ideal, [0.0; JOINTS], 1000);
         every.dedup();
         assert_eq!(accepted, every);
+        // The holds and the approach's first setpoint are one position.
+        let distinct = planned - s.weigh_len();
         assert!(
-            accepted.len() >= planned - 1,
-            "{} of {planned}",
+            accepted.len() >= distinct - 1,
+            "{} of {distinct}",
             accepted.len()
         );
         // A robot that never takes a command: stop after 0.25 s.
@@ -758,6 +892,85 @@ mod tests {
                 at: 1
             }
         );
+    }
+
+    /// A measurement that holds `newtons` along x at the TCP.
+    fn holding(q: [f32; JOINTS], newtons: f32) -> Measurement {
+        let mut m = measurement(State::Command, Quality::Ok, q);
+        m.data.est_ext_tcp_ft = [newtons, 0.0, 0.0, 0.0, 0.0, 0.0];
+        m
+    }
+
+    #[test]
+    fn the_held_load_is_weighed_standing_still_before_and_after() {
+        let cfg = SessionConfig {
+            weigh: 0.2,
+            ..SessionConfig::default()
+        };
+        let mut s = Session::new(&path(), cfg);
+        // Waiting in monitor mode: not weighed.
+        let mut m = holding([0.0; JOINTS], 99.0);
+        m.intf.state = State::Monitor;
+        s.answer(&m);
+        // An ideal robot: 4.9 N while standing still before the approach,
+        // 5 N while moving, 3 N once back (the bottle poured).
+        let mut q = [0.1f32; JOINTS];
+        let mut forces = Vec::new();
+        while !s.is_finished() {
+            let moving = s.sent() > s.weigh_len() && s.sent() < s.planned();
+            let newtons = match (s.sent() <= s.weigh_len(), moving) {
+                (true, _) => 4.9,
+                (false, true) => 5.0,
+                (false, false) => 3.0,
+            };
+            forces.push(newtons);
+            q = s.answer(&holding(q, newtons)).cmd.jnt_pos;
+        }
+        assert_eq!(s.phase(), &Phase::Done);
+        // 20 holds: 21 measurements standing still (the first included),
+        // 30 settling (0.3 s).
+        assert_eq!(s.weigh_len(), 20);
+        assert_eq!(s.held_samples(), [21, 30]);
+        let [before, after] = s.held_load().unwrap();
+        assert!((before - 4.9).abs() < 1e-6 && (after - 3.0).abs() < 1e-6);
+        // Noise along the force averages out of the magnitude: ±1 N across
+        // it alternately leaves |mean| at 3 N, where the mean of the
+        // magnitudes would say 3.16 N.
+        let mut s = Session::new(&path(), cfg);
+        let mut q = [0.1f32; JOINTS];
+        for k in 0.. {
+            if s.is_finished() {
+                break;
+            }
+            let mut m = holding(q, 3.0);
+            m.data.est_ext_tcp_ft[1] = if k % 2 == 0 { 1.0 } else { -1.0 };
+            q = s.answer(&m).cmd.jnt_pos;
+        }
+        let load = s.held_load().unwrap();
+        assert!(load.iter().all(|f| (f - 3.0).abs() < 0.1), "{load:?}");
+    }
+
+    #[test]
+    fn a_short_standstill_weighs_nothing() {
+        // No settling, no weighing: one measurement each is not a weight.
+        let cfg = SessionConfig {
+            weigh: 0.0,
+            settle: 0.0,
+            ..SessionConfig::default()
+        };
+        let mut s = Session::new(&path(), cfg);
+        run(&mut s, [0.0; JOINTS], 1000);
+        assert_eq!(s.phase(), &Phase::Done);
+        assert_eq!(s.held_load(), None);
+        // Stopped mid-trajectory: weighed before, never after.
+        let mut s = Session::new(&path(), SessionConfig::default());
+        let sent = run(&mut s, [0.0; JOINTS], 100);
+        s.answer(&measurement(State::Command, Quality::Bad, sent[99]));
+        for _ in 0..100 {
+            s.answer(&measurement(State::Command, Quality::Ok, sent[99]));
+        }
+        assert!(matches!(s.phase(), Phase::Stopped { .. }));
+        assert_eq!(s.held_load(), None);
     }
 
     #[test]
@@ -825,6 +1038,7 @@ mod tests {
         // An approach speed above the limits is caught step by step.
         let cfg = SessionConfig {
             approach_speed: 3.0,
+            weigh: 0.0,
             settle: 0.0,
         };
         let mut s = Session::new(&path(), cfg);

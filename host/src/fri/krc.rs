@@ -24,6 +24,20 @@
 //!
 //! It follows `jntPos` in command mode whatever the quality: checking the
 //! quality is the remote's job, and the tests can see that it does it.
+//!
+//! The estimated external load (`estExtTcpFT`, and `estExtJntTrq`) is the
+//! weight of the liquid still in the bottle: the tool's load data on a
+//! real KRC cover the hand and the empty bottle, so what remains is the
+//! liquid. The force (N) and its moment about the flange (N·m, the weight
+//! taken at the bottle's centre: the liquid's centre of mass moving as it
+//! tilts and empties is not modelled) are expressed in the flange frame,
+//! the TCP of `msrCartPos`, as on a real LWR; each component carries
+//! Gaussian noise ([`FORCE_NOISE`], [`MOMENT_NOISE`]) from the KRC's seed.
+//! `estExtJntTrq` is `Jᵀ` times that noisy wrench. Inertial forces are not
+//! modelled: the estimate is meant to be read while the arm stands still.
+//!
+//! [`SimKrc::serve_scale`] serves the cell's scale over MT-SICS, weighing
+//! what lands on the cell's pan.
 
 use std::collections::VecDeque;
 use std::net::{SocketAddr, UdpSocket};
@@ -31,11 +45,14 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::{Duration, Instant};
 
+use primo_core::normal::StandardNormal;
 use primo_core::rng::Xoshiro128PlusPlus;
 use rand_core::{Rng, SeedableRng};
 
 use super::packet::{Command, Measurement, Quality, State, flags};
+use crate::mtsics::{Device, DeviceConfig, LoadSource, PtyServer};
 use crate::sim::arm::{JOINTS, Lwr4, POSITION_LIMITS_DEG, Pose, VELOCITY_LIMITS_DEG};
+use crate::sim::bottle::G;
 use crate::sim::cell::{Cell, CellConfig, GlassKind, MAX_DT};
 
 /// Cycles the communication statistics and the quality are computed over.
@@ -48,6 +65,15 @@ pub const HANDSHAKE: usize = 20;
 const POLL: Duration = Duration::from_micros(100);
 /// Time constant of the joint position servo, s.
 pub const SERVO_LAG: f64 = 0.005;
+/// Standard deviation of the noise on each force component of
+/// `estExtTcpFT`, N: an LWR4's estimate from its joint torque sensors is
+/// good to a few tenths of a newton at a standstill. Averaged over 0.3 s
+/// of 2 ms cycles (150 samples) it is 0.025 N, the weight of 2.5 ml of
+/// water.
+pub const FORCE_NOISE: f64 = 0.3;
+/// Standard deviation of the noise on each moment component of
+/// `estExtTcpFT`, N·m (the force noise on a lever of about 16 cm).
+pub const MOMENT_NOISE: f64 = 0.05;
 
 /// What the simulated KRC does.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -134,6 +160,22 @@ impl KrcConfig {
         }
         Ok(())
     }
+
+    /// The cell the arm pours in: the standard one with `glass`, stepped
+    /// in equal steps of at most [`MAX_DT`] within each cycle.
+    pub fn cell_config(&self) -> CellConfig {
+        let cycle = self.cycle.as_secs_f64();
+        let mut cell = CellConfig::standard(self.glass);
+        cell.dt = cycle / (cycle / MAX_DT).ceil().max(1.0);
+        cell
+    }
+
+    /// The cell at power-on, and after an operator's reset: `bottle`
+    /// litres in the bottle, an empty glass on the tared scale, the
+    /// scale's noise from `seed`.
+    pub fn fresh_cell(&self) -> Result<Cell, String> {
+        Cell::new(&self.cell_config(), self.bottle, self.seed)
+    }
 }
 
 /// The simulated cell, shared with other instruments of the process.
@@ -146,6 +188,13 @@ impl CellHandle {
         // A panic elsewhere while holding the lock leaves a consistent
         // cell (every step completes before it returns): carry on.
         self.0.lock().unwrap_or_else(|e| e.into_inner())
+    }
+}
+
+/// A scale under the cell's glass weighs what is on the pan.
+impl LoadSource for CellHandle {
+    fn grams(&self) -> f64 {
+        self.lock().load_on_pan()
     }
 }
 
@@ -210,6 +259,7 @@ pub struct KrcReport {
 pub struct SimKrc {
     socket: UdpSocket,
     cfg: KrcConfig,
+    cell_cfg: CellConfig,
     cell: CellHandle,
     cell_steps: usize,
 }
@@ -297,11 +347,9 @@ impl SimKrc {
     /// port (the KRC's own address; the remote answers to it).
     pub fn new(cfg: KrcConfig) -> Result<SimKrc, String> {
         cfg.validate()?;
-        let cycle = cfg.cycle.as_secs_f64();
-        let cell_steps = (cycle / MAX_DT).ceil().max(1.0) as usize;
-        let mut cell_cfg = CellConfig::standard(cfg.glass);
-        cell_cfg.dt = cycle / cell_steps as f64;
-        let cell = Cell::new(&cell_cfg, cfg.bottle, cfg.seed)?;
+        let cell_cfg = cfg.cell_config();
+        let cell_steps = (cfg.cycle.as_secs_f64() / cell_cfg.dt).round() as usize;
+        let cell = cfg.fresh_cell()?;
         let any: SocketAddr = if cfg.remote.is_ipv4() {
             ([0, 0, 0, 0], 0).into()
         } else {
@@ -311,6 +359,7 @@ impl SimKrc {
         Ok(SimKrc {
             socket,
             cfg,
+            cell_cfg,
             cell: CellHandle(Arc::new(Mutex::new(cell))),
             cell_steps,
         })
@@ -319,6 +368,22 @@ impl SimKrc {
     /// The shared cell.
     pub fn cell(&self) -> CellHandle {
         self.cell.clone()
+    }
+
+    /// Serves the cell's scale as an MT-SICS device on a new
+    /// pseudo-terminal ([`PtyServer`], not thread-safe to start): the
+    /// cell's scale model with the noise from the KRC's seed, weighing the
+    /// cell's pan in wall-clock time.
+    pub fn serve_scale(&self) -> Result<PtyServer, String> {
+        let model = self.cell_cfg.scale;
+        let device = Device::new(
+            model,
+            self.cfg.seed,
+            self.cell(),
+            DeviceConfig::for_model(&model),
+        )?;
+        PtyServer::start(device)
+            .map_err(|e| format!("cannot serve the scale on a pseudo-terminal: {e}"))
     }
 
     /// The KRC's own UDP address.
@@ -337,7 +402,12 @@ impl SimKrc {
         let release = (cfg.release_after.as_secs_f64() / cfg.cycle.as_secs_f64()).ceil() as u64;
         let mut report = KrcReport::default();
         let mut window = Window::default();
-        let mut robot = Robot::new(cfg.start, cfg.cycle.as_secs_f64());
+        let mut normal = StandardNormal::new();
+        // The bottle's centre in the flange frame: where its weight acts.
+        let half = Pose::translation(0.0, 0.0, 0.5 * self.cell_cfg.bottle.length);
+        let lever = self.cell_cfg.grasp.then(&half).position;
+        let mut robot = Robot::new(cfg.start, cfg.cycle.as_secs_f64(), lever);
+        let mut liquid = self.liquid(&self.cell.lock());
         self.socket.set_nonblocking(true).map_err(socket_error)?;
         let (mut anchor, mut anchor_k) = (Instant::now(), 0u64);
         for k in 0u64.. {
@@ -368,7 +438,12 @@ impl SimKrc {
                 _ => {}
             }
             let seq = k as u16;
-            let m = robot.measurement(seq, t, quality, &window, report.missed);
+            let mut m = robot.measurement(seq, t, quality, &window, report.missed);
+            let noise = std::array::from_fn(|i| {
+                let sigma = if i < 3 { FORCE_NOISE } else { MOMENT_NOISE };
+                sigma * f64::from(normal.sample(&mut rng))
+            });
+            (m.data.est_ext_tcp_ft, m.data.est_ext_jnt_trq) = robot.external_load(liquid, noise);
             let sent = rng.next_u32() >= drop_below;
             let sent_at = Instant::now();
             if sent {
@@ -395,7 +470,7 @@ impl SimKrc {
             }
             let before = robot.measured;
             robot.servo();
-            self.step_cell(before, robot.measured);
+            liquid = self.step_cell(before, robot.measured);
             report.cycles += 1;
             report.command_cycles += u64::from(robot.state == State::Command);
             let excursion = (0..JOINTS)
@@ -475,13 +550,19 @@ impl SimKrc {
     }
 
     /// Steps the cell through the cycle, the joints interpolated from
-    /// `from` to `to`.
-    fn step_cell(&self, from: [f64; JOINTS], to: [f64; JOINTS]) {
+    /// `from` to `to`; the liquid left in the bottle, kg.
+    fn step_cell(&self, from: [f64; JOINTS], to: [f64; JOINTS]) -> f64 {
         let mut cell = self.cell.lock();
         for i in 1..=self.cell_steps {
             let s = i as f64 / self.cell_steps as f64;
             cell.step_joints(&std::array::from_fn(|j| from[j] + (to[j] - from[j]) * s));
         }
+        self.liquid(&cell)
+    }
+
+    /// The liquid in the cell's bottle, kg.
+    fn liquid(&self, cell: &Cell) -> f64 {
+        cell.totals().bottle * 1e-3 * self.cell_cfg.density
     }
 }
 
@@ -507,10 +588,12 @@ struct Robot {
     last_answer: u64,
     /// The last answer's `sendSeqCount`.
     refl: u16,
+    /// Where the held load's weight acts, in the flange frame, m.
+    lever: [f64; 3],
 }
 
 impl Robot {
-    fn new(start: [f64; JOINTS], cycle: f64) -> Self {
+    fn new(start: [f64; JOINTS], cycle: f64, lever: [f64; 3]) -> Self {
         Robot {
             arm: Lwr4::with_flange(),
             cycle,
@@ -521,6 +604,7 @@ impl Robot {
             echoes: 0,
             last_answer: 0,
             refl: 0,
+            lever,
         }
     }
 
@@ -566,6 +650,33 @@ impl Robot {
         let jacobian = self.arm.jacobian(&self.measured);
         d.jacobian = std::array::from_fn(|k| jacobian[k / JOINTS][k % JOINTS] as f32);
         m
+    }
+
+    /// `estExtTcpFT` and `estExtJntTrq` with `mass` kg hanging at the
+    /// lever: its weight and moment about the flange in the flange frame
+    /// plus `noise` (force N, moment N·m), and `Jᵀ` times that wrench.
+    fn external_load(&self, mass: f64, noise: [f64; 6]) -> ([f32; 6], [f32; JOINTS]) {
+        let pose = self.arm.forward(&self.measured);
+        let r = pose.rotation;
+        // The weight (0, 0, −mg) in the base frame, seen from the flange.
+        let force: [f64; 3] = std::array::from_fn(|i| -mass * G * r[2][i]);
+        let l = self.lever;
+        let moment = [
+            l[1] * force[2] - l[2] * force[1],
+            l[2] * force[0] - l[0] * force[2],
+            l[0] * force[1] - l[1] * force[0],
+        ];
+        let tcp: [f64; 6] =
+            std::array::from_fn(|i| noise[i] + if i < 3 { force[i] } else { moment[i - 3] });
+        // Back to the base frame, where the Jacobian is.
+        let base: [f64; 6] = std::array::from_fn(|k| {
+            let (v, i) = (&tcp[3 * (k / 3)..], k % 3);
+            (0..3).map(|c| r[i][c] * v[c]).sum()
+        });
+        let jacobian = self.arm.jacobian(&self.measured);
+        let torques =
+            std::array::from_fn(|j| (0..6).map(|k| jacobian[k][j] * base[k]).sum::<f64>() as f32);
+        (tcp.map(|v| v as f32), torques)
     }
 
     /// An on-time answer in cycle `k`: in command mode its `jntPos` is the
@@ -648,7 +759,7 @@ mod tests {
 
     #[test]
     fn the_servo_lags_and_respects_the_velocity_limits() {
-        let mut robot = Robot::new([0.0; JOINTS], 0.002);
+        let mut robot = Robot::new([0.0; JOINTS], 0.002, [0.0; 3]);
         robot.target = [1.0, 1e-3, 0.0, 0.0, 0.0, 0.0, 0.0];
         robot.servo();
         // Joint 1 at its 110 °/s limit; joint 2 a third of the way (lag).
@@ -659,6 +770,49 @@ mod tests {
             robot.servo();
         }
         assert!((0..JOINTS).all(|j| (robot.measured[j] - robot.target[j]).abs() < 1e-12));
+    }
+
+    #[test]
+    fn the_external_load_is_the_weight_at_the_lever() {
+        let q = crate::sim::expert::rest_configuration(0.3);
+        let lever = [0.01, -0.02, 0.16];
+        let mut robot = Robot::new(q, 0.002, lever);
+        robot.measured = q;
+        let mass = 0.4;
+        let (ft, torques) = robot.external_load(mass, [0.0; 6]);
+        // The force: mg straight down, in the flange frame.
+        let down = robot.arm.forward(&q).rotation[2];
+        for i in 0..3 {
+            assert!(
+                (f64::from(ft[i]) + mass * G * down[i]).abs() < 1e-5,
+                "{ft:?}"
+            );
+        }
+        // The joint torques are the weight's virtual work: τ_j = −mg ∂z/∂q_j
+        // of the point where it acts.
+        let height = |q: &[f64; JOINTS]| {
+            let at = robot
+                .arm
+                .forward(q)
+                .then(&Pose::translation(lever[0], lever[1], lever[2]));
+            at.position[2]
+        };
+        let h = 1e-6;
+        for j in 0..JOINTS {
+            let (mut plus, mut minus) = (q, q);
+            plus[j] += h;
+            minus[j] -= h;
+            let expected = -mass * G * (height(&plus) - height(&minus)) / (2.0 * h);
+            assert!(
+                (f64::from(torques[j]) - expected).abs() < 1e-4,
+                "joint {}: {} vs {expected}",
+                j + 1,
+                torques[j]
+            );
+        }
+        // Noise adds in the flange frame.
+        let (noisy, _) = robot.external_load(mass, [0.1, 0.0, 0.0, 0.0, 0.0, -0.2]);
+        assert!((noisy[0] - ft[0] - 0.1).abs() < 1e-6 && (noisy[5] - ft[5] + 0.2).abs() < 1e-6);
     }
 
     #[test]

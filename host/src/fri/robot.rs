@@ -1,16 +1,18 @@
 //! The `primo robot` commands: stream a joint trajectory to a KUKA LWR4 over
 //! FRI (`play`), or be the KRC with the simulated arm and cell (`sim-krc`).
 
+use std::io::{BufRead, IsTerminal, Write};
 use std::net::SocketAddr;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 use std::time::Duration;
 
 use super::client::{Ended, PlayConfig, PlayResult, SessionConfig, bind, play};
-use super::krc::{KrcConfig, SimKrc};
+use super::krc::{CellHandle, KrcConfig, SimKrc};
 use super::{DEFAULT_PORT, parse_robot};
 use crate::CliError;
 use crate::csv::parse_demo;
+use crate::mtsics::quote;
 use crate::safety::{JointPath, check_joints};
 use crate::sim::arm::JOINTS;
 use crate::sim::cell::GlassKind;
@@ -39,12 +41,22 @@ pub enum RobotCommand {
         /// fraction of the joint velocity limits.
         #[arg(long, default_value_t = 0.2)]
         approach_speed: f64,
-        /// How long to hold the final position after the trajectory, s.
+        /// How long to hold still in command mode before the approach,
+        /// weighing the held load (estExtTcpFT), s.
+        #[arg(long, default_value_t = 0.3)]
+        weigh: f64,
+        /// How long to hold the final position after the trajectory
+        /// (weighing again), s.
         #[arg(long, default_value_t = 0.3)]
         settle: f64,
     },
     /// Be the KRC: send FRI measurements to 127.0.0.1:PORT every cycle,
     /// drive the simulated arm and pouring cell by the answers.
+    ///
+    /// Operator commands on stdin, one a line: `reset` refills the bottle
+    /// and puts an empty glass back (the arm stays where it is). End of
+    /// stdin changes nothing. Started in a shell's background (`sim-krc
+    /// &`), it leaves the terminal alone: reading it would stop the job.
     SimKrc {
         /// The remote's UDP port on 127.0.0.1.
         #[arg(long, default_value_t = DEFAULT_PORT)]
@@ -80,6 +92,10 @@ pub enum RobotCommand {
         /// Exit when a command session ends (the remote falls silent).
         #[arg(long)]
         once: bool,
+        /// Serve the cell's scale over MT-SICS on a new pseudo-terminal
+        /// (its path printed as `primo robot sim-krc: scale served on PATH`).
+        #[arg(long)]
+        scale: bool,
     },
 }
 
@@ -92,11 +108,13 @@ pub fn run(command: RobotCommand) -> Result<(), CliError> {
             cycle_timeout,
             start_timeout,
             approach_speed,
+            weigh,
             settle,
         } => {
             let cfg = PlayConfig {
                 session: SessionConfig {
                     approach_speed: in_range("--approach-speed", approach_speed, 1e-3, 1.0)?,
+                    weigh: in_range("--weigh", weigh, 0.0, 60.0)?,
                     settle: in_range("--settle", settle, 0.0, 60.0)?,
                 },
                 cycle_timeout: seconds("--cycle-timeout", cycle_timeout)?,
@@ -117,6 +135,7 @@ pub fn run(command: RobotCommand) -> Result<(), CliError> {
             monitor_only,
             stop_after,
             once,
+            scale,
         } => {
             let mut cfg = KrcConfig::new(SocketAddr::from(([127, 0, 0, 1], port)));
             cfg.cycle = Duration::from_millis(cycle_ms);
@@ -135,7 +154,7 @@ pub fn run(command: RobotCommand) -> Result<(), CliError> {
             cfg.monitor_only = monitor_only;
             cfg.stop_after = stop_after.map(|s| seconds("--stop-after", s)).transpose()?;
             cfg.once = once;
-            sim_krc(cfg)
+            sim_krc(cfg, scale)
         }
     }
 }
@@ -222,10 +241,11 @@ fn print_result(r: &PlayResult) {
     }
     if r.planned > 0 {
         println!(
-            "sent {} of {} setpoints at {:.1} ms ({} approaching the start)",
+            "sent {} of {} setpoints at {:.1} ms ({} holding still to weigh, {} approaching the start)",
             r.sent,
             r.planned,
             r.cycle * 1e3,
+            r.weighing,
             r.approach
         );
         println!("joint  max error [deg]  rms error [deg]  (measured - commanded)");
@@ -237,18 +257,56 @@ fn print_result(r: &PlayResult) {
             );
         }
     }
+    if let Some([before, after]) = r.load {
+        let [n_before, n_after] = r.load_samples;
+        println!(
+            "held load (estExtTcpFT): {before:.3} N before, {after:.3} N after \
+             ({n_before} and {n_after} measurements)"
+        );
+    }
 }
 
-fn sim_krc(cfg: KrcConfig) -> Result<(), CliError> {
+/// Prints one line on stdout and flushes it: a reader parses it at once.
+fn say(line: &str) -> Result<(), CliError> {
+    let mut out = std::io::stdout().lock();
+    writeln!(out, "{line}")
+        .and_then(|()| out.flush())
+        .map_err(|e| CliError::other(format!("stdout: {e}")))
+}
+
+fn sim_krc(cfg: KrcConfig, scale: bool) -> Result<(), CliError> {
     let krc = SimKrc::new(cfg).map_err(CliError::input)?;
     let cell = krc.cell();
-    println!(
+    // Kept until the KRC stops: the scale is served as long as the cell.
+    let server = if scale {
+        let server = krc.serve_scale().map_err(CliError::other)?;
+        say(&format!(
+            "primo robot sim-krc: scale served on {}",
+            server.path()
+        ))?;
+        Some(server)
+    } else {
+        None
+    };
+    if !in_background() {
+        let operator = cell.clone();
+        std::thread::Builder::new()
+            .name("sim-krc-stdin".into())
+            .spawn(move || operate(&operator, &cfg))
+            .map_err(|e| CliError::other(format!("cannot start the stdin thread: {e}")))?;
+    }
+    say(&format!(
         "primo robot sim-krc: FRI measurements every {} ms from {} to {}, monitor mode",
         cfg.cycle.as_millis(),
         krc.local_addr().map_err(CliError::other)?,
         cfg.remote
-    );
+    ))?;
     let report = krc.run(&AtomicBool::new(false)).map_err(CliError::other)?;
+    if let Some(server) = server {
+        server
+            .stop()
+            .map_err(|e| CliError::other(format!("serving the scale failed: {e}")))?;
+    }
     let totals = cell.lock().totals();
     println!(
         "primo robot sim-krc: {} cycles, {} answered on time, {} missed ({} lost on purpose), \
@@ -278,4 +336,64 @@ fn sim_krc(cfg: KrcConfig) -> Result<(), CliError> {
         totals.bottle * 1e3
     );
     Ok(())
+}
+
+/// Whether stdin is a terminal this process is in the background of (a
+/// shell's `&`): reading it would stop the process (SIGTTIN). From
+/// `/proc/self/stat` (process group and the terminal's foreground group);
+/// without it, assume the foreground.
+fn in_background() -> bool {
+    if !std::io::stdin().is_terminal() {
+        return false;
+    }
+    let Ok(stat) = std::fs::read_to_string("/proc/self/stat") else {
+        return false;
+    };
+    // After `pid (comm)`: state, ppid, pgrp, session, tty_nr, tpgid.
+    let fields: Vec<&str> = stat
+        .rsplit_once(')')
+        .map(|(_, rest)| rest.split_whitespace().collect())
+        .unwrap_or_default();
+    matches!((fields.get(2), fields.get(5)), (Some(pgrp), Some(tpgid)) if pgrp != tpgid)
+}
+
+/// The operator's commands on stdin, one a line, until it closes: `reset`
+/// puts a fresh cell (full bottle, empty glass) in place of the old one.
+fn operate(cell: &CellHandle, cfg: &KrcConfig) {
+    for (i, line) in std::io::stdin().lock().split(b'\n').enumerate() {
+        let line = match line {
+            Ok(line) => line,
+            Err(e) => {
+                eprintln!("primo robot sim-krc: stdin: {e}; operator commands end");
+                return;
+            }
+        };
+        let line = line.trim_ascii();
+        if line.is_empty() {
+            continue;
+        }
+        let done = if line == b"reset" {
+            cfg.fresh_cell().map(|fresh| *cell.lock() = fresh)
+        } else {
+            Err(format!(
+                "`{}`: unknown command; expected `reset`",
+                quote(line)
+            ))
+        };
+        let said = match done {
+            Ok(()) => say(&format!(
+                "primo robot sim-krc: cell reset: bottle {} l, glass empty",
+                cfg.bottle
+            ))
+            .map_err(|e| e.message),
+            Err(why) => {
+                eprintln!("primo robot sim-krc: stdin line {}: {why}", i + 1);
+                Ok(())
+            }
+        };
+        if let Err(e) = said {
+            eprintln!("primo robot sim-krc: {e}");
+            return;
+        }
+    }
 }

@@ -220,6 +220,8 @@ pub struct Cell {
     pose: Option<Pose>,
     flow: f64,
     landing: Option<[f64; 2]>,
+    /// What the scale's pan carries, g.
+    load: f64,
     scale: Scale,
     series: Vec<Sample>,
 }
@@ -248,6 +250,7 @@ impl Cell {
             pose: None,
             flow: 0.0,
             landing: None,
+            load: 0.0,
             scale: Scale::new(cfg.scale, seed),
             series: Vec::new(),
         })
@@ -272,6 +275,13 @@ impl Cell {
     /// (x, y), if anything poured.
     pub fn landing(&self) -> Option<[f64; 2]> {
         self.landing
+    }
+
+    /// The load on the scale's pan after the last step, g: the liquid in
+    /// the (tared) glass plus the stream's impact force. What another
+    /// simulated scale on the same pan weighs.
+    pub fn load_on_pan(&self) -> f64 {
+        self.load
     }
 
     /// One control step with the arm at joint angles `q` (radians).
@@ -363,7 +373,8 @@ impl Cell {
         let rho = self.cfg.density;
         // The tared scale carries the liquid plus the stream's impact force.
         let load_kg = rho * self.glass + rho * momentum / self.cfg.dt / G;
-        self.scale.step(self.cfg.dt, load_kg * 1e3);
+        self.load = load_kg * 1e3;
+        self.scale.step(self.cfg.dt, self.load);
     }
 
     fn record(&mut self, pose: &Pose) {
@@ -467,6 +478,7 @@ mod tests {
         // Tilt to 110° over 2 s, hold 1 s, tilt back over 1 s.
         let steps = |s: f64| (s / cfg.dt) as usize;
         let mut max_flight: f64 = 0.0;
+        let mut impact: f64 = 0.0;
         for i in 0..steps(4.0) {
             let t = i as f64 * cfg.dt;
             let tilt = if t < 2.0 {
@@ -479,8 +491,16 @@ mod tests {
             cell.step_pose(&tilted(&cfg, mouth, tilt));
             conserved(&cell, initial);
             max_flight = max_flight.max(cell.totals().in_flight);
+            // The pan carries the glass's contents plus the stream's impact.
+            impact = impact.max(cell.load_on_pan() - cell.glass * cfg.density * 1e3);
         }
         assert!(max_flight > 1e-4, "a stream in flight: {max_flight}");
+        assert!(impact > 0.1, "impact force {impact} g");
+        for _ in 0..steps(1.0) {
+            cell.step_pose(&tilted(&cfg, mouth, 0.0));
+        }
+        assert!(cell.flight.is_empty());
+        assert!((cell.load_on_pan() - cell.glass * cfg.density * 1e3).abs() < 1e-9);
         let out = cell.finish();
         let t = out.totals;
         assert!((t.bottle + t.glass + t.spilled + t.in_flight - initial).abs() < 1e-9);
