@@ -337,6 +337,14 @@ fn run(cli: Cli) -> Result<(), CliError> {
     }
 }
 
+/// Prints `line` on stdout at once: another program may be waiting for it.
+pub(crate) fn say(line: &str) -> Result<(), CliError> {
+    let mut out = std::io::stdout().lock();
+    writeln!(out, "{line}")
+        .and_then(|()| out.flush())
+        .map_err(|e| CliError::other(format!("stdout: {e}")))
+}
+
 fn read(path: &Path) -> Result<String, CliError> {
     std::fs::read_to_string(path)
         .map_err(|e| CliError::input(format!("{}: cannot read: {e}", path.display())))

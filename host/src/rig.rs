@@ -2,7 +2,7 @@
 //! instruments (a KUKA LWR4 over FRI and an MT-SICS scale) of a pouring
 //! cell. The learners of [`crate::pour`] do not know which.
 
-use std::io::{BufRead, Write};
+use std::io::BufRead;
 use std::net::UdpSocket;
 use std::time::{Duration, Instant};
 
@@ -210,14 +210,12 @@ impl Instruments {
 
     /// Asks the operator to reset the cell and waits for Enter.
     fn confirm(&mut self, rollout: u32) -> Result<(), String> {
-        println!(
+        crate::cli::say(&format!(
             "roll-out {rollout}: reset the cell (the bottle filled to {} l, the glass on the \
              scale emptied), then press Enter",
             self.bottle
-        );
-        std::io::stdout()
-            .flush()
-            .map_err(|e| format!("stdout: {e}"))?;
+        ))
+        .map_err(|e| e.message)?;
         let mut line = String::new();
         match self.operator.read_line(&mut line) {
             Ok(0) => Err("the operator's input closed before the cell was reset".into()),

@@ -1,7 +1,7 @@
 //! The `primo robot` commands: stream a joint trajectory to a KUKA LWR4 over
 //! FRI (`play`), or be the KRC with the simulated arm and cell (`sim-krc`).
 
-use std::io::{BufRead, IsTerminal, Write};
+use std::io::{BufRead, IsTerminal};
 use std::net::SocketAddr;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
@@ -11,6 +11,7 @@ use super::client::{Ended, PlayConfig, PlayResult, SessionConfig, bind, play};
 use super::krc::{CellHandle, KrcConfig, SimKrc};
 use super::{DEFAULT_PORT, parse_robot};
 use crate::CliError;
+use crate::cli::say;
 use crate::csv::parse_demo;
 use crate::mtsics::quote;
 use crate::safety::{JointPath, check_joints};
@@ -267,13 +268,6 @@ fn print_result(r: &PlayResult) {
 }
 
 /// Prints one line on stdout and flushes it: a reader parses it at once.
-fn say(line: &str) -> Result<(), CliError> {
-    let mut out = std::io::stdout().lock();
-    writeln!(out, "{line}")
-        .and_then(|()| out.flush())
-        .map_err(|e| CliError::other(format!("stdout: {e}")))
-}
-
 fn sim_krc(cfg: KrcConfig, scale: bool) -> Result<(), CliError> {
     let krc = SimKrc::new(cfg).map_err(CliError::input)?;
     let cell = krc.cell();

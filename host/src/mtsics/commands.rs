@@ -1,6 +1,6 @@
 //! `primo scale`: serve the simulated scale over MT-SICS, read a scale.
 
-use std::io::{BufRead, Write};
+use std::io::BufRead;
 use std::time::Duration;
 
 use clap::{Args, Subcommand, ValueEnum};
@@ -9,6 +9,7 @@ use super::client::{ClientConfig, Scale};
 use super::protocol::{Density, Unit, quote};
 use super::server::{Control, Device, DeviceConfig, LoadHandle, PtyServer};
 use crate::CliError;
+use crate::cli::say;
 use crate::sim::scale::ScaleModel;
 
 /// `primo scale` subcommands.
@@ -89,13 +90,6 @@ pub fn run(command: ScaleCommand) -> Result<(), CliError> {
         ScaleCommand::Serve(args) => serve(&args),
         ScaleCommand::Read(args) => read(&args),
     }
-}
-
-fn say(line: &str) -> Result<(), CliError> {
-    let mut out = std::io::stdout().lock();
-    writeln!(out, "{line}")
-        .and_then(|()| out.flush())
-        .map_err(|e| CliError::other(format!("stdout: {e}")))
 }
 
 fn serve(args: &ServeArgs) -> Result<(), CliError> {
