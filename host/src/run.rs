@@ -20,7 +20,7 @@ use crate::report::{PourSummary, RolloutSummary};
 use crate::rig::{Instruments, InstrumentsSpec, Rig, Simulated};
 use crate::runlog::RunLog;
 use crate::sim::cell::{CellConfig, GlassKind};
-use crate::skill::{Skill, Space};
+use crate::skill::{Skill, Space, Trial};
 use crate::{CliError, MAX_KERNELS};
 
 /// The log format's version.
@@ -245,6 +245,8 @@ pub fn pour(start: Start, learner: &LearnerSpec) -> Result<(), CliError> {
         seed: s.seed,
     };
     let mut rig: Box<dyn Rig> = match &header.cell {
+        // A complete run is only told again: no instrument is needed.
+        _ if ended => Box::new(Complete),
         CellSpec::Simulated => Box::new(simulated.clone()),
         CellSpec::Instruments(spec) => {
             let rig = Instruments::open(
@@ -303,6 +305,18 @@ pub fn pour(start: Start, learner: &LearnerSpec) -> Result<(), CliError> {
     report(&dir, &s, &skill, &run, &simulated, &header.cell, started)
 }
 
+/// The cell of a complete run: it is told its logged roll-outs again and
+/// makes none.
+struct Complete;
+
+impl Rig for Complete {
+    fn roll_out(&mut self, _: &Skill, rollout: u32, _: f32, _: &[f32]) -> Result<Trial, String> {
+        Err(format!(
+            "the logged run is complete, yet the learner asks for roll-out {rollout}"
+        ))
+    }
+}
+
 /// Writes the reports of a run and prints its verdict.
 fn report(
     dir: &Path,
@@ -352,6 +366,11 @@ fn report(
         }
         _ => None,
     };
+    let series_note = match (&series, best) {
+        (Some(_), Some(e)) => format!("roll-out {} (best reward)", e.record.rollout),
+        (None, Some(_)) => "empty (a real cell records no series)".into(),
+        (_, None) => "empty (no roll-out was executed)".into(),
+    };
     crate::series::write_csv(&dir.join("series.csv"), skill.space(), series.as_ref())?;
     let verdict = match (s.method, converged_at) {
         (Method::Power, _) => "learned".to_string(),
@@ -362,12 +381,11 @@ fn report(
         (_, None) => format!("did not reach {} ml", s.precision * 1e3),
     };
     println!(
-        "primo pour: {verdict}; last: q {:.4} l, poured {:.1} ml, spilled {:.1} ml, reward {:.3}; series.csv: roll-out {} (best reward); wrote {}",
+        "primo pour: {verdict}; last: q {:.4} l, poured {:.1} ml, spilled {:.1} ml, reward {:.3}; series.csv: {series_note}; wrote {}",
         last.query,
         last.trial.poured * 1e3,
         last.trial.spilled * 1e3,
         last.trial.reward,
-        best.map_or("none".to_string(), |e| e.record.rollout.to_string()),
         dir.display()
     );
     Ok(())

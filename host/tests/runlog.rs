@@ -222,3 +222,30 @@ fn an_unfinished_run_is_never_overwritten_and_settings_come_from_its_log() {
         "{out}"
     );
 }
+
+#[test]
+fn a_run_resumes_on_the_coprocessor_where_the_host_left_it() {
+    // The learner on the emulated Cortex-M4F is told the logged outcomes
+    // and must reach the logged states bit for bit, then goes on.
+    let (dir, finished) = unfinished("coprocessor");
+    let mut bytes = read(&dir.join("run.log"));
+    for _ in 0..3 {
+        bytes.pop();
+        let end = bytes.iter().rposition(|b| *b == b'\n').unwrap() + 1;
+        bytes.truncate(end);
+    }
+    std::fs::write(dir.join("run.log"), &bytes).unwrap();
+    let (code, out, err) = primo(&[
+        "pour",
+        "--resume",
+        dir.to_str().unwrap(),
+        "--coprocessor",
+        "qemu",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        out.contains("after roll-out 3") && out.contains("QEMU"),
+        "{out}"
+    );
+    assert_eq!(read(&dir.join("run.log")), finished);
+}
