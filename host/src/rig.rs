@@ -233,11 +233,8 @@ impl Rig for Instruments {
         query: f32,
         delta: &[f32],
     ) -> Result<Trial, String> {
-        let path = match skill
-            .plan(query, delta, self.cell.dt)
-            .and_then(|plan| skill.check(&self.cell, &plan))
-        {
-            Ok(path) => path,
+        let path = match skill.checked(&self.cell, query, delta) {
+            Ok((_, path)) => path,
             Err(why) => return Ok(Trial::rejected(self.target, why)),
         };
         if self.spec.confirm {
@@ -254,6 +251,12 @@ impl Rig for Instruments {
         let after = self.weigh()?;
         let poured = (after - before) / self.spec.density * 1e-3;
         let load = played.load;
+        if load.is_none() {
+            eprintln!(
+                "primo pour: roll-out {rollout}: the robot stood still too briefly to weigh the \
+                 bottle; its spill counts as 0"
+            );
+        }
         // The bottle's loss: its liquid's weight, before minus after.
         let spilled = load.map_or(0.0, |[b, a]| {
             ((b - a) / G / self.spec.density - poured).max(0.0)

@@ -280,6 +280,19 @@ impl Skill {
         }
     }
 
+    /// The movement for `θ = G(query) + Δθ` planned at the cell's control
+    /// step and checked ([`Skill::check`]); why not, if it is rejected.
+    pub fn checked(
+        &self,
+        cell: &CellConfig,
+        query: f32,
+        delta: &[f32],
+    ) -> Result<(Plan, JointPath), String> {
+        let plan = self.plan(query, delta, cell.dt)?;
+        let path = self.check(cell, &plan)?;
+        Ok((plan, path))
+    }
+
     /// Plans, checks and executes one roll-out with the bottle holding
     /// `volume` litres; the scale's noise comes from `seed`. The trial
     /// carries the time series when `cell.record_every > 0`.
@@ -292,11 +305,8 @@ impl Skill {
         delta: &[f32],
         seed: u64,
     ) -> Result<Trial, String> {
-        let plan = match self
-            .plan(query, delta, cell.dt)
-            .and_then(|p| self.check(cell, &p).map(|_| p))
-        {
-            Ok(plan) => plan,
+        let plan = match self.checked(cell, query, delta) {
+            Ok((plan, _)) => plan,
             Err(why) => return Ok(Trial::rejected(target, why)),
         };
         let mut sim = Cell::new(cell, volume, seed)?;
