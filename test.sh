@@ -30,5 +30,25 @@ log=$(mktemp)
   ./footprint.sh
 ) 2>&1 | tee "$log"
 cargo test --workspace --locked 2>&1 | tee -a "$log"
+# Fuzzing (fuzz/README.md): every target for 30 s from its committed seeds,
+# in a scratch corpus; any crash fails (its input lands in fuzz/artifacts/).
+cargo +nightly --version >/dev/null 2>&1 || rustup toolchain install nightly --profile minimal
+cargo fuzz --version >/dev/null 2>&1 || cargo install cargo-fuzz --locked
+(
+  cd fuzz
+  cargo +nightly fetch --locked
+  cargo +nightly fuzz build
+  for target in $(cargo +nightly fuzz list); do
+    corpus=$(mktemp -d)
+    cp "seeds/$target"/* "$corpus"
+    if ! cargo +nightly fuzz run "$target" "$corpus" -- -max_total_time=30 >"$corpus.log" 2>&1; then
+      tail -n 40 "$corpus.log"
+      echo "fuzz $target: crashed"
+      exit 1
+    fi
+    echo "fuzz $target: $(grep -o 'Done [0-9]* runs in [0-9]* second(s)' "$corpus.log"), clean"
+    rm -rf "$corpus" "$corpus.log"
+  done
+)
 # One closing tally over every test binary and the doc tests.
 awk '/^test result:/ { p += $4; f += $6 } END { printf "all tests: %d passed, %d failed\n", p, f }' "$log"

@@ -31,6 +31,26 @@
 //!   exponential), not by Euler: any `dt` is stable and the error is
 //!   second order in `dt` only through the forcing term.
 //!
+//! # Bounds, and reaching the goal
+//!
+//! A DMP takes values only in documented ranges, and within them every
+//! sample it integrates is finite (the `dmp` fuzz target checks this on
+//! arbitrary demonstrations, gains, goals and steps): weights within
+//! ±[`MAX_ABS_WEIGHT`], starts and goals within ±[`MAX_ABS_POSITION`], `α`
+//! in [[`MIN_ALPHA`], [`MAX_ALPHA`]], `τ ≥` [`MIN_TAU`], any `dt > 0`.
+//!
+//! It reaches its goal whatever the weights within those bounds: once the
+//! phase is 1 (the first step past `τ`) the forcing term is exactly zero
+//! and each step is the exact solution of the critically damped spring, so
+//! `s·τ` seconds later
+//!
+//! ```text
+//! |y − g| ≤ (1 + αs/2)·e^(−αs/2) · (|y − g| + 2τ|ẏ|/α at phase 1)
+//! ```
+//!
+//! up to `f32` rounding: below 4e−10 of that deviation by `s = 50/α` (2τ
+//! at the default `α` = 25). Property-tested in `core/tests/properties.rs`.
+//!
 //! # Parameter vector
 //!
 //! [`Dmp::params`] / [`Dmp::set_params`] expose `θ` for generalization and
@@ -70,6 +90,14 @@ pub const KERNEL_CUTOFF: f32 = 25.0;
 pub const MAX_ABS_POSITION: f32 = 1e6;
 /// Largest |kernel weight| a DMP accepts.
 pub const MAX_ABS_WEIGHT: f32 = 1e9;
+/// Shortest duration `τ`, s (one cycle of a 1 kHz robot interface): the
+/// acceleration `(…)/τ²` of any accepted DMP stays finite (a `τ` of 1e−35 s
+/// made it ∞).
+pub const MIN_TAU: f32 = 1e-3;
+/// Smallest spring gain `α`: the equilibrium `g + f/(α²/4)` of a forcing
+/// term of [`MAX_ABS_WEIGHT`] × the widest amplitude stays far inside
+/// `f32` (a subnormal `α` made it ∞, and the movement NaN).
+pub const MIN_ALPHA: f32 = 1e-2;
 /// Largest spring gain `α`.
 pub const MAX_ALPHA: f32 = 1e4;
 /// [`Scaling::Auto`] scales a DoF only if `|g − y0|` is at least this
@@ -94,7 +122,7 @@ pub enum Scaling {
 /// Options for [`Dmp::fit`].
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct FitOptions {
-    /// Spring gain `α > 0`.
+    /// Spring gain `α` in [[`MIN_ALPHA`], [`MAX_ALPHA`]].
     pub alpha: f32,
     /// Kernel overlap `h·Δc² > 0`; larger means narrower kernels.
     pub overlap: f32,
@@ -161,7 +189,7 @@ impl<const D: usize, const K: usize> TryFrom<DmpFields<D, K>> for Dmp<D, K> {
         }
         check_bounded(&f.start, MAX_ABS_POSITION, "start beyond MAX_ABS_POSITION")?;
         check_bounded(&f.goal, MAX_ABS_POSITION, "goal beyond MAX_ABS_POSITION")?;
-        check_positive(f.tau, "tau must be finite and > 0")?;
+        check_tau(f.tau, "tau must be finite and >= MIN_TAU")?;
         check_alpha(f.alpha)?;
         check_positive(f.width, "width must be finite and > 0")?;
         Ok(Dmp {
@@ -184,12 +212,19 @@ fn check_positive(v: f32, what: &'static str) -> Result<(), Error> {
     }
 }
 
-fn check_alpha(alpha: f32) -> Result<(), Error> {
-    check_positive(alpha, "alpha must be finite and > 0")?;
-    if alpha <= MAX_ALPHA {
+fn check_tau(tau: f32, what: &'static str) -> Result<(), Error> {
+    if tau.is_finite() && tau >= MIN_TAU {
         Ok(())
     } else {
-        Err(Error::OutOfRange("alpha must be at most MAX_ALPHA"))
+        Err(Error::OutOfRange(what))
+    }
+}
+
+fn check_alpha(alpha: f32) -> Result<(), Error> {
+    if (MIN_ALPHA..=MAX_ALPHA).contains(&alpha) {
+        Ok(())
+    } else {
+        Err(Error::OutOfRange("alpha must be in [MIN_ALPHA, MAX_ALPHA]"))
     }
 }
 
@@ -208,7 +243,7 @@ pub struct Shape {
 /// Where and how fast to execute a DMP: start, goal and duration `τ`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Execution<const D: usize> {
-    /// Execution time in seconds (> 0).
+    /// Execution time in seconds (≥ [`MIN_TAU`]).
     pub tau: f32,
     /// Start position, one value per DoF.
     pub start: Vec<f32, D>,
@@ -287,7 +322,7 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
             }
         };
         let tau = t_end - t0;
-        check_positive(tau, "demonstration duration must be > 0")?;
+        check_tau(tau, "demonstration duration must be finite and >= MIN_TAU")?;
         let rows = || positions.chunks_exact(dof);
         let start: Vec<f32, D> = rows().next().unwrap_or(&[]).iter().copied().collect();
         let goal: Vec<f32, D> = rows().last().unwrap_or(&[]).iter().copied().collect();
@@ -512,7 +547,7 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
             "goals beyond MAX_ABS_POSITION",
         )?;
         let tau = theta.last().copied().unwrap_or(0.0);
-        check_positive(tau, "tau must be finite and > 0")?;
+        check_tau(tau, "tau must be finite and >= MIN_TAU")?;
         for (row, chunk) in self.weights.iter_mut().zip(theta.chunks_exact(k)) {
             row.copy_from_slice(chunk);
         }
@@ -618,7 +653,7 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
             MAX_ABS_POSITION,
             "execution goal beyond MAX_ABS_POSITION",
         )?;
-        check_positive(exec.tau, "execution tau must be finite and > 0")
+        check_tau(exec.tau, "execution tau must be finite and >= MIN_TAU")
     }
 
     /// Starts an execution at rest at `exec.start`; advance it with

@@ -1,5 +1,5 @@
 //! The DMP properties the issue asks for, on the demos it names.
-use primo_core::dmp::{Dmp, FitOptions, Scaling};
+use primo_core::dmp::{Dmp, FitOptions, MIN_ALPHA, MIN_TAU, Scaling, Shape};
 use std::f32::consts::PI;
 
 fn min_jerk(t: f32) -> f32 {
@@ -320,9 +320,9 @@ fn review_findings_stay_fixed() {
     }
     let (t, y) = demo_2d();
     let mut dmp = Dmp::<2, 30>::fit(&t, &y, 2, 30, &FitOptions::default()).unwrap();
-    // A huge step on a tiny τ: the spring has settled, not 0·∞.
+    // A huge step on the shortest τ: the spring has settled, not 0·∞.
     let mut exec = dmp.execution();
-    exec.tau = 1e-30;
+    exec.tau = MIN_TAU;
     let mut run = dmp.start(&exec).unwrap();
     run.step(&dmp, 1e10).unwrap();
     assert!(run.position().iter().all(|v| v.is_finite()));
@@ -345,4 +345,57 @@ fn review_findings_stay_fixed() {
         assert_eq!(samples.last().unwrap().time, tau);
         assert!(samples[rows - 2].time < tau);
     }
+}
+
+/// Crashes the `dmp` fuzz target found (fuzz/seeds/dmp/regression-*): a
+/// subnormal `α` (stiffness `α²/4` = 0, equilibrium ∞) and a `τ` of 1e−35 s
+/// (acceleration ∞) made NaN or ∞ samples. Both are now refused, and the
+/// same DMPs at the documented bounds integrate finitely.
+#[test]
+fn fuzz_findings_stay_fixed() {
+    let finite = |dmp: &Dmp<1, 5>, exec| {
+        dmp.trajectory(exec, 3.7e-4).unwrap().all(|s| {
+            [s.position[0], s.velocity[0], s.acceleration[0]]
+                .iter()
+                .all(|v| v.is_finite())
+        })
+    };
+    let shape = |alpha| Shape {
+        alpha,
+        width: 3.914_819e-11,
+        scaled: 1,
+    };
+    let theta = [
+        -18.187_683,
+        -18.187_218,
+        -18.187_777,
+        -18.187_37,
+        -18.187_546,
+        274.6582,
+        1.171_890_3,
+    ];
+    assert!(Dmp::<1, 5>::from_shape(&shape(1.469_368e-39), 1, 5, &[345_092.78], &theta).is_err());
+    let dmp = Dmp::<1, 5>::from_shape(&shape(MIN_ALPHA), 1, 5, &[345_092.78], &theta).unwrap();
+    let mut exec = dmp.execution();
+    exec.goal[0] = -0.547_180_2;
+    assert!(finite(&dmp, &exec));
+
+    let theta = [
+        -0.889_420_6,
+        -0.889_434_7,
+        -0.889_432_2,
+        -0.889_444_4,
+        -0.889_452_2,
+        82_305.91,
+        2.0,
+    ];
+    let dmp = Dmp::<1, 5>::from_shape(&shape(4.116_821_3), 1, 5, &[345_092.78], &theta).unwrap();
+    let mut exec = dmp.execution();
+    exec.tau = 1.930_191_1e-35;
+    assert!(dmp.start(&exec).is_err());
+    exec.tau = MIN_TAU;
+    assert!(finite(&dmp, &exec));
+    let t = [0.0, 1e-4, 2e-4];
+    let fit = Dmp::<1, 5>::fit(&t, &[0.0, 1.0, 2.0], 1, 2, &FitOptions::default());
+    assert!(fit.is_err(), "a demo shorter than MIN_TAU");
 }

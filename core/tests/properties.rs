@@ -1,5 +1,7 @@
 //! Property tests of the invariants the learners rely on.
-use primo_core::dmp::{Dmp, FitOptions};
+use primo_core::dmp::{
+    Dmp, MAX_ABS_POSITION, MAX_ABS_WEIGHT, MAX_ALPHA, MIN_ALPHA, MIN_TAU, Run, Shape,
+};
 use primo_core::generalize::{Generalizer, Method};
 use primo_core::power::{Block, Power, PowerConfig};
 use proptest::prelude::*;
@@ -14,38 +16,59 @@ fn config() -> ProptestConfig {
     }
 }
 
+/// `±10^e` for `e` uniform over twelve decades below `max`, or 0: every
+/// scale up to the bound.
+fn magnitude(max: f32) -> impl Strategy<Value = f32> {
+    prop_oneof![
+        1 => Just(0.0f32),
+        9 => (any::<bool>(), -12.0f32..0.0).prop_map(move |(neg, e)| {
+            let v = max * 10f32.powf(e);
+            if neg { -v } else { v }
+        }),
+    ]
+}
+
 proptest! {
     #![proptest_config(config())]
 
-    /// Whatever the weights (|w| ≤ 1000), start, goal and τ, the forcing
-    /// stops at τ and the spring settles on the goal by 3τ, finitely.
+    /// The documented goal bound (dmp.rs, "Bounds, and reaching the goal"):
+    /// for any weights, starts, goals, `α` and `τ` within the DMP's bounds,
+    /// every sample is finite, and from phase 1 on `|y − g|` shrinks by
+    /// `(1 + αs/2)e^(−αs/2)` < 4e−10 within `s = 50/α` more `τ`.
     #[test]
-    fn dmp_reaches_its_goal_for_bounded_weights(
-        weights in prop::collection::vec(-1000.0f32..1000.0, 2 * 12),
-        start in prop::array::uniform2(-10.0f32..10.0),
-        goal in prop::array::uniform2(-10.0f32..10.0),
-        tau in 0.2f32..5.0,
+    fn dmp_reaches_its_goal_for_any_weights_within_the_bounds(
+        weights in prop::collection::vec(magnitude(MAX_ABS_WEIGHT), 2 * 12),
+        start in prop::array::uniform2(magnitude(MAX_ABS_POSITION)),
+        goal in prop::array::uniform2(magnitude(MAX_ABS_POSITION)),
+        alpha in (MIN_ALPHA.ln()..MAX_ALPHA.ln()).prop_map(f32::exp),
+        tau in MIN_TAU..10.0f32,
+        scaled in 0u32..4,
     ) {
-        let t: Vec<f32> = (0..50).map(|i| i as f32 / 49.0).collect();
-        let y: Vec<f32> = t.iter().flat_map(|&t| [t, 2.0 * t]).collect();
-        let mut dmp = Dmp::<2, 12>::fit(&t, &y, 2, 12, &FitOptions::default()).unwrap();
-        let mut theta = vec![0.0; dmp.param_len()];
-        dmp.params(&mut theta).unwrap();
-        theta[..24].copy_from_slice(&weights);
-        dmp.set_params(&theta).unwrap();
-        let mut exec = dmp.execution();
-        exec.tau = tau;
-        exec.start.copy_from_slice(&start);
-        exec.goal.copy_from_slice(&goal);
-        let mut run = dmp.start(&exec).unwrap();
-        let dt = 0.002;
-        let steps = (3.0 * tau / dt) as usize;
-        for _ in 0..steps {
-            run.step(&dmp, dt).unwrap();
-            prop_assert!(run.position().iter().all(|v| v.is_finite()));
+        let shape = Shape { alpha, width: 2.0 * 11.0 * 11.0, scaled };
+        let theta: Vec<f32> = weights.iter().chain(&goal).chain([&tau]).copied().collect();
+        let dmp = Dmp::<2, 12>::from_shape(&shape, 2, 12, &start, &theta).unwrap();
+        let mut run = dmp.start(&dmp.execution()).unwrap();
+        let finite = |run: &Run<2>| {
+            let s = run.sample();
+            s.position.iter().chain(&s.velocity).chain(&s.acceleration).all(|v| v.is_finite())
+        };
+        while run.phase() < 1.0 {
+            run.step(&dmp, tau / 500.0).unwrap();
+            prop_assert!(finite(&run), "{:?}", run.sample());
         }
-        for (p, g) in run.position().iter().zip(goal) {
-            prop_assert!((p - g).abs() < 1e-3 * (1.0 + g.abs()), "ends at {p}, goal {g}");
+        let s = run.sample();
+        let deviation: Vec<f32> = (0..2)
+            .map(|d| (s.position[d] - goal[d]).abs() + 2.0 * tau * s.velocity[d].abs() / alpha)
+            .collect();
+        let settle = 50.0 / alpha * tau;
+        for _ in 0..100 {
+            run.step(&dmp, settle / 100.0).unwrap();
+            prop_assert!(finite(&run), "{:?}", run.sample());
+        }
+        for d in 0..2 {
+            let (p, g) = (run.position()[d], goal[d]);
+            let bound = 4e-10 * deviation[d] + 1e-6 * (1.0 + g.abs());
+            prop_assert!((p - g).abs() <= bound, "ends at {p}, goal {g}, bound {bound}");
         }
     }
 
@@ -81,10 +104,42 @@ proptest! {
         }
     }
 
-    /// The importance sampler always holds the best L rewards seen, best
-    /// first, and the mean stays a reward-weighted step inside their hull.
+    /// The paper's case, two examples: both methods at their defaults are
+    /// the straight line through them, so exact at both and linear between.
     #[test]
-    fn power_sampler_is_the_sorted_best_l(rewards in prop::collection::vec(0.0f32..10.0, 1..60), l in 1usize..=5) {
+    fn two_examples_generalize_to_the_line_through_them(
+        q0 in -10.0f32..10.0,
+        gap in 0.1f32..10.0,
+        a in prop::collection::vec(-100.0f32..100.0, 3),
+        b in prop::collection::vec(-100.0f32..100.0, 3),
+        t in 0.0f32..=1.0,
+    ) {
+        let q1 = q0 + gap;
+        for method in [Method::Lwr { bandwidth: None }, Method::Gpr { length_scale: None, noise: 0.0 }] {
+            let mut g = Generalizer::<2, 1, 3>::new(1, 3, method);
+            g.add_example(&[q0], &a).unwrap();
+            g.add_example(&[q1], &b).unwrap();
+            g.build().unwrap();
+            for (q, want) in [(q0, a.clone()), (q1, b.clone()), (q0 + t * gap, a.iter().zip(&b).map(|(x, y)| x + t * (y - x)).collect())] {
+                let mut out = [0.0; 3];
+                g.generalize(&[q], &mut out).unwrap();
+                for (o, w) in out.iter().zip(&want) {
+                    prop_assert!((o - w).abs() <= 1e-3 * (1.0 + w.abs()), "{:?} at {}: {} vs {}", method, q, o, w);
+                }
+            }
+        }
+    }
+
+    /// The importance sampler always holds the best L roll-outs seen, best
+    /// first, ties in the order they came (rewards from a small set force
+    /// ties), each with its own parameters; every update moves the mean to
+    /// a reward-weighted average of the sampler's parameters (inside their
+    /// hull), or leaves it when every reward there is 0.
+    #[test]
+    fn power_sampler_is_the_sorted_best_l(
+        rewards in prop::collection::vec(prop_oneof![0.0f32..10.0, prop::sample::select(vec![0.0f32, 0.5, 2.0])], 1..60),
+        l in 1usize..=5,
+    ) {
         let block = [Block { len: 1, variance: 1.0, decay: 1.0 }];
         let cfg = PowerConfig { sampler: l, ..PowerConfig::paper(&block).unwrap() };
         let made = Power::<1, 4>::new(&[0.0], cfg, 1);
@@ -96,15 +151,26 @@ proptest! {
         let mut p = made.unwrap();
         let mut seen = Vec::new();
         for r in &rewards {
-            p.ask();
-            p.tell(*r).unwrap();
-            seen.push(*r);
+            let theta = p.ask()[0];
+            let mean = p.mean()[0];
+            let updated = p.tell(*r).unwrap();
+            seen.push((*r, theta));
+            if updated {
+                let (lo, hi) = p.sampler().fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), (t, _)| (lo.min(t[0]), hi.max(t[0])));
+                let m = p.mean()[0];
+                if p.sampler().all(|(_, r)| r == 0.0) {
+                    prop_assert_eq!(m, mean);
+                } else {
+                    let slack = 1e-5 * (1.0 + lo.abs().max(hi.abs()));
+                    prop_assert!(lo - slack <= m && m <= hi + slack, "mean {} outside [{}, {}]", m, lo, hi);
+                }
+            }
         }
+        // A stable sort: equal rewards keep their order.
         let mut best = seen.clone();
-        best.sort_by(|a, b| b.partial_cmp(a).unwrap());
+        best.sort_by(|a, b| b.0.partial_cmp(&a.0).unwrap());
         best.truncate(l);
-        let kept: Vec<f32> = p.sampler().map(|(_, r)| r).collect();
+        let kept: Vec<(f32, f32)> = p.sampler().map(|(t, r)| (r, t[0])).collect();
         prop_assert_eq!(kept, best);
-        prop_assert!(p.mean().iter().all(|v| v.is_finite()));
     }
 }
