@@ -36,6 +36,7 @@ cargo +nightly --version >/dev/null 2>&1 || rustup toolchain install nightly --p
 cargo fuzz --version >/dev/null 2>&1 || cargo install cargo-fuzz --locked
 (
   cd fuzz
+  cargo fmt --check
   cargo +nightly fetch --locked
   cargo +nightly fuzz build
   for target in $(cargo +nightly fuzz list); do
