@@ -385,11 +385,9 @@ pub fn learn_on(
             }
             Some(_) => {}
             None => {
+                // A series (megabytes) is not serialized: it stays out of the log.
                 if let Some(log) = log.as_deref_mut() {
-                    // A series (megabytes) stays out of the log.
-                    let series = entry.record.trial.series.take();
                     log.append(&entry).map_err(|e| e.message)?;
-                    entry.record.trial.series = series;
                 }
             }
         }

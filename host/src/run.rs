@@ -222,10 +222,7 @@ pub fn pour(start: Start, learner: &LearnerSpec) -> Result<(), CliError> {
             dir.display()
         )));
     }
-    let parameters = match s.method {
-        Method::Power => skill.param_len() + 1,
-        _ => 1,
-    };
+    let parameters = learned_parameters(&s, &skill);
     println!(
         "primo pour: {} from a {} l bottle, target {} l, {:?} space, {} learned parameter(s)",
         match s.method {
@@ -317,6 +314,14 @@ impl Rig for Complete {
     }
 }
 
+/// Parameters learned: `[q̂, Δθ]` for PoWER, the query otherwise.
+fn learned_parameters(s: &Settings, skill: &Skill) -> usize {
+    match s.method {
+        Method::Power => skill.param_len() + 1,
+        _ => 1,
+    }
+}
+
 /// Writes the reports of a run and prints its verdict.
 fn report(
     dir: &Path,
@@ -344,10 +349,7 @@ fn report(
     let summary = PourSummary {
         settings: s,
         space: skill.space(),
-        parameters: match s.method {
-            Method::Power => skill.param_len() + 1,
-            _ => 1,
-        },
+        parameters: learned_parameters(s, skill),
         rollouts: records.len(),
         converged_at,
         last: RolloutSummary::of(last),
