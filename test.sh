@@ -18,7 +18,7 @@ cargo fmt --all --check
 cargo clippy --workspace --all-targets --locked -- -D warnings
 cargo clippy -p primo-core --target thumbv7em-none-eabihf --locked -- -D warnings
 cargo build -p primo-core --target thumbv7em-none-eabihf --release --locked
-RUSTDOCFLAGS="-D warnings" cargo doc -p primo-core -p primo-host --no-deps --locked
+RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --locked
 log=$(mktemp)
 # The firmware: its own build, lints, on-target tests under QEMU, and the
 # release ELF the hardware-in-the-loop tests boot.

@@ -5,7 +5,7 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use primo_host::csv::{MIN_ROWS, parse_demo};
+use primo_skill::csv::{MIN_ROWS, parse_demo};
 
 fuzz_target!(|data: &[u8]| {
     let text = String::from_utf8_lossy(data);

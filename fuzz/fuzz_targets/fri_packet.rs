@@ -6,7 +6,7 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use primo_host::fri::packet::{
+use primo_fri::packet::{
     COMMAND_ID, COMMAND_SIZE, Command, MEASUREMENT_ID, MEASUREMENT_SIZE, Measurement,
 };
 

@@ -4,7 +4,7 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use primo_host::mtsics::{MAX_LINE, Response, parse_response, quote};
+use primo_mtsics::{MAX_LINE, Response, parse_response, quote};
 
 fuzz_target!(|data: &[u8]| {
     match parse_response(data) {

@@ -1,10 +1,12 @@
 //! The paper's experiments on the simulated cell, at reduced sizes (the
 //! full sizes run with `primo experiment golden|power`).
-use primo_host::experiment;
-use primo_host::pour::{Learner, Method, Settings, built_in_skill, learn};
-use primo_host::report::median_rollouts;
-use primo_host::sim::cell::{CellConfig, GlassKind};
-use primo_host::skill::Space;
+use primo_learn::experiment;
+use primo_learn::learning::{Algorithm as Method, Learner, Settings, learn};
+use primo_learn::pouring::built_in_skill;
+use primo_learn::report::median_rollouts;
+use primo_learn::rig::{Simulated, roll_out};
+use primo_sim::cell::{CellConfig, GlassKind};
+use primo_skill::Space;
 
 #[test]
 fn error_learning_reaches_2_ml_for_every_bottle_volume() {
@@ -47,7 +49,8 @@ fn joint_space_generalization_spills_where_cartesian_does_not() {
     let cell = CellConfig::standard(GlassKind::Small);
     let trial = |space| {
         let skill = built_in_skill(&cell, space, 30).unwrap();
-        skill.roll_out(&cell, 0.5, 0.2, 0.5, &[], 1).unwrap()
+        let mut rig = Simulated::new(cell, 0.5, 1).unwrap();
+        roll_out(&mut rig, &skill, 0.2, 1, 0.5, &[]).unwrap()
     };
     let (cartesian, joint) = (trial(Space::Cartesian), trial(Space::Joint));
     println!("cartesian {cartesian:?}\njoint {joint:?}");
@@ -56,7 +59,8 @@ fn joint_space_generalization_spills_where_cartesian_does_not() {
     // At the demonstrations' own queries the joint movements do not spill.
     let skill = built_in_skill(&cell, Space::Joint, 30).unwrap();
     for q in [0.3f32, 1.0] {
-        let t = skill.roll_out(&cell, q.into(), 0.2, q, &[], 1).unwrap();
+        let mut rig = Simulated::new(cell, q.into(), 1).unwrap();
+        let t = roll_out(&mut rig, &skill, 0.2, 1, q, &[]).unwrap();
         assert!(
             t.spilled < 1e-3 && (t.poured - 0.2).abs() < 0.02,
             "q {q}: {t:?}"

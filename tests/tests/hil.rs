@@ -11,10 +11,11 @@ use std::thread::JoinHandle;
 use std::time::Duration;
 
 use primo_core::rng::Xoshiro128PlusPlus;
-use primo_host::coprocessor::{Link, Qemu};
-use primo_host::pour::{Learner, Method, Record, Settings, built_in_skill, learn};
-use primo_host::sim::cell::{CellConfig, GlassKind};
-use primo_host::skill::Space;
+use primo_learn::coprocessor::{Link, Qemu};
+use primo_learn::learning::{Algorithm as Method, Learner, Record, Settings, learn};
+use primo_learn::pouring::built_in_skill;
+use primo_sim::cell::{CellConfig, GlassKind};
+use primo_skill::Space;
 use rand_core::{Rng, SeedableRng};
 use serialport::{SerialPort, TTYPort};
 

@@ -1,0 +1,63 @@
+//! Argument types shared by the subcommands: the command line's names for
+//! the libraries' choices (the libraries know no command line).
+
+use clap::ValueEnum;
+
+/// `--space`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Space {
+    /// Bottle pose: mouth position (m) and rotation vector (rad).
+    Cartesian,
+    /// The arm's seven joint angles (rad).
+    Joint,
+}
+
+impl From<Space> for primo_skill::Space {
+    fn from(s: Space) -> Self {
+        match s {
+            Space::Cartesian => primo_skill::Space::Cartesian,
+            Space::Joint => primo_skill::Space::Joint,
+        }
+    }
+}
+
+/// `--glass`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Glass {
+    /// 7 cm opening.
+    Normal,
+    /// Half the diameter, as in the paper's second experiment.
+    Small,
+}
+
+impl From<Glass> for primo_sim::cell::GlassKind {
+    fn from(g: Glass) -> Self {
+        match g {
+            Glass::Normal => primo_sim::cell::GlassKind::Normal,
+            Glass::Small => primo_sim::cell::GlassKind::Small,
+        }
+    }
+}
+
+/// `--method`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Method {
+    /// The paper's error learning with golden-section search on the query.
+    Golden,
+    /// Error learning that also uses the error's magnitude (Illinois
+    /// regula falsi), with the same bracket guarantee.
+    Illinois,
+    /// PoWER over the extended parameter set `[q̂, Δθ]`.
+    Power,
+}
+
+impl From<Method> for primo_learn::learning::Algorithm {
+    fn from(m: Method) -> Self {
+        use primo_learn::learning::Algorithm;
+        match m {
+            Method::Golden => Algorithm::Golden,
+            Method::Illinois => Algorithm::Illinois,
+            Method::Power => Algorithm::Power,
+        }
+    }
+}

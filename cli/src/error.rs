@@ -1,0 +1,99 @@
+//! The command line's one error: a message and the exit status, chosen
+//! here from the libraries' typed errors and nowhere else.
+//!
+//! | status | meaning |
+//! |---|---|
+//! | 0 | done |
+//! | 1 | a failure while running: an instrument, the robot stopping, I/O |
+//! | 2 | bad input or a refused setting: nothing was started |
+//! | 130 | interrupted (Ctrl-C); a learning run can be resumed |
+//! | 141 | standard output was closed (a pipe's reader left); a learning run can be resumed |
+
+use std::fmt;
+
+/// A command's failure: a one-line message and the process exit status.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct CliError {
+    /// The message, already naming file, line and column where known; empty
+    /// when nothing should be said.
+    pub message: String,
+    /// Exit status.
+    pub status: i32,
+}
+
+/// Exit status of an interrupted command.
+pub const INTERRUPTED: i32 = 130;
+/// Exit status when standard output was closed.
+pub const CLOSED: i32 = 141;
+
+impl CliError {
+    /// Bad input (a malformed file or argument): exit status 2.
+    pub fn input(message: impl Into<String>) -> Self {
+        Self {
+            message: message.into(),
+            status: 2,
+        }
+    }
+
+    /// Anything else (I/O, instruments): exit status 1.
+    pub fn other(message: impl Into<String>) -> Self {
+        Self {
+            message: message.into(),
+            status: 1,
+        }
+    }
+
+    /// A failed write to standard output: quiet if its reader is gone.
+    pub fn stdout(e: std::io::Error) -> Self {
+        if e.kind() == std::io::ErrorKind::BrokenPipe {
+            Self {
+                message: String::new(),
+                status: CLOSED,
+            }
+        } else {
+            Self::other(format!("stdout: {e}"))
+        }
+    }
+}
+
+impl fmt::Display for CliError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.message)
+    }
+}
+
+impl From<primo_learn::Error> for CliError {
+    fn from(e: primo_learn::Error) -> Self {
+        match e {
+            primo_learn::Error::Io { ref source, .. }
+                if source.kind() == std::io::ErrorKind::BrokenPipe =>
+            {
+                Self::stdout(std::io::Error::from(std::io::ErrorKind::BrokenPipe))
+            }
+            primo_learn::Error::Interrupted => Self {
+                message: "interrupted".into(),
+                status: INTERRUPTED,
+            },
+            e if e.is_input() => Self::input(e.to_string()),
+            e => Self::other(e.to_string()),
+        }
+    }
+}
+
+impl From<primo_skill::Error> for CliError {
+    fn from(e: primo_skill::Error) -> Self {
+        Self::input(e.to_string())
+    }
+}
+
+impl From<primo_fri::AddressError> for CliError {
+    fn from(e: primo_fri::AddressError) -> Self {
+        Self::input(e.to_string())
+    }
+}
+
+impl From<primo_fri::udp::SocketError> for CliError {
+    fn from(e: primo_fri::udp::SocketError) -> Self {
+        Self::other(e.to_string())
+    }
+}

@@ -1,0 +1,192 @@
+//! `primo experiment`: the paper's experiments on the simulated cell.
+
+use std::path::{Path, PathBuf};
+
+use primo_learn::experiment::SearchRun;
+use primo_learn::learning::Algorithm;
+use primo_learn::output::create_dir;
+use primo_learn::pouring::built_in_skill;
+use primo_learn::report::{PowerSummary, median_rollouts, write_golden, write_power};
+use primo_sim::cell::{CellConfig, GlassKind};
+
+use crate::args::{Glass, Space};
+use crate::error::CliError;
+use crate::output::{check_out_dir, say};
+use crate::pour::SkillArgs;
+
+/// `primo experiment …`.
+#[derive(Debug, clap::Subcommand)]
+pub enum ExperimentCommand {
+    /// Fig. 3: error learning (golden section and Illinois) per volume.
+    Golden {
+        /// Bottle volumes, l.
+        #[arg(
+            long,
+            value_delimiter = ',',
+            default_value = "0.3,0.4,0.5,0.6,0.7,0.8,0.9,1.0"
+        )]
+        volumes: Vec<f64>,
+        /// Stop at |error| below this, l.
+        #[arg(long, default_value_t = 0.002)]
+        precision: f64,
+        /// Seed of the scale's noise.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Output directory.
+        #[arg(long, default_value = "experiment-golden")]
+        out: PathBuf,
+    },
+    /// Figs. 5–6: extended against ordinary PoWER in joint space.
+    Power {
+        /// Seeded runs per variant.
+        #[arg(long, default_value_t = 20)]
+        runs: usize,
+        /// Kernels per joint (30 gives the paper's 219 parameters).
+        #[arg(long, default_value_t = 30)]
+        kernels: usize,
+        /// Updates per run (4 roll-outs each).
+        #[arg(long, default_value_t = 100)]
+        updates: u32,
+        /// The glass (the paper's second experiment: small).
+        #[arg(long, value_enum, default_value_t = Glass::Small)]
+        glass: Glass,
+        /// Seed of the first run.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Output directory.
+        #[arg(long, default_value = "experiment-power")]
+        out: PathBuf,
+    },
+}
+
+/// Runs a `primo experiment` command.
+pub fn run(command: ExperimentCommand) -> Result<(), CliError> {
+    match command {
+        ExperimentCommand::Golden {
+            volumes,
+            precision,
+            seed,
+            out,
+        } => golden(&volumes, precision, seed, &out),
+        ExperimentCommand::Power {
+            runs,
+            kernels,
+            updates,
+            glass,
+            seed,
+            out,
+        } => power(runs, kernels, updates, glass, seed, &out),
+    }
+}
+
+fn golden(volumes: &[f64], precision: f64, seed: u64, out: &Path) -> Result<(), CliError> {
+    let started = std::time::Instant::now();
+    check_out_dir("--out", out)?;
+    if !(precision.is_finite() && precision > 0.0) {
+        return Err(CliError::input(format!(
+            "--precision {precision}: must be a positive volume in litres"
+        )));
+    }
+    let cell = CellConfig::standard(GlassKind::Normal);
+    let capacity = cell.bottle.capacity() * 1e3;
+    for v in volumes {
+        let mut s = primo_learn::learning::Settings::paper(Algorithm::Golden, *v, 0.2, seed);
+        s.precision = precision;
+        s.validate()
+            .map_err(|e| CliError::input(format!("--volumes {v}: {e}")))?;
+        if *v > capacity {
+            return Err(CliError::input(format!(
+                "--volumes {v}: the cell's bottle holds {capacity:.3} l"
+            )));
+        }
+    }
+    let skill = built_in_skill(&cell, primo_skill::Space::Cartesian, 30)?;
+    let runs = primo_learn::experiment::golden(&skill, &cell, volumes, precision, seed)?;
+    create_dir(out)?;
+    write_golden(out, &runs, precision)?;
+    say(&format!(
+        "volume  golden  illinois   (roll-outs to |error| < {} ml)",
+        precision * 1e3
+    ))?;
+    for pair in runs.chunks(2) {
+        let show = |r: &SearchRun| {
+            r.rollouts_to_precision
+                .map_or("-".to_string(), |n| n.to_string())
+        };
+        if let [g, i] = pair {
+            say(&format!(
+                "{:>5.2} l {:>7} {:>9}",
+                g.volume,
+                show(g),
+                show(i)
+            ))?;
+        }
+    }
+    let median = |m| median_rollouts(&runs, m).unwrap_or(f64::NAN);
+    say(&format!(
+        "median: golden {}, illinois {}; {:.1} s; wrote {}",
+        median(Algorithm::Golden),
+        median(Algorithm::Illinois),
+        started.elapsed().as_secs_f64(),
+        out.display()
+    ))
+}
+
+fn power(
+    runs: usize,
+    kernels: usize,
+    updates: u32,
+    glass: Glass,
+    seed: u64,
+    out: &Path,
+) -> Result<(), CliError> {
+    let started = std::time::Instant::now();
+    if runs == 0 || updates == 0 {
+        return Err(CliError::input("--runs and --updates must be at least 1"));
+    }
+    check_out_dir("--out", out)?;
+    let args = SkillArgs {
+        space: Some(Space::Joint),
+        kernels,
+        glass: Some(glass),
+        demos: Vec::new(),
+    };
+    let (cell, skill) = args.spec(Space::Joint, glass)?.build()?;
+    let [extended, ordinary] = primo_learn::experiment::power(&skill, &cell, runs, updates, seed)?;
+    let summary = PowerSummary {
+        runs,
+        updates,
+        kernels,
+        parameters: skill.param_len() + 1,
+        glass: glass.into(),
+        error_ratio: ordinary.error.last() / extended.error.last(),
+        spill_ratio: ordinary.spilled.last() / extended.spilled.last(),
+        extended: &extended,
+        ordinary: &ordinary,
+        seconds: started.elapsed().as_secs_f64(),
+    };
+    create_dir(out)?;
+    write_power(out, &summary)?;
+    for (name, c) in [("extended", &extended), ("ordinary", &ordinary)] {
+        say(&format!(
+            "{name:>8}: start |error| {:.1} ml spilled {:.1} ml -> final |error| {:.2} ± {:.2} ml, spilled {:.2} ± {:.2} ml, reward {:.3}; {:.0} % of roll-outs reward 0, {} rejected",
+            c.error.mean.first().copied().unwrap_or(f64::NAN) * 1e3,
+            c.spilled.mean.first().copied().unwrap_or(f64::NAN) * 1e3,
+            c.error.last() * 1e3,
+            c.error.std.last().copied().unwrap_or(f64::NAN) * 1e3,
+            c.spilled.last() * 1e3,
+            c.spilled.std.last().copied().unwrap_or(f64::NAN) * 1e3,
+            c.reward.last(),
+            100.0 * c.zero_reward as f64 / c.rollouts.max(1) as f64,
+            c.rejected
+        ))?;
+    }
+    say(&format!(
+        "ordinary/extended: final error x{:.2}, final spill x{:.2}; {} parameters, {runs} runs x {updates} updates each; {:.1} s; wrote {}",
+        summary.error_ratio,
+        summary.spill_ratio,
+        summary.parameters,
+        summary.seconds,
+        out.display()
+    ))
+}

@@ -1,0 +1,65 @@
+//! What commands print, and where their files go.
+
+use std::io::Write;
+use std::path::Path;
+
+use crate::error::CliError;
+
+/// Prints `line` on stdout at once: another program may be waiting for it.
+pub fn say(line: &str) -> Result<(), CliError> {
+    let mut out = std::io::stdout().lock();
+    writeln!(out, "{line}")
+        .and_then(|()| out.flush())
+        .map_err(CliError::stdout)
+}
+
+/// Reads a file named on the command line.
+pub fn read(path: &Path) -> Result<String, CliError> {
+    std::fs::read_to_string(path)
+        .map_err(|e| CliError::input(format!("{}: cannot read: {e}", path.display())))
+}
+
+/// Writes to `out` (safely: [`primo_learn::output`]), or to stdout.
+pub fn emit(out: Option<&Path>, bytes: &[u8]) -> Result<(), CliError> {
+    match out {
+        Some(path) => Ok(primo_learn::output::write_file(path, bytes)?),
+        None => {
+            let mut stdout = std::io::stdout().lock();
+            stdout
+                .write_all(bytes)
+                .and_then(|()| stdout.flush())
+                .map_err(CliError::stdout)
+        }
+    }
+}
+
+/// Checks, before any work, that `out` can be a results directory.
+pub fn check_out_dir(flag: &str, out: &Path) -> Result<(), CliError> {
+    match std::fs::metadata(out) {
+        Ok(meta) if !meta.is_dir() => Err(CliError::input(format!(
+            "{flag} {}: exists and is not a directory",
+            out.display()
+        ))),
+        _ => Ok(()),
+    }
+}
+
+/// Checks, before any work, that a file can be written at `out`: not a
+/// directory, and its directory exists.
+pub fn check_out_file(flag: &str, out: &Path) -> Result<(), CliError> {
+    if out.is_dir() {
+        return Err(CliError::input(format!(
+            "{flag} {}: is a directory, not a file",
+            out.display()
+        )));
+    }
+    let dir = out.parent().filter(|p| !p.as_os_str().is_empty());
+    match dir {
+        Some(d) if !d.is_dir() => Err(CliError::input(format!(
+            "{flag} {}: no directory {}",
+            out.display(),
+            d.display()
+        ))),
+        _ => Ok(()),
+    }
+}

@@ -1,0 +1,378 @@
+//! `primo pour`: learn to pour on the simulated cell or a real one.
+
+use std::io::{BufRead, IsTerminal, Write};
+use std::path::PathBuf;
+
+use primo_learn::Error;
+use primo_learn::learning::{Algorithm, Settings};
+use primo_learn::pour::{CellSpec, DemoFile, Event, LearnerSpec, SkillSpec, Start};
+use primo_learn::report::rollout_line;
+use primo_learn::rig::{InstrumentsSpec, Operator};
+
+use crate::args::{Glass, Method, Space};
+use crate::error::CliError;
+
+/// The cell and skill options shared by the learning commands.
+#[derive(Debug, Clone, clap::Args)]
+pub struct SkillArgs {
+    /// Coordinates the movement is learned in.
+    #[arg(long, value_enum)]
+    pub space: Option<Space>,
+    /// Kernels per DoF of the DMPs.
+    #[arg(long, default_value_t = 30)]
+    pub kernels: usize,
+    /// The glass on the scale.
+    #[arg(long, value_enum)]
+    pub glass: Option<Glass>,
+    /// Demonstrations `FILE=VOLUME` (repeat; CSV in the space's columns).
+    /// Default: the built-in pair from 0.3 l and 1.0 l bottles.
+    #[arg(long = "demo", value_name = "FILE=VOLUME")]
+    pub demos: Vec<String>,
+}
+
+impl SkillArgs {
+    /// The skill these options describe; `space` and `glass` fall back to
+    /// the given defaults. Demonstration paths become absolute, so a run
+    /// log names them from anywhere.
+    pub fn spec(&self, space: Space, glass: Glass) -> Result<SkillSpec, CliError> {
+        let mut demos = Vec::new();
+        for arg in &self.demos {
+            let (file, volume) = arg
+                .rsplit_once('=')
+                .ok_or_else(|| CliError::input(format!("--demo {arg}: expected FILE=VOLUME")))?;
+            let volume: f32 = match volume.parse() {
+                Ok(v) if f32::is_finite(v) => v,
+                _ => {
+                    return Err(CliError::input(format!(
+                        "--demo {arg}: volume `{volume}` is not a number"
+                    )));
+                }
+            };
+            let file = std::path::absolute(file)
+                .map_err(|e| CliError::input(format!("--demo {arg}: {e}")))?;
+            demos.push(DemoFile { file, volume });
+        }
+        let spec = SkillSpec {
+            space: self.space.unwrap_or(space).into(),
+            glass: self.glass.unwrap_or(glass).into(),
+            kernels: self.kernels,
+            demos,
+        };
+        spec.validate()?;
+        Ok(spec)
+    }
+}
+
+/// `primo pour` options.
+#[derive(Debug, clap::Args)]
+pub struct PourArgs {
+    /// Liquid in the bottle, l.
+    #[arg(long, default_value_t = 0.5)]
+    bottle: f64,
+    /// Volume to pour, l.
+    #[arg(long, default_value_t = 0.2, allow_hyphen_values = true)]
+    target: f64,
+    /// The learner.
+    #[arg(long, value_enum, default_value_t = Method::Golden)]
+    method: Method,
+    #[command(flatten)]
+    skill: SkillArgs,
+    /// Seed of exploration and of the scale's noise.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Roll-out budget (default 30 for error learning, 200 for PoWER).
+    #[arg(long)]
+    max_rollouts: Option<u32>,
+    /// Error learning stops at |error| below this, l.
+    #[arg(long, default_value_t = 0.002)]
+    precision: f64,
+    /// Output directory: run.log (every roll-out, appended as it is made),
+    /// and at the end rollouts.csv, summary.json, convergence.png and
+    /// series.csv (the best roll-out's time series).
+    #[arg(long, default_value = "pour-out")]
+    out: PathBuf,
+    /// Replace a finished run in --out (an unfinished one is never
+    /// replaced: continue it with --resume).
+    #[arg(long)]
+    force: bool,
+    /// Continue the run logged in DIR (after a crash, a kill or a failed
+    /// instrument): its settings come from the log, and no roll-out is
+    /// lost or repeated.
+    #[arg(long, value_name = "DIR", conflicts_with_all = [
+        "bottle", "target", "method", "seed", "max_rollouts", "precision", "out", "force",
+        "space", "kernels", "glass", "demos",
+    ])]
+    resume: Option<PathBuf>,
+    /// Run the learner on a coprocessor: a serial port (e.g.
+    /// /dev/ttyACM0), or `qemu` to boot the firmware on an emulated
+    /// Cortex-M4F (qemu-system-arm) for the run.
+    #[arg(long, value_name = "PORT|qemu")]
+    coprocessor: Option<String>,
+    /// With --coprocessor qemu: the firmware ELF (default: the release
+    /// build in firmware/).
+    #[arg(long, requires = "coprocessor", value_name = "ELF")]
+    firmware: Option<PathBuf>,
+    /// Roll out on a real cell: the robot, `fri:ADDR[:PORT]`, the local
+    /// UDP address the KRC sends its FRI packets to (default port 49938).
+    #[arg(long, requires = "scale", value_name = "fri:ADDR[:PORT]")]
+    robot: Option<String>,
+    /// With --robot: the MT-SICS scale's serial port.
+    #[arg(long, requires = "robot", value_name = "PORT")]
+    scale: Option<String>,
+    /// The scale's baud rate.
+    #[arg(long, requires = "robot", default_value_t = 9600)]
+    baud: u32,
+    /// The liquid's density, g/ml (the scale weighs, the learner wants
+    /// volumes).
+    #[arg(long, requires = "robot", default_value_t = 0.998)]
+    density: f64,
+    /// With --robot: before every roll-out, ask the operator to refill the
+    /// bottle and empty the glass, and wait for Enter.
+    #[arg(long, requires = "robot")]
+    confirm: bool,
+}
+
+/// Runs `primo pour`.
+pub fn run(args: &PourArgs) -> Result<(), CliError> {
+    let instruments = match (&args.robot, &args.scale) {
+        (Some(robot), Some(scale)) => Some(InstrumentsSpec {
+            robot: robot.clone(),
+            scale: scale.clone(),
+            baud: args.baud,
+            density: args.density,
+            confirm: args.confirm,
+        }),
+        _ => None,
+    };
+    let start = match &args.resume {
+        Some(dir) => Start::Resume {
+            dir: dir.clone(),
+            instruments,
+        },
+        None => {
+            let space = match args.method {
+                Method::Power => Space::Joint,
+                _ => Space::Cartesian,
+            };
+            let mut settings =
+                Settings::paper(args.method.into(), args.bottle, args.target, args.seed);
+            settings.precision = args.precision;
+            if let Some(n) = args.max_rollouts {
+                settings.max_rollouts = n;
+            }
+            Start::New {
+                out: args.out.clone(),
+                force: args.force,
+                settings,
+                skill: args.skill.spec(space, Glass::Normal)?,
+                cell: instruments.map_or(CellSpec::Simulated, CellSpec::Instruments),
+            }
+        }
+    };
+    // Everything is checked before the first file or instrument is touched.
+    start.validate()?;
+    let learner = LearnerSpec {
+        coprocessor: args.coprocessor.clone(),
+        firmware: args.firmware.clone(),
+    };
+    let dir = match &start {
+        Start::New { out, .. } => out.clone(),
+        Start::Resume { dir, .. } => dir.clone(),
+    };
+    crate::interrupt::install(resume_hint(&dir))?;
+    let mut progress = Progress::new();
+    let result = primo_learn::pour::pour(start, &learner, Box::new(Terminal), |event| {
+        show(event, &mut progress)
+    });
+    progress.clear();
+    match result {
+        Ok(()) => Ok(()),
+        Err(failure) => {
+            let mut e = CliError::from(*failure.error);
+            if let Some(dir) = failure.resumable
+                && e.status != 2
+            {
+                if e.status == crate::error::CLOSED {
+                    // Nobody reads stdout any more: say it where one may.
+                    eprintln!("primo pour: stdout closed; {}", resume_hint(&dir));
+                } else if !e.message.is_empty() {
+                    e.message = format!("{}\nprimo pour: {}", e.message, resume_hint(&dir));
+                }
+            }
+            Err(e)
+        }
+    }
+}
+
+fn resume_hint(dir: &std::path::Path) -> String {
+    format!(
+        "the run log in {} keeps every roll-out made; continue with `primo pour --resume {}`",
+        dir.display(),
+        dir.display()
+    )
+}
+
+/// Prints what the run reports; a closed stdout or Ctrl-C ends the run.
+fn show(event: Event, progress: &mut Progress) -> Result<(), Error> {
+    let line = match event {
+        Event::Learner(line) => line,
+        Event::Recovered(note) => {
+            eprintln!("primo pour: {note}");
+            return Ok(());
+        }
+        Event::Resuming {
+            dir,
+            complete,
+            logged,
+        } => format!(
+            "primo pour: {} {} after roll-out {logged}",
+            if complete {
+                "the run is complete: reporting"
+            } else {
+                "resuming"
+            },
+            dir.display()
+        ),
+        Event::Logging(_) => return Ok(()),
+        Event::Learning {
+            settings: s,
+            space,
+            parameters,
+        } => {
+            progress.total = s.max_rollouts.max(1);
+            format!(
+                "primo pour: {} from a {} l bottle, target {} l, {space:?} space, {parameters} learned parameter(s)",
+                match s.method {
+                    Algorithm::Golden => "golden-section error learning",
+                    Algorithm::Illinois => "Illinois error learning",
+                    Algorithm::Power => "extended PoWER",
+                },
+                s.bottle,
+                s.target,
+            )
+        }
+        Event::Cell { spec, scale_serial } => format!(
+            "cell: robot {}, scale {} (serial {scale_serial}){}",
+            spec.robot,
+            spec.scale,
+            if spec.confirm {
+                "; the operator resets the cell before every roll-out"
+            } else {
+                ""
+            }
+        ),
+        Event::Rollout { entry, logged } => {
+            progress.clear();
+            let line = rollout_line(&entry.record);
+            let line = if logged {
+                format!("{line}  (logged)")
+            } else {
+                line
+            };
+            print(&line)?;
+            progress.show(
+                entry.record.rollout,
+                &format!("error {:+.1} ml", entry.record.trial.error * 1e3),
+            );
+            if crate::interrupt::pressed() {
+                return Err(Error::Interrupted);
+            }
+            return Ok(());
+        }
+        Event::Finished(f) => {
+            let s = &f.settings;
+            let verdict = match (s.method, f.converged_at) {
+                (Algorithm::Power, _) => "learned".to_string(),
+                (_, Some(n)) => format!(
+                    "converged to |error| < {} ml in {n} roll-outs",
+                    s.precision * 1e3
+                ),
+                (_, None) => format!("did not reach {} ml", s.precision * 1e3),
+            };
+            let series = match (f.series_of, f.simulated) {
+                (Some(n), _) => format!("roll-out {n} (best reward)"),
+                (None, false) => "empty (a real cell records no series)".into(),
+                (None, true) => "empty (no roll-out was executed)".into(),
+            };
+            let last = &f.last;
+            format!(
+                "primo pour: {verdict}; last: q {:.4} l, poured {:.1} ml, spilled {:.1} ml, reward {:.3}; series.csv: {series}; wrote {}",
+                last.query,
+                last.trial.poured * 1e3,
+                last.trial.spilled * 1e3,
+                last.trial.reward,
+                f.dir.display()
+            )
+        }
+    };
+    print(&line)
+}
+
+/// A line on stdout; a closed stdout is an error that ends the run.
+fn print(line: &str) -> Result<(), Error> {
+    let mut out = std::io::stdout().lock();
+    writeln!(out, "{line}")
+        .and_then(|()| out.flush())
+        .map_err(Error::io("stdout"))
+}
+
+/// The operator at the terminal: prompts on stdout, answers on stdin.
+struct Terminal;
+
+impl Operator for Terminal {
+    fn reset(&mut self, rollout: u32, bottle: f64) -> Result<(), Error> {
+        print(&format!(
+            "roll-out {rollout}: reset the cell (the bottle filled to {bottle} l, the glass on the \
+             scale emptied), then press Enter"
+        ))?;
+        let mut line = String::new();
+        match std::io::stdin().lock().read_line(&mut line) {
+            Ok(0) => Err(Error::Instrument(
+                "the operator's input closed before the cell was reset".into(),
+            )),
+            Ok(_) => Ok(()),
+            Err(e) => Err(Error::Instrument(format!(
+                "reading the operator's answer: {e}"
+            ))),
+        }
+    }
+
+    fn warn(&mut self, rollout: u32, message: &str) {
+        eprintln!("primo pour: roll-out {rollout}: {message}");
+    }
+}
+
+/// A progress bar on stderr, redrawn in place when stderr is a terminal.
+struct Progress {
+    total: u32,
+    tty: bool,
+}
+
+impl Progress {
+    fn new() -> Self {
+        Progress {
+            total: 1,
+            tty: std::io::stderr().is_terminal(),
+        }
+    }
+
+    fn show(&self, done: u32, note: &str) {
+        if !self.tty {
+            return;
+        }
+        let width = 30;
+        let filled = (done.min(self.total) * width / self.total) as usize;
+        eprint!(
+            "\r[{}{}] {done}/{} {note}   ",
+            "#".repeat(filled),
+            ".".repeat(width as usize - filled),
+            self.total
+        );
+    }
+
+    fn clear(&self) {
+        if self.tty {
+            eprint!("\r{}\r", " ".repeat(70));
+        }
+    }
+}

@@ -1,0 +1,395 @@
+//! The `primo robot` commands: stream a joint trajectory to a KUKA LWR4 over
+//! FRI (`play`), or be the KRC with the simulated arm and cell (`sim-krc`).
+
+use std::io::{BufRead, IsTerminal};
+use std::net::SocketAddr;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
+use std::time::Duration;
+
+use primo_fri::session::SessionConfig;
+use primo_fri::udp::{Ended, PlayConfig, PlayResult, bind, play};
+use primo_fri::{DEFAULT_PORT, parse_robot};
+use primo_mtsics::quote;
+use primo_robot::safety::check_joints;
+use primo_robot::{JOINTS, JointPath, Robot};
+use primo_sim::krc::{CellHandle, KrcConfig, SimKrc};
+use primo_skill::csv::parse_demo;
+use primo_skill::skill::JOINT_NAMES;
+
+use crate::args::Glass;
+use crate::error::CliError;
+use crate::output::say;
+
+/// `primo robot …`.
+#[derive(Debug, clap::Subcommand)]
+pub enum RobotCommand {
+    /// Stream a joint trajectory (CSV `t,a1,...,a7`, radians, as `primo dmp
+    /// run` writes) to the robot after the joint limit checks, and report
+    /// the tracking error.
+    Play {
+        /// Trajectory CSV: header `t,a1,...,a7`, t in seconds, angles in rad.
+        trajectory: PathBuf,
+        /// `fri:ADDR[:PORT]`: the local UDP address to bind, where the KRC
+        /// sends its packets (default port 49938).
+        #[arg(long)]
+        robot: String,
+        /// Longest silence from the KRC while streaming before stopping, s.
+        #[arg(long, default_value_t = 0.2)]
+        cycle_timeout: f64,
+        /// Longest wait for the KRC's command mode, s.
+        #[arg(long, default_value_t = 60.0)]
+        start_timeout: f64,
+        /// Peak speed of the approach to the trajectory's start, as a
+        /// fraction of the joint velocity limits.
+        #[arg(long, default_value_t = 0.2)]
+        approach_speed: f64,
+        /// How long to hold still in command mode before the approach,
+        /// weighing the held load (estExtTcpFT), s.
+        #[arg(long, default_value_t = 0.3)]
+        weigh: f64,
+        /// How long to hold the final position after the trajectory
+        /// (weighing again), s.
+        #[arg(long, default_value_t = 0.3)]
+        settle: f64,
+    },
+    /// Be the KRC: send FRI measurements to 127.0.0.1:PORT every cycle,
+    /// drive the simulated arm and pouring cell by the answers.
+    ///
+    /// Operator commands on stdin, one a line: `reset` refills the bottle
+    /// and puts an empty glass back (the arm stays where it is). End of
+    /// stdin changes nothing. Started in a shell's background (`sim-krc
+    /// &`), it leaves the terminal alone: reading it would stop the job.
+    SimKrc {
+        /// The remote's UDP port on 127.0.0.1.
+        #[arg(long, default_value_t = DEFAULT_PORT)]
+        port: u16,
+        /// The FRI cycle, ms (1 to 10).
+        #[arg(long, default_value_t = 2)]
+        cycle_ms: u64,
+        /// Joint angles at power-on, rad, `a1,...,a7` (default: the
+        /// pouring rest posture).
+        #[arg(long, allow_hyphen_values = true)]
+        start: Option<String>,
+        /// Liquid in the bottle, l.
+        #[arg(long, default_value_t = 0.5)]
+        bottle: f64,
+        /// The glass on the scale.
+        #[arg(long, value_enum, default_value_t = Glass::Normal)]
+        glass: Glass,
+        /// Fault: fraction of measurement packets lost.
+        #[arg(long, default_value_t = 0.0)]
+        drop: f64,
+        /// Seed of the losses and the scale's noise.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Fault: the quality drops to BAD at this time, s.
+        #[arg(long)]
+        quality_drop_at: Option<f64>,
+        /// Fault: never switch to command mode.
+        #[arg(long)]
+        monitor_only: bool,
+        /// Fault: stop sending at this time, s (and exit).
+        #[arg(long)]
+        stop_after: Option<f64>,
+        /// Exit when a command session ends (the remote falls silent).
+        #[arg(long)]
+        once: bool,
+        /// Serve the cell's scale over MT-SICS on a new pseudo-terminal
+        /// (its path printed as `primo robot sim-krc: scale served on PATH`).
+        #[arg(long)]
+        scale: bool,
+    },
+}
+
+/// Runs a `primo robot` command.
+pub fn run(command: RobotCommand) -> Result<(), CliError> {
+    match command {
+        RobotCommand::Play {
+            trajectory,
+            robot,
+            cycle_timeout,
+            start_timeout,
+            approach_speed,
+            weigh,
+            settle,
+        } => {
+            let cfg = PlayConfig {
+                session: SessionConfig {
+                    approach_speed: in_range("--approach-speed", approach_speed, 1e-3, 1.0)?,
+                    weigh: in_range("--weigh", weigh, 0.0, 60.0)?,
+                    settle: in_range("--settle", settle, 0.0, 60.0)?,
+                },
+                cycle_timeout: seconds("--cycle-timeout", cycle_timeout)?,
+                start_timeout: seconds("--start-timeout", start_timeout)?,
+                ..PlayConfig::default()
+            };
+            robot_play(&trajectory, &robot, &cfg)
+        }
+        RobotCommand::SimKrc {
+            port,
+            cycle_ms,
+            start,
+            bottle,
+            glass,
+            drop,
+            seed,
+            quality_drop_at,
+            monitor_only,
+            stop_after,
+            once,
+            scale,
+        } => {
+            let mut cfg = KrcConfig::new(SocketAddr::from(([127, 0, 0, 1], port)));
+            cfg.cycle = Duration::from_millis(cycle_ms);
+            if let Some(text) = start {
+                let names = JOINT_NAMES.map(String::from);
+                let q = crate::dmp::parse_vector("--start", &text, &names)?;
+                cfg.start = std::array::from_fn(|j| q.get(j).copied().map_or(0.0, f64::from));
+            }
+            cfg.bottle = bottle;
+            cfg.glass = glass.into();
+            cfg.drop = drop;
+            cfg.seed = seed;
+            cfg.quality_drop_at = quality_drop_at
+                .map(|s| seconds("--quality-drop-at", s))
+                .transpose()?;
+            cfg.monitor_only = monitor_only;
+            cfg.stop_after = stop_after.map(|s| seconds("--stop-after", s)).transpose()?;
+            cfg.once = once;
+            sim_krc(cfg, scale)
+        }
+    }
+}
+
+fn in_range(flag: &str, v: f64, lo: f64, hi: f64) -> Result<f64, CliError> {
+    if (lo..=hi).contains(&v) {
+        Ok(v)
+    } else {
+        Err(CliError::input(format!(
+            "{flag}: {v} is outside [{lo}, {hi}]"
+        )))
+    }
+}
+
+fn seconds(flag: &str, v: f64) -> Result<Duration, CliError> {
+    Duration::try_from_secs_f64(v)
+        .ok()
+        .filter(|d| !d.is_zero())
+        .ok_or_else(|| CliError::input(format!("{flag}: {v} is not a positive number of seconds")))
+}
+
+/// Reads a `t,a1..a7` trajectory and passes it through the safety checks.
+fn load_trajectory(path: &Path) -> Result<JointPath, CliError> {
+    let file = path.display().to_string();
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| CliError::input(format!("{file}: cannot read: {e}")))?;
+    let demo = parse_demo(&file, &text)?;
+    if demo.names != JOINT_NAMES {
+        return Err(CliError::input(format!(
+            "{file}:1: columns `t,{}`: a joint trajectory has the columns t,{} (radians)",
+            demo.names.join(","),
+            JOINT_NAMES.join(",")
+        )));
+    }
+    let times = demo.times.iter().map(|t| f64::from(*t)).collect();
+    let rows = demo
+        .positions
+        .chunks_exact(JOINTS)
+        .map(|r| std::array::from_fn(|j| f64::from(r[j])))
+        .collect();
+    check_joints(&Robot::lwr4(), times, rows).map_err(|why| {
+        CliError::input(format!(
+            "{file}: trajectory rejected, nothing sent to the robot: {why}"
+        ))
+    })
+}
+
+fn robot_play(trajectory: &Path, robot: &str, cfg: &PlayConfig) -> Result<(), CliError> {
+    let addr = parse_robot(robot)?;
+    let path = load_trajectory(trajectory)?;
+    let socket = bind(addr)?;
+    say(&format!(
+        "primo robot play: {} samples over {:.3} s passed the limit checks; \
+         waiting for the KRC's packets on {addr}",
+        path.times().len(),
+        path.duration()
+    ))?;
+    let result = play(&socket, &path, cfg)?;
+    print_result(&result)?;
+    match result.ended {
+        Ended::Completed => {
+            say("primo robot play: completed")?;
+            Ok(())
+        }
+        ended => Err(CliError::other(format!("robot play: {ended}"))),
+    }
+}
+
+fn print_result(r: &PlayResult) -> Result<(), CliError> {
+    for why in &r.rejections {
+        eprintln!("primo robot play: rejected a datagram: {why}");
+    }
+    if r.rejected > r.rejections.len() as u64 {
+        eprintln!(
+            "primo robot play: {} more datagrams rejected",
+            r.rejected - r.rejections.len() as u64
+        );
+    }
+    if let Some(krc) = r.krc {
+        say(&format!(
+            "KRC {krc}: {} packets answered, {} missing from its sequence",
+            r.answered, r.gaps
+        ))?;
+    }
+    if r.planned > 0 {
+        say(&format!(
+            "sent {} of {} setpoints at {:.1} ms ({} holding still to weigh, {} approaching the start)",
+            r.sent,
+            r.planned,
+            r.cycle * 1e3,
+            r.weighing,
+            r.approach
+        ))?;
+        say("joint  max error [deg]  rms error [deg]  (measured - commanded)")?;
+        for (j, name) in JOINT_NAMES.iter().enumerate() {
+            say(&format!(
+                "{name:>5}  {:>15.4}  {:>15.4}",
+                r.tracking.max[j].to_degrees(),
+                r.tracking.rms[j].to_degrees()
+            ))?;
+        }
+    }
+    if let Some([before, after]) = r.load {
+        let [n_before, n_after] = r.load_samples;
+        say(&format!(
+            "held load (estExtTcpFT): {before:.3} N before, {after:.3} N after \
+             ({n_before} and {n_after} measurements)"
+        ))?;
+    }
+    Ok(())
+}
+
+fn sim_krc(cfg: KrcConfig, scale: bool) -> Result<(), CliError> {
+    let krc = SimKrc::new(cfg).map_err(CliError::input)?;
+    let cell = krc.cell();
+    // Kept until the KRC stops: the scale is served as long as the cell.
+    let server = if scale {
+        let server = krc.serve_scale().map_err(CliError::other)?;
+        say(&format!(
+            "primo robot sim-krc: scale served on {}",
+            server.path()
+        ))?;
+        Some(server)
+    } else {
+        None
+    };
+    if !in_background() {
+        let operator = cell.clone();
+        std::thread::Builder::new()
+            .name("sim-krc-stdin".into())
+            .spawn(move || operate(&operator, &cfg))
+            .map_err(|e| CliError::other(format!("cannot start the stdin thread: {e}")))?;
+    }
+    say(&format!(
+        "primo robot sim-krc: FRI measurements every {} ms from {} to {}, monitor mode",
+        cfg.cycle.as_millis(),
+        krc.local_addr().map_err(CliError::other)?,
+        cfg.remote
+    ))?;
+    let report = krc.run(&AtomicBool::new(false)).map_err(CliError::other)?;
+    if let Some(server) = server {
+        server
+            .stop()
+            .map_err(|e| CliError::other(format!("serving the scale failed: {e}")))?;
+    }
+    let totals = cell.lock().totals();
+    say(&format!(
+        "primo robot sim-krc: {} cycles, {} answered on time, {} missed ({} lost on purpose), \
+         {} stale answers, {} malformed datagrams",
+        report.cycles,
+        report.answered,
+        report.missed,
+        report.dropped,
+        report.stale,
+        report.malformed
+    ))?;
+    for why in &report.rejections {
+        say(&format!("primo robot sim-krc: malformed datagram: {why}"))?;
+    }
+    say(&format!(
+        "primo robot sim-krc: command mode for {:.3} s; commands too fast {}, beyond limits {}; \
+         moved up to {:.2} deg from the start",
+        report.command_cycles as f64 * cfg.cycle.as_secs_f64(),
+        report.too_fast,
+        report.beyond_limits,
+        report.max_excursion.to_degrees()
+    ))?;
+    say(&format!(
+        "primo robot sim-krc: in the glass {:.1} ml, spilled {:.1} ml, in the bottle {:.1} ml",
+        totals.glass * 1e3,
+        totals.spilled * 1e3,
+        totals.bottle * 1e3
+    ))?;
+    Ok(())
+}
+
+/// Whether stdin is a terminal this process is in the background of (a
+/// shell's `&`): reading it would stop the process (SIGTTIN). From
+/// `/proc/self/stat` (process group and the terminal's foreground group);
+/// without it, assume the foreground.
+fn in_background() -> bool {
+    if !std::io::stdin().is_terminal() {
+        return false;
+    }
+    let Ok(stat) = std::fs::read_to_string("/proc/self/stat") else {
+        return false;
+    };
+    // After `pid (comm)`: state, ppid, pgrp, session, tty_nr, tpgid.
+    let fields: Vec<&str> = stat
+        .rsplit_once(')')
+        .map(|(_, rest)| rest.split_whitespace().collect())
+        .unwrap_or_default();
+    matches!((fields.get(2), fields.get(5)), (Some(pgrp), Some(tpgid)) if pgrp != tpgid)
+}
+
+/// The operator's commands on stdin, one a line, until it closes: `reset`
+/// puts a fresh cell (full bottle, empty glass) in place of the old one.
+fn operate(cell: &CellHandle, cfg: &KrcConfig) {
+    for (i, line) in std::io::stdin().lock().split(b'\n').enumerate() {
+        let line = match line {
+            Ok(line) => line,
+            Err(e) => {
+                eprintln!("primo robot sim-krc: stdin: {e}; operator commands end");
+                return;
+            }
+        };
+        let line = line.trim_ascii();
+        if line.is_empty() {
+            continue;
+        }
+        let done = if line == b"reset" {
+            cfg.fresh_cell().map(|fresh| *cell.lock() = fresh)
+        } else {
+            Err(format!(
+                "`{}`: unknown command; expected `reset`",
+                quote(line)
+            ))
+        };
+        let said = match done {
+            Ok(()) => say(&format!(
+                "primo robot sim-krc: cell reset: bottle {} l, glass empty",
+                cfg.bottle
+            ))
+            .map_err(|e| e.message),
+            Err(why) => {
+                eprintln!("primo robot sim-krc: stdin line {}: {why}", i + 1);
+                Ok(())
+            }
+        };
+        if let Err(e) = said {
+            eprintln!("primo robot sim-krc: {e}");
+            return;
+        }
+    }
+}

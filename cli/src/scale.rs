@@ -1,0 +1,257 @@
+//! `primo scale`: serve the simulated scale over MT-SICS, read a scale.
+
+use std::io::BufRead;
+use std::time::Duration;
+
+use clap::{Args, Subcommand, ValueEnum};
+
+use primo_mtsics::{Client, ClientConfig, Density, Unit, quote};
+use primo_sim::scale::ScaleModel;
+use primo_sim::scale_device::{Control, Device, DeviceConfig, LoadHandle, PtyServer};
+
+use crate::error::CliError;
+use crate::output::say;
+
+/// `primo scale` subcommands.
+#[derive(Debug, Subcommand)]
+pub enum ScaleCommand {
+    /// Serve the simulated scale over MT-SICS on a new pseudo-terminal.
+    ///
+    /// Prints the terminal's path on the first line, then reads operator
+    /// commands on stdin, one a line, and answers each with one line
+    /// (`ok ...` or `error: ...`): `load <grams>` puts a load on the pan,
+    /// `garbage <text>` sends a raw line (`\xNN`, `\r`, `\n`, `\t`, `\\`
+    /// escapes), `silent <seconds>` answers nothing for a while (0 ends
+    /// it), `power-on` sends the power-on line. Serves until stdin closes.
+    Serve(ServeArgs),
+    /// Read one stable weight from an MT-SICS scale and print it.
+    Read(ReadArgs),
+}
+
+/// `primo scale serve` options.
+#[derive(Debug, Args)]
+pub struct ServeArgs {
+    /// Load on the pan from the start (already settled), g.
+    #[arg(
+        long,
+        value_name = "GRAMS",
+        default_value_t = 0.0,
+        allow_hyphen_values = true
+    )]
+    load: f64,
+    /// Seed of the scale's noise.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// How long `S`, `Z` and `T` wait for a stable reading before they
+    /// answer `I`, s.
+    #[arg(long, value_name = "SECONDS", default_value_t = 8.0)]
+    stable_timeout: f64,
+}
+
+/// `primo scale read` options.
+#[derive(Debug, Args)]
+pub struct ReadArgs {
+    /// Serial port of the scale (e.g. /dev/ttyUSB0, or the path `primo
+    /// scale serve` printed).
+    #[arg(long, value_name = "PATH")]
+    port: String,
+    /// Baud rate (8N1, no handshake).
+    #[arg(long, default_value_t = 9600)]
+    baud: u32,
+    /// Unit to print; `ml` converts through --density.
+    #[arg(long, value_enum, default_value_t = OutputUnit::G)]
+    unit: OutputUnit,
+    /// Density of the liquid for `--unit ml`, g/ml (water: 0.998).
+    #[arg(long, value_name = "G_PER_ML", default_value_t = Density::WATER.g_per_ml())]
+    density: f64,
+    /// How long to wait for each answer, s.
+    #[arg(long, value_name = "SECONDS", default_value_t = 10.0)]
+    timeout: f64,
+    /// Retries after a timeout or a busy answer.
+    #[arg(long, default_value_t = 2)]
+    retries: u32,
+}
+
+/// What `primo scale read` prints in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum OutputUnit {
+    G,
+    Mg,
+    Kg,
+    Ml,
+}
+
+/// How long the `--load` has stood on the pan when serving starts, s.
+const SETTLED: f64 = 30.0;
+
+/// Runs a `primo scale` subcommand.
+pub fn run(command: ScaleCommand) -> Result<(), CliError> {
+    match command {
+        ScaleCommand::Serve(args) => serve(&args),
+        ScaleCommand::Read(args) => read(&args),
+    }
+}
+
+fn serve(args: &ServeArgs) -> Result<(), CliError> {
+    if !args.load.is_finite() {
+        return Err(CliError::input(format!(
+            "--load: {} is not a weight in grams",
+            args.load
+        )));
+    }
+    let load = LoadHandle::new(args.load);
+    let model = ScaleModel::default();
+    let config = DeviceConfig {
+        stable_timeout: args.stable_timeout,
+        ..DeviceConfig::for_model(&model)
+    };
+    let mut device = Device::new(model, args.seed, load.clone(), config)
+        .map_err(|e| CliError::input(format!("--stable-timeout: {e}")))?;
+    device.advance(SETTLED);
+    let server = PtyServer::start(device)
+        .map_err(|e| CliError::other(format!("cannot serve on a pseudo-terminal: {e}")))?;
+    say(server.path())?;
+    for (i, line) in std::io::stdin().lock().split(b'\n').enumerate() {
+        let line = line.map_err(|e| CliError::other(format!("stdin: {e}")))?;
+        let line = line.strip_suffix(b"\r").unwrap_or(&line);
+        if line.trim_ascii().is_empty() {
+            continue;
+        }
+        let reply = match operate(&server, &load, line) {
+            Ok(done) => format!("ok {done}"),
+            Err(e) => format!("error: stdin line {}: {e}", i + 1),
+        };
+        say(&reply)?;
+    }
+    server
+        .stop()
+        .map_err(|e| CliError::other(format!("serving failed: {e}")))
+}
+
+/// One operator command; what was done.
+fn operate(server: &PtyServer, load: &LoadHandle, line: &[u8]) -> Result<String, String> {
+    let line = line.trim_ascii_start();
+    let split = line
+        .iter()
+        .position(|b| b.is_ascii_whitespace())
+        .unwrap_or(line.len());
+    let (word, rest) = line.split_at(split);
+    let rest = rest.trim_ascii();
+    let number = |what: &str| -> Result<f64, String> {
+        std::str::from_utf8(rest)
+            .ok()
+            .and_then(|t| t.parse::<f64>().ok())
+            .filter(|v| v.is_finite())
+            .ok_or_else(|| format!("{what}: `{}` is not a number", quote(rest)))
+    };
+    let control = |c: Control| server.control(c).map_err(|e| e.to_string());
+    match word {
+        b"load" => {
+            let grams = number("load <grams>")?;
+            load.set(grams);
+            Ok(format!("load {grams} g"))
+        }
+        b"garbage" => {
+            let bytes = unescape(rest)?;
+            control(Control::Garbage(bytes.clone()))?;
+            Ok(format!("garbage {}", quote(&bytes)))
+        }
+        b"silent" => {
+            let seconds = number("silent <seconds>")?;
+            let d = Duration::try_from_secs_f64(seconds)
+                .map_err(|_| format!("silent <seconds>: {seconds} is not a duration"))?;
+            control(Control::Silent(d))?;
+            Ok(format!("silent {seconds} s"))
+        }
+        b"power-on" if rest.is_empty() => {
+            control(Control::PowerOn)?;
+            Ok("power-on".into())
+        }
+        _ => Err(format!(
+            "`{}`: expected `load <grams>`, `garbage <text>`, `silent <seconds>` or `power-on`",
+            quote(line)
+        )),
+    }
+}
+
+/// `text` with `\xNN`, `\r`, `\n`, `\t` and `\\` escapes resolved.
+fn unescape(text: &[u8]) -> Result<Vec<u8>, String> {
+    let mut out = Vec::with_capacity(text.len());
+    let mut bytes = text.iter().copied();
+    while let Some(b) = bytes.next() {
+        if b != b'\\' {
+            out.push(b);
+            continue;
+        }
+        let byte = match bytes.next() {
+            Some(b'\\') => b'\\',
+            Some(b'r') => b'\r',
+            Some(b'n') => b'\n',
+            Some(b't') => b'\t',
+            Some(b'x') => {
+                let hex = [bytes.next(), bytes.next()];
+                let digits: Option<Vec<u8>> = hex.into_iter().collect();
+                digits
+                    .and_then(|d| {
+                        std::str::from_utf8(&d)
+                            .ok()
+                            .and_then(|h| u8::from_str_radix(h, 16).ok())
+                    })
+                    .ok_or("garbage: `\\x` needs two hex digits")?
+            }
+            _ => return Err("garbage: unknown escape (use \\xNN, \\r, \\n, \\t or \\\\)".into()),
+        };
+        out.push(byte);
+    }
+    Ok(out)
+}
+
+fn read(args: &ReadArgs) -> Result<(), CliError> {
+    let timeout = Duration::try_from_secs_f64(args.timeout)
+        .ok()
+        .filter(|t| !t.is_zero() && t.as_secs() < 86_400)
+        .ok_or_else(|| {
+            CliError::input(format!(
+                "--timeout: {} s is not between 0 and a day",
+                args.timeout
+            ))
+        })?;
+    let density =
+        Density::new(args.density).map_err(|e| CliError::input(format!("--density: {e}")))?;
+    let config = ClientConfig {
+        baud: args.baud,
+        timeout,
+        retries: args.retries,
+        ..ClientConfig::default()
+    };
+    let mut scale = Client::open(&args.port, config).map_err(|e| CliError::other(e.to_string()))?;
+    let weight = scale.stable().map_err(|e| CliError::other(e.to_string()))?;
+    let text = match args.unit {
+        OutputUnit::G => weight.to(Unit::G).to_string(),
+        OutputUnit::Mg => weight.to(Unit::Mg).to_string(),
+        OutputUnit::Kg => weight.to(Unit::Kg).to_string(),
+        OutputUnit::Ml => format!(
+            "{:.*} ml",
+            usize::from(weight.to(Unit::G).decimals),
+            weight.millilitres(density)
+        ),
+    };
+    say(&text)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn garbage_escapes() {
+        assert_eq!(
+            unescape(br"a\x41\xff\r\n\t\\b").unwrap(),
+            b"aA\xff\r\n\t\\b"
+        );
+        assert!(unescape(br"\x4").is_err());
+        assert!(unescape(br"\xzz").is_err());
+        assert!(unescape(br"\q").is_err());
+        assert!(unescape(b"\\").is_err());
+    }
+}

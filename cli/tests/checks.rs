@@ -1,0 +1,187 @@
+//! The command line checks before it acts: every refused setting is named,
+//! exits with status 2, and leaves nothing behind; results are not
+//! clobbered; a closed stdout ends a run quietly and `--resume` continues.
+mod common;
+use std::io::{BufRead, BufReader};
+use std::process::{Command, Stdio};
+
+use common::{primo, tmp};
+
+/// `primo args` is refused with status 2, naming `flag`, before `out`
+/// exists.
+fn refused(args: &[&str], out: &std::path::Path, flag: &str) {
+    let (status, stdout, stderr) = primo(args);
+    assert_eq!(status, 2, "{args:?}: {stdout}\n{stderr}");
+    assert!(stderr.contains(flag), "{args:?}: {stderr}");
+    assert_eq!(stderr.lines().count(), 1, "one line: {stderr}");
+    assert!(
+        !stderr.contains("Configure") && !stderr.contains("{"),
+        "{stderr}"
+    );
+    assert!(!out.exists(), "{args:?} created {}", out.display());
+    assert!(stdout.is_empty(), "{args:?} said {stdout}");
+}
+
+#[test]
+fn bad_pour_settings_are_refused_before_any_output() {
+    let out = tmp("refused-pour");
+    let o = out.to_str().unwrap();
+    refused(&["pour", "--bottle", "5", "--out", o], &out, "--bottle");
+    refused(
+        &["pour", "--target", "0.8", "--bottle", "0.5", "--out", o],
+        &out,
+        "--target",
+    );
+    refused(&["pour", "--target=-0.1", "--out", o], &out, "--target");
+    refused(
+        &["pour", "--precision", "0", "--out", o],
+        &out,
+        "--precision",
+    );
+    refused(
+        &["pour", "--max-rollouts", "0", "--out", o],
+        &out,
+        "--max-rollouts",
+    );
+    refused(&["pour", "--kernels", "1", "--out", o], &out, "--kernels");
+    let demo = tmp("refused-demo.csv");
+    let (status, _, stderr) = primo(&["demo", "synth", "--out", demo.to_str().unwrap()]);
+    assert_eq!(status, 0, "{stderr}");
+    let one = format!("{}=0.3", demo.display());
+    refused(&["pour", "--demo", &one, "--out", o], &out, "--demo");
+    let other = format!("{}=0.3", demo.display());
+    refused(
+        &["pour", "--demo", &one, "--demo", &other, "--out", o],
+        &out,
+        "--demo",
+    );
+    refused(
+        &[
+            "pour",
+            "--robot",
+            "udp:1.2.3.4",
+            "--scale",
+            "/dev/null",
+            "--out",
+            o,
+        ],
+        &out,
+        "--robot",
+    );
+}
+
+#[test]
+fn an_experiment_checks_its_output_before_computing() {
+    let file = tmp("experiment-out-is-a-file");
+    std::fs::write(&file, "keep").unwrap();
+    let (status, stdout, stderr) = primo(&[
+        "experiment",
+        "golden",
+        "--volumes",
+        "0.5",
+        "--out",
+        file.to_str().unwrap(),
+    ]);
+    assert_eq!(status, 2, "{stdout}\n{stderr}");
+    assert!(
+        stderr.contains("--out") && stderr.contains("not a directory"),
+        "{stderr}"
+    );
+    assert_eq!(std::fs::read_to_string(&file).unwrap(), "keep");
+    let out = tmp("refused-golden");
+    refused(
+        &[
+            "experiment",
+            "golden",
+            "--volumes",
+            "2",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        &out,
+        "--volumes",
+    );
+}
+
+#[test]
+fn a_finished_run_is_replaced_only_with_force() {
+    let out = tmp("force");
+    let o = out.to_str().unwrap();
+    let (status, _, stderr) = primo(&["pour", "--out", o]);
+    assert_eq!(status, 0, "{stderr}");
+    let log = std::fs::read(out.join("run.log")).unwrap();
+    let (status, _, stderr) = primo(&["pour", "--seed", "2", "--out", o]);
+    assert_eq!(status, 2, "{stderr}");
+    assert!(stderr.contains("--force"), "{stderr}");
+    assert_eq!(std::fs::read(out.join("run.log")).unwrap(), log);
+    let (status, _, stderr) = primo(&["pour", "--seed", "2", "--out", o, "--force"]);
+    assert_eq!(status, 0, "{stderr}");
+    assert_ne!(std::fs::read(out.join("run.log")).unwrap(), log);
+}
+
+#[test]
+fn a_closed_stdout_ends_the_run_quietly_and_resume_continues_it() {
+    let out = tmp("broken-pipe");
+    let o = out.to_str().unwrap();
+    // `primo pour | head -1`: the reader leaves after the first line.
+    let mut child = Command::new(env!("CARGO_BIN_EXE_primo"))
+        .args([
+            "pour",
+            "--method",
+            "power",
+            "--max-rollouts",
+            "40",
+            "--out",
+            o,
+        ])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut first = String::new();
+    BufReader::new(child.stdout.take().unwrap())
+        .read_line(&mut first)
+        .unwrap();
+    // The pipe's reader is gone (dropped above).
+    let result = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    assert!(first.starts_with("primo pour:"), "{first}");
+    assert_eq!(result.status.code(), Some(141), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert!(stderr.contains("--resume"), "{stderr}");
+    let (status, stdout, stderr) = primo(&["pour", "--resume", o]);
+    assert_eq!(status, 0, "{stderr}");
+    assert!(stdout.contains("resuming"), "{stdout}");
+    assert!(stdout.contains("primo pour: learned"), "{stdout}");
+    // The same roll-outs as a run never interrupted.
+    let whole = tmp("broken-pipe-whole");
+    let (status, _, stderr) = primo(&[
+        "pour",
+        "--method",
+        "power",
+        "--max-rollouts",
+        "40",
+        "--out",
+        whole.to_str().unwrap(),
+    ]);
+    assert_eq!(status, 0, "{stderr}");
+    assert_eq!(
+        std::fs::read(out.join("rollouts.csv")).unwrap(),
+        std::fs::read(whole.join("rollouts.csv")).unwrap()
+    );
+}
+
+#[test]
+fn print_start_into_a_closed_pipe_does_not_panic() {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_primo"))
+        .args(["rollout", "--print-start"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let result = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert!(matches!(result.status.code(), Some(0 | 141)), "{stderr}");
+}

@@ -1,0 +1,232 @@
+//! `primo pour` on instruments, end to end: the learner drives
+//! `primo robot sim-krc` (the simulated arm and cell behind real FRI over
+//! UDP) and reads the cell's scale over MT-SICS on a pseudo-terminal; the
+//! operator's resets go through both programs' stdin as a person's would.
+mod common;
+use std::io::{BufRead, BufReader, Write};
+use std::process::{Child, ChildStdin, Command, Stdio};
+use std::sync::mpsc::{Receiver, channel};
+use std::time::Duration;
+
+use common::{primo, tmp};
+
+/// A spawned `primo` whose stdout lines arrive on a channel.
+struct Program {
+    child: Child,
+    stdin: ChildStdin,
+    lines: Receiver<String>,
+    seen: Vec<String>,
+}
+
+impl Program {
+    fn spawn(args: &[&str]) -> Program {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_primo"))
+            .args(args)
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::inherit())
+            .spawn()
+            .unwrap();
+        let stdin = child.stdin.take().unwrap();
+        let out = BufReader::new(child.stdout.take().unwrap());
+        let (tx, lines) = channel();
+        std::thread::spawn(move || {
+            for line in out.lines().map_while(Result::ok) {
+                if tx.send(line).is_err() {
+                    break;
+                }
+            }
+        });
+        Program {
+            child,
+            stdin,
+            lines,
+            seen: Vec::new(),
+        }
+    }
+
+    /// The next stdout line, or `None` at the end of the output.
+    fn next(&mut self, within: Duration) -> Option<String> {
+        let line = self.lines.recv_timeout(within).ok()?;
+        self.seen.push(line.clone());
+        Some(line)
+    }
+
+    /// Waits for a line containing `what`.
+    fn expect(&mut self, what: &str, within: Duration) -> String {
+        loop {
+            match self.next(within) {
+                Some(line) if line.contains(what) => return line,
+                Some(_) => {}
+                None => panic!(
+                    "no `{what}` within {within:?}; saw:\n{}",
+                    self.seen.join("\n")
+                ),
+            }
+        }
+    }
+
+    fn send(&mut self, line: &str) {
+        writeln!(self.stdin, "{line}").unwrap();
+        self.stdin.flush().unwrap();
+    }
+}
+
+impl Drop for Program {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+fn free_udp_port() -> u16 {
+    std::net::UdpSocket::bind("127.0.0.1:0")
+        .unwrap()
+        .local_addr()
+        .unwrap()
+        .port()
+}
+
+#[test]
+fn pour_learns_on_the_simulated_krc_and_scale_to_the_simulations_precision() {
+    let port = free_udp_port().to_string();
+    let mut krc = Program::spawn(&[
+        "robot",
+        "sim-krc",
+        "--port",
+        &port,
+        "--cycle-ms",
+        "4",
+        "--scale",
+        "--bottle",
+        "0.5",
+    ]);
+    let served = krc.expect("scale served on ", Duration::from_secs(30));
+    let scale = served
+        .rsplit("served on ")
+        .next()
+        .unwrap()
+        .trim()
+        .to_string();
+
+    let out = tmp("instruments");
+    let robot = format!("fri:127.0.0.1:{port}");
+    let mut pour = Program::spawn(&[
+        "pour",
+        "--robot",
+        &robot,
+        "--scale",
+        &scale,
+        "--confirm",
+        "--bottle",
+        "0.5",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let mut resets = 0;
+    let verdict = loop {
+        let line = pour
+            .next(Duration::from_secs(180))
+            .unwrap_or_else(|| panic!("pour stopped; saw:\n{}", pour.seen.join("\n")));
+        if line.contains(": reset the cell") {
+            // The operator: refill and empty on the cell, then Enter.
+            krc.send("reset");
+            krc.expect("cell reset", Duration::from_secs(30));
+            pour.send("");
+            resets += 1;
+        } else if line.starts_with("primo pour: converged")
+            || line.starts_with("primo pour: did not")
+        {
+            break line;
+        }
+    };
+    assert!(pour.child.wait().unwrap().success());
+    let transcript = pour.seen.join("\n");
+    assert!(
+        verdict.starts_with("primo pour: converged to |error| < 2 ml in"),
+        "{transcript}"
+    );
+    let rollouts = pour
+        .seen
+        .iter()
+        .filter(|l| l.starts_with("roll-out") && l.contains("poured"))
+        .count();
+    assert_eq!(resets, rollouts, "{transcript}");
+
+    // Every roll-out's readings are in the log: the poured volume is the
+    // scale's increase, and the bottle's loss (from the force at the
+    // tool) covers it.
+    let log = std::fs::read_to_string(out.join("run.log")).unwrap();
+    let entries: Vec<serde_json::Value> = log
+        .lines()
+        .filter_map(|l| serde_json::from_str::<serde_json::Value>(&l[9..]).ok())
+        .filter(|v| v["kind"] == "rollout")
+        .collect();
+    assert_eq!(entries.len(), rollouts);
+    for e in &entries {
+        let r = &e["trial"]["readings"];
+        let [before, after] = [0, 1].map(|i| r["scale"][i].as_f64().unwrap());
+        let poured = e["trial"]["poured"].as_f64().unwrap();
+        assert!(
+            (poured - (after - before) / 0.998 * 1e-3).abs() < 1e-12,
+            "{e}"
+        );
+        let [held_before, held_after] = [0, 1].map(|i| r["load"][i].as_f64().unwrap());
+        let lost = (held_before - held_after) / 9.80665 / 0.998;
+        assert!(
+            (lost - poured).abs() < 0.015,
+            "bottle lost {lost} l, glass gained {poured} l"
+        );
+    }
+
+    // The same learner in-process on the simulated cell: the same precision.
+    let sim = tmp("in-process");
+    let (code, stdout, err) = primo(&["pour", "--bottle", "0.5", "--out", sim.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    assert!(stdout.contains("converged to |error| < 2 ml"), "{stdout}");
+}
+
+#[test]
+fn a_robot_that_stops_mid_rollout_ends_the_run_with_status_1_and_a_resumable_log() {
+    let port = free_udp_port().to_string();
+    // The KRC's quality drops to BAD 4 s after it starts: during the
+    // first roll-out's movement, which takes longer than that.
+    let mut krc = Program::spawn(&[
+        "robot",
+        "sim-krc",
+        "--port",
+        &port,
+        "--cycle-ms",
+        "4",
+        "--scale",
+        "--bottle",
+        "0.5",
+        "--quality-drop-at",
+        "4",
+    ]);
+    let served = krc.expect("scale served on ", Duration::from_secs(30));
+    let scale = served
+        .rsplit("served on ")
+        .next()
+        .unwrap()
+        .trim()
+        .to_string();
+    let out = tmp("robot-stop");
+    let robot = format!("fri:127.0.0.1:{port}");
+    let (status, stdout, stderr) = primo(&[
+        "pour",
+        "--robot",
+        &robot,
+        "--scale",
+        &scale,
+        "--bottle",
+        "0.5",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(status, 1, "{stdout}\n{stderr}");
+    assert!(stderr.contains("on the robot: stopped"), "{stderr}");
+    assert!(stderr.contains("--resume"), "{stderr}");
+    assert!(out.join("run.log").is_file());
+    drop(krc);
+}

@@ -1,0 +1,488 @@
+//! The learning loop: the paper's learners (golden-section error learning,
+//! its magnitude-using sibling Illinois, extended PoWER) driving roll-outs of
+//! a [`Skill`] on a [`Rig`]. The learners are the core's ask/tell state
+//! machines behind the wire protocol's [`Service`], in this process or on a
+//! coprocessor ([`Learner`]).
+//!
+//! Three separate pieces make a run: [`learn_on`] asks, rolls out (one
+//! path: [`crate::rig::roll_out`]), tells; [`verify_replayed`] checks a
+//! resumed run's learner against its log; and whoever calls [`learn_on`]
+//! keeps each roll-out (the run log) as it comes.
+
+use primo_core::golden::SearchConfig;
+use primo_core::power::{Block, PowerConfig, widest_distance};
+use primo_core::service::Service;
+use primo_core::wire::{CHUNK, LearnerSetup, Outcome, Reply, Request, Rollout, Setup, Status};
+use serde::{Deserialize, Serialize};
+
+use primo_sim::cell::CellConfig;
+use primo_skill::MAX_KERNELS;
+use primo_skill::Skill;
+use primo_skill::skill::{MAX_EXAMPLES, MAX_PARAMS};
+
+use crate::Error;
+use crate::coprocessor::Link;
+use crate::rig::{Rig, Simulated, roll_out};
+use crate::trial::Trial;
+
+/// Capacity of the extended parameter vector `[q̂, Δθ]`.
+pub const MAX_EXTENDED: usize = MAX_PARAMS + 1;
+/// Per-update decay of the query's exploration variance σ1² (the paper
+/// decays it "with time" without a number).
+pub const QUERY_DECAY: f32 = 0.9;
+
+/// The learning algorithm.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Algorithm {
+    /// The paper's error learning with golden-section search on the query.
+    Golden,
+    /// Error learning that also uses the error's magnitude (Illinois
+    /// regula falsi), with the same bracket guarantee.
+    Illinois,
+    /// PoWER over the extended parameter set `[q̂, Δθ]`.
+    Power,
+}
+
+/// What to learn and how.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Settings {
+    /// The learner.
+    pub method: Algorithm,
+    /// Liquid in the bottle, l.
+    pub bottle: f64,
+    /// Volume to pour, l.
+    pub target: f64,
+    /// Seed of exploration and of the scale's noise.
+    pub seed: u64,
+    /// Roll-out budget.
+    pub max_rollouts: u32,
+    /// Error learning stops at |error| < precision, l.
+    pub precision: f64,
+    /// Query search limits for error learning, l.
+    pub search: [f32; 2],
+    /// PoWER exploration scales s1 (query; 0 is ordinary PoWER) and s2 (Δθ).
+    pub s1: f32,
+    /// See `s1`.
+    pub s2: f32,
+}
+
+impl Settings {
+    /// The paper's settings for `method`: golden section from the bottle's
+    /// volume within [0.1, 1.5] l to 2 ml; PoWER with s1 = 0.2, s2 = 0.05.
+    pub fn paper(method: Algorithm, bottle: f64, target: f64, seed: u64) -> Self {
+        Settings {
+            method,
+            bottle,
+            target,
+            seed,
+            max_rollouts: match method {
+                Algorithm::Power => 200,
+                _ => 30,
+            },
+            precision: 0.002,
+            search: [0.1, 1.5],
+            s1: 0.2,
+            s2: 0.05,
+        }
+    }
+
+    /// Checks every setting before anything runs; the message names the
+    /// flag and what it must be.
+    pub fn validate(&self) -> Result<(), Error> {
+        let bad = |m: String| Err(Error::Invalid(m));
+        let [low, high] = self.search;
+        if !(self.bottle.is_finite() && self.bottle > 0.0) {
+            return bad(format!(
+                "--bottle {}: must be a positive volume in litres",
+                self.bottle
+            ));
+        }
+        let bracket = f64::from(low)..f64::from(high);
+        if self.method != Algorithm::Power
+            && !(bracket.contains(&self.bottle) && self.bottle > f64::from(low))
+        {
+            return bad(format!(
+                "--bottle {}: error learning searches the query within ({low}, {high}) l, \
+                 and starts from the bottle's volume: it must lie inside",
+                self.bottle
+            ));
+        }
+        if !(self.target.is_finite() && self.target > 0.0 && self.target < self.bottle) {
+            return bad(format!(
+                "--target {}: must be above 0 and below the bottle's {} l",
+                self.target, self.bottle
+            ));
+        }
+        if !(self.precision.is_finite() && self.precision > 0.0) {
+            return bad(format!(
+                "--precision {}: must be a positive volume in litres",
+                self.precision
+            ));
+        }
+        if self.max_rollouts == 0 {
+            return bad("--max-rollouts 0: must be at least 1".into());
+        }
+        for (flag, s) in [("s1", self.s1), ("s2", self.s2)] {
+            if !(s.is_finite() && s >= 0.0) {
+                return bad(format!("PoWER's {flag} {s}: must be finite and >= 0"));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// One roll-out of a learning run.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Record {
+    /// Roll-out number, from 1.
+    pub rollout: u32,
+    /// PoWER updates completed before this roll-out (0 for error learning).
+    pub update: u32,
+    /// This roll-out executed PoWER's current mean (no exploration).
+    pub mean: bool,
+    /// The query `q̂` rolled out.
+    pub query: f32,
+    /// What happened.
+    pub trial: Trial,
+}
+
+/// PoWER's exploration blocks for `skill`, in the order of the extended
+/// vector: the query, the kernel weights of each DoF (one block per DoF),
+/// the goals, τ. Each block explores with the standard deviation
+/// `σ = s·max_ij ‖x_i − x_j‖/√len`, `s` times the examples' RMS spread over
+/// the block (`s1` for the query, decaying by [`QUERY_DECAY`] per update;
+/// `s2` for the rest).
+///
+/// The paper writes `σ² = s·max‖θ_i − θ_j‖` with one `σ2` for all of Δθ,
+/// and calls `s` the span of exploration. Three departures, each measured
+/// on the cell (joint space, small glass, 219 parameters; README):
+/// - `s` scales the standard deviation, not the variance: a variance
+///   proportional to a distance depends on the units (radians or degrees,
+///   litres or millilitres). Read as a variance, the goals explored with
+///   0.11 rad per joint and the query with 0.37 l, and 98–99 % of all
+///   explorations spilled enough for reward 0, leaving PoWER nothing to
+///   average. Read as a standard deviation: 0.013 rad and 0.14 l.
+/// - Weights, goals (rad) and τ (s) each get their own spread.
+/// - Each DoF's weights get their own spread: an amplitude-scaled DoF's
+///   weights are per unit of its amplitude (a5 moves 0.07 rad, its weights
+///   reach 2000), so one spread over all weights gave the unscaled joints
+///   five times their own.
+pub fn power_blocks(skill: &Skill, s1: f32, s2: f32) -> Result<Vec<Block>, Error> {
+    let queries: Vec<[f32; 1]> = skill.examples().map(|(q, _)| [q]).collect();
+    let thetas: Vec<&[f32]> = skill.examples().map(|(_, t)| t).collect();
+    let block = |s: f32, examples: &[&[f32]], range: std::ops::Range<usize>, decay: f32| {
+        let len = range.len();
+        let widest = widest_distance(examples.iter().copied(), range)
+            .map_err(|e| Error::Invalid(format!("exploration of the examples: {e}")))?;
+        let sigma = s * widest / (len as f32).sqrt();
+        Ok::<_, Error>(Block {
+            len,
+            variance: sigma * sigma,
+            decay,
+        })
+    };
+    let query: Vec<&[f32]> = queries.iter().map(|q| &q[..]).collect();
+    let (n, k) = (skill.dof(), skill.kernels());
+    let mut blocks = vec![block(s1, &query, 0..1, QUERY_DECAY)?];
+    for d in 0..n {
+        blocks.push(block(s2, &thetas, d * k..(d + 1) * k, 1.0)?);
+    }
+    blocks.push(block(s2, &thetas, n * k..n * k + n, 1.0)?);
+    blocks.push(block(s2, &thetas, n * k + n..n * k + n + 1, 1.0)?);
+    Ok(blocks)
+}
+
+/// The in-process learner: room for any skill the host can fit.
+pub type HostService = Service<MAX_EXTENDED, MAX_EXAMPLES, MAX_KERNELS>;
+
+/// Where the learner runs. Both ends run the core's [`Service`], so with the
+/// same settings, seed and outcomes they ask for the same roll-outs, bit
+/// for bit.
+#[allow(clippy::large_enum_variant)] // one per run
+pub enum Learner {
+    /// In this process.
+    Local(Box<HostService>),
+    /// On a coprocessor, over a serial line.
+    Remote(Link),
+}
+
+impl Learner {
+    /// An in-process learner.
+    pub fn local() -> Self {
+        Learner::Local(Box::new(HostService::new()))
+    }
+
+    /// One request; an error reply becomes an error.
+    fn call(&mut self, request: &Request) -> Result<Reply, Error> {
+        let reply = match self {
+            Learner::Local(s) => s.respond(request),
+            Learner::Remote(link) => link.call(request)?,
+        };
+        match reply {
+            Reply::Error(f) => Err(Error::Learner(format!("learner: {f}"))),
+            reply => Ok(reply),
+        }
+    }
+
+    /// Starts a run of `s` on `skill`: the learner and the examples.
+    fn configure(&mut self, skill: &Skill, s: &Settings) -> Result<(), Error> {
+        let search = SearchConfig {
+            low: s.search[0],
+            high: s.search[1],
+            desired: s.bottle as f32,
+            precision: s.precision as f32,
+            max_rollouts: s.max_rollouts,
+        };
+        let learner = match s.method {
+            Algorithm::Golden => LearnerSetup::Golden(search),
+            Algorithm::Illinois => LearnerSetup::Illinois(search),
+            Algorithm::Power => LearnerSetup::Power {
+                config: PowerConfig::paper(&power_blocks(skill, s.s1, s.s2)?)
+                    .map_err(|e| Error::Invalid(format!("PoWER: {e}")))?,
+                query: s.bottle as f32,
+            },
+        };
+        let examples: Vec<(f32, &[f32])> = skill.examples().collect();
+        let setup = Setup {
+            learner,
+            examples: u8::try_from(examples.len())
+                .map_err(|_| Error::Invalid("too many examples".into()))?,
+            theta_len: u16::try_from(skill.param_len())
+                .map_err(|_| Error::Invalid("θ too long".into()))?,
+            regression: skill.regression(),
+            seed: s.seed,
+        };
+        self.call(&Request::Configure(setup))?;
+        for (index, (query, theta)) in examples.into_iter().enumerate() {
+            for (c, values) in theta.chunks(CHUNK).enumerate() {
+                self.call(&Request::Example {
+                    index: index as u8,
+                    query,
+                    offset: (c * CHUNK) as u16,
+                    values: heapless::Vec::from_slice(values)
+                        .map_err(|_| Error::Learner("chunk too long".into()))?,
+                })?;
+            }
+        }
+        Ok(())
+    }
+
+    /// The asked roll-out's `Δθ`, chunk by chunk.
+    fn delta(&mut self, len: u16) -> Result<Vec<f32>, Error> {
+        let mut delta = Vec::with_capacity(usize::from(len));
+        while delta.len() < usize::from(len) {
+            match self.call(&Request::Fetch {
+                offset: delta.len() as u16,
+            })? {
+                Reply::Chunk { offset, values }
+                    if usize::from(offset) == delta.len() && !values.is_empty() =>
+                {
+                    delta.extend_from_slice(&values)
+                }
+                other => {
+                    return Err(Error::Learner(format!(
+                        "learner: fetching Δθ got {other:?}"
+                    )));
+                }
+            }
+        }
+        delta.truncate(usize::from(len));
+        Ok(delta)
+    }
+}
+
+/// Runs the learner of `s` on `skill` in the simulated `cell`, calling
+/// `each` after every roll-out; returns all roll-outs.
+pub fn learn(
+    skill: &Skill,
+    cell: &CellConfig,
+    s: &Settings,
+    learner: &mut Learner,
+    mut each: impl FnMut(&Record),
+) -> Result<Vec<Record>, Error> {
+    let mut rig = Simulated::new(*cell, s.bottle, s.seed)?;
+    let run = learn_on(skill, s, learner, &mut rig, &[], |e, _| {
+        each(&e.record);
+        Ok(())
+    })?;
+    Ok(run.into_iter().map(|e| e.record).collect())
+}
+
+/// A roll-out as the run log keeps it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Entry {
+    /// The roll-out and what happened.
+    #[serde(flatten)]
+    pub record: Record,
+    /// The learner's `Δθ` (empty for the error learners).
+    pub delta: Vec<f32>,
+    /// The learner's state after it was told the outcome.
+    pub status: Status,
+    /// CRC-32C of what the learner asked (the roll-out and `Δθ`) and of its
+    /// status, bit for bit: a resumed run checks its learner against it.
+    pub check: u32,
+}
+
+/// The CRC of [`Entry::check`].
+fn check(asked: &Rollout, delta: &[f32], status: &Status) -> Result<u32, Error> {
+    let bytes = postcard::to_allocvec(&(asked, delta, status))
+        .map_err(|e| Error::Learner(format!("learner state: {e}")))?;
+    Ok(crc::Crc::<u32>::new(&crc::CRC_32_ISCSI).checksum(&bytes))
+}
+
+/// Runs the learner of `s` on `skill` with roll-outs on `rig`, calling
+/// `each` after every roll-out (with `true` for a replayed one) before the
+/// next begins; returns all roll-outs. An error from `each` (the run log
+/// could not be written, the output closed) ends the run.
+///
+/// `logged` are the roll-outs of an interrupted run of the same settings:
+/// the learner is told their outcomes again instead of rolling them out,
+/// and [`verify_replayed`] checks it asks for exactly the logged roll-outs
+/// and reaches exactly the logged states, so the run goes on as if it had
+/// never stopped.
+pub fn learn_on(
+    skill: &Skill,
+    s: &Settings,
+    learner: &mut Learner,
+    rig: &mut dyn Rig,
+    logged: &[Entry],
+    mut each: impl FnMut(&Entry, bool) -> Result<(), Error>,
+) -> Result<Vec<Entry>, Error> {
+    learner.configure(skill, s)?;
+    let mut run = Vec::new();
+    for i in 1..=s.max_rollouts {
+        let asked = match learner.call(&Request::Ask)? {
+            Reply::Rollout(r) => r,
+            Reply::Finished(_) => break,
+            other => {
+                return Err(Error::Learner(format!(
+                    "learner: asked for a roll-out, got {other:?}"
+                )));
+            }
+        };
+        let delta = learner.delta(asked.delta_len)?;
+        let query = asked.query;
+        let before = logged.get(run.len());
+        let trial = match before {
+            Some(e) => e.record.trial.clone(),
+            None => roll_out(rig, skill, s.target, i, query, &delta)?,
+        };
+        if let (Some(why), Algorithm::Golden | Algorithm::Illinois) = (&trial.rejected, s.method) {
+            return Err(Error::Invalid(format!(
+                "roll-out {i} (q = {query}) rejected: {why}"
+            )));
+        }
+        // Error learning: ε > 0 (poured too much) asks for a larger query,
+        // a fuller bottle needs less tilt. PoWER: a rejected roll-out's
+        // reward is 0.
+        learner.call(&Request::Tell(Outcome {
+            error: trial.error as f32,
+            reward: trial.reward as f32,
+        }))?;
+        let status = match learner.call(&Request::Status)? {
+            Reply::Status(status) => status,
+            other => {
+                return Err(Error::Learner(format!(
+                    "learner: asked for its status, got {other:?}"
+                )));
+            }
+        };
+        let mut entry = Entry {
+            check: check(&asked, &delta, &status)?,
+            record: Record {
+                rollout: i,
+                update: asked.update,
+                mean: asked.mean,
+                query,
+                trial,
+            },
+            delta,
+            status,
+        };
+        if let Some(logged) = before {
+            verify_replayed(logged, &entry)?;
+        }
+        each(&entry, before.is_some())?;
+        // A series (megabytes) is not kept: the best one is replayed.
+        entry.record.trial.series = None;
+        run.push(entry);
+    }
+    if run.len() < logged.len() {
+        return Err(Error::Log(format!(
+            "the run log has {} roll-outs, the learner finished after {}: the log is of \
+             another learner, seed or skill",
+            logged.len(),
+            run.len()
+        )));
+    }
+    Ok(run)
+}
+
+/// A replayed roll-out must be the logged one: the learner asked for the
+/// same roll-out and `Δθ` and reached the same state, bit for bit.
+pub fn verify_replayed(logged: &Entry, replayed: &Entry) -> Result<(), Error> {
+    if logged.check != replayed.check || logged.record.rollout != replayed.record.rollout {
+        return Err(Error::Log(format!(
+            "the run log's roll-out {} is not what the learner asks for and reaches \
+             as roll-out {} (q = {}, logged q = {}): the log is of another \
+             learner, seed or skill",
+            logged.record.rollout,
+            replayed.record.rollout,
+            replayed.record.query,
+            logged.record.query
+        )));
+    }
+    Ok(())
+}
+
+/// The best executed roll-out: the highest reward, the later of equals
+/// (the more learned).
+pub fn best(run: &[Entry]) -> Option<&Entry> {
+    run.iter()
+        .filter(|e| e.record.trial.rejected.is_none())
+        .fold(None, |best: Option<&Entry>, e| match best {
+            Some(b) if b.record.trial.reward > e.record.trial.reward => Some(b),
+            _ => Some(e),
+        })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::pouring::built_in_skill;
+    use primo_sim::cell::GlassKind;
+    use primo_skill::Space;
+
+    #[test]
+    fn power_blocks_explore_a_fraction_of_each_blocks_spread() {
+        let cell = CellConfig::standard(GlassKind::Small);
+        let skill = built_in_skill(&cell, Space::Joint, 10).unwrap();
+        let blocks = power_blocks(&skill, 0.2, 0.05).unwrap();
+        assert_eq!(blocks.len(), 1 + skill.dof() + 2);
+        let lens: Vec<usize> = blocks.iter().map(|b| b.len).collect();
+        assert_eq!(lens[1..=skill.dof()], vec![skill.kernels(); skill.dof()]);
+        assert_eq!(lens.iter().sum::<usize>(), skill.param_len() + 1);
+        // The query: σ1 = s1·|1.0 l − 0.3 l|, decaying.
+        assert!((blocks[0].variance.sqrt() - 0.14).abs() < 1e-6);
+        assert_eq!(blocks[0].decay, QUERY_DECAY);
+        // Every other block: σ = s2 × the examples' RMS difference over it.
+        let ex: Vec<&[f32]> = skill.examples().map(|(_, t)| t).collect();
+        let mut start = 0;
+        for b in &blocks[1..] {
+            let rms = ((start..start + b.len)
+                .map(|j| (ex[0][j] - ex[1][j]).powi(2))
+                .sum::<f32>()
+                / b.len as f32)
+                .sqrt();
+            assert!(
+                (b.variance.sqrt() - 0.05 * rms).abs() <= 1e-5 * rms,
+                "{b:?}"
+            );
+            assert_eq!(b.decay, 1.0);
+            start += b.len;
+        }
+        // Ordinary PoWER explores no query.
+        assert_eq!(power_blocks(&skill, 0.0, 0.05).unwrap()[0].variance, 0.0);
+    }
+}

@@ -1,0 +1,583 @@
+//! A `primo pour` run: what it learns and where (its [`Header`]), its run
+//! log, resuming it after a crash, and its reports. The run reports what
+//! happens as [`Event`]s; it prints nothing.
+//!
+//! The header fixes everything that decides the run: the settings and
+//! seed, the skill (demonstration files, kernels, space, glass, and a CRC
+//! of the fitted examples so changed demonstration files are caught), and
+//! the cell. A resumed run takes all of it from the log; only where the
+//! instruments and the learner are connected (the robot's address, the
+//! scale's port, the coprocessor) may change.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use primo_sim::cell::{CellConfig, GlassKind};
+use primo_skill::csv::parse_demo;
+use primo_skill::{MAX_KERNELS, Skill, Space};
+use serde::{Deserialize, Serialize};
+
+use crate::Error;
+use crate::coprocessor::{Link, Qemu};
+use crate::learning::{Algorithm, Entry, Learner, Record, Settings, best, learn_on};
+use crate::output::create_dir;
+use crate::pouring::built_in_skill;
+use crate::report::{PourSummary, RolloutSummary};
+use crate::rig::{Instruments, InstrumentsSpec, Operator, Rig, Simulated};
+use crate::runlog::RunLog;
+use crate::trial::Measured;
+
+/// The log format's version.
+pub const VERSION: u32 = 1;
+
+/// A demonstration file and the query (bottle volume, l) it shows.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct DemoFile {
+    /// The CSV file (absolute in a run log).
+    pub file: PathBuf,
+    /// Its query.
+    pub volume: f32,
+}
+
+/// The skill a run learns: demonstrations fitted and generalized.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SkillSpec {
+    /// Coordinates of the movement.
+    pub space: Space,
+    /// The glass on the scale (the simulated cell's; on a real cell, the
+    /// arm's model and the workspace are the same).
+    pub glass: GlassKind,
+    /// Kernels per DoF.
+    pub kernels: usize,
+    /// The demonstrations; empty for the built-in pair.
+    pub demos: Vec<DemoFile>,
+}
+
+impl SkillSpec {
+    /// Checks the settings without reading a file: the kernel count, and
+    /// at least two demonstrations at distinct, positive volumes.
+    pub fn validate(&self) -> Result<(), Error> {
+        if !(2..=MAX_KERNELS).contains(&self.kernels) {
+            return Err(Error::Invalid(format!(
+                "--kernels {}: must be in 2..={MAX_KERNELS}",
+                self.kernels
+            )));
+        }
+        if self.demos.len() == 1 {
+            return Err(Error::Invalid(
+                "--demo: one demonstration cannot be generalized; give at least two, at \
+                 different volumes (or none for the built-in pair)"
+                    .into(),
+            ));
+        }
+        for (i, d) in self.demos.iter().enumerate() {
+            if !(d.volume.is_finite() && d.volume > 0.0) {
+                return Err(Error::Invalid(format!(
+                    "--demo {}={}: the volume must be a positive number of litres",
+                    d.file.display(),
+                    d.volume
+                )));
+            }
+            if let Some(same) = self.demos[..i].iter().find(|e| e.volume == d.volume) {
+                return Err(Error::Invalid(format!(
+                    "--demo {}={}: {} shows the same volume; the demonstrations must show \
+                     different volumes to generalize over",
+                    d.file.display(),
+                    d.volume,
+                    same.file.display()
+                )));
+            }
+        }
+        Ok(())
+    }
+
+    /// The cell and the fitted skill.
+    pub fn build(&self) -> Result<(CellConfig, Skill), Error> {
+        self.validate()?;
+        let cell = CellConfig::standard(self.glass);
+        if self.demos.is_empty() {
+            let skill = built_in_skill(&cell, self.space, self.kernels)?;
+            return Ok((cell, skill));
+        }
+        let mut demos = Vec::new();
+        for d in &self.demos {
+            let text = std::fs::read_to_string(&d.file)
+                .map_err(|e| Error::Invalid(format!("{}: cannot read: {e}", d.file.display())))?;
+            demos.push((d.volume, parse_demo(&d.file.display().to_string(), &text)?));
+        }
+        let examples: Vec<_> = demos.iter().map(|(q, d)| (*q, d)).collect();
+        let skill = Skill::fit(
+            self.space,
+            &examples,
+            self.kernels,
+            primo_core::generalize::Method::Lwr { bandwidth: None },
+        )?;
+        Ok((cell, skill))
+    }
+}
+
+/// Where the roll-outs happen.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum CellSpec {
+    /// The simulated cell in this process.
+    Simulated,
+    /// A real cell's instruments.
+    Instruments(InstrumentsSpec),
+}
+
+/// The first record of a run log.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Header {
+    /// [`VERSION`].
+    pub version: u32,
+    /// What to learn and how.
+    pub settings: Settings,
+    /// The skill.
+    pub skill: SkillSpec,
+    /// Where.
+    pub cell: CellSpec,
+    /// CRC-32C of the skill's examples `(q_i, θ_i)`, bit for bit.
+    pub examples: u32,
+}
+
+/// CRC-32C of the examples of `skill`.
+fn examples_crc(skill: &Skill) -> u32 {
+    let crc = crc::Crc::<u32>::new(&crc::CRC_32_ISCSI);
+    let mut digest = crc.digest();
+    for (q, theta) in skill.examples() {
+        digest.update(&q.to_le_bytes());
+        for t in theta {
+            digest.update(&t.to_le_bytes());
+        }
+    }
+    digest.finalize()
+}
+
+/// Where the learner runs.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct LearnerSpec {
+    /// A coprocessor's serial port, or `qemu`; in this process if `None`.
+    pub coprocessor: Option<String>,
+    /// With `qemu`: the firmware ELF.
+    pub firmware: Option<PathBuf>,
+}
+
+/// A new run, or the continuation of one.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Start {
+    /// A new run logged in `out`.
+    New {
+        /// The output directory.
+        out: PathBuf,
+        /// Replace a finished run logged in `out`.
+        force: bool,
+        /// What it learns.
+        settings: Settings,
+        /// The skill.
+        skill: SkillSpec,
+        /// Where.
+        cell: CellSpec,
+    },
+    /// Continue the run logged in `dir`.
+    Resume {
+        /// Its directory.
+        dir: PathBuf,
+        /// Where the real cell's instruments are now (a serial port's
+        /// name may change between runs), if not where the log says.
+        instruments: Option<InstrumentsSpec>,
+    },
+}
+
+impl Start {
+    /// Checks every setting, and that the output may be written, without
+    /// creating anything or touching an instrument.
+    pub fn validate(&self) -> Result<(), Error> {
+        match self {
+            Start::New {
+                out,
+                force,
+                settings,
+                skill,
+                cell,
+            } => {
+                settings.validate()?;
+                skill.validate()?;
+                let capacity = CellConfig::standard(skill.glass).bottle.capacity() * 1e3;
+                if settings.bottle > capacity {
+                    return Err(Error::Invalid(format!(
+                        "--bottle {}: the cell's bottle holds {capacity:.3} l",
+                        settings.bottle
+                    )));
+                }
+                if let CellSpec::Instruments(spec) = cell {
+                    spec.validate()?;
+                }
+                check_output_dir(out)?;
+                RunLog::check_free(out, *force)
+            }
+            Start::Resume { dir, instruments } => {
+                if let Some(spec) = instruments {
+                    spec.validate()?;
+                }
+                if !dir.join(crate::runlog::FILE).is_file() {
+                    return Err(Error::Invalid(format!(
+                        "--resume {}: no run log ({}) there",
+                        dir.display(),
+                        crate::runlog::FILE
+                    )));
+                }
+                Ok(())
+            }
+        }
+    }
+}
+
+/// `out` is a directory or can be made one: nothing in the way.
+fn check_output_dir(out: &Path) -> Result<(), Error> {
+    let mut at = Some(out);
+    while let Some(p) = at {
+        if let Ok(meta) = std::fs::metadata(p) {
+            if meta.is_dir() {
+                return Ok(());
+            }
+            return Err(Error::Invalid(format!(
+                "--out {}: {} is not a directory",
+                out.display(),
+                p.display()
+            )));
+        }
+        at = p.parent().filter(|p| !p.as_os_str().is_empty());
+    }
+    Ok(())
+}
+
+/// What a run reports as it goes.
+#[derive(Debug)]
+pub enum Event<'a> {
+    /// The learner is connected: where.
+    Learner(String),
+    /// A damaged last record of the run log was set aside.
+    Recovered(&'a str),
+    /// A logged run is taken up again (or, complete, reported again).
+    Resuming {
+        /// Its directory.
+        dir: &'a Path,
+        /// The logged run was complete.
+        complete: bool,
+        /// Roll-outs logged.
+        logged: usize,
+    },
+    /// The run log is open: from here on, the run can be resumed.
+    Logging(&'a Path),
+    /// What is learned.
+    Learning {
+        /// The settings.
+        settings: &'a Settings,
+        /// The movement's coordinates.
+        space: Space,
+        /// Parameters learned.
+        parameters: usize,
+    },
+    /// The real cell's instruments are open.
+    Cell {
+        /// Where they are.
+        spec: &'a InstrumentsSpec,
+        /// The scale's serial number.
+        scale_serial: &'a str,
+    },
+    /// A roll-out, made now or (`logged`) replayed from the log.
+    Rollout {
+        /// It.
+        entry: &'a Entry,
+        /// Replayed from the log.
+        logged: bool,
+    },
+    /// The run is complete and its reports are written.
+    Finished(&'a Finished),
+}
+
+/// How a run ended.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Finished {
+    /// The settings.
+    pub settings: Settings,
+    /// The last roll-out (PoWER: the last roll-out of the mean).
+    pub last: Record,
+    /// Error learning reached the precision at this roll-out.
+    pub converged_at: Option<u32>,
+    /// The roll-out `series.csv` holds, if any.
+    pub series_of: Option<u32>,
+    /// Whether the cell records series (the simulated one does).
+    pub simulated: bool,
+    /// The output directory.
+    pub dir: PathBuf,
+}
+
+/// A failed run: why, and whether a run log keeps what was made (then
+/// `--resume` continues it).
+#[derive(Debug, thiserror::Error)]
+#[error("{error}")]
+pub struct Failure {
+    /// Why.
+    pub error: Box<Error>,
+    /// The run's directory, once its log exists.
+    pub resumable: Option<PathBuf>,
+}
+
+impl From<Error> for Failure {
+    fn from(error: Error) -> Self {
+        Failure {
+            error: Box::new(error),
+            resumable: None,
+        }
+    }
+}
+
+/// `primo pour`: checks the settings, learns, logging every roll-out, and
+/// writes the reports; `operator` is asked at a real cell, `event` told
+/// what happens. An error from `event` (the output is gone) ends the run.
+pub fn pour(
+    start: Start,
+    learner: &LearnerSpec,
+    operator: Box<dyn Operator>,
+    mut event: impl FnMut(Event) -> Result<(), Error>,
+) -> Result<(), Failure> {
+    let started = Instant::now();
+    start.validate()?;
+    // QEMU (when asked for) lives until the run ends.
+    let (_qemu, mut learner) = open_learner(learner, &mut event)?;
+    let (dir, header, logged, mut log, ended) = match start {
+        Start::New {
+            out,
+            force,
+            settings,
+            skill,
+            cell,
+        } => {
+            let (_, fitted) = skill.build()?;
+            let header = Header {
+                version: VERSION,
+                settings,
+                examples: examples_crc(&fitted),
+                skill,
+                cell,
+            };
+            create_dir(&out)?;
+            let log = RunLog::create(&out, &header, force)?;
+            (out, header, Vec::new(), log, false)
+        }
+        Start::Resume { dir, instruments } => {
+            let opened = RunLog::open::<Header, Entry>(&dir)?;
+            if let Some(note) = &opened.recovered {
+                event(Event::Recovered(note))?;
+            }
+            let mut header = opened.header;
+            match (&mut header.cell, instruments) {
+                (CellSpec::Instruments(logged), Some(now)) => *logged = now,
+                (CellSpec::Simulated, Some(_)) => {
+                    return Err(Error::Invalid(format!(
+                        "the run in {} is on the simulated cell: it cannot continue on \
+                         instruments",
+                        dir.display()
+                    ))
+                    .into());
+                }
+                (_, None) => {}
+            }
+            if header.version != VERSION {
+                return Err(Error::Log(format!(
+                    "{}: run log version {}, this primo reads version {VERSION}",
+                    dir.join(crate::runlog::FILE).display(),
+                    header.version
+                ))
+                .into());
+            }
+            event(Event::Resuming {
+                dir: &dir,
+                complete: opened.ended,
+                logged: opened.entries.len(),
+            })?;
+            (dir, header, opened.entries, opened.log, opened.ended)
+        }
+    };
+    let fail = |error: Error| Failure {
+        error: Box::new(error),
+        resumable: Some(dir.clone()),
+    };
+    event(Event::Logging(&dir)).map_err(fail)?;
+    let s = header.settings;
+    let (cell, skill) = header.skill.build().map_err(fail)?;
+    if examples_crc(&skill) != header.examples {
+        return Err(fail(Error::Log(format!(
+            "the demonstrations of the run in {} have changed since it started: its examples \
+             no longer fit to the same DMPs",
+            dir.display()
+        ))));
+    }
+    event(Event::Learning {
+        settings: &s,
+        space: skill.space(),
+        parameters: learned_parameters(&s, &skill),
+    })
+    .map_err(fail)?;
+    let simulated = Simulated::new(cell, s.bottle, s.seed).map_err(fail)?;
+    let mut rig: Box<dyn Rig> = match &header.cell {
+        // A complete run is only told again: no instrument is needed.
+        _ if ended => Box::new(Complete(simulated.clone())),
+        CellSpec::Simulated => Box::new(simulated.clone()),
+        CellSpec::Instruments(spec) => {
+            let rig = Instruments::open(spec.clone(), &cell, s.bottle, operator).map_err(fail)?;
+            event(Event::Cell {
+                spec,
+                scale_serial: rig.scale_serial(),
+            })
+            .map_err(fail)?;
+            Box::new(rig)
+        }
+    };
+    let run = learn_on(
+        &skill,
+        &s,
+        &mut learner,
+        rig.as_mut(),
+        &logged,
+        |entry, replayed| {
+            if !(replayed || ended) {
+                log.append(entry)?;
+            }
+            event(Event::Rollout {
+                entry,
+                logged: replayed,
+            })
+        },
+    )
+    .map_err(fail)?;
+    if !ended {
+        log.end().map_err(fail)?;
+    }
+    let finished =
+        report(&dir, &s, &skill, &run, &simulated, &header.cell, started).map_err(fail)?;
+    event(Event::Finished(&finished)).map_err(fail)
+}
+
+/// The cell of a complete run: it is told its logged roll-outs again and
+/// makes none.
+struct Complete(Simulated);
+
+impl Rig for Complete {
+    fn gate(&self) -> &primo_robot::Gate {
+        self.0.gate()
+    }
+
+    fn dt(&self) -> f64 {
+        self.0.dt()
+    }
+
+    fn execute(
+        &mut self,
+        rollout: u32,
+        _: &primo_skill::Plan,
+        _: &primo_robot::JointPath,
+    ) -> Result<Measured, Error> {
+        Err(Error::Log(format!(
+            "the logged run is complete, yet the learner asks for roll-out {rollout}"
+        )))
+    }
+}
+
+/// Parameters learned: `[q̂, Δθ]` for PoWER, the query otherwise.
+pub fn learned_parameters(s: &Settings, skill: &Skill) -> usize {
+    match s.method {
+        Algorithm::Power => skill.param_len() + 1,
+        _ => 1,
+    }
+}
+
+/// Writes the reports of a run.
+fn report(
+    dir: &Path,
+    s: &Settings,
+    skill: &Skill,
+    run: &[Entry],
+    simulated: &Simulated,
+    cell: &CellSpec,
+    started: Instant,
+) -> Result<Finished, Error> {
+    let records: Vec<_> = run.iter().map(|e| e.record.clone()).collect();
+    let last = records
+        .iter()
+        .rev()
+        .find(|r| r.mean)
+        .ok_or_else(|| Error::Learner("no roll-out was made".into()))?;
+    let converged_at = match s.method {
+        Algorithm::Power => None,
+        _ => records
+            .iter()
+            .find(|r| r.trial.error.abs() < s.precision)
+            .map(|r| r.rollout),
+    };
+    let best = best(run);
+    let summary = PourSummary {
+        settings: s,
+        space: skill.space(),
+        parameters: learned_parameters(s, skill),
+        rollouts: records.len(),
+        converged_at,
+        last: RolloutSummary::of(last),
+        best: best.map(|e| RolloutSummary::of(&e.record)),
+        seconds: started.elapsed().as_secs_f64(),
+    };
+    crate::report::write_pour(dir, &records, &summary)?;
+    // The best roll-out's time series: the simulated cell repeats it
+    // exactly (the run itself keeps no series).
+    let series = match (cell, best) {
+        (CellSpec::Simulated, Some(e)) => {
+            let mut recording = simulated.recording(1);
+            crate::rig::roll_out(
+                &mut recording,
+                skill,
+                s.target,
+                e.record.rollout,
+                e.record.query,
+                &e.delta,
+            )?
+            .series
+        }
+        _ => None,
+    };
+    crate::series::write_csv(&dir.join("series.csv"), skill.space(), series.as_ref())?;
+    Ok(Finished {
+        settings: *s,
+        last: last.clone(),
+        converged_at,
+        series_of: series.as_ref().and(best.map(|e| e.record.rollout)),
+        simulated: matches!(cell, CellSpec::Simulated),
+        dir: dir.to_path_buf(),
+    })
+}
+
+fn open_learner(
+    spec: &LearnerSpec,
+    event: &mut impl FnMut(Event) -> Result<(), Error>,
+) -> Result<(Option<Qemu>, Learner), Error> {
+    Ok(match spec.coprocessor.as_deref() {
+        None => (None, Learner::local()),
+        Some("qemu") => {
+            let elf = spec.firmware.clone().unwrap_or_else(Qemu::default_firmware);
+            let qemu = Qemu::start(&elf)?;
+            let link = Link::open(qemu.pty())?;
+            event(Event::Learner(format!(
+                "learner: firmware {} on QEMU mps2-an386, {}",
+                elf.display(),
+                qemu.pty()
+            )))?;
+            (Some(qemu), Learner::Remote(link))
+        }
+        Some(port) => {
+            let link = Link::open(port)?;
+            event(Event::Learner(format!("learner: coprocessor on {port}")))?;
+            (None, Learner::Remote(link))
+        }
+    })
+}

@@ -1,0 +1,62 @@
+//! The built-in pouring task: the pouring cell's safety gate, and the
+//! expert's demonstrations fitted as a skill.
+
+use primo_core::generalize::Method as Regression;
+use primo_robot::{CartesianLimits, Gate};
+use primo_sim::cell::CellConfig;
+use primo_sim::expert::{BUILT_IN, Recording, rest_configuration, synthesize};
+use primo_skill::csv::Demo;
+use primo_skill::{Skill, Space};
+
+use crate::Error;
+
+/// The pouring cell's gate, the same for the simulated and the real cell:
+/// the cell's arm holding the bottle (its grasp), the mouth as the
+/// controlled point, the mouth's workspace and speed limits, and the rest
+/// posture between the demonstrators' elbows.
+pub fn gate(cell: &CellConfig) -> Gate {
+    Gate {
+        arm: cell.arm(),
+        reach: cell.bottle.length,
+        limits: CartesianLimits::default(),
+        rest: rest_configuration(0.0),
+    }
+}
+
+/// The demonstrations from the expert: 0.2 l from 0.3 l and 1.0 l bottles,
+/// in `space` coordinates, as `(bottle volume, recording)`.
+pub fn built_in_demos(cell: &CellConfig, space: Space) -> Result<Vec<(f32, Demo)>, Error> {
+    BUILT_IN
+        .iter()
+        .map(|(volume, style)| {
+            let demo = synthesize(cell, *volume, 0.2, style).map_err(Error::Invalid)?;
+            Ok((*volume as f32, to_csv_demo(&demo, space)))
+        })
+        .collect()
+}
+
+/// A recording in the CSV layout of `space`.
+pub fn to_csv_demo(demo: &Recording, space: Space) -> Demo {
+    let positions = match space {
+        Space::Cartesian => demo.cartesian.iter().flatten().map(|v| *v as f32).collect(),
+        Space::Joint => demo.joints.iter().flatten().map(|v| *v as f32).collect(),
+    };
+    Demo {
+        names: space.names().iter().map(|s| s.to_string()).collect(),
+        times: demo.t.iter().map(|t| *t as f32).collect(),
+        positions,
+    }
+}
+
+/// The skill fitted to the built-in demonstrations (LWR over the volume,
+/// which with two examples is the paper's linear interpolation).
+pub fn built_in_skill(cell: &CellConfig, space: Space, kernels: usize) -> Result<Skill, Error> {
+    let demos = built_in_demos(cell, space)?;
+    let examples: Vec<(f32, &Demo)> = demos.iter().map(|(q, d)| (*q, d)).collect();
+    Ok(Skill::fit(
+        space,
+        &examples,
+        kernels,
+        Regression::Lwr { bandwidth: None },
+    )?)
+}

@@ -1,0 +1,309 @@
+//! Where roll-outs happen: the simulated cell in this process, or the real
+//! instruments (a KUKA LWR4 over FRI and an MT-SICS scale) of a pouring
+//! cell. The learning loop does not know which: every roll-out takes one
+//! path ([`roll_out`]): plan, check once, execute the checked joint path,
+//! measure, score once.
+
+use std::net::UdpSocket;
+use std::time::{Duration, Instant};
+
+use primo_fri::parse_robot;
+use primo_fri::session::SessionConfig;
+use primo_fri::udp::{Ended, PlayConfig, bind, play};
+use primo_mtsics::{Client, ClientConfig, ErrorKind};
+use primo_robot::{Gate, JointPath};
+use primo_sim::cell::{Cell, CellConfig};
+use primo_skill::{Plan, Skill};
+use serde::{Deserialize, Serialize};
+
+use crate::Error;
+use crate::series::Series;
+use crate::trial::{Measured, Readings, Trial};
+
+/// Standard gravity, m/s².
+const G: f64 = 9.80665;
+
+/// Executes checked movements and measures what they did.
+pub trait Rig {
+    /// The gate every movement passes before it is executed here.
+    fn gate(&self) -> &Gate;
+    /// The control step movements are planned at, s.
+    fn dt(&self) -> f64;
+    /// Executes roll-out number `rollout` (from 1): `path` is the checked
+    /// joint path of `plan`. An error means the roll-out could not be made
+    /// or measured (an instrument failed) and the run must stop.
+    fn execute(&mut self, rollout: u32, plan: &Plan, path: &JointPath) -> Result<Measured, Error>;
+}
+
+/// Roll-out `rollout` of `θ = G(query) + Δθ` on `rig`, pouring toward
+/// `target` litres: planned, checked by the rig's gate (a rejected movement
+/// moves nothing and scores 0), executed, measured, scored.
+pub fn roll_out(
+    rig: &mut dyn Rig,
+    skill: &Skill,
+    target: f64,
+    rollout: u32,
+    query: f32,
+    delta: &[f32],
+) -> Result<Trial, Error> {
+    match skill.checked(rig.gate(), rig.dt(), query, delta) {
+        Ok((plan, path)) => Ok(Trial::scored(target, rig.execute(rollout, &plan, &path)?)),
+        Err(why) => Ok(Trial::rejected(target, why.to_string())),
+    }
+}
+
+/// The simulated cell: every roll-out starts from a full bottle and an
+/// empty glass, the scale's noise seeded per roll-out, so a run is a pure
+/// function of its settings and seed.
+#[derive(Debug, Clone)]
+pub struct Simulated {
+    cell: CellConfig,
+    gate: Gate,
+    bottle: f64,
+    seed: u64,
+}
+
+impl Simulated {
+    /// The cell `cell` with `bottle` litres in the bottle at every
+    /// roll-out; `seed` is the run's.
+    pub fn new(cell: CellConfig, bottle: f64, seed: u64) -> Result<Simulated, Error> {
+        cell.validate().map_err(Error::Invalid)?;
+        Ok(Simulated {
+            gate: crate::pouring::gate(&cell),
+            cell,
+            bottle,
+            seed,
+        })
+    }
+
+    /// The same cell recording its time series every `every` control
+    /// steps (0: none).
+    pub fn recording(&self, every: usize) -> Simulated {
+        let mut rig = self.clone();
+        rig.cell.record_every = every;
+        rig
+    }
+
+    /// The scale's noise seed for roll-out `i`.
+    fn trial_seed(&self, i: u32) -> u64 {
+        self.seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ u64::from(i)
+    }
+
+    /// Executes `path` with the scale's noise from `noise`.
+    pub fn execute_seeded(
+        &self,
+        plan: &Plan,
+        path: &JointPath,
+        noise: u64,
+    ) -> Result<Measured, Error> {
+        let mut sim = Cell::new(&self.cell, self.bottle, noise).map_err(Error::Invalid)?;
+        for q in path.positions() {
+            sim.step_joints(q);
+        }
+        let out = sim.finish();
+        let recorded = !out.series.is_empty();
+        Ok(Measured {
+            poured: out.poured,
+            spilled: out.spilled,
+            series: recorded.then(|| {
+                Series::new(
+                    plan.space,
+                    &plan.rows,
+                    plan.dof,
+                    self.cell.record_every,
+                    out.series,
+                )
+            }),
+            readings: None,
+        })
+    }
+}
+
+impl Rig for Simulated {
+    fn gate(&self) -> &Gate {
+        &self.gate
+    }
+
+    fn dt(&self) -> f64 {
+        self.cell.dt
+    }
+
+    fn execute(&mut self, rollout: u32, plan: &Plan, path: &JointPath) -> Result<Measured, Error> {
+        self.execute_seeded(plan, path, self.trial_seed(rollout))
+    }
+}
+
+/// A real cell (in a run log's header): where its instruments are.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct InstrumentsSpec {
+    /// `fri:ADDR[:PORT]`: the local UDP address the KRC sends to.
+    pub robot: String,
+    /// The MT-SICS scale's serial port.
+    pub scale: String,
+    /// Its baud rate.
+    pub baud: u32,
+    /// The liquid's density, g/ml.
+    pub density: f64,
+    /// Ask the operator to reset the cell before every roll-out.
+    pub confirm: bool,
+}
+
+impl InstrumentsSpec {
+    /// Checks the settings without touching an instrument.
+    pub fn validate(&self) -> Result<(), Error> {
+        if !(self.density.is_finite() && self.density > 0.0) {
+            return Err(Error::Invalid(format!(
+                "--density {}: must be a positive number of g/ml",
+                self.density
+            )));
+        }
+        if self.baud == 0 {
+            return Err(Error::Invalid("--baud 0: must be a positive rate".into()));
+        }
+        parse_robot(&self.robot)?;
+        Ok(())
+    }
+}
+
+/// The person at a real cell.
+pub trait Operator {
+    /// Asks them to reset the cell before roll-out `rollout` (the bottle
+    /// filled to `bottle` litres, the glass emptied) and waits until they
+    /// have.
+    fn reset(&mut self, rollout: u32, bottle: f64) -> Result<(), Error>;
+    /// Tells them something they should know about roll-out `rollout`.
+    fn warn(&mut self, rollout: u32, message: &str);
+}
+
+/// How long the arm stands still before and after the movement while the
+/// force at the tool is averaged, s: the estimate's noise (0.3 N per axis
+/// on the simulated KRC, 250 cycles of 4 ms) averages to about 2 ml of
+/// water.
+const HOLD: f64 = 1.0;
+
+/// How long to wait for a stable scale reading before giving up.
+const SETTLE_LIMIT: Duration = Duration::from_secs(120);
+
+/// A real pouring cell: a KUKA LWR4 over FRI and an MT-SICS scale.
+///
+/// A roll-out: the operator resets the cell if asked to confirm; the
+/// scale's stable weight is read; the checked joint path is streamed over
+/// FRI (approach, movement, hold); the stable weight is read again. The
+/// poured volume is the weight's increase over the density; the spill is,
+/// as in the paper, the bottle's loss, estimated from the robot's external
+/// force at the tool standing still before and after, minus the poured
+/// volume.
+pub struct Instruments {
+    spec: InstrumentsSpec,
+    gate: Gate,
+    dt: f64,
+    bottle: f64,
+    socket: UdpSocket,
+    scale: Client,
+    play: PlayConfig,
+    operator: Box<dyn Operator>,
+}
+
+impl Instruments {
+    /// Binds the robot's address and opens the scale; `cell` is the cell's
+    /// geometry for the checks. The operator answers through `operator`.
+    pub fn open(
+        spec: InstrumentsSpec,
+        cell: &CellConfig,
+        bottle: f64,
+        operator: Box<dyn Operator>,
+    ) -> Result<Instruments, Error> {
+        spec.validate()?;
+        let socket = bind(parse_robot(&spec.robot)?)?;
+        let scale = Client::open(
+            &spec.scale,
+            ClientConfig {
+                baud: spec.baud,
+                ..ClientConfig::default()
+            },
+        )?;
+        Ok(Instruments {
+            spec,
+            gate: crate::pouring::gate(cell),
+            dt: cell.dt,
+            bottle,
+            socket,
+            scale,
+            play: PlayConfig {
+                session: SessionConfig {
+                    weigh: HOLD,
+                    settle: HOLD,
+                    ..SessionConfig::default()
+                },
+                ..PlayConfig::default()
+            },
+            operator,
+        })
+    }
+
+    /// The scale's serial number.
+    pub fn scale_serial(&self) -> &str {
+        self.scale.serial()
+    }
+
+    /// The stable weight, g, waiting up to [`SETTLE_LIMIT`] for it.
+    fn weigh(&mut self) -> Result<f64, Error> {
+        let started = Instant::now();
+        loop {
+            match self.scale.stable() {
+                Ok(w) => return Ok(w.grams()),
+                // Still settling (`S I`): the liquid is still moving.
+                Err(e)
+                    if matches!(e.kind, ErrorKind::NotExecutable { .. })
+                        && started.elapsed() < SETTLE_LIMIT => {}
+                Err(e) => return Err(e.into()),
+            }
+        }
+    }
+}
+
+impl Rig for Instruments {
+    fn gate(&self) -> &Gate {
+        &self.gate
+    }
+
+    fn dt(&self) -> f64 {
+        self.dt
+    }
+
+    fn execute(&mut self, rollout: u32, _: &Plan, path: &JointPath) -> Result<Measured, Error> {
+        if self.spec.confirm {
+            self.operator.reset(rollout, self.bottle)?;
+        }
+        let before = self.weigh()?;
+        let played = play(&self.socket, path, &self.play)?;
+        if played.ended != Ended::Completed {
+            return Err(Error::RobotStopped(format!(
+                "roll-out {rollout} on the robot: {}; the cell may need a reset",
+                played.ended
+            )));
+        }
+        let after = self.weigh()?;
+        let poured = (after - before) / self.spec.density * 1e-3;
+        let load = played.load;
+        if load.is_none() {
+            self.operator.warn(
+                rollout,
+                "the robot stood still too briefly to weigh the bottle; its spill counts as 0",
+            );
+        }
+        // The bottle's loss: its liquid's weight, before minus after.
+        let spilled = load.map_or(0.0, |[b, a]| {
+            ((b - a) / G / self.spec.density - poured).max(0.0)
+        });
+        Ok(Measured {
+            poured,
+            spilled,
+            series: None,
+            readings: Some(Readings {
+                scale: [before, after],
+                load,
+            }),
+        })
+    }
+}

@@ -1,0 +1,22 @@
+//! Mettler Toledo MT-SICS precision scales: the protocol, and a client for
+//! a scale on a serial port. The simulated scale that speaks it lives with
+//! the simulator (`primo-sim`).
+//!
+//! - [`parse_response`] turns any line into a typed [`Response`] or an
+//!   error quoting it; [`Response`]'s `Display` writes the line back.
+//! - [`Client`]: the client (`@`, `S`, `SI`, `Z`, `T`, `TAC`) on a serial
+//!   port, with timeouts, retries, and skipping of power-on lines (feature
+//!   `serial`, on by default).
+//!
+#![deny(missing_docs)]
+
+#[cfg(feature = "serial")]
+mod client;
+mod protocol;
+
+#[cfg(feature = "serial")]
+pub use client::{Client, ClientConfig, ErrorKind, ScaleError};
+pub use protocol::{
+    Density, Lines, MAX_LINE, Reply, Response, ResponseError, Stability, Unit, Weight,
+    parse_response, parse_value, quote,
+};

@@ -1,0 +1,24 @@
+//! primo's robot model and safety gate.
+//!
+//! - [`description`]: a robot's description ([`Robot`]: DH table, flange,
+//!   joint limits), built in for the KUKA LWR 4+ or read from JSON.
+//! - [`kinematics`]: [`Pose`], and an [`Arm`] (a robot holding a tool):
+//!   forward and inverse kinematics.
+//! - [`limits`]: the joint position and velocity limits checked along a
+//!   trajectory.
+//! - [`safety`]: the one gate every trajectory passes before it moves a
+//!   robot, simulated or real; its only output is a [`JointPath`].
+//!
+//! Nothing here knows the simulator or a driver: both take their limits
+//! from here.
+#![deny(missing_docs)]
+
+pub mod description;
+pub mod kinematics;
+pub mod limits;
+pub mod safety;
+
+pub use description::{DescriptionError, JOINTS, Link, Robot};
+pub use kinematics::{Arm, IkError, Pose};
+pub use limits::Violation;
+pub use safety::{CartesianLimits, Gate, JointPath, Rejection};

@@ -1,0 +1,462 @@
+//! The one gate every trajectory passes before it leaves primo, for the
+//! simulated cell and the real robot alike: a [`JointPath`] exists only as
+//! the result of [`check_joints`] or a [`Gate`]'s checks, and the robot
+//! drivers (and the simulated cell's rig) take nothing else. A path carries
+//! the robot whose limits it passed, so a driver keeps to the same limits.
+//!
+//! - Joint trajectories: every sample within the robot's joint position
+//!   limits, every step within its joint velocity limits
+//!   ([`Robot::check_limits`]).
+//! - Cartesian trajectories (tool poses: the controlled point's position
+//!   and the tool's rotation vector): the point stays in the workspace box
+//!   and moves and turns no faster than the [`CartesianLimits`]; then
+//!   every pose is converted to joint angles by the inverse kinematics,
+//!   sample by sample from a rest posture, and the joint angles pass the
+//!   joint checks. A pose the inverse kinematics cannot reach is a
+//!   rejection too.
+//!
+//! ```
+//! use primo_robot::{Robot, safety::check_joints};
+//! let times = vec![0.0, 0.01, 0.02];
+//! let still = [0.0, 0.5, 0.0, -1.0, 0.0, 0.5, 0.0];
+//! let mut jump = still;
+//! jump[1] = 0.6; // 0.1 rad in 10 ms: 573 deg/s
+//! let lwr4 = Robot::lwr4();
+//! assert!(check_joints(&lwr4, times.clone(), vec![still; 3]).is_ok());
+//! let err = check_joints(&lwr4, times, vec![still, jump, jump]).unwrap_err();
+//! assert_eq!(err.to_string(), "joint 2 at sample 1: 572.96 deg/s beyond the 110 deg/s velocity limit");
+//! ```
+
+use crate::{Arm, IkError, JOINTS, Pose, Robot, Violation};
+
+/// Box the controlled point (the bottle's mouth) must stay in during
+/// Cartesian movements (base frame, m).
+pub const WORKSPACE: [[f64; 2]; 3] = [[0.3, 1.1], [-0.5, 0.7], [0.3, 1.1]];
+/// Fastest the mouth may move, m/s.
+pub const MAX_MOUTH_SPEED: f64 = 1.0;
+/// Fastest the bottle's rotation vector may change, rad/s.
+pub const MAX_TURN_RATE: f64 = 3.0;
+
+/// Why a trajectory may not move a robot.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum Rejection {
+    /// No samples, or not one time per sample.
+    #[error(
+        "a trajectory needs at least one sample and one time per sample \
+         ({times} times, {samples} samples)"
+    )]
+    Shape {
+        /// Times given.
+        times: usize,
+        /// Samples given.
+        samples: usize,
+    },
+    /// A joint limit.
+    #[error("{0}")]
+    Limit(#[from] Violation),
+    /// A non-finite time or pose.
+    #[error("sample {sample}: non-finite time or pose")]
+    NonFinite {
+        /// Sample index.
+        sample: usize,
+    },
+    /// Time does not increase.
+    #[error("sample {sample}: time {time} s does not increase")]
+    TimeOrder {
+        /// Sample index.
+        sample: usize,
+        /// Its time, s.
+        time: f64,
+    },
+    /// Outside the workspace box.
+    #[error("sample {sample}: mouth {axis} = {value:.3} m outside the workspace [{low}, {high}] m")]
+    Workspace {
+        /// Sample index.
+        sample: usize,
+        /// `x`, `y` or `z`.
+        axis: &'static str,
+        /// The coordinate, m.
+        value: f64,
+        /// The box's lower side, m.
+        low: f64,
+        /// The box's upper side, m.
+        high: f64,
+    },
+    /// Moving too fast.
+    #[error("sample {sample}: mouth speed {speed:.2} m/s beyond {limit} m/s")]
+    Speed {
+        /// Sample index.
+        sample: usize,
+        /// The speed, m/s.
+        speed: f64,
+        /// The limit, m/s.
+        limit: f64,
+    },
+    /// Turning too fast.
+    #[error("sample {sample}: turning at {rate:.2} rad/s beyond {limit} rad/s")]
+    Turn {
+        /// Sample index.
+        sample: usize,
+        /// The rate, rad/s.
+        rate: f64,
+        /// The limit, rad/s.
+        limit: f64,
+    },
+    /// A pose the inverse kinematics cannot reach.
+    #[error("sample {sample}: bottle pose {pose:.3?}: {ik}")]
+    Unreachable {
+        /// Sample index.
+        sample: usize,
+        /// The pose `[x, y, z, rx, ry, rz]`.
+        pose: [f64; 6],
+        /// How close the inverse kinematics came.
+        ik: IkError,
+    },
+    /// The joint angles of a Cartesian trajectory cross a joint limit.
+    #[error("{0} (joint angles of the bottle poses, by inverse kinematics)")]
+    Joints(Violation),
+}
+
+/// A joint trajectory that passed the checks: at least one sample, times
+/// strictly increasing, every sample and step within the joint limits of
+/// [`JointPath::robot`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct JointPath {
+    robot: Robot,
+    times: Vec<f64>,
+    positions: Vec<[f64; JOINTS]>,
+}
+
+impl JointPath {
+    /// The robot whose limits the path passed.
+    pub fn robot(&self) -> &Robot {
+        &self.robot
+    }
+
+    /// Sample times, s.
+    pub fn times(&self) -> &[f64] {
+        &self.times
+    }
+
+    /// Joint angles per sample, rad.
+    pub fn positions(&self) -> &[[f64; JOINTS]] {
+        &self.positions
+    }
+
+    /// The first sample's joint angles.
+    pub fn start(&self) -> [f64; JOINTS] {
+        self.positions.first().copied().unwrap_or_default()
+    }
+
+    /// Time from the first to the last sample, s.
+    pub fn duration(&self) -> f64 {
+        match (self.times.first(), self.times.last()) {
+            (Some(a), Some(b)) => b - a,
+            _ => 0.0,
+        }
+    }
+}
+
+/// Checks a joint trajectory (`times[i]`, `positions[i]` in rad) against
+/// `robot`'s joint position and velocity limits; the rejection names the
+/// first offending sample and joint.
+pub fn check_joints(
+    robot: &Robot,
+    times: Vec<f64>,
+    positions: Vec<[f64; JOINTS]>,
+) -> Result<JointPath, Rejection> {
+    aligned(times.len(), positions.len())?;
+    robot.check_limits(times.iter().copied().zip(&positions))?;
+    Ok(JointPath {
+        robot: *robot,
+        times,
+        positions,
+    })
+}
+
+/// How fast and where a Cartesian movement's controlled point may go.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CartesianLimits {
+    /// Box the point stays in, per axis `[low, high]`, m.
+    pub workspace: [[f64; 2]; 3],
+    /// Fastest it moves, m/s.
+    pub max_speed: f64,
+    /// Fastest the rotation vector changes, rad/s.
+    pub max_turn_rate: f64,
+}
+
+impl Default for CartesianLimits {
+    /// [`WORKSPACE`], [`MAX_MOUTH_SPEED`], [`MAX_TURN_RATE`].
+    fn default() -> Self {
+        CartesianLimits {
+            workspace: WORKSPACE,
+            max_speed: MAX_MOUTH_SPEED,
+            max_turn_rate: MAX_TURN_RATE,
+        }
+    }
+}
+
+/// The checks of a robot holding a tool: Cartesian trajectories of the
+/// tool's controlled point (`reach` metres along the tool frame's z axis,
+/// e.g. a bottle's mouth) and the joint trajectories they become.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Gate {
+    /// The robot and its tool.
+    pub arm: Arm,
+    /// The controlled point's distance along the tool's z axis, m.
+    pub reach: f64,
+    /// The Cartesian limits.
+    pub limits: CartesianLimits,
+    /// The rest posture the inverse kinematics starts from and pulls
+    /// toward (it chooses the elbow).
+    pub rest: [f64; JOINTS],
+}
+
+impl Gate {
+    /// The tool frame's pose for a controlled point at `point` and a tool
+    /// rotation vector `rotation` (a Cartesian trajectory's coordinates).
+    pub fn tool_pose(&self, point: [f64; 3], rotation: [f64; 3]) -> Pose {
+        let mut pose = Pose::from_rotation_vector([0.0; 3], rotation);
+        let axis = pose.z_axis();
+        pose.position = std::array::from_fn(|i| point[i] - self.reach * axis[i]);
+        pose
+    }
+
+    /// The controlled point and the tool's rotation vector of a tool pose.
+    pub fn point_and_rotation(&self, pose: &Pose) -> ([f64; 3], [f64; 3]) {
+        let axis = pose.z_axis();
+        (
+            std::array::from_fn(|i| pose.position[i] + self.reach * axis[i]),
+            pose.rotation_vector(),
+        )
+    }
+
+    /// [`check_joints`] with this gate's robot.
+    pub fn check_joints(
+        &self,
+        times: Vec<f64>,
+        positions: Vec<[f64; JOINTS]>,
+    ) -> Result<JointPath, Rejection> {
+        check_joints(&self.arm.robot, times, positions)
+    }
+
+    /// Checks a Cartesian trajectory of poses `[x, y, z, rx, ry, rz]`
+    /// (the controlled point, m; the tool's rotation vector, rad): the
+    /// point's workspace and speed, then the joint angles the inverse
+    /// kinematics gives, tracked sample by sample from the rest posture,
+    /// are checked by [`check_joints`]. Returns those joint angles.
+    pub fn check_cartesian(
+        &self,
+        times: &[f64],
+        poses: &[[f64; 6]],
+    ) -> Result<JointPath, Rejection> {
+        self.check_point(times, poses)?;
+        let mut q = self.rest;
+        let mut joints = Vec::with_capacity(poses.len());
+        for (sample, p) in poses.iter().enumerate() {
+            let pose = self.tool_pose([p[0], p[1], p[2]], [p[3], p[4], p[5]]);
+            q = self
+                .arm
+                .inverse(&pose, &q, &self.rest)
+                .map_err(|ik| Rejection::Unreachable {
+                    sample,
+                    pose: *p,
+                    ik,
+                })?;
+            joints.push(q);
+        }
+        self.check_joints(times.to_vec(), joints)
+            .map_err(|e| match e {
+                Rejection::Limit(v) => Rejection::Joints(v),
+                other => other,
+            })
+    }
+
+    /// The point stays in the workspace, moves and turns no faster than
+    /// the limits.
+    fn check_point(&self, times: &[f64], poses: &[[f64; 6]]) -> Result<(), Rejection> {
+        const AXES: [&str; 3] = ["x", "y", "z"];
+        let limits = &self.limits;
+        aligned(times.len(), poses.len())?;
+        let mut last: Option<(f64, &[f64; 6])> = None;
+        for (sample, (&t, row)) in times.iter().zip(poses).enumerate() {
+            if !t.is_finite() || row.iter().any(|v| !v.is_finite()) {
+                return Err(Rejection::NonFinite { sample });
+            }
+            for ((axis, v), [low, high]) in AXES.iter().zip(row).zip(limits.workspace) {
+                if *v < low || *v > high {
+                    return Err(Rejection::Workspace {
+                        sample,
+                        axis,
+                        value: *v,
+                        low,
+                        high,
+                    });
+                }
+            }
+            if let Some((t0, r0)) = last {
+                let dt = t - t0;
+                if dt <= 0.0 {
+                    return Err(Rejection::TimeOrder { sample, time: t });
+                }
+                let dist = |a: &[f64], b: &[f64]| {
+                    a.iter()
+                        .zip(b)
+                        .map(|(x, y)| (x - y) * (x - y))
+                        .sum::<f64>()
+                        .sqrt()
+                };
+                let speed = dist(&row[..3], &r0[..3]) / dt;
+                if speed > limits.max_speed {
+                    return Err(Rejection::Speed {
+                        sample,
+                        speed,
+                        limit: limits.max_speed,
+                    });
+                }
+                let rate = dist(&row[3..], &r0[3..]) / dt;
+                if rate > limits.max_turn_rate {
+                    return Err(Rejection::Turn {
+                        sample,
+                        rate,
+                        limit: limits.max_turn_rate,
+                    });
+                }
+            }
+            last = Some((t, row));
+        }
+        Ok(())
+    }
+}
+
+/// At least one sample, and one time per sample.
+fn aligned(times: usize, samples: usize) -> Result<(), Rejection> {
+    if times == 0 || times != samples {
+        return Err(Rejection::Shape { times, samples });
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The built-in pouring cell's gate: a 21 cm bottle held crosswise
+    /// 16 cm from the flange, its mouth the controlled point.
+    fn gate() -> Gate {
+        let grasp = Pose {
+            rotation: [[0.0, 0.0, -1.0], [0.0, 1.0, 0.0], [1.0, 0.0, 0.0]],
+            position: [0.105, 0.0, 0.16],
+        };
+        Gate {
+            arm: Arm::with_tool(Robot::lwr4(), &grasp),
+            reach: 0.21,
+            limits: CartesianLimits::default(),
+            rest: [0.0, -0.75, 0.0, 1.7, 0.05, 0.9, 0.0],
+        }
+    }
+
+    fn lwr4() -> Robot {
+        Robot::lwr4()
+    }
+
+    /// A slow straight move of the mouth over the glass, tilting a little.
+    fn poses(from: [f64; 6], to: [f64; 6], n: usize) -> (Vec<f64>, Vec<[f64; 6]>) {
+        let t = (0..n).map(|i| i as f64 * 0.01).collect();
+        let p = (0..n)
+            .map(|i| {
+                let s = i as f64 / (n - 1) as f64;
+                std::array::from_fn(|k| from[k] + (to[k] - from[k]) * s)
+            })
+            .collect();
+        (t, p)
+    }
+
+    #[test]
+    fn joint_paths_must_be_nonempty_and_aligned() {
+        assert!(check_joints(&lwr4(), vec![], vec![]).is_err());
+        assert!(check_joints(&lwr4(), vec![0.0, 1.0], vec![[0.0; JOINTS]]).is_err());
+        let path = check_joints(&lwr4(), vec![0.5, 1.5], vec![[0.1; JOINTS]; 2]).unwrap();
+        assert_eq!(path.duration(), 1.0);
+        assert_eq!(path.start(), [0.1; JOINTS]);
+    }
+
+    #[test]
+    fn a_reachable_cartesian_move_comes_back_as_checked_joint_angles() {
+        let cfg = gate();
+        let (t, p) = poses(
+            [0.65, 0.2, 0.35, 0.0, 0.0, 0.0],
+            [0.72, 0.05, 0.3, 0.5, 0.0, 0.0],
+            100,
+        );
+        let path = cfg.check_cartesian(&t, &p).unwrap();
+        for (q, pose) in path.positions().iter().zip(&p) {
+            let (mouth, _) = cfg.point_and_rotation(&cfg.arm.forward(q));
+            assert!((0..3).all(|k| (mouth[k] - pose[k]).abs() < 1e-6));
+        }
+    }
+
+    #[test]
+    fn a_cartesian_move_within_the_mouth_limits_can_still_cross_a_joint_limit() {
+        let cfg = gate();
+        // Turning the bottle about the vertical by 0.58 rad at 2.9 rad/s is
+        // within MAX_TURN_RATE, but the wrist (joint 5) would have to turn
+        // faster than it can.
+        let (t, mut p) = poses(
+            [0.65, 0.2, 0.35, 0.0, 0.0, 0.0],
+            [0.65, 0.2, 0.35, 0.0, 0.0, 0.58],
+            101,
+        );
+        let t: Vec<f64> = t.iter().map(|t| 0.2 * t).collect();
+        assert_eq!(cfg.check_point(&t, &p), Ok(()));
+        assert_eq!(
+            cfg.check_cartesian(&t, &p).unwrap_err().to_string(),
+            "joint 5 at sample 1: -253.61 deg/s beyond the 204 deg/s velocity limit \
+             (joint angles of the bottle poses, by inverse kinematics)"
+        );
+        // Slower, the same turn is fine.
+        let slow: Vec<f64> = t.iter().map(|t| 2.0 * t).collect();
+        assert!(cfg.check_cartesian(&slow, &p).is_ok());
+        // Upside down about its own axis, the bottle cannot be held at all
+        // within the joint limits: the inverse kinematics fails, and that
+        // is a rejection too.
+        p = poses(
+            [0.7, 0.1, 0.4, 0.0, 0.0, 0.0],
+            [0.7, 0.1, 0.4, 0.0, 0.0, 3.1],
+            400,
+        )
+        .1;
+        let slow: Vec<f64> = (0..400).map(|i| i as f64 * 0.01).collect();
+        let err = cfg.check_cartesian(&slow, &p).unwrap_err().to_string();
+        assert!(
+            err.starts_with(
+                "sample 247: bottle pose [0.700, 0.100, 0.400, 0.000, 0.000, 1.919]: \
+                             inverse kinematics did not converge"
+            ),
+            "{err}"
+        );
+    }
+
+    #[test]
+    fn the_mouth_checks_name_the_sample() {
+        let cfg = gate();
+        let still = [0.65, 0.2, 0.35, 0.0, 0.0, 0.0];
+        let (t, mut p) = poses(still, still, 5);
+        p[3][2] = 0.2;
+        assert_eq!(
+            cfg.check_cartesian(&t, &p).unwrap_err().to_string(),
+            "sample 3: mouth z = 0.200 m outside the workspace [0.3, 1.1] m"
+        );
+        p[3][2] = 0.4;
+        assert_eq!(
+            cfg.check_cartesian(&t, &p).unwrap_err().to_string(),
+            "sample 3: mouth speed 5.00 m/s beyond 1 m/s"
+        );
+        p[3][2] = 0.35;
+        p[3][3] = 0.1;
+        assert_eq!(
+            cfg.check_cartesian(&t, &p).unwrap_err().to_string(),
+            "sample 3: turning at 10.00 rad/s beyond 3 rad/s"
+        );
+    }
+}

@@ -1,0 +1,23 @@
+//! The simulated pouring cell and its simulated devices: a KUKA LWR4 arm
+//! (its model from `primo-robot`) holding a bottle over a glass on a
+//! precision scale. Each physical piece has unit tests.
+//!
+//! - [`bottle`]: the liquid's free surface in a tilted bottle and the
+//!   outflow over its mouth.
+//! - [`stream`]: the stream's flight to the glass, captured and spilled.
+//! - [`scale`]: the precision scale under the glass.
+//! - [`cell`]: all of it together, one control step at a time.
+//! - [`expert`]: a scripted expert who pours the demonstrations.
+//! - [`krc`]: a simulated KRC on UDP, the robot side of FRI, driving the
+//!   cell, with fault injection for the tests.
+//! - [`scale_device`]: the cell's scale speaking MT-SICS, sans I/O, and
+//!   served on a pseudo-terminal.
+#![deny(missing_docs)]
+
+pub mod bottle;
+pub mod cell;
+pub mod expert;
+pub mod krc;
+pub mod scale;
+pub mod scale_device;
+pub mod stream;

@@ -1,0 +1,22 @@
+//! primo's skills: demonstrations fitted as DMPs, generalized over a task
+//! query, planned, and checked by the safety gate.
+//!
+//! - [`csv`]: demonstration and trajectory CSV files (`t,<DoF names>`).
+//! - [`dmpfile`]: the versioned JSON format of a fitted DMP.
+//! - [`skill`]: demonstrations → DMPs → generalization → checked plans.
+#![deny(missing_docs)]
+
+pub mod csv;
+pub mod dmpfile;
+mod error;
+pub mod skill;
+
+pub use error::Error;
+pub use skill::{Plan, Skill, Space};
+
+/// Largest DoF count the host's DMPs hold.
+pub const HOST_MAX_DOF: usize = 16;
+/// Largest kernel count per DoF the host's DMPs hold.
+pub const MAX_KERNELS: usize = 128;
+/// The DMP type the host uses for files and skills.
+pub type HostDmp = primo_core::dmp::Dmp<HOST_MAX_DOF, MAX_KERNELS>;
