@@ -51,7 +51,7 @@ pub fn run(command: DemoCommand) -> Result<(), CliError> {
         check_out_file("--out", out)?;
     }
     let cell = CellConfig::standard(GlassKind::Normal);
-    let demo = synthesize(&cell, bottle, pour, &Style { elbow, seed }).map_err(CliError::input)?;
+    let demo = synthesize(&cell, bottle, pour, &Style { elbow, seed })?;
     eprintln!(
         "primo: the expert poured {:.1} ml (spilled {:.1} ml) from {bottle} l in {:.2} s",
         demo.poured * 1e3,

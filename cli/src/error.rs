@@ -97,3 +97,12 @@ impl From<primo_fri::udp::SocketError> for CliError {
         Self::other(e.to_string())
     }
 }
+
+impl From<primo_sim::Error> for CliError {
+    fn from(e: primo_sim::Error) -> Self {
+        match e {
+            primo_sim::Error::Invalid(why) => Self::input(why),
+            primo_sim::Error::Io(why) => Self::other(why),
+        }
+    }
+}

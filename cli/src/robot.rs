@@ -271,11 +271,11 @@ fn print_result(r: &PlayResult) -> Result<(), CliError> {
 }
 
 fn sim_krc(cfg: KrcConfig, scale: bool) -> Result<(), CliError> {
-    let krc = SimKrc::new(cfg).map_err(CliError::input)?;
+    let krc = SimKrc::new(cfg)?;
     let cell = krc.cell();
     // Kept until the KRC stops: the scale is served as long as the cell.
     let server = if scale {
-        let server = krc.serve_scale().map_err(CliError::other)?;
+        let server = krc.serve_scale()?;
         say(&format!(
             "primo robot sim-krc: scale served on {}",
             server.path()
@@ -294,10 +294,10 @@ fn sim_krc(cfg: KrcConfig, scale: bool) -> Result<(), CliError> {
     say(&format!(
         "primo robot sim-krc: FRI measurements every {} ms from {} to {}, monitor mode",
         cfg.cycle.as_millis(),
-        krc.local_addr().map_err(CliError::other)?,
+        krc.local_addr()?,
         cfg.remote
     ))?;
-    let report = krc.run(&AtomicBool::new(false)).map_err(CliError::other)?;
+    let report = krc.run(&AtomicBool::new(false))?;
     if let Some(server) = server {
         server
             .stop()
@@ -369,7 +369,9 @@ fn operate(cell: &CellHandle, cfg: &KrcConfig) {
             continue;
         }
         let done = if line == b"reset" {
-            cfg.fresh_cell().map(|fresh| *cell.lock() = fresh)
+            cfg.fresh_cell()
+                .map(|fresh| *cell.lock() = fresh)
+                .map_err(|e| e.to_string())
         } else {
             Err(format!(
                 "`{}`: unknown command; expected `reset`",

@@ -185,3 +185,34 @@ fn print_start_into_a_closed_pipe_does_not_panic() {
     assert!(!stderr.contains("panicked"), "{stderr}");
     assert!(matches!(result.status.code(), Some(0 | 141)), "{stderr}");
 }
+
+#[test]
+fn ctrl_c_stops_after_the_rollout_in_progress_and_resume_continues() {
+    let out = tmp("ctrl-c");
+    let o = out.to_str().unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_primo"))
+        .args(["pour", "--method", "power", "--max-rollouts", "200", "--out", o])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut stdout = BufReader::new(child.stdout.take().unwrap());
+    let mut first = String::new();
+    stdout.read_line(&mut first).unwrap();
+    let kill = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(kill.success());
+    let rest: Vec<String> = stdout.lines().map_while(Result::ok).collect();
+    let result = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    assert_eq!(result.status.code(), Some(130), "{stderr}");
+    assert!(stderr.contains("interrupted"), "{stderr}");
+    assert!(stderr.contains(&format!("primo pour --resume {o}")), "{stderr}");
+    let made = rest.iter().filter(|l| l.starts_with("roll-out")).count();
+    assert!(made < 200, "the run went on: {made} roll-outs");
+    let (status, stdout, stderr) = primo(&["pour", "--resume", o]);
+    assert_eq!(status, 0, "{stderr}");
+    assert!(stdout.contains("primo pour: learned"), "{stdout}");
+}

@@ -11,6 +11,10 @@ pub enum Error {
     /// Demonstrations, DMP files, and the skill made of them.
     #[error(transparent)]
     Skill(#[from] primo_skill::Error),
+    /// The simulated cell refused a setting or a movement, or one of its
+    /// devices failed.
+    #[error(transparent)]
+    Sim(#[from] primo_sim::Error),
     /// A robot address that cannot be used.
     #[error(transparent)]
     Address(#[from] primo_fri::AddressError),
@@ -58,7 +62,11 @@ impl Error {
     pub fn is_input(&self) -> bool {
         matches!(
             self,
-            Error::Invalid(_) | Error::Skill(_) | Error::Address(_) | Error::Log(_)
+            Error::Invalid(_)
+                | Error::Skill(_)
+                | Error::Address(_)
+                | Error::Log(_)
+                | Error::Sim(primo_sim::Error::Invalid(_))
         )
     }
 

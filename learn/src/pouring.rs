@@ -29,7 +29,7 @@ pub fn built_in_demos(cell: &CellConfig, space: Space) -> Result<Vec<(f32, Demo)
     BUILT_IN
         .iter()
         .map(|(volume, style)| {
-            let demo = synthesize(cell, *volume, 0.2, style).map_err(Error::Invalid)?;
+            let demo = synthesize(cell, *volume, 0.2, style)?;
             Ok((*volume as f32, to_csv_demo(&demo, space)))
         })
         .collect()

@@ -67,7 +67,7 @@ impl Simulated {
     /// The cell `cell` with `bottle` litres in the bottle at every
     /// roll-out; `seed` is the run's.
     pub fn new(cell: CellConfig, bottle: f64, seed: u64) -> Result<Simulated, Error> {
-        cell.validate().map_err(Error::Invalid)?;
+        cell.validate()?;
         Ok(Simulated {
             gate: crate::pouring::gate(&cell),
             cell,
@@ -96,7 +96,7 @@ impl Simulated {
         path: &JointPath,
         noise: u64,
     ) -> Result<Measured, Error> {
-        let mut sim = Cell::new(&self.cell, self.bottle, noise).map_err(Error::Invalid)?;
+        let mut sim = Cell::new(&self.cell, self.bottle, noise)?;
         for q in path.positions() {
             sim.step_joints(q);
         }

@@ -20,6 +20,7 @@
 //! # Ok::<(), String>(())
 //! ```
 
+use crate::Error;
 use primo_robot::{Arm, JOINTS, Pose, Robot};
 
 use crate::bottle::{Bottle, G};
@@ -102,21 +103,23 @@ impl CellConfig {
     }
 
     /// Checks the settings.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), Error> {
         Bottle::new(self.bottle.radius, self.bottle.length, self.bottle.mouth)?;
         self.glass.validate()?;
         self.scale.validate()?;
         if !(self.dt > 0.0 && self.dt <= MAX_DT) {
-            return Err(format!(
+            return Err(Error::Invalid(format!(
                 "control step {} s: must be in (0, {MAX_DT}]",
                 self.dt
-            ));
+            )));
         }
         if !(self.density.is_finite() && self.density > 0.0) {
-            return Err("density must be finite and > 0".into());
+            return Err(Error::Invalid("density must be finite and > 0".into()));
         }
         if !(self.settle_limit.is_finite() && self.settle_limit >= 0.0) {
-            return Err("settle limit must be finite and >= 0".into());
+            return Err(Error::Invalid(
+                "settle limit must be finite and >= 0".into(),
+            ));
         }
         Ok(())
     }
@@ -228,13 +231,13 @@ pub struct Cell {
 impl Cell {
     /// A cell with `volume` litres in the bottle, an empty glass on a tared
     /// scale whose noise comes from `seed`.
-    pub fn new(cfg: &CellConfig, volume: f64, seed: u64) -> Result<Cell, String> {
+    pub fn new(cfg: &CellConfig, volume: f64, seed: u64) -> Result<Cell, Error> {
         cfg.validate()?;
         let capacity = cfg.bottle.capacity() * LITRE;
         if !(volume.is_finite() && volume >= 0.0 && volume <= capacity) {
-            return Err(format!(
+            return Err(Error::Invalid(format!(
                 "bottle volume {volume} l: must be in [0, {capacity:.3}] l"
-            ));
+            )));
         }
         Ok(Cell {
             cfg: *cfg,

@@ -13,6 +13,7 @@
 //! robot's redundancy lets each demonstration hold the elbow differently,
 //! as two people guiding the arm would.
 
+use crate::Error;
 use primo_robot::JOINTS;
 
 use crate::bottle::Bottle;
@@ -139,11 +140,11 @@ pub fn synthesize(
     volume: f64,
     target: f64,
     style: &Style,
-) -> Result<Recording, String> {
+) -> Result<Recording, Error> {
     if !(target.is_finite() && target > 0.0 && target < volume) {
-        return Err(format!(
+        return Err(Error::Invalid(format!(
             "pour {target} l from {volume} l: must be > 0 and less than the bottle holds"
-        ));
+        )));
     }
     let mut cell = Cell::new(cfg, volume, style.seed)?;
     let mut rng = Xoshiro128PlusPlus::seed_from_u64(style.seed);
@@ -231,9 +232,9 @@ pub fn synthesize(
             rate = 0.0;
         }
         if t > 60.0 {
-            return Err(format!(
+            return Err(Error::Invalid(format!(
                 "the expert did not finish pouring {target} l from {volume} l within 60 s"
-            ));
+            )));
         }
         // What the hand actually does: the plan plus tremor.
         let shake = |k: usize, a: f64| a * tremor.at(k, t);
@@ -252,7 +253,7 @@ pub fn synthesize(
         if step.is_multiple_of(every) {
             q = arm
                 .inverse(&pose, &q, &rest)
-                .map_err(|e| format!("demonstration at t = {t:.2} s: {e}"))?;
+                .map_err(|e| Error::Invalid(format!("demonstration at t = {t:.2} s: {e}")))?;
             demo.t.push(t);
             demo.cartesian.push(actual);
             demo.joints.push(q);
@@ -262,7 +263,7 @@ pub fn synthesize(
     }
     cfg.robot
         .check_limits(demo.t.iter().copied().zip(&demo.joints))
-        .map_err(|v| format!("demonstration from {volume} l: {v}"))?;
+        .map_err(|v| Error::Invalid(format!("demonstration from {volume} l: {v}")))?;
     let out = cell.finish();
     demo.poured = out.totals.glass;
     demo.spilled = out.spilled;

@@ -39,6 +39,7 @@
 //! [`SimKrc::serve_scale`] serves the cell's scale over MT-SICS, weighing
 //! what lands on the cell's pan.
 
+use crate::Error;
 use std::collections::VecDeque;
 use std::net::{SocketAddr, UdpSocket};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -136,29 +137,33 @@ impl KrcConfig {
         }
     }
 
-    fn validate(&self) -> Result<(), String> {
+    fn validate(&self) -> Result<(), Error> {
         let ms = self.cycle.as_secs_f64() * 1e3;
         if !(1.0..=10.0).contains(&ms) {
-            return Err(format!("FRI cycle {ms} ms: must be 1 to 10 ms"));
+            return Err(Error::Invalid(format!(
+                "FRI cycle {ms} ms: must be 1 to 10 ms"
+            )));
         }
         if !(0.0..1.0).contains(&self.drop) {
-            return Err(format!(
+            return Err(Error::Invalid(format!(
                 "packet loss {}: must be a fraction in [0, 1)",
                 self.drop
-            ));
+            )));
         }
         if let Err(v) = primo_robot::Robot::lwr4().check_limits([(0.0, &self.start)]) {
-            return Err(format!("start position: {v}"));
+            return Err(Error::Invalid(format!("start position: {v}")));
         }
         let [bad, ok, perfect] = self.thresholds;
         if !(0.0 <= bad && bad <= ok && ok <= perfect && perfect <= 1.0) {
-            return Err(format!(
+            return Err(Error::Invalid(format!(
                 "quality thresholds {:?}: must rise within [0, 1]",
                 self.thresholds
-            ));
+            )));
         }
         if self.release_after < self.cycle {
-            return Err("release time must be at least one cycle".into());
+            return Err(Error::Invalid(
+                "release time must be at least one cycle".into(),
+            ));
         }
         Ok(())
     }
@@ -175,7 +180,7 @@ impl KrcConfig {
     /// The cell at power-on, and after an operator's reset: `bottle`
     /// litres in the bottle, an empty glass on the tared scale, the
     /// scale's noise from `seed`.
-    pub fn fresh_cell(&self) -> Result<Cell, String> {
+    pub fn fresh_cell(&self) -> Result<Cell, Error> {
         Cell::new(&self.cell_config(), self.bottle, self.seed)
     }
 }
@@ -347,7 +352,7 @@ fn pose_row_major(p: &Pose) -> [f32; 12] {
 impl SimKrc {
     /// Checks `cfg`, fills the cell's bottle and binds an ephemeral UDP
     /// port (the KRC's own address; the remote answers to it).
-    pub fn new(cfg: KrcConfig) -> Result<SimKrc, String> {
+    pub fn new(cfg: KrcConfig) -> Result<SimKrc, Error> {
         cfg.validate()?;
         let cell_cfg = cfg.cell_config();
         let cell_steps = (cfg.cycle.as_secs_f64() / cell_cfg.dt).round() as usize;
@@ -357,7 +362,8 @@ impl SimKrc {
         } else {
             ([0u16; 8], 0).into()
         };
-        let socket = UdpSocket::bind(any).map_err(|e| format!("cannot bind UDP {any}: {e}"))?;
+        let socket =
+            UdpSocket::bind(any).map_err(|e| Error::Io(format!("cannot bind UDP {any}: {e}")))?;
         Ok(SimKrc {
             socket,
             cfg,
@@ -376,7 +382,7 @@ impl SimKrc {
     /// pseudo-terminal ([`PtyServer`], not thread-safe to start): the
     /// cell's scale model with the noise from the KRC's seed, weighing the
     /// cell's pan in wall-clock time.
-    pub fn serve_scale(&self) -> Result<PtyServer, String> {
+    pub fn serve_scale(&self) -> Result<PtyServer, Error> {
         let model = self.cell_cfg.scale;
         let device = Device::new(
             model,
@@ -385,19 +391,19 @@ impl SimKrc {
             DeviceConfig::for_model(&model),
         )?;
         PtyServer::start(device)
-            .map_err(|e| format!("cannot serve the scale on a pseudo-terminal: {e}"))
+            .map_err(|e| Error::Io(format!("cannot serve the scale on a pseudo-terminal: {e}")))
     }
 
     /// The KRC's own UDP address.
-    pub fn local_addr(&self) -> Result<SocketAddr, String> {
+    pub fn local_addr(&self) -> Result<SocketAddr, Error> {
         self.socket
             .local_addr()
-            .map_err(|e| format!("KRC socket: {e}"))
+            .map_err(|e| Error::Io(format!("KRC socket: {e}")))
     }
 
     /// Runs until `stop` is set, `stop_after` passes, or (with `once`) a
     /// command session ends. Errors are socket failures.
-    pub fn run(self, stop: &AtomicBool) -> Result<KrcReport, String> {
+    pub fn run(self, stop: &AtomicBool) -> Result<KrcReport, Error> {
         let cfg = self.cfg;
         let mut rng = Xoshiro128PlusPlus::seed_from_u64(cfg.seed);
         let drop_below = (cfg.drop * f64::from(u32::MAX)) as u32;
@@ -510,7 +516,7 @@ impl SimKrc {
         sent_at: Instant,
         deadline: Instant,
         report: &mut KrcReport,
-    ) -> Result<Option<(Command, f64)>, String> {
+    ) -> Result<Option<(Command, f64)>, Error> {
         let mut buf = [0u8; 2048];
         let mut answer = None;
         // Poll rather than block with a timeout: socket timeouts round up
@@ -568,8 +574,8 @@ impl SimKrc {
     }
 }
 
-fn socket_error(e: std::io::Error) -> String {
-    format!("KRC socket: {e}")
+fn socket_error(e: std::io::Error) -> Error {
+    Error::Io(format!("KRC socket: {e}"))
 }
 
 /// The robot side's state from cycle to cycle.
@@ -824,17 +830,23 @@ mod tests {
         let mut cfg = KrcConfig::new(remote);
         cfg.cycle = Duration::from_millis(20);
         assert_eq!(
-            SimKrc::new(cfg).unwrap_err(),
+            SimKrc::new(cfg).unwrap_err().to_string(),
             "FRI cycle 20 ms: must be 1 to 10 ms"
         );
         let mut cfg = KrcConfig::new(remote);
         cfg.drop = 1.0;
-        assert!(SimKrc::new(cfg).unwrap_err().starts_with("packet loss 1"));
+        assert!(
+            SimKrc::new(cfg)
+                .unwrap_err()
+                .to_string()
+                .starts_with("packet loss 1")
+        );
         let mut cfg = KrcConfig::new(remote);
         cfg.start[1] = 2.2;
         assert!(
             SimKrc::new(cfg)
                 .unwrap_err()
+                .to_string()
                 .starts_with("start position: joint 2")
         );
         let mut cfg = KrcConfig::new(remote);

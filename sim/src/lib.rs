@@ -16,8 +16,11 @@
 
 pub mod bottle;
 pub mod cell;
+mod error;
 pub mod expert;
 pub mod krc;
 pub mod scale;
 pub mod scale_device;
 pub mod stream;
+
+pub use error::Error;

@@ -20,6 +20,7 @@
 //! server.stop().unwrap();
 //! ```
 
+use crate::Error;
 use std::collections::VecDeque;
 use std::io::{self, Read, Write};
 use std::sync::Arc;
@@ -90,20 +91,20 @@ impl DeviceConfig {
         }
     }
 
-    fn validate(&self) -> Result<(), String> {
+    fn validate(&self) -> Result<(), Error> {
         for (what, text) in [("serial", &self.serial), ("kind", &self.kind)] {
             if text.len() > 40 || text.chars().any(|c| c == '"' || !(' '..='~').contains(&c)) {
-                return Err(format!(
+                return Err(Error::Invalid(format!(
                     "scale {what} `{text}` must be at most 40 printable ASCII characters without quotes"
-                ));
+                )));
             }
         }
         let positive = |v: f64| v.is_finite() && v > 0.0;
         if !(positive(self.stable_timeout) && positive(self.zero_range)) {
-            return Err(format!(
+            return Err(Error::Invalid(format!(
                 "scale stable timeout {} s and zero range {} g must be finite and > 0",
                 self.stable_timeout, self.zero_range
-            ));
+            )));
         }
         Ok(())
     }
@@ -161,12 +162,7 @@ pub struct Device<L> {
 impl<L: LoadSource> Device<L> {
     /// A scale of `model` (noise from `seed`) under `load`, just powered
     /// on: showing zero, nothing on it yet.
-    pub fn new(
-        model: ScaleModel,
-        seed: u64,
-        load: L,
-        config: DeviceConfig,
-    ) -> Result<Self, String> {
+    pub fn new(model: ScaleModel, seed: u64, load: L, config: DeviceConfig) -> Result<Self, Error> {
         model.validate()?;
         config.validate()?;
         let decimals = (0..=9u8)
