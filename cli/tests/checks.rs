@@ -191,7 +191,15 @@ fn ctrl_c_stops_after_the_rollout_in_progress_and_resume_continues() {
     let out = tmp("ctrl-c");
     let o = out.to_str().unwrap();
     let mut child = Command::new(env!("CARGO_BIN_EXE_primo"))
-        .args(["pour", "--method", "power", "--max-rollouts", "200", "--out", o])
+        .args([
+            "pour",
+            "--method",
+            "power",
+            "--max-rollouts",
+            "200",
+            "--out",
+            o,
+        ])
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
@@ -209,7 +217,10 @@ fn ctrl_c_stops_after_the_rollout_in_progress_and_resume_continues() {
     let stderr = String::from_utf8_lossy(&result.stderr);
     assert_eq!(result.status.code(), Some(130), "{stderr}");
     assert!(stderr.contains("interrupted"), "{stderr}");
-    assert!(stderr.contains(&format!("primo pour --resume {o}")), "{stderr}");
+    assert!(
+        stderr.contains(&format!("primo pour --resume {o}")),
+        "{stderr}"
+    );
     let made = rest.iter().filter(|l| l.starts_with("roll-out")).count();
     assert!(made < 200, "the run went on: {made} roll-outs");
     let (status, stdout, stderr) = primo(&["pour", "--resume", o]);
