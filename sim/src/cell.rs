@@ -17,7 +17,7 @@
 //! // ... cell.step_joints(&q) once per control step, then:
 //! let outcome = cell.finish();
 //! println!("poured {} l, spilled {} l", outcome.poured, outcome.spilled);
-//! # Ok::<(), String>(())
+//! # Ok::<(), primo_sim::Error>(())
 //! ```
 
 use crate::Error;
