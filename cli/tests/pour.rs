@@ -366,3 +366,63 @@ fn pour_writes_the_best_rollouts_time_series() {
         best["poured"].as_f64().unwrap(),
     );
 }
+
+/// `text` (a demonstration CSV) linearly resampled to `rows` rows.
+fn resample(text: &str, rows: usize) -> String {
+    let mut lines = text.lines();
+    let header = lines.next().unwrap();
+    let data: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    let (t0, t1) = (data[0][0], data[data.len() - 1][0]);
+    let mut out = format!("{header}\n");
+    let mut j = 0;
+    for i in 0..rows {
+        let t = t0 + (t1 - t0) * i as f64 / (rows - 1) as f64;
+        while j + 2 < data.len() && data[j + 1][0] < t {
+            j += 1;
+        }
+        let (a, b) = (&data[j], &data[j + 1]);
+        let w = ((t - a[0]) / (b[0] - a[0])).clamp(0.0, 1.0);
+        let row: Vec<String> = std::iter::once(t)
+            .chain((1..a.len()).map(|k| a[k] + (b[k] - a[k]) * w))
+            .map(|v| v.to_string())
+            .collect();
+        out += &row.join(",");
+        out.push('\n');
+    }
+    out
+}
+
+#[test]
+fn demonstrations_recorded_at_4_khz_learn_as_the_100_hz_ones() {
+    // The built-in pair, written out at the expert's 100 Hz and resampled
+    // to 40,000 rows (about 4 kHz, a robot's rate).
+    let mut demos = Vec::new();
+    for (bottle, elbow, seed) in [("0.3", "0.4", "1"), ("1.0", "-0.4", "2")] {
+        let (code, csv, err) = primo(&[
+            "demo", "synth", "--bottle", bottle, "--elbow", elbow, "--seed", seed,
+        ]);
+        assert_eq!(code, 0, "{err}");
+        let dense = tmp(&format!("dense-{bottle}.csv"));
+        std::fs::write(&dense, resample(&csv, 40_000)).unwrap();
+        demos.push(format!("{}={bottle}", dense.display()));
+    }
+    let run = |args: &[&str], out: &str| {
+        let dir = tmp(out);
+        let mut all = vec!["pour", "--out", dir.to_str().unwrap()];
+        all.extend_from_slice(args);
+        let (code, out, err) = primo(&all);
+        assert_eq!(code, 0, "{err}");
+        out.lines().last().unwrap().to_string()
+    };
+    let built_in = run(&[], "dense-built-in");
+    let dense = run(&["--demo", &demos[0], "--demo", &demos[1]], "dense");
+    assert!(built_in.contains("converged"), "{built_in}");
+    // The same verdict, roll-outs and last query: the fits agree.
+    let verdict = |line: &str| line.split("; series").next().unwrap().to_string();
+    let (a, b) = (verdict(&built_in), verdict(&dense));
+    let queries = |l: &str| l.split("q ").nth(1).unwrap()[..6].to_string();
+    assert_eq!(a.split(';').next(), b.split(';').next(), "{a}\n{b}");
+    assert_eq!(queries(&a), queries(&b), "{a}\n{b}");
+}

@@ -72,11 +72,13 @@
 //! # Ok::<(), primo_core::Error>(())
 //! ```
 
+mod fit;
+
 use heapless::Vec;
 use serde::{Deserialize, Serialize};
 
+use crate::Error;
 use crate::error::{check_bounded, check_capacity, check_finite, check_len};
-use crate::{Error, linalg};
 
 /// Default spring gain `α` (with `β = α / 4`, critically damped).
 pub const DEFAULT_ALPHA: f32 = 25.0;
@@ -270,10 +272,12 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
     /// `times` are strictly increasing (any spacing, at least 3 samples);
     /// `positions` holds `times.len() × dof` values, row-major (sample by
     /// sample). The demo's first sample is the start, its last the goal and
-    /// its duration the default `τ`. Velocities and accelerations come from
-    /// three-point finite differences on the possibly uneven grid; the
-    /// weights from ridge regression of the forcing target, each sample
-    /// weighted by its share of the time axis. Positions must lie within
+    /// its duration the default `τ`. The weights are those whose execution
+    /// best reproduces the demonstrated positions (least squares, each
+    /// sample weighted by its share of the time axis, a small ridge): no
+    /// derivative of the demonstration is taken, so a denser or unevenly
+    /// sampled recording fits as well or better (see `dmp/fit.rs` for the
+    /// numerics). Positions must lie within
     /// [`MAX_ABS_POSITION`]; fitted weights beyond [`MAX_ABS_WEIGHT`] are an
     /// error.
     pub fn fit(
@@ -361,95 +365,31 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
         let width = options.overlap / (spacing * spacing);
         check_positive(width, "overlap too large for this many kernels")?;
         let alpha = options.alpha;
-        let beta = alpha / 4.0;
-
-        // Normal equations G w_d = b_d, with one Gram matrix for all DoF.
-        let mut gram = [[0.0f32; K]; K];
-        let mut rhs = [[0.0f32; K]; D];
-        let mut psi = [0.0f32; K];
-        for i in 0..n {
-            // Three-point stencil around sample i (one-sided at the ends).
-            let c = i.clamp(1, n - 2);
-            let (Some(&ta), Some(&tb), Some(&tc), Some(&ti)) = (
-                times.get(c - 1),
-                times.get(c),
-                times.get(c + 1),
-                times.get(i),
-            ) else {
-                return Err(Error::OutOfRange(
-                    "a demonstration needs at least 3 samples",
-                ));
-            };
-            let d1 = [
-                (2.0 * ti - tb - tc) / ((ta - tb) * (ta - tc)),
-                (2.0 * ti - ta - tc) / ((tb - ta) * (tb - tc)),
-                (2.0 * ti - ta - tb) / ((tc - ta) * (tc - tb)),
-            ];
-            let d2 = [
-                2.0 / ((ta - tb) * (ta - tc)),
-                2.0 / ((tb - ta) * (tb - tc)),
-                2.0 / ((tc - ta) * (tc - tb)),
-            ];
-            let prev = times.get(i.wrapping_sub(1)).copied().unwrap_or(ti);
-            let next = times.get(i + 1).copied().unwrap_or(ti);
-            let quad = 0.5 * (next - prev);
-
-            let s = (ti - t0) / tau;
-            let (lo, hi, sum) = activations(s, width, kernels, &mut psi);
-            let active = psi
-                .get_mut(lo..=hi)
-                .ok_or(Error::OutOfRange("kernel window"))?;
-            for p in active.iter_mut() {
-                *p /= sum;
-            }
-            let active = &*active;
-
-            for (a, &pa) in (lo..=hi).zip(active) {
-                if let Some(row) = gram.get_mut(a).and_then(|r| r.get_mut(lo..=hi)) {
-                    for (g, &pb) in row.iter_mut().zip(active) {
-                        *g += quad * pa * pb;
-                    }
-                }
-            }
-            let sample = |j: usize, d: usize| positions.get(j * dof + d).copied().unwrap_or(0.0);
-            for (d, b) in rhs.iter_mut().enumerate().take(dof) {
-                let (ya, yb, yc) = (sample(c - 1, d), sample(c, d), sample(c + 1, d));
-                let y = sample(i, d);
-                let vel = d1[0] * ya + d1[1] * yb + d1[2] * yc;
-                let acc = d2[0] * ya + d2[1] * yb + d2[2] * yc;
-                let g = goal.get(d).copied().unwrap_or(0.0);
-                let mut target = tau * tau * acc - alpha * (beta * (g - y) - tau * vel);
-                if scaled.get(d) == Some(&true) {
-                    target /= g - start.get(d).copied().unwrap_or(0.0);
-                }
-                if let Some(b) = b.get_mut(lo..=hi) {
-                    for (bk, &p) in b.iter_mut().zip(active) {
-                        *bk += quad * p * target;
-                    }
-                }
+        let mut amplitude = [1.0f32; D];
+        for (d, a) in amplitude.iter_mut().enumerate().take(dof) {
+            if scaled.get(d) == Some(&true) {
+                *a = goal.get(d).copied().unwrap_or(0.0) - start.get(d).copied().unwrap_or(0.0);
             }
         }
-        let trace: f32 = gram
-            .iter()
-            .enumerate()
-            .take(kernels)
-            .filter_map(|(k, r)| r.get(k))
-            .sum();
-        let lambda = options.ridge * trace / kernels as f32;
-        for (k, row) in gram.iter_mut().enumerate().take(kernels) {
-            if let Some(v) = row.get_mut(k) {
-                *v += lambda;
-            }
-        }
-        linalg::cholesky(
-            &mut gram,
-            kernels,
-            "DMP fit (too few samples for the kernels?)",
+        let mut fitted = [[0.0f32; K]; D];
+        fit::weights(
+            &fit::Demonstration {
+                times,
+                positions,
+                dof,
+                kernels,
+                alpha,
+                width,
+                ridge: options.ridge,
+                start: &start,
+                goal: &goal,
+                amplitude: &amplitude,
+            },
+            &mut fitted,
         )?;
         let mut weights: Vec<Vec<f32, K>, D> = Vec::new();
-        for b in rhs.iter_mut().take(dof) {
-            linalg::cholesky_solve(&gram, kernels, b);
-            let row: Vec<f32, K> = b.iter().copied().take(kernels).collect();
+        for w in fitted.iter().take(dof) {
+            let row: Vec<f32, K> = w.iter().copied().take(kernels).collect();
             check_bounded(
                 &row,
                 MAX_ABS_WEIGHT,

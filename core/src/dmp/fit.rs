@@ -1,0 +1,190 @@
+//! The weights of a fit: least squares on the demonstrated positions.
+//!
+//! Per DoF the transformation system is linear in the weights: with the
+//! phase `u = t/τ`, `y'' + α y' + (α²/4)(y − g) = a Σ w_k φ_k(u)` where
+//! `φ_k = ψ_k/Σψ`, started at rest at `y0`. So the DMP's own trajectory is
+//! `y(u) = y_h(u) + a Σ w_k r_k(u)`: `y_h` is the unforced spring's closed
+//! form and `r_k` the response, from rest, to the kernel `φ_k` alone.
+//! The weights minimize `Σ_i q_i (y_i − y(u_i))²` over the samples (`q_i`
+//! each sample's share of the time axis) plus a small ridge: the fit is the
+//! one that best reproduces the demonstration, by construction.
+//!
+//! Why not the usual regression of `τ²ÿ − α(β(g − y) − τẏ)` on the
+//! kernels: it needs the demonstration's second derivative. Finite
+//! differences divide rounding and noise by `dt²`, so the denser the
+//! recording the worse the fit (at 10 kHz, f32 positions rounded at 4e−8
+//! give accelerations wrong by units of m/s²). Here nothing is
+//! differentiated: more samples only average the noise away.
+//!
+//! Numerics: everything in `f64` (the normal equations of smooth responses
+//! are ill-conditioned for `f32`). The responses are integrated with the
+//! same scheme as [`super::Run`] (exact spring, forcing at mid-step), on
+//! sub-steps of at most 1/64 of the kernel spacing, so they do not depend
+//! on how densely or evenly the demonstration is sampled. Memory: `2K`
+//! response states, a `K × K` Gram matrix and `D × K` right-hand sides, on
+//! the stack; no allocation.
+
+use crate::Error;
+
+/// Sub-steps per kernel spacing when integrating the responses.
+const SUBSTEPS_PER_SPACING: f64 = 64.0;
+
+/// What the weights are fitted to.
+pub(super) struct Demonstration<'a> {
+    pub times: &'a [f32],
+    pub positions: &'a [f32],
+    pub dof: usize,
+    pub kernels: usize,
+    pub alpha: f32,
+    pub width: f32,
+    pub ridge: f32,
+    /// Per DoF: start, goal, forcing amplitude (`g − y0` or 1).
+    pub start: &'a [f32],
+    pub goal: &'a [f32],
+    pub amplitude: &'a [f32],
+}
+
+/// `exp(A h)` of the critically damped spring in phase units, `f64`.
+fn transition(alpha: f64, h: f64) -> [f64; 4] {
+    let a = 0.5 * alpha;
+    let ah = a * h;
+    if !(ah < 700.0) {
+        return [0.0; 4];
+    }
+    let e = libm::exp(-ah);
+    [e * (1.0 + ah), e * h, -e * a * ah, e * (1.0 - ah)]
+}
+
+/// The normalized kernels `φ_k(u)` (zero for `u ≥ 1`), over the same
+/// window of kernels as the execution's forcing term.
+fn basis<const K: usize>(u: f64, width: f32, kernels: usize, phi: &mut [f64; K]) {
+    for p in phi.iter_mut() {
+        *p = 0.0;
+    }
+    if !(u < 1.0) {
+        return;
+    }
+    let last = kernels.saturating_sub(1).max(1) as f32;
+    let (lo, hi, nearest) = super::window(u as f32, width, last);
+    let spacing = 1.0 / f64::from(last);
+    let d0 = u - nearest as f64 * spacing;
+    let base = d0 * d0;
+    let width = f64::from(width);
+    let mut sum = 0.0;
+    for (k, p) in (lo..=hi).zip(phi.iter_mut().skip(lo)) {
+        let ds = u - k as f64 * spacing;
+        *p = libm::exp(-width * (ds * ds - base));
+        sum += *p;
+    }
+    if sum > 0.0 {
+        for p in phi.iter_mut().take(hi + 1).skip(lo) {
+            *p /= sum;
+        }
+    }
+}
+
+/// Fits the weights of every DoF into `out[d][..kernels]`.
+pub(super) fn weights<const D: usize, const K: usize>(
+    demo: &Demonstration,
+    out: &mut [[f32; K]; D],
+) -> Result<(), Error> {
+    let n = demo.times.len();
+    let kernels = demo.kernels.min(K);
+    let dof = demo.dof.min(D);
+    let (Some(&t0), Some(&t_end)) = (demo.times.first(), demo.times.last()) else {
+        return Err(Error::OutOfRange(
+            "a demonstration needs at least 3 samples",
+        ));
+    };
+    let (t0, tau) = (f64::from(t0), f64::from(t_end) - f64::from(t0));
+    let alpha = f64::from(demo.alpha);
+    let stiffness = alpha * alpha / 4.0;
+    let h_max = 1.0 / (SUBSTEPS_PER_SPACING * kernels.saturating_sub(1).max(1) as f64);
+
+    let mut gram = [[0.0f64; K]; K];
+    let mut rhs = [[0.0f64; K]; D];
+    // Responses r_k and their phase derivatives, from rest.
+    let mut r = [0.0f64; K];
+    let mut v = [0.0f64; K];
+    let mut phi = [0.0f64; K];
+    let mut u = 0.0f64;
+    for i in 0..n {
+        let time = |j: usize| demo.times.get(j).map(|t| f64::from(*t));
+        let ti = time(i).unwrap_or(t0);
+        let target = (ti - t0) / tau;
+        let span = target - u;
+        if span > 0.0 {
+            let steps = libm::ceil(span / h_max).max(1.0);
+            let h = span / steps;
+            let [p00, p01, p10, p11] = transition(alpha, h);
+            for s in 0..steps as u32 {
+                basis(u + (f64::from(s) + 0.5) * h, demo.width, kernels, &mut phi);
+                for ((rk, vk), pk) in r.iter_mut().zip(v.iter_mut()).zip(&phi).take(kernels) {
+                    let equilibrium = pk / stiffness;
+                    let e = *rk - equilibrium;
+                    *rk = equilibrium + p00 * e + p01 * *vk;
+                    *vk = p10 * e + p11 * *vk;
+                }
+            }
+            u = target;
+        }
+        // The sample's share of the time axis.
+        let prev = time(i.wrapping_sub(1)).unwrap_or(ti);
+        let next = time(i + 1).unwrap_or(ti);
+        let q = 0.5 * (next - prev) / tau;
+        for (a, row) in gram.iter_mut().enumerate().take(kernels) {
+            let qa = q * r.get(a).copied().unwrap_or(0.0);
+            for (g, rb) in row.iter_mut().zip(&r).take(a + 1) {
+                *g += qa * rb;
+            }
+        }
+        // The unforced spring from rest at y0: y_h = g + (y0 − g)(1 + αu/2)e^(−αu/2).
+        let decay = (1.0 + 0.5 * alpha * u) * libm::exp(-0.5 * alpha * u);
+        let row = demo
+            .positions
+            .get(i * demo.dof..(i + 1) * demo.dof)
+            .unwrap_or(&[]);
+        for (d, b) in rhs.iter_mut().enumerate().take(dof) {
+            let at = |v: &[f32]| v.get(d).map_or(0.0, |x| f64::from(*x));
+            let (y0, g, a) = (at(demo.start), at(demo.goal), at(demo.amplitude));
+            let forced = (at(row) - (g + (y0 - g) * decay)) / a;
+            for (bk, rk) in b.iter_mut().zip(&r).take(kernels) {
+                *bk += q * rk * forced;
+            }
+        }
+    }
+    // Mirror the lower triangle, add the ridge, solve.
+    for a in 0..kernels {
+        for b in 0..a {
+            let lower = gram
+                .get(a)
+                .and_then(|row| row.get(b))
+                .copied()
+                .unwrap_or(0.0);
+            if let Some(upper) = gram.get_mut(b).and_then(|row| row.get_mut(a)) {
+                *upper = lower;
+            }
+        }
+    }
+    let trace: f64 = (0..kernels)
+        .filter_map(|k| gram.get(k).and_then(|row| row.get(k)))
+        .sum();
+    let lambda = f64::from(demo.ridge) * trace / kernels as f64;
+    for (k, row) in gram.iter_mut().enumerate().take(kernels) {
+        if let Some(g) = row.get_mut(k) {
+            *g += lambda;
+        }
+    }
+    crate::linalg::cholesky(
+        &mut gram,
+        kernels,
+        "DMP fit (too few samples for the kernels?)",
+    )?;
+    for (b, w) in rhs.iter_mut().zip(out.iter_mut()).take(dof) {
+        crate::linalg::cholesky_solve(&gram, kernels, b);
+        for (wk, bk) in w.iter_mut().zip(b.iter()).take(kernels) {
+            *wk = *bk as f32;
+        }
+    }
+    Ok(())
+}
