@@ -1,8 +1,11 @@
-//! DMP costs: one integration step (7 DoF × 30 kernels, 2 × 10) and fits
+//! DMP costs: one integration step (7 DoF × 30 kernels, 2 × 10, an
+//! orientation DMP of 30 kernels) and fits
 //! to 1 s at 1 kHz and to 10 s at 1 kHz. Targets: ≤ 150 ns for the 7×30
-//! step, ≤ 5 ms for the 10 s fit.
+//! and the orientation step, ≤ 5 ms for the 10 s fit.
 use criterion::{Criterion, criterion_group, criterion_main};
 use primo_core::dmp::{Dmp, FitOptions};
+use primo_core::orientation::OrientationDmp;
+use primo_core::quaternion::Quaternion;
 use std::hint::black_box;
 
 /// `seconds` of a `dof`-DoF movement sampled at 1 kHz.
@@ -43,7 +46,36 @@ fn step<const D: usize, const K: usize>(c: &mut Criterion, name: &str) {
     });
 }
 
+/// One step of a 30-kernel orientation DMP (a 250° turn, 1 s), with the
+/// quaternion it gives. Target: ≤ 150 ns.
+fn orientation_step(c: &mut Criterion) {
+    let t: Vec<f32> = (0..=1000).map(|i| i as f32 / 1000.0).collect();
+    let q: Vec<f32> = t
+        .iter()
+        .flat_map(|&t| {
+            let turn = 4.36 * t * t * (3.0 - 2.0 * t);
+            Quaternion::exp([0.1 * t, 0.0, turn]).to_array()
+        })
+        .collect();
+    let dmp = OrientationDmp::<30>::fit(&t, &q, 30, &FitOptions::default()).unwrap();
+    let exec = dmp.execution();
+    let mut run = dmp.start(&exec).unwrap();
+    let mut n = 0u32;
+    c.bench_function("orientation step 3x30", |b| {
+        b.iter(|| {
+            n += 1;
+            if n == 1000 {
+                n = 0;
+                run = dmp.start(&exec).unwrap();
+            }
+            run.step(black_box(&dmp), black_box(0.001)).unwrap();
+            black_box(run.orientation());
+        })
+    });
+}
+
 fn benches(c: &mut Criterion) {
+    orientation_step(c);
     step::<7, 30>(c, "dmp step 7x30");
     step::<2, 10>(c, "dmp step 2x10");
     for seconds in [1, 10] {

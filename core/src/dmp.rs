@@ -230,6 +230,10 @@ fn check_alpha(alpha: f32) -> Result<(), Error> {
     }
 }
 
+/// A demonstration's rows, visited in order: `rows(visit)` calls `visit`
+/// with each row (`dof` positions) of the demonstration, first to last.
+pub(crate) type Rows<'a> = dyn Fn(&mut dyn FnMut(&[f32])) + 'a;
+
 /// A DMP's gains, kernel width and amplitude scaling: with θ and a start,
 /// all that [`Dmp::from_shape`] needs, and small enough for one wire frame.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -290,6 +294,28 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
         if dof == 0 {
             return Err(Error::OutOfRange("a DMP needs at least one DoF"));
         }
+        check_len(
+            "positions",
+            times.len().saturating_mul(dof),
+            positions.len(),
+        )?;
+        let rows = |visit: &mut dyn FnMut(&[f32])| positions.chunks_exact(dof).for_each(visit);
+        Self::fit_rows(times, &rows, dof, kernels, options)
+    }
+
+    /// [`Dmp::fit`] with the demonstration's rows given by `rows`, which
+    /// calls its argument with each row in order (and may be called more
+    /// than once): a demonstration computed on the fly, without a buffer.
+    pub(crate) fn fit_rows(
+        times: &[f32],
+        rows: &Rows,
+        dof: usize,
+        kernels: usize,
+        options: &FitOptions,
+    ) -> Result<Self, Error> {
+        if dof == 0 {
+            return Err(Error::OutOfRange("a DMP needs at least one DoF"));
+        }
         check_capacity("DoF", dof, D)?;
         if kernels < 2 {
             return Err(Error::OutOfRange("a DMP needs at least two kernels"));
@@ -301,13 +327,7 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
                 "a demonstration needs at least 3 samples",
             ));
         }
-        check_len("positions", n.saturating_mul(dof), positions.len())?;
         check_finite(times, "times")?;
-        check_bounded(
-            positions,
-            MAX_ABS_POSITION,
-            "positions beyond MAX_ABS_POSITION",
-        )?;
         if times.windows(2).any(|w| !matches!(w, [a, b] if b > a)) {
             return Err(Error::OutOfRange("times must be strictly increasing"));
         }
@@ -327,17 +347,47 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
         };
         let tau = t_end - t0;
         check_tau(tau, "demonstration duration must be finite and >= MIN_TAU")?;
-        let rows = || positions.chunks_exact(dof);
-        let start: Vec<f32, D> = rows().next().unwrap_or(&[]).iter().copied().collect();
-        let goal: Vec<f32, D> = rows().last().unwrap_or(&[]).iter().copied().collect();
+        // One pass: the rows' count and bounds, start, goal and ranges.
+        let mut count = 0usize;
+        let mut bounded = true;
+        let mut first = [0.0f32; D];
+        let mut last = [0.0f32; D];
+        let mut lo = [f32::INFINITY; D];
+        let mut hi = [f32::NEG_INFINITY; D];
+        rows(&mut |row: &[f32]| {
+            bounded &= row.len() == dof
+                && row
+                    .iter()
+                    .all(|v| v.is_finite() && libm::fabsf(*v) <= MAX_ABS_POSITION);
+            for (d, &v) in row.iter().enumerate().take(D) {
+                if count == 0
+                    && let Some(f) = first.get_mut(d)
+                {
+                    *f = v;
+                }
+                if let (Some(l), Some(lo), Some(hi)) =
+                    (last.get_mut(d), lo.get_mut(d), hi.get_mut(d))
+                {
+                    *l = v;
+                    *lo = lo.min(v);
+                    *hi = hi.max(v);
+                }
+            }
+            count += 1;
+        });
+        check_len("positions", n, count)?;
+        if !bounded {
+            return Err(Error::OutOfRange("positions beyond MAX_ABS_POSITION"));
+        }
+        let start: Vec<f32, D> = first.iter().copied().take(dof).collect();
+        let goal: Vec<f32, D> = last.iter().copied().take(dof).collect();
 
         let mut scaled: Vec<bool, D> = Vec::new();
         for d in 0..dof {
-            let (lo, hi) = rows()
-                .filter_map(|r| r.get(d))
-                .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), &v| {
-                    (lo.min(v), hi.max(v))
-                });
+            let (lo, hi) = (
+                lo.get(d).copied().unwrap_or(0.0),
+                hi.get(d).copied().unwrap_or(0.0),
+            );
             let amplitude =
                 goal.get(d).copied().unwrap_or(0.0) - start.get(d).copied().unwrap_or(0.0);
             let on = match options.scaling {
@@ -375,7 +425,7 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
         fit::weights(
             &fit::Demonstration {
                 times,
-                positions,
+                rows,
                 dof,
                 kernels,
                 alpha,
@@ -494,6 +544,14 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
         let goals = theta.get(n * k..n * k + n).unwrap_or(&[]);
         self.goal.copy_from_slice(goals);
         self.tau = tau;
+        Ok(())
+    }
+
+    /// Sets the default goal (one value per DoF).
+    pub(crate) fn set_goal_vector(&mut self, goal: &[f32]) -> Result<(), Error> {
+        check_len("goal", self.dof(), goal.len())?;
+        check_bounded(goal, MAX_ABS_POSITION, "goals beyond MAX_ABS_POSITION")?;
+        self.goal.copy_from_slice(goal);
         Ok(())
     }
 
@@ -776,6 +834,22 @@ impl<const D: usize> Run<D> {
         let t = self.time + inc;
         self.time_carry = (t - self.time) - inc;
         self.time = t;
+    }
+
+    /// Moves the current position to `y` (one value per DoF), keeping the
+    /// velocity: the same motion seen from a new origin.
+    pub(crate) fn rebase<const K: usize>(
+        &mut self,
+        dmp: &Dmp<D, K>,
+        y: &[f32],
+    ) -> Result<(), Error> {
+        check_len("position", self.dof, y.len())?;
+        check_len("DMP DoF", self.dof, dmp.dof())?;
+        check_bounded(y, MAX_ABS_POSITION, "position beyond MAX_ABS_POSITION")?;
+        for (dst, src) in self.y.iter_mut().zip(y) {
+            *dst = *src;
+        }
+        Ok(())
     }
 
     /// Changes the goal during execution; amplitude-scaled DoFs rescale their

@@ -14,6 +14,8 @@
 //!   that also uses the error's magnitude.
 //! - [`power`]: PoWER over the extended parameter set `[q̂, Δθ]` with
 //!   per-block exploration and an importance sampler.
+//! - [`quaternion`] and [`orientation`]: unit quaternions, orientation DMPs
+//!   and Cartesian DMPs (position and orientation on one phase).
 //! - [`normal`]: a seedable standard-normal sampler on any [`rand_core::Rng`].
 //!
 //! All arithmetic is `f32` with [`libm`] functions only, and every public
@@ -59,7 +61,9 @@ pub mod golden;
 pub mod illinois;
 mod linalg;
 pub mod normal;
+pub mod orientation;
 pub mod power;
+pub mod quaternion;
 pub mod rng;
 pub mod service;
 pub mod wire;

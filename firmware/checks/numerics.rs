@@ -1,4 +1,4 @@
-// The core's numerics on fixed inputs, folded into one 64-bit digest of
+// The core's numerics on fixed inputs, folded into 64-bit digests of
 // every result's bits. Compiled twice: by build.rs on the host (the expected
 // value) and by tests/numerics.rs on the Cortex-M4F (the value under test).
 // Items only, no allocation, no std.
@@ -7,6 +7,8 @@ use primo_core::dmp::{Dmp, FitOptions};
 use primo_core::generalize::{Generalizer, Method};
 use primo_core::golden::{ErrorLearner, GoldenSection, SearchConfig};
 use primo_core::illinois::Illinois;
+use primo_core::orientation::OrientationDmp;
+use primo_core::quaternion::Quaternion;
 use primo_core::power::{Block, Power, PowerConfig};
 use primo_core::wire::{self, MAX_FRAME, Outcome, Request};
 
@@ -146,6 +148,37 @@ pub fn digest() -> u64 {
         for b in bytes {
             h.word(u32::from(*b));
         }
+    }
+    h.0
+}
+
+/// An orientation DMP fitted and run; its own digest (its own test binary:
+/// with the rest it would not fit the 64 KiB of flash).
+pub fn orientation_digest() -> u64 {
+    let mut h = Digest(0xcbf2_9ce4_8422_2325);
+    // An orientation DMP: a 250° turn about a tilting axis, 30 kernels.
+    let mut t = [0.0f32; SAMPLES];
+    let mut q = [0.0f32; SAMPLES * 4];
+    for (i, row) in q.chunks_exact_mut(4).enumerate() {
+        let s = i as f32 / (SAMPLES - 1) as f32;
+        t[i] = 2.0 * s;
+        let turn = 4.36 * s * s * (3.0 - 2.0 * s);
+        let tilt = 0.4 * libm::sinf(3.14159 * s) * libm::sinf(3.14159 * s);
+        let o = Quaternion::exp([0.0, 0.0, turn]).mul(&Quaternion::exp([tilt, 0.0, 0.0]));
+        row.copy_from_slice(&o.to_array());
+    }
+    let Ok(orientation) = OrientationDmp::<KERNELS>::fit(&t, &q, KERNELS, &FitOptions::default())
+    else {
+        return 11;
+    };
+    let Ok(mut turn) = orientation.start(&orientation.execution()) else {
+        return 12;
+    };
+    for _ in 0..2000 {
+        if turn.step(&orientation, 0.001).is_err() {
+            return 13;
+        }
+        h.floats(&turn.orientation().to_array());
     }
     h.0
 }

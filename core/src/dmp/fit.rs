@@ -32,7 +32,7 @@ const SUBSTEPS_PER_SPACING: f64 = 64.0;
 /// What the weights are fitted to.
 pub(super) struct Demonstration<'a> {
     pub times: &'a [f32],
-    pub positions: &'a [f32],
+    pub rows: &'a super::Rows<'a>,
     pub dof: usize,
     pub kernels: usize,
     pub alpha: f32,
@@ -88,7 +88,6 @@ pub(super) fn weights<const D: usize, const K: usize>(
     demo: &Demonstration,
     out: &mut [[f32; K]; D],
 ) -> Result<(), Error> {
-    let n = demo.times.len();
     let kernels = demo.kernels.min(K);
     let dof = demo.dof.min(D);
     let (Some(&t0), Some(&t_end)) = (demo.times.first(), demo.times.last()) else {
@@ -108,7 +107,8 @@ pub(super) fn weights<const D: usize, const K: usize>(
     let mut v = [0.0f64; K];
     let mut phi = [0.0f64; K];
     let mut u = 0.0f64;
-    for i in 0..n {
+    let mut i = 0usize;
+    (demo.rows)(&mut |row: &[f32]| {
         let time = |j: usize| demo.times.get(j).map(|t| f64::from(*t));
         let ti = time(i).unwrap_or(t0);
         let target = (ti - t0) / tau;
@@ -132,18 +132,14 @@ pub(super) fn weights<const D: usize, const K: usize>(
         let prev = time(i.wrapping_sub(1)).unwrap_or(ti);
         let next = time(i + 1).unwrap_or(ti);
         let q = 0.5 * (next - prev) / tau;
-        for (a, row) in gram.iter_mut().enumerate().take(kernels) {
+        for (a, gram_row) in gram.iter_mut().enumerate().take(kernels) {
             let qa = q * r.get(a).copied().unwrap_or(0.0);
-            for (g, rb) in row.iter_mut().zip(&r).take(a + 1) {
+            for (g, rb) in gram_row.iter_mut().zip(&r).take(a + 1) {
                 *g += qa * rb;
             }
         }
         // The unforced spring from rest at y0: y_h = g + (y0 − g)(1 + αu/2)e^(−αu/2).
         let decay = (1.0 + 0.5 * alpha * u) * libm::exp(-0.5 * alpha * u);
-        let row = demo
-            .positions
-            .get(i * demo.dof..(i + 1) * demo.dof)
-            .unwrap_or(&[]);
         for (d, b) in rhs.iter_mut().enumerate().take(dof) {
             let at = |v: &[f32]| v.get(d).map_or(0.0, |x| f64::from(*x));
             let (y0, g, a) = (at(demo.start), at(demo.goal), at(demo.amplitude));
@@ -152,7 +148,8 @@ pub(super) fn weights<const D: usize, const K: usize>(
                 *bk += q * rk * forced;
             }
         }
-    }
+        i += 1;
+    });
     // Mirror the lower triangle, add the ridge, solve.
     for a in 0..kernels {
         for b in 0..a {

@@ -1,7 +1,7 @@
 //! Measures the coprocessor's costs on the target, under QEMU with
 //! `-icount shift=0` (virtual time counts instructions; SysTick is
 //! calibrated against a loop of known length): instructions per 7×30 DMP
-//! step and per 219-parameter PoWER update, and the stack the service needs
+//! step, per 3×30 orientation DMP step, and per 219-parameter PoWER update, and the stack the service needs
 //! for a whole PoWER run, frames and all, as the firmware runs it.
 #![no_std]
 #![no_main]
@@ -12,6 +12,8 @@ use cortex_m_semihosting::hprintln;
 use heapless::Vec;
 use primo_core::dmp::{DEFAULT_ALPHA, DEFAULT_OVERLAP, Dmp, Shape};
 use primo_core::generalize::Method;
+use primo_core::orientation::OrientationDmp;
+use primo_core::quaternion::Quaternion;
 use primo_core::power::{Block, PowerConfig};
 use primo_core::service::{Coprocessor as Service, THETA};
 use primo_core::wire::{
@@ -95,6 +97,24 @@ fn reach() -> Dmp<MAX_DOF, KERNELS> {
     };
     Dmp::from_shape(&shape, MAX_DOF, KERNELS, &[0.0; MAX_DOF], &theta)
         .unwrap_or_else(|_| fail("dmp"))
+}
+
+/// An orientation DMP of 2 s, 30 kernels per axis, smooth made-up weights:
+/// a turn of about 90° toward the identity.
+fn turn() -> OrientationDmp<KERNELS> {
+    let mut theta = [0.0f32; 3 * KERNELS + 4];
+    for (i, w) in theta.iter_mut().enumerate().take(3 * KERNELS) {
+        *w = 20.0 * libm::sinf(0.41 * i as f32);
+    }
+    theta[3 * KERNELS + 3] = 2.0;
+    let shape = Shape {
+        alpha: DEFAULT_ALPHA,
+        width: DEFAULT_OVERLAP * ((KERNELS - 1) * (KERNELS - 1)) as f32,
+        scaled: 0,
+    };
+    let start = [0.9, -0.6, 0.8];
+    let log = Dmp::from_shape(&shape, 3, KERNELS, &start, &theta).unwrap_or_else(|_| fail("log"));
+    OrientationDmp::from_parts(log, Quaternion::IDENTITY).unwrap_or_else(|_| fail("turn"))
 }
 
 /// PoWER over `[q̂, Δθ]` of 219 parameters through the service: two
@@ -203,6 +223,20 @@ fn main() -> ! {
     if !ok {
         fail("step");
     }
+    let orientation = turn();
+    let Ok(mut turning) = orientation.start(&orientation.execution()) else {
+        fail("turn start")
+    };
+    let mut w: f32 = 0.0;
+    let turn_ticks = ticks(&mut p.SYST, || {
+        for _ in 0..STEPS {
+            ok &= turning.step(&orientation, 0.001).is_ok();
+            w += turning.orientation().w;
+        }
+    });
+    if !ok || !w.is_finite() {
+        fail("turn step");
+    }
     let mut update_ticks = 0;
     let stack = primo_firmware::stack_used_by(|| {
         update_ticks = power_run(SERVICE, &mut p.SYST, &dmp);
@@ -215,6 +249,10 @@ fn main() -> ! {
     hprintln!(
         "dmp step 7x30: {} instructions",
         instructions(dmp_ticks, STEPS)
+    );
+    hprintln!(
+        "orientation step 3x30 (with the quaternion): {} instructions",
+        instructions(turn_ticks, STEPS)
     );
     hprintln!(
         "power update 219: {} instructions",

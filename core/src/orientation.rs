@@ -1,0 +1,398 @@
+//! Orientation DMPs on unit quaternions, and Cartesian DMPs: a position
+//! and an orientation sharing one phase.
+//!
+//! # Formulation
+//!
+//! An orientation `q(t)` is expressed by its rotation vector relative to
+//! the goal, `e = log(q ⊗ ḡ)` (axis × angle, rad), and `e` is a 3-DoF
+//! [`Dmp`] whose goal is `0`; the executed orientation is `exp(e) ⊗ g`.
+//! This is the logarithmic-space formulation of Koutras and Doulgeri
+//! (2020) for the orientation DMP of Ude, Nemec, Petrič and Morimoto
+//! (2014): the same transformation system on `log(q ⊗ ḡ)`, but linear in
+//! the weights, so
+//! - every sample is a unit quaternion by construction (renormalized
+//!   against rounding), whatever the weights, `dt` or `τ`;
+//! - it reaches the goal orientation whenever the 3-DoF DMP reaches `0`,
+//!   which it does for any weights within the bounds (see [`crate::dmp`]);
+//! - the fit is the position least-squares fit of [`Dmp::fit`], with
+//!   nothing differentiated on the sphere.
+//!
+//! The forcing term is not amplitude-scaled ([`Scaling::Never`]): scaling
+//! each axis of a rotation vector would not be a rotation.
+//!
+//! A recording's quaternions are normalized, and their signs made
+//! continuous (`q` and `−q` are the same orientation; a sign flip between
+//! two samples is undone), so the logarithm is continuous along the
+//! movement and a sweep through 180° is no discontinuity.
+//!
+//! ```
+//! use primo_core::dmp::FitOptions;
+//! use primo_core::orientation::OrientationDmp;
+//! use primo_core::quaternion::Quaternion;
+//! // A yaw sweep from 170° to 190° in one second, through ±180°.
+//! let t: Vec<f32> = (0..=100).map(|i| i as f32 / 100.0).collect();
+//! let q: Vec<f32> = t
+//!     .iter()
+//!     .flat_map(|&t| {
+//!         let yaw = (170.0 + 20.0 * t * t * (3.0 - 2.0 * t)).to_radians();
+//!         Quaternion::exp([0.0, 0.0, yaw]).to_array()
+//!     })
+//!     .collect();
+//! let dmp = OrientationDmp::<20>::fit(&t, &q, 20, &FitOptions::default())?;
+//! let goal = Quaternion::exp([0.0, 0.0, 190f32.to_radians()]);
+//! for (time, q) in dmp.trajectory(&dmp.execution(), 0.01)? {
+//!     assert!((q.norm() - 1.0).abs() < 1e-6);
+//!     // Never further from the goal than the 20° it starts at.
+//!     let angle = 2.0 * q.dot(&goal).abs().min(1.0).acos().to_degrees();
+//!     assert!(angle < 20.01, "{angle}° at {time} s");
+//! }
+//! let (_, end) = dmp.trajectory(&dmp.execution(), 0.01)?.last().unwrap();
+//! assert!(end.dot(&goal).abs() > 1.0 - 1e-6);
+//! # Ok::<(), primo_core::Error>(())
+//! ```
+
+use serde::{Deserialize, Serialize};
+
+use crate::Error;
+use crate::dmp::{Dmp, Execution, FitOptions, Run, Scaling};
+use crate::quaternion::Quaternion;
+
+/// Continuous-sign, normalized quaternions of a recording (`[w, x, y, z]`
+/// rows), visited in order: `visit(i, q_i)`.
+fn continuous(quaternions: &[f32], visit: &mut dyn FnMut(Quaternion)) -> Result<(), Error> {
+    let mut previous: Option<Quaternion> = None;
+    for row in quaternions.chunks_exact(4) {
+        let q = Quaternion::from_array([
+            row.first().copied().unwrap_or(0.0),
+            row.get(1).copied().unwrap_or(0.0),
+            row.get(2).copied().unwrap_or(0.0),
+            row.get(3).copied().unwrap_or(0.0),
+        ])
+        .normalized()?;
+        let q = match previous {
+            Some(p) if p.dot(&q) < 0.0 => q.neg(),
+            _ => q,
+        };
+        visit(q);
+        previous = Some(q);
+    }
+    Ok(())
+}
+
+/// An orientation DMP with `K` kernels per axis.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct OrientationDmp<const K: usize> {
+    /// The 3-DoF DMP of `log(q ⊗ ḡ)`.
+    log: Dmp<3, K>,
+    /// The demonstrated goal orientation.
+    goal: Quaternion,
+}
+
+/// Where and how fast to execute an [`OrientationDmp`].
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct OrientationExecution {
+    /// Execution time, s.
+    pub tau: f32,
+    /// Start orientation.
+    pub start: Quaternion,
+    /// Goal orientation.
+    pub goal: Quaternion,
+}
+
+impl<const K: usize> OrientationDmp<K> {
+    /// Fits an orientation DMP to a recording: `times` as for [`Dmp::fit`],
+    /// `quaternions` `times.len()` rows of `[w, x, y, z]` (any non-zero
+    /// norm; normalized, signs made continuous). The last sample is the
+    /// goal, the first the start.
+    pub fn fit(
+        times: &[f32],
+        quaternions: &[f32],
+        kernels: usize,
+        options: &FitOptions,
+    ) -> Result<Self, Error> {
+        crate::error::check_len(
+            "quaternions",
+            times.len().saturating_mul(4),
+            quaternions.len(),
+        )?;
+        crate::error::check_finite(quaternions, "quaternions")?;
+        let mut goal = Quaternion::IDENTITY;
+        continuous(quaternions, &mut |q| goal = q)?;
+        let inverse = goal.conj();
+        let rows = |visit: &mut dyn FnMut(&[f32])| {
+            // Errors were found in the pass above; none can occur here.
+            let _ = continuous(quaternions, &mut |q| visit(&q.mul(&inverse).log()));
+        };
+        let options = FitOptions {
+            scaling: Scaling::Never,
+            ..*options
+        };
+        let mut log = Dmp::fit_rows(times, &rows, 3, kernels, &options)?;
+        // The goal of `e` is exactly 0 (the last sample's log is 0 up to
+        // rounding).
+        log.set_goal_vector(&[0.0; 3])?;
+        Ok(OrientationDmp { log, goal })
+    }
+
+    /// From the DMP of `log(q ⊗ ḡ)` and the goal orientation (as
+    /// [`OrientationDmp::log_dmp`] and [`OrientationDmp::goal`] give them):
+    /// the log DMP must have 3 DoF, a zero goal, no amplitude scaling.
+    pub fn from_parts(log: Dmp<3, K>, goal: Quaternion) -> Result<Self, Error> {
+        if log.dof() != 3
+            || log.goal().iter().any(|g| *g != 0.0)
+            || (0..3).any(|d| log.is_scaled(d))
+        {
+            return Err(Error::OutOfRange(
+                "an orientation DMP's log DMP has 3 unscaled DoF and goal 0",
+            ));
+        }
+        Ok(OrientationDmp {
+            log,
+            goal: goal.normalized()?,
+        })
+    }
+
+    /// The DMP of `log(q ⊗ ḡ)` (its parameters are what generalization and
+    /// learning change).
+    pub fn log_dmp(&self) -> &Dmp<3, K> {
+        &self.log
+    }
+
+    /// The demonstrated goal orientation.
+    pub fn goal(&self) -> Quaternion {
+        self.goal
+    }
+
+    /// The demonstrated start orientation.
+    pub fn start_orientation(&self) -> Quaternion {
+        let e = self.log.start_position();
+        from_log(e, &self.goal)
+    }
+
+    /// The demonstrated duration, s.
+    pub fn tau(&self) -> f32 {
+        self.log.tau()
+    }
+
+    /// The default execution: demonstrated start, goal and `τ`.
+    pub fn execution(&self) -> OrientationExecution {
+        OrientationExecution {
+            tau: self.tau(),
+            start: self.start_orientation(),
+            goal: self.goal,
+        }
+    }
+
+    /// Starts an execution at rest at `exec.start`.
+    ///
+    /// `exec.start` is taken with the sign whose rotation vector to the
+    /// goal is nearest the demonstrated one: the demonstrated turn (even
+    /// beyond 180°) is kept when start and goal are the demonstrated ones,
+    /// and the nearer way round is chosen for new ones.
+    pub fn start(&self, exec: &OrientationExecution) -> Result<OrientationRun, Error> {
+        let goal = exec.goal.normalized()?;
+        let start = exec.start.normalized()?;
+        let e = nearest_log(&start, &goal, self.log.start_position());
+        let run = self.log.start(&Execution {
+            tau: exec.tau,
+            start: e.iter().copied().collect(),
+            goal: [0.0; 3].iter().copied().collect(),
+        })?;
+        Ok(OrientationRun { run, goal })
+    }
+
+    /// The whole execution from `t = 0` to `t = τ` at step `dt`, as
+    /// `(time, orientation)` (see [`Dmp::trajectory`] for the time grid).
+    pub fn trajectory(
+        &self,
+        exec: &OrientationExecution,
+        dt: f32,
+    ) -> Result<impl Iterator<Item = (f32, Quaternion)> + '_, Error> {
+        let run = self.start(exec)?;
+        let goal = run.goal;
+        let log_exec = Execution {
+            tau: exec.tau,
+            start: run.run.position().iter().copied().collect(),
+            goal: [0.0; 3].iter().copied().collect(),
+        };
+        let steps = self.log.trajectory(&log_exec, dt)?;
+        Ok(steps.map(move |s| (s.time, from_log(&s.position, &goal))))
+    }
+}
+
+/// `exp(e) ⊗ g` for a unit `g`, renormalized against rounding.
+fn from_log(e: &[f32], goal: &Quaternion) -> Quaternion {
+    let e = [
+        e.first().copied().unwrap_or(0.0),
+        e.get(1).copied().unwrap_or(0.0),
+        e.get(2).copied().unwrap_or(0.0),
+    ];
+    Quaternion::exp(e).mul(goal).renormalized()
+}
+
+/// `log(q ⊗ ḡ)` of `q` or `−q`, whichever is nearer `reference`.
+fn nearest_log(q: &Quaternion, goal: &Quaternion, reference: &[f32]) -> [f32; 3] {
+    let inverse = goal.conj();
+    let a = q.mul(&inverse).log();
+    let b = q.neg().mul(&inverse).log();
+    let distance = |e: &[f32; 3]| {
+        e.iter()
+            .zip(reference.iter().chain(core::iter::repeat(&0.0)))
+            .map(|(x, r)| (x - r) * (x - r))
+            .sum::<f32>()
+    };
+    if distance(&b) < distance(&a) { b } else { a }
+}
+
+/// An orientation execution in progress.
+#[derive(Debug, Clone, PartialEq)]
+pub struct OrientationRun {
+    run: Run<3>,
+    goal: Quaternion,
+}
+
+impl OrientationRun {
+    /// Advances by `dt` seconds (> 0).
+    pub fn step<const K: usize>(&mut self, dmp: &OrientationDmp<K>, dt: f32) -> Result<(), Error> {
+        self.run.step(&dmp.log, dt)
+    }
+
+    /// The current orientation, a unit quaternion.
+    pub fn orientation(&self) -> Quaternion {
+        from_log(self.run.position(), &self.goal)
+    }
+
+    /// The current goal.
+    pub fn goal(&self) -> Quaternion {
+        self.goal
+    }
+
+    /// Changes the goal during execution: the current orientation is
+    /// re-expressed relative to the new goal (the nearer way round), the
+    /// log coordinates' velocity is kept.
+    pub fn set_goal<const K: usize>(
+        &mut self,
+        dmp: &OrientationDmp<K>,
+        goal: Quaternion,
+    ) -> Result<(), Error> {
+        let goal = goal.normalized()?;
+        let now = self.orientation();
+        let e = nearest_log(&now, &goal, &[0.0; 3]);
+        self.run.rebase(&dmp.log, &e)?;
+        self.goal = goal;
+        Ok(())
+    }
+
+    /// Seconds since the start.
+    pub fn time(&self) -> f32 {
+        self.run.time()
+    }
+
+    /// Phase `s = t/τ`, saturated at 1.
+    pub fn phase(&self) -> f32 {
+        self.run.phase()
+    }
+}
+
+/// A Cartesian DMP: a 3-D position DMP and an orientation DMP fitted to the
+/// same recording, executed with one phase.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CartesianDmp<const K: usize> {
+    /// The position.
+    pub position: Dmp<3, K>,
+    /// The orientation.
+    pub orientation: OrientationDmp<K>,
+}
+
+/// Where and how fast to execute a [`CartesianDmp`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct CartesianExecution {
+    /// Execution time, s.
+    pub tau: f32,
+    /// The position's start and goal.
+    pub position: Execution<3>,
+    /// The orientation's start and goal.
+    pub orientation: OrientationExecution,
+}
+
+impl<const K: usize> CartesianDmp<K> {
+    /// Fits both parts to one recording: `positions` rows of `[x, y, z]`,
+    /// `quaternions` rows of `[w, x, y, z]`, both `times.len()` rows.
+    pub fn fit(
+        times: &[f32],
+        positions: &[f32],
+        quaternions: &[f32],
+        kernels: usize,
+        options: &FitOptions,
+    ) -> Result<Self, Error> {
+        Ok(CartesianDmp {
+            position: Dmp::fit(times, positions, 3, kernels, options)?,
+            orientation: OrientationDmp::fit(times, quaternions, kernels, options)?,
+        })
+    }
+
+    /// The demonstrated start, goal and duration.
+    pub fn execution(&self) -> CartesianExecution {
+        CartesianExecution {
+            tau: self.position.tau(),
+            position: self.position.execution(),
+            orientation: self.orientation.execution(),
+        }
+    }
+
+    /// Starts both parts at rest with one `τ` (so one phase).
+    pub fn start(&self, exec: &CartesianExecution) -> Result<CartesianRun, Error> {
+        let mut position = exec.position.clone();
+        position.tau = exec.tau;
+        let mut orientation = exec.orientation;
+        orientation.tau = exec.tau;
+        Ok(CartesianRun {
+            position: self.position.start(&position)?,
+            orientation: self.orientation.start(&orientation)?,
+        })
+    }
+}
+
+/// A Cartesian execution in progress.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CartesianRun {
+    position: Run<3>,
+    orientation: OrientationRun,
+}
+
+impl CartesianRun {
+    /// Advances both parts by `dt` seconds.
+    pub fn step<const K: usize>(&mut self, dmp: &CartesianDmp<K>, dt: f32) -> Result<(), Error> {
+        self.position.step(&dmp.position, dt)?;
+        self.orientation.step(&dmp.orientation, dt)
+    }
+
+    /// The current pose: position and orientation.
+    pub fn pose(&self) -> ([f32; 3], Quaternion) {
+        let p = self.position.position();
+        (
+            [
+                p.first().copied().unwrap_or(0.0),
+                p.get(1).copied().unwrap_or(0.0),
+                p.get(2).copied().unwrap_or(0.0),
+            ],
+            self.orientation.orientation(),
+        )
+    }
+
+    /// Changes both goals during execution.
+    pub fn set_goal<const K: usize>(
+        &mut self,
+        dmp: &CartesianDmp<K>,
+        position: &[f32],
+        orientation: Quaternion,
+    ) -> Result<(), Error> {
+        self.position.set_goal(&dmp.position, position)?;
+        self.orientation.set_goal(&dmp.orientation, orientation)
+    }
+
+    /// Seconds since the start.
+    pub fn time(&self) -> f32 {
+        self.position.time()
+    }
+}
