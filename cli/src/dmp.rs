@@ -2,10 +2,9 @@
 
 use std::path::{Path, PathBuf};
 
-use primo_core::dmp::FitOptions;
+use primo_skill::MAX_KERNELS;
 use primo_skill::csv::{parse_demo, write_rows};
 use primo_skill::dmpfile::DmpFile;
-use primo_skill::{HOST_MAX_DOF, HostDmp, MAX_KERNELS};
 
 use crate::error::CliError;
 use crate::output::{check_out_file, emit, read};
@@ -13,7 +12,8 @@ use crate::output::{check_out_file, emit, read};
 /// `primo dmp …`.
 #[derive(Debug, clap::Subcommand)]
 pub enum DmpCommand {
-    /// Fit a DMP to a demonstration CSV (`t,<name>,...`).
+    /// Fit a DMP to a demonstration CSV (`t,<name>,...`); four columns
+    /// `<p>qw,<p>qx,<p>qy,<p>qz` are one orientation (a quaternion DMP).
     Fit {
         /// Demonstration CSV: header `t,<name>,...`, t in seconds, strictly increasing.
         #[arg(long)]
@@ -35,10 +35,12 @@ pub enum DmpCommand {
         /// Execution time τ in seconds (default: the demonstrated duration).
         #[arg(long)]
         tau: Option<f32>,
-        /// Start position, one value per DoF, comma-separated.
+        /// Start, one value per column, comma-separated (an orientation's
+        /// four quaternion values included).
         #[arg(long, allow_hyphen_values = true)]
         start: Option<String>,
-        /// Goal position, one value per DoF, comma-separated.
+        /// Goal, one value per column, comma-separated (an orientation's
+        /// four quaternion values included).
         #[arg(long, allow_hyphen_values = true)]
         goal: Option<String>,
         /// Output CSV file (stdout when absent).
@@ -83,26 +85,7 @@ fn fit(demo_path: &Path, kernels: usize, out: Option<&Path>) -> Result<(), CliEr
         check_out_file("--out", out)?;
     }
     let demo = parse_demo(&file, &read(demo_path)?)?;
-    if demo.names.len() > HOST_MAX_DOF {
-        return Err(CliError::input(format!(
-            "{file}:1: {} DoF columns, at most {HOST_MAX_DOF}",
-            demo.names.len()
-        )));
-    }
-    let dmp = HostDmp::fit(
-        &demo.times,
-        &demo.positions,
-        demo.names.len(),
-        kernels,
-        &FitOptions::default(),
-    )
-    .map_err(|e| {
-        CliError::input(format!(
-            "{file}: cannot fit {kernels} kernels to {} rows: {e}",
-            demo.times.len()
-        ))
-    })?;
-    let json = DmpFile::new(demo.names, dmp)
+    let json = DmpFile::fit(&file, &demo, kernels)?
         .to_json()
         .map_err(|e| CliError::other(format!("cannot serialize the DMP: {e}")))?;
     emit(out, format!("{json}\n").as_bytes())
@@ -141,7 +124,7 @@ fn run_dmp(
     out: Option<&Path>,
 ) -> Result<(), CliError> {
     let file = path.display().to_string();
-    let DmpFile { names, dmp, .. } = DmpFile::parse(&file, &read(path)?)?;
+    let dmp = DmpFile::parse(&file, &read(path)?)?;
     if !(dt.is_finite() && dt > 0.0) {
         return Err(CliError::input(format!(
             "--dt: {dt} must be a positive number of seconds"
@@ -150,39 +133,31 @@ fn run_dmp(
     if let Some(out) = out {
         check_out_file("--out", out)?;
     }
-    let mut exec = dmp.execution();
-    if let Some(tau) = tau {
-        if !(tau.is_finite() && tau > 0.0) {
-            return Err(CliError::input(format!(
-                "--tau: {tau} must be a positive number of seconds"
-            )));
-        }
-        exec.tau = tau;
+    if let Some(tau) = tau
+        && !(tau.is_finite() && tau > 0.0)
+    {
+        return Err(CliError::input(format!(
+            "--tau: {tau} must be a positive number of seconds"
+        )));
     }
-    if let Some(text) = start {
-        exec.start = parse_vector("--start", text, &names)?.into_iter().collect();
-    }
-    if let Some(text) = goal {
-        exec.goal = parse_vector("--goal", text, &names)?.into_iter().collect();
-    }
-    let rows = exec.tau / dt;
+    let start = start
+        .map(|text| parse_vector("--start", text, &dmp.names))
+        .transpose()?;
+    let goal = goal
+        .map(|text| parse_vector("--goal", text, &dmp.names))
+        .transpose()?;
+    let duration = tau.unwrap_or(dmp.dmp.tau());
+    let rows = duration / dt;
     if rows > MAX_ROWS as f32 {
         return Err(CliError::input(format!(
-            "--dt {dt} with tau {} s would write {rows:.0} rows, at most {MAX_ROWS}",
-            exec.tau
+            "--dt {dt} with tau {duration} s would write {rows:.0} rows, at most {MAX_ROWS}"
         )));
     }
     let trajectory = dmp
-        .trajectory(&exec, dt)
+        .run(dt, tau, start.as_deref(), goal.as_deref())
         .map_err(|e| CliError::input(format!("{file}: {e}")))?;
-    let dof = dmp.dof();
     let mut buf = Vec::new();
-    let rows = trajectory.map(|s| (s.time, s.position));
-    write_rows(
-        &mut buf,
-        &names,
-        rows.map(|(t, p)| (t, p.into_iter().take(dof))),
-    )
-    .map_err(|e| CliError::other(format!("writing the trajectory: {e}")))?;
+    write_rows(&mut buf, &dmp.names, trajectory)
+        .map_err(|e| CliError::other(format!("writing the trajectory: {e}")))?;
     emit(out, &buf)
 }

@@ -140,13 +140,20 @@ fn malformed_input_gets_a_one_line_error_and_status_2() {
     let (code, _, err) = primo(&["dmp", "run", broken.to_str().unwrap()]);
     assert_eq!(code, 2);
     assert!(err.contains("broken.json:2:"), "{err}");
-    let future = std::fs::read_to_string(&json)
-        .unwrap()
-        .replace("\"version\": 1", "\"version\": 2");
+    let written = std::fs::read_to_string(&json).unwrap();
+    let future = written.replace("\"version\": 2", "\"version\": 3");
     std::fs::write(&broken, future).unwrap();
     let (code, _, err) = primo(&["dmp", "run", broken.to_str().unwrap()]);
     assert_eq!(code, 2);
-    assert!(err.contains("unsupported version 2"), "{err}");
+    assert!(err.contains("unsupported version 3"), "{err}");
+    // A version 1 file (no orientations) still runs, as before.
+    let v1 = written
+        .replace("\"version\": 2", "\"version\": 1")
+        .replace("  \"orientations\": [],\n", "");
+    assert!(!v1.contains("orientations"), "{v1}");
+    std::fs::write(&broken, v1).unwrap();
+    let (code, _, err) = primo(&["dmp", "run", broken.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
 }
 
 #[test]
@@ -203,4 +210,99 @@ fn accepts_twelve_dof_and_a_hundred_kernels() {
     assert_eq!(code, 0, "{err}");
     assert_eq!(out.lines().count(), 102);
     assert_eq!(out.lines().next().unwrap().split(',').count(), 13);
+}
+
+/// `[w, x, y, z]` of a yaw by `deg` degrees.
+fn yaw(deg: f64) -> [f64; 4] {
+    let h = deg.to_radians() / 2.0;
+    [h.cos(), 0.0, 0.0, h.sin()]
+}
+
+#[test]
+fn orientation_columns_fit_and_run_as_a_quaternion_dmp() {
+    // A pour's yaw sweeping 170° → 190° through ±180°, recorded with the
+    // sign of its quaternions flipping every tenth row, and a position.
+    let smooth = |s: f64| s * s * s * (10.0 - 15.0 * s + 6.0 * s * s);
+    let angle = |t: f64| 170.0 + 20.0 * smooth(t);
+    let mut csv = String::from("t,x,qw,qx,qy,qz\n");
+    for i in 0..=200 {
+        let t = i as f64 / 200.0;
+        let sign = if i % 10 == 5 { -1.0 } else { 1.0 };
+        let q = yaw(angle(t)).map(|v| sign * v);
+        csv += &format!(
+            "{t},{},{},{},{},{}\n",
+            0.3 * smooth(t),
+            q[0],
+            q[1],
+            q[2],
+            q[3]
+        );
+    }
+    let demo = tmp("pour-yaw.csv");
+    std::fs::write(&demo, csv).unwrap();
+    let json = tmp("pour-yaw.json");
+    let (code, _, err) = primo(&[
+        "dmp",
+        "fit",
+        "--demo",
+        demo.to_str().unwrap(),
+        "--out",
+        json.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let file: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(file["version"], 2);
+    assert_eq!(
+        file["orientations"][0]["columns"],
+        serde_json::json!(["qw", "qx", "qy", "qz"])
+    );
+    let (code, out, err) = primo(&["dmp", "run", json.to_str().unwrap(), "--dt", "0.005"]);
+    assert_eq!(code, 0, "{err}");
+    let mut worst = 0.0f64;
+    for line in out.lines().skip(1) {
+        let v: Vec<f64> = line.split(',').map(|v| v.parse().unwrap()).collect();
+        let norm = v[2..6].iter().map(|x| x * x).sum::<f64>().sqrt();
+        assert!((norm - 1.0).abs() < 1e-6, "{line}");
+        let exact = yaw(angle(v[0]));
+        let dot: f64 = v[2..6].iter().zip(exact).map(|(a, b)| a * b).sum();
+        worst = worst.max(2.0 * dot.abs().min(1.0).acos().to_degrees());
+    }
+    assert!(worst < 0.05, "off by {worst}° at worst");
+    // A new goal orientation (yaw 200°) and position.
+    let g = yaw(200.0);
+    let goal = format!("0.5,{},{},{},{}", g[0], g[1], g[2], g[3]);
+    let (code, out, err) = primo(&[
+        "dmp",
+        "run",
+        json.to_str().unwrap(),
+        "--goal",
+        &goal,
+        "--tau",
+        "3",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let last: Vec<f64> = out
+        .lines()
+        .last()
+        .unwrap()
+        .split(',')
+        .map(|v| v.parse().unwrap())
+        .collect();
+    let dot: f64 = last[2..6].iter().zip(g).map(|(a, b)| a * b).sum();
+    assert!((last[1] - 0.5).abs() < 5e-3, "{last:?}");
+    assert!(
+        2.0 * dot.abs().min(1.0).acos().to_degrees() < 0.5,
+        "{last:?}"
+    );
+    // An orientation that is not one.
+    let (code, _, err) = primo(&[
+        "dmp",
+        "run",
+        json.to_str().unwrap(),
+        "--goal",
+        "0.5,0,0,0,0",
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("--goal: qw…: not an orientation"), "{err}");
 }

@@ -119,6 +119,9 @@ pub enum Scaling {
     Never,
     /// Bit `d` set: DoF `d` scaled (DoFs ≥ 32 are unscaled).
     Mask(u32),
+    /// [`Scaling::Auto`] for the DoFs whose bit is set, unscaled for the
+    /// others (e.g. the log coordinates of an orientation).
+    AutoWhere(u32),
 }
 
 /// Options for [`Dmp::fit`].
@@ -398,6 +401,12 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
                 Scaling::Always => true,
                 Scaling::Never => false,
                 Scaling::Mask(m) => d < 32 && (m >> d) & 1 == 1,
+                Scaling::AutoWhere(m) => {
+                    d < 32
+                        && (m >> d) & 1 == 1
+                        && amplitude != 0.0
+                        && libm::fabsf(amplitude) >= AUTO_SCALING_MIN_FRACTION * (hi - lo)
+                }
             };
             if on && amplitude == 0.0 {
                 return Err(Error::OutOfRange(

@@ -79,6 +79,29 @@ fn continuous(quaternions: &[f32], visit: &mut dyn FnMut(Quaternion)) -> Result<
     Ok(())
 }
 
+/// The log coordinates `log(q_i ⊗ ḡ)` of a recording (`[w, x, y, z]`
+/// rows, normalized, signs made continuous) written to `out` (three per
+/// row), relative to its last orientation `g`, which is returned.
+pub fn log_coordinates(quaternions: &[f32], out: &mut [f32]) -> Result<Quaternion, Error> {
+    crate::error::check_finite(quaternions, "quaternions")?;
+    let rows = quaternions.len() / 4;
+    crate::error::check_len("quaternions", rows * 4, quaternions.len())?;
+    crate::error::check_len("log coordinates", rows * 3, out.len())?;
+    let mut goal = Quaternion::IDENTITY;
+    continuous(quaternions, &mut |q| goal = q)?;
+    let inverse = goal.conj();
+    let mut chunks = out.chunks_exact_mut(3);
+    continuous(quaternions, &mut |q| {
+        if let Some(e) = chunks.next() {
+            e.copy_from_slice(&q.mul(&inverse).log());
+        }
+    })?;
+    if let Some(last) = out.rchunks_exact_mut(3).next() {
+        last.copy_from_slice(&[0.0; 3]);
+    }
+    Ok(goal)
+}
+
 /// An orientation DMP with `K` kernels per axis.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct OrientationDmp<const K: usize> {
@@ -220,8 +243,9 @@ impl<const K: usize> OrientationDmp<K> {
     }
 }
 
-/// `exp(e) ⊗ g` for a unit `g`, renormalized against rounding.
-fn from_log(e: &[f32], goal: &Quaternion) -> Quaternion {
+/// `exp(e) ⊗ g` for a unit `g`, renormalized against rounding: the
+/// orientation of log coordinates `e` relative to the goal `g`.
+pub fn from_log(e: &[f32], goal: &Quaternion) -> Quaternion {
     let e = [
         e.first().copied().unwrap_or(0.0),
         e.get(1).copied().unwrap_or(0.0),
@@ -230,8 +254,9 @@ fn from_log(e: &[f32], goal: &Quaternion) -> Quaternion {
     Quaternion::exp(e).mul(goal).renormalized()
 }
 
-/// `log(q ⊗ ḡ)` of `q` or `−q`, whichever is nearer `reference`.
-fn nearest_log(q: &Quaternion, goal: &Quaternion, reference: &[f32]) -> [f32; 3] {
+/// `log(q ⊗ ḡ)` of `q` or `−q`, whichever is nearer `reference`: the log
+/// coordinates of a new start, kept on the demonstrated side.
+pub fn nearest_log(q: &Quaternion, goal: &Quaternion, reference: &[f32]) -> [f32; 3] {
     let inverse = goal.conj();
     let a = q.mul(&inverse).log();
     let b = q.neg().mul(&inverse).log();

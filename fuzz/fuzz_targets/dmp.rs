@@ -40,10 +40,11 @@ fn options(u: &mut Unstructured) -> Result<FitOptions> {
         alpha: positive(u, 100.0)?,
         overlap: positive(u, 10.0)?,
         ridge: *u.choose(&[0.0, 1e-6, 1e-2])?,
-        scaling: match u.int_in_range(0..=3)? {
+        scaling: match u.int_in_range(0..=4)? {
             0 => Scaling::Auto,
             1 => Scaling::Always,
             2 => Scaling::Never,
+            3 => Scaling::AutoWhere(u.arbitrary()?),
             _ => Scaling::Mask(u.arbitrary()?),
         },
     })

@@ -1,34 +1,59 @@
-//! The JSON file of a fitted DMP (`primo dmp fit --out dmp.json`).
+//! The JSON file of a fitted DMP (`primo dmp fit --out dmp.json`), and the
+//! fit and run behind `primo dmp`.
 //!
 //! ```json
-//! { "format": "primo-dmp", "version": 1, "names": ["x", "y"],
+//! { "format": "primo-dmp", "version": 2, "names": ["x", "qw", "qx", "qy", "qz"],
+//!   "orientations": [{ "columns": ["qw", "qx", "qy", "qz"], "goal": [1, 0, 0, 0] }],
 //!   "dmp": { "tau": 1.0, "alpha": 25.0, "width": 1682.0,
-//!            "start": [0, 0.5], "goal": [1, -0.5], "scaled": [true, true],
-//!            "weights": [[...], [...]] } }
+//!            "start": [0, 0.5, 0, 0], "goal": [1, 0, 0, 0], "scaled": [true, false, false, false],
+//!            "weights": [[...], [...], [...], [...]] } }
 //! ```
 //!
+//! `names` are the demonstration's columns. Four adjacent columns named
+//! `<p>qw, <p>qx, <p>qy, <p>qz` (any common prefix `p`, e.g. `qw…` or
+//! `tool_qw…`) are one orientation, a unit quaternion: it is fitted as an
+//! orientation DMP ([`primo_core::orientation`]), three DoFs of `dmp` that
+//! hold `log(q ⊗ ḡ)` with `g` the group's `goal`; every other column is one
+//! DoF. A run writes the same columns back, the quaternions unit-norm.
+//!
 //! `format` and `version` are checked on load; a newer version is refused
-//! rather than misread. The fields of `dmp` are those of
-//! [`primo_core::dmp::Dmp`] (see the README for their meaning).
+//! rather than misread. Version 1 files (no orientations) still load. The
+//! fields of `dmp` are those of [`primo_core::dmp::Dmp`] (see the README).
 
+use primo_core::dmp::{FitOptions, Scaling};
+use primo_core::orientation::{from_log, log_coordinates, nearest_log};
+use primo_core::quaternion::Quaternion;
 use serde::{Deserialize, Serialize};
 
-use crate::{Error, HostDmp};
+use crate::csv::Demo;
+use crate::{Error, HOST_MAX_DOF, HostDmp, MAX_KERNELS};
 
 /// The `format` field's value.
 pub const FORMAT: &str = "primo-dmp";
-/// The version this primo writes and reads.
-pub const VERSION: u32 = 1;
+/// The version this primo writes; it reads this one and version 1.
+pub const VERSION: u32 = 2;
 
-/// A DMP with the names of its DoFs.
+/// An orientation among the columns.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Orientation {
+    /// Its four column names, `w, x, y, z`.
+    pub columns: [String; 4],
+    /// Its goal, `[w, x, y, z]`.
+    pub goal: [f32; 4],
+}
+
+/// A DMP with the names of its columns.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct DmpFile {
     /// Always [`FORMAT`].
     pub format: String,
-    /// Always [`VERSION`] when written by this primo.
+    /// [`VERSION`] when written by this primo.
     pub version: u32,
-    /// DoF names, as in the demonstration's header.
+    /// Column names, as in the demonstration's header.
     pub names: Vec<String>,
+    /// The orientations among the columns (none in version 1).
+    #[serde(default)]
+    pub orientations: Vec<Orientation>,
     /// The DMP itself.
     pub dmp: HostDmp,
 }
@@ -39,15 +64,118 @@ struct Header {
     version: u32,
 }
 
+/// What a column of the demonstration is.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Column {
+    /// One DoF.
+    Scalar,
+    /// The `w` of an orientation (the next three are its `x, y, z`).
+    Quaternion,
+}
+
+/// The layout of `names`: each column's kind, skipping an orientation's
+/// `x, y, z` (part of its `w`'s entry).
+fn layout(names: &[String]) -> Vec<(usize, Column)> {
+    let mut out = Vec::new();
+    let mut i = 0;
+    while i < names.len() {
+        let group = names[i].strip_suffix("qw").filter(|prefix| {
+            ["qx", "qy", "qz"]
+                .iter()
+                .enumerate()
+                .all(|(k, axis)| names.get(i + 1 + k) == Some(&format!("{prefix}{axis}")))
+        });
+        if group.is_some() {
+            out.push((i, Column::Quaternion));
+            i += 4;
+        } else {
+            out.push((i, Column::Scalar));
+            i += 1;
+        }
+    }
+    out
+}
+
+/// DMP DoFs of a layout.
+fn dmp_dof(layout: &[(usize, Column)]) -> usize {
+    layout
+        .iter()
+        .map(|(_, c)| if *c == Column::Quaternion { 3 } else { 1 })
+        .sum()
+}
+
 impl DmpFile {
-    /// Wraps a DMP and its DoF names.
-    pub fn new(names: Vec<String>, dmp: HostDmp) -> Self {
-        Self {
+    /// Fits a DMP of `kernels` kernels per DoF to a demonstration (`file`
+    /// names it in errors); orientations as the module docs say.
+    pub fn fit(file: &str, demo: &Demo, kernels: usize) -> Result<Self, Error> {
+        if !(2..=MAX_KERNELS).contains(&kernels) {
+            return Err(Error::File(format!(
+                "--kernels: {kernels} is outside 2..={MAX_KERNELS}"
+            )));
+        }
+        let columns = demo.names.len();
+        let layout = layout(&demo.names);
+        let dof = dmp_dof(&layout);
+        if dof > HOST_MAX_DOF {
+            return Err(Error::File(format!(
+                "{file}:1: {dof} DoF (an orientation counts 3), at most {HOST_MAX_DOF}"
+            )));
+        }
+        let rows = demo.times.len();
+        let mut positions = vec![0.0f32; rows * dof];
+        let mut orientations = Vec::new();
+        let mut scaled_mask = 0u32;
+        let mut d = 0;
+        for &(c, kind) in &layout {
+            let column = |k: usize| demo.positions.iter().skip(c + k).step_by(columns).copied();
+            match kind {
+                Column::Scalar => {
+                    for (r, v) in column(0).enumerate() {
+                        positions[r * dof + d] = v;
+                    }
+                    scaled_mask |= 1 << d;
+                    d += 1;
+                }
+                Column::Quaternion => {
+                    let quaternions: Vec<f32> = (0..rows)
+                        .flat_map(|r| (0..4).map(move |k| (r, k)))
+                        .map(|(r, k)| demo.positions[r * columns + c + k])
+                        .collect();
+                    let mut log = vec![0.0f32; rows * 3];
+                    let goal = log_coordinates(&quaternions, &mut log).map_err(|e| {
+                        Error::File(format!(
+                            "{file}: columns {}…{}: not an orientation: {e}",
+                            demo.names[c],
+                            demo.names[c + 3]
+                        ))
+                    })?;
+                    for (r, e) in log.chunks_exact(3).enumerate() {
+                        positions[r * dof + d..r * dof + d + 3].copy_from_slice(e);
+                    }
+                    orientations.push(Orientation {
+                        columns: std::array::from_fn(|k| demo.names[c + k].clone()),
+                        goal: goal.to_array(),
+                    });
+                    d += 3;
+                }
+            }
+        }
+        let options = FitOptions {
+            scaling: Scaling::AutoWhere(scaled_mask),
+            ..FitOptions::default()
+        };
+        let dmp = HostDmp::fit(&demo.times, &positions, dof, kernels, &options).map_err(|e| {
+            Error::File(format!(
+                "{file}: cannot fit {kernels} kernels to {rows} rows: {e}"
+            ))
+        })?;
+        Ok(DmpFile {
             format: FORMAT.into(),
             version: VERSION,
-            names,
+            names: demo.names.clone(),
+            orientations,
             dmp,
-        }
+        })
     }
 
     /// Parses a file's text; `file` names it in error messages.
@@ -61,19 +189,38 @@ impl DmpFile {
                 header.format
             )));
         }
-        if header.version != VERSION {
+        if !(1..=VERSION).contains(&header.version) {
             return Err(Error::File(format!(
-                "{file}: unsupported version {} (this primo reads version {VERSION})",
+                "{file}: unsupported version {} (this primo reads versions 1 to {VERSION})",
                 header.version
             )));
         }
         let parsed: Self = serde_json::from_str(text).map_err(at)?;
-        if parsed.names.len() != parsed.dmp.dof() {
+        let layout = layout(&parsed.names);
+        let groups: Vec<&[String]> = layout
+            .iter()
+            .filter(|(_, c)| *c == Column::Quaternion)
+            .map(|(i, _)| &parsed.names[*i..*i + 4])
+            .collect();
+        let declared: Vec<&[String]> = parsed.orientations.iter().map(|o| &o.columns[..]).collect();
+        if groups != declared {
             return Err(Error::File(format!(
-                "{file}: {} names for a DMP with {} DoF",
+                "{file}: `orientations` must list exactly the `…qw,…qx,…qy,…qz` column groups of \
+                 `names`, in order"
+            )));
+        }
+        if dmp_dof(&layout) != parsed.dmp.dof() {
+            return Err(Error::File(format!(
+                "{file}: {} names ({} DoF, an orientation counts 3) for a DMP with {} DoF",
                 parsed.names.len(),
+                dmp_dof(&layout),
                 parsed.dmp.dof()
             )));
+        }
+        for o in &parsed.orientations {
+            Quaternion::from_array(o.goal)
+                .normalized()
+                .map_err(|e| Error::File(format!("{file}: goal of {}: {e}", o.columns[0])))?;
         }
         Ok(parsed)
     }
@@ -81,5 +228,154 @@ impl DmpFile {
     /// Serializes to pretty JSON.
     pub fn to_json(&self) -> Result<String, serde_json::Error> {
         serde_json::to_string_pretty(self)
+    }
+
+    /// The demonstrated start, one value per column.
+    pub fn start(&self) -> Vec<f32> {
+        self.columns_of(self.dmp.start_position())
+    }
+
+    /// Runs the DMP from `t = 0` to `t = τ` at step `dt` and returns the
+    /// times and the rows, one value per column. `start` and `goal` (one
+    /// value per column; an orientation's four are normalized) replace
+    /// the demonstrated ones; `tau` the demonstrated duration.
+    pub fn run(
+        &self,
+        dt: f32,
+        tau: Option<f32>,
+        start: Option<&[f32]>,
+        goal: Option<&[f32]>,
+    ) -> Result<impl Iterator<Item = (f32, Vec<f32>)> + '_, Error> {
+        let mut exec = self.dmp.execution();
+        if let Some(tau) = tau {
+            exec.tau = tau;
+        }
+        let mut goals: Vec<Quaternion> = self
+            .orientations
+            .iter()
+            .map(|o| Quaternion::from_array(o.goal))
+            .collect();
+        let layout = layout(&self.names);
+        if let Some(goal) = goal {
+            self.check_len("goal", goal)?;
+            let mut d = 0;
+            let mut o = 0;
+            for &(c, kind) in &layout {
+                match kind {
+                    Column::Scalar => {
+                        exec.goal[d] = goal[c];
+                        d += 1;
+                    }
+                    Column::Quaternion => {
+                        goals[o] = quaternion(&goal[c..c + 4], "goal", &self.names[c])?;
+                        o += 1;
+                        d += 3;
+                    }
+                }
+            }
+        }
+        if let Some(start) = start {
+            self.check_len("start", start)?;
+            let demonstrated = self.dmp.start_position().to_vec();
+            let (mut d, mut o) = (0, 0);
+            for &(c, kind) in &layout {
+                match kind {
+                    Column::Scalar => {
+                        exec.start[d] = start[c];
+                        d += 1;
+                    }
+                    Column::Quaternion => {
+                        let q = quaternion(&start[c..c + 4], "start", &self.names[c])?;
+                        let e = nearest_log(&q, &goals[o], &demonstrated[d..d + 3]);
+                        exec.start[d..d + 3].copy_from_slice(&e);
+                        o += 1;
+                        d += 3;
+                    }
+                }
+            }
+        }
+        let steps = self
+            .dmp
+            .trajectory(&exec, dt)
+            .map_err(|e| Error::Movement(e.to_string()))?;
+        Ok(steps.map(move |s| (s.time, self.columns_with(&s.position, &goals))))
+    }
+
+    /// DMP coordinates → column values, with the stored goals.
+    fn columns_of(&self, dmp: &[f32]) -> Vec<f32> {
+        let goals: Vec<Quaternion> = self
+            .orientations
+            .iter()
+            .map(|o| Quaternion::from_array(o.goal))
+            .collect();
+        self.columns_with(dmp, &goals)
+    }
+
+    /// DMP coordinates → column values, orientations relative to `goals`.
+    fn columns_with(&self, dmp: &[f32], goals: &[Quaternion]) -> Vec<f32> {
+        let mut out = Vec::with_capacity(self.names.len());
+        let (mut d, mut o) = (0, 0);
+        for (_, kind) in layout(&self.names) {
+            match kind {
+                Column::Scalar => {
+                    out.push(dmp.get(d).copied().unwrap_or(0.0));
+                    d += 1;
+                }
+                Column::Quaternion => {
+                    let goal = goals.get(o).copied().unwrap_or(Quaternion::IDENTITY);
+                    let e = dmp.get(d..d + 3).unwrap_or(&[0.0; 3]);
+                    out.extend(from_log(e, &goal).to_array());
+                    o += 1;
+                    d += 3;
+                }
+            }
+        }
+        out
+    }
+
+    fn check_len(&self, flag: &str, values: &[f32]) -> Result<(), Error> {
+        if values.len() != self.names.len() {
+            return Err(Error::Movement(format!(
+                "--{flag}: {} values, expected one per column ({})",
+                values.len(),
+                self.names.join(",")
+            )));
+        }
+        Ok(())
+    }
+}
+
+/// Four values as a unit quaternion (`flag` and `column` name it in errors).
+fn quaternion(values: &[f32], flag: &str, column: &str) -> Result<Quaternion, Error> {
+    let q = Quaternion::from_array([values[0], values[1], values[2], values[3]]);
+    q.normalized()
+        .map_err(|_| Error::Movement(format!("--{flag}: {column}…: not an orientation (zero)")))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn names(s: &str) -> Vec<String> {
+        s.split(',').map(String::from).collect()
+    }
+
+    #[test]
+    fn orientation_columns_are_recognized_by_name() {
+        let l = layout(&names("x,qw,qx,qy,qz,tool_qw,tool_qx,tool_qy,tool_qz,qw"));
+        let kinds: Vec<Column> = l.iter().map(|(_, c)| *c).collect();
+        assert_eq!(
+            kinds,
+            [
+                Column::Scalar,
+                Column::Quaternion,
+                Column::Quaternion,
+                Column::Scalar
+            ]
+        );
+        assert_eq!(dmp_dof(&l), 1 + 3 + 3 + 1);
+        // Out of order or with another prefix: plain columns.
+        let l = layout(&names("qw,qy,qx,qz,a_qw,b_qx,b_qy,b_qz"));
+        assert!(l.iter().all(|(_, c)| *c == Column::Scalar));
     }
 }
