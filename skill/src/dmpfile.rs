@@ -275,6 +275,7 @@ impl DmpFile {
                 "--kernels: {kernels} is outside 2..={MAX_KERNELS}"
             )));
         }
+        crate::csv::check_rotation_vectors(file, demo)?;
         let columns = demo.names.len();
         let layout = layout(&demo.names);
         let dof = dmp_dof(&layout);
