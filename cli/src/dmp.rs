@@ -4,7 +4,7 @@ use std::path::{Path, PathBuf};
 
 use primo_skill::MAX_KERNELS;
 use primo_skill::csv::{parse_demo, write_rows};
-use primo_skill::dmpfile::DmpFile;
+use primo_skill::dmpfile::{self, DmpFile, Fitted, RhythmicFile};
 
 use crate::error::CliError;
 use crate::output::{check_out_file, emit, read};
@@ -21,6 +21,13 @@ pub enum DmpCommand {
         /// Kernels per DoF (2 to 128).
         #[arg(long, default_value_t = 30)]
         kernels: usize,
+        /// Fit a rhythmic (periodic) DMP to one period of the demonstration.
+        #[arg(long)]
+        rhythmic: bool,
+        /// With --rhythmic: the period, s, from the first sample (default:
+        /// the whole demonstration is one period).
+        #[arg(long, requires = "rhythmic")]
+        period: Option<f32>,
         /// Output JSON file (stdout when absent).
         #[arg(long)]
         out: Option<PathBuf>,
@@ -43,6 +50,19 @@ pub enum DmpCommand {
         /// four quaternion values included).
         #[arg(long, allow_hyphen_values = true)]
         goal: Option<String>,
+        /// A rhythmic DMP: how long to run, s (default: 3 periods).
+        #[arg(long, conflicts_with_all = ["tau", "start", "goal"])]
+        duration: Option<f32>,
+        /// A rhythmic DMP: the frequency, Hz (default: the demonstrated).
+        #[arg(long, conflicts_with_all = ["tau", "start", "goal"])]
+        frequency: Option<f32>,
+        /// A rhythmic DMP: amplitudes relative to the demonstrated, one per
+        /// column, comma-separated.
+        #[arg(long, conflicts_with_all = ["tau", "start", "goal"])]
+        amplitude: Option<String>,
+        /// A rhythmic DMP: the oscillation's centre, one value per column.
+        #[arg(long, allow_hyphen_values = true, conflicts_with_all = ["tau", "start", "goal"])]
+        anchor: Option<String>,
         /// Output CSV file (stdout when absent).
         #[arg(long)]
         out: Option<PathBuf>,
@@ -55,39 +75,91 @@ pub const MAX_ROWS: usize = 10_000_000;
 /// Runs a `primo dmp` command.
 pub fn run(command: DmpCommand) -> Result<(), CliError> {
     match command {
-        DmpCommand::Fit { demo, kernels, out } => fit(&demo, kernels, out.as_deref()),
+        DmpCommand::Fit {
+            demo,
+            kernels,
+            rhythmic,
+            period,
+            out,
+        } => fit(&demo, kernels, rhythmic.then_some(period), out.as_deref()),
         DmpCommand::Run {
             dmp,
             dt,
             tau,
             start,
             goal,
+            duration,
+            frequency,
+            amplitude,
+            anchor,
             out,
-        } => run_dmp(
-            &dmp,
-            dt,
-            tau,
-            start.as_deref(),
-            goal.as_deref(),
-            out.as_deref(),
-        ),
+        } => {
+            let file = dmp.display().to_string();
+            if !(dt.is_finite() && dt > 0.0) {
+                return Err(CliError::input(format!(
+                    "--dt: {dt} must be a positive number of seconds"
+                )));
+            }
+            if let Some(out) = &out {
+                check_out_file("--out", out)?;
+            }
+            let rows = match dmpfile::parse(&file, &read(&dmp)?)? {
+                Fitted::Discrete(dmp) => {
+                    if duration.is_some()
+                        || frequency.is_some()
+                        || amplitude.is_some()
+                        || anchor.is_some()
+                    {
+                        return Err(CliError::input(format!(
+                            "--duration, --frequency, --amplitude, --anchor: {file} is not a \
+                             rhythmic DMP"
+                        )));
+                    }
+                    run_discrete(&file, &dmp, dt, tau, start.as_deref(), goal.as_deref())?
+                }
+                Fitted::Rhythmic(dmp) => run_rhythmic(
+                    &file,
+                    &dmp,
+                    dt,
+                    duration,
+                    frequency,
+                    amplitude.as_deref(),
+                    anchor.as_deref(),
+                )?,
+            };
+            emit(out.as_deref(), &rows)
+        }
     }
 }
 
-fn fit(demo_path: &Path, kernels: usize, out: Option<&Path>) -> Result<(), CliError> {
+fn fit(
+    demo_path: &Path,
+    kernels: usize,
+    rhythmic: Option<Option<f32>>,
+    out: Option<&Path>,
+) -> Result<(), CliError> {
     let file = demo_path.display().to_string();
     if !(2..=MAX_KERNELS).contains(&kernels) {
         return Err(CliError::input(format!(
             "--kernels: {kernels} is outside 2..={MAX_KERNELS}"
         )));
     }
+    if let Some(Some(period)) = rhythmic
+        && !(period.is_finite() && period > 0.0)
+    {
+        return Err(CliError::input(format!(
+            "--period: {period} must be a positive number of seconds"
+        )));
+    }
     if let Some(out) = out {
         check_out_file("--out", out)?;
     }
     let demo = parse_demo(&file, &read(demo_path)?)?;
-    let json = DmpFile::fit(&file, &demo, kernels)?
-        .to_json()
-        .map_err(|e| CliError::other(format!("cannot serialize the DMP: {e}")))?;
+    let json = match rhythmic {
+        None => DmpFile::fit(&file, &demo, kernels)?.to_json(),
+        Some(period) => RhythmicFile::fit(&file, &demo, kernels, period)?.to_json(),
+    }
+    .map_err(|e| CliError::other(format!("cannot serialize the DMP: {e}")))?;
     emit(out, format!("{json}\n").as_bytes())
 }
 
@@ -115,24 +187,15 @@ pub fn parse_vector(flag: &str, text: &str, names: &[String]) -> Result<Vec<f32>
         .collect()
 }
 
-fn run_dmp(
-    path: &Path,
+/// The rows of a discrete DMP's run, as CSV.
+fn run_discrete(
+    file: &str,
+    dmp: &DmpFile,
     dt: f32,
     tau: Option<f32>,
     start: Option<&str>,
     goal: Option<&str>,
-    out: Option<&Path>,
-) -> Result<(), CliError> {
-    let file = path.display().to_string();
-    let dmp = DmpFile::parse(&file, &read(path)?)?;
-    if !(dt.is_finite() && dt > 0.0) {
-        return Err(CliError::input(format!(
-            "--dt: {dt} must be a positive number of seconds"
-        )));
-    }
-    if let Some(out) = out {
-        check_out_file("--out", out)?;
-    }
+) -> Result<Vec<u8>, CliError> {
     if let Some(tau) = tau
         && !(tau.is_finite() && tau > 0.0)
     {
@@ -147,17 +210,61 @@ fn run_dmp(
         .map(|text| parse_vector("--goal", text, &dmp.names))
         .transpose()?;
     let duration = tau.unwrap_or(dmp.dmp.tau());
-    let rows = duration / dt;
-    if rows > MAX_ROWS as f32 {
-        return Err(CliError::input(format!(
-            "--dt {dt} with tau {duration} s would write {rows:.0} rows, at most {MAX_ROWS}"
-        )));
-    }
+    check_rows(dt, duration, "tau")?;
     let trajectory = dmp
         .run(dt, tau, start.as_deref(), goal.as_deref())
         .map_err(|e| CliError::input(format!("{file}: {e}")))?;
     let mut buf = Vec::new();
     write_rows(&mut buf, &dmp.names, trajectory)
         .map_err(|e| CliError::other(format!("writing the trajectory: {e}")))?;
-    emit(out, &buf)
+    Ok(buf)
+}
+
+/// The rows of a rhythmic DMP's run, as CSV.
+fn run_rhythmic(
+    file: &str,
+    dmp: &RhythmicFile,
+    dt: f32,
+    duration: Option<f32>,
+    frequency: Option<f32>,
+    amplitude: Option<&str>,
+    anchor: Option<&str>,
+) -> Result<Vec<u8>, CliError> {
+    let duration = duration.unwrap_or(3.0 * dmp.rhythmic.period());
+    if !(duration.is_finite() && duration >= 0.0) {
+        return Err(CliError::input(format!(
+            "--duration: {duration} must be a number of seconds >= 0"
+        )));
+    }
+    check_rows(dt, duration, "duration")?;
+    let amplitude = amplitude
+        .map(|text| parse_vector("--amplitude", text, &dmp.names))
+        .transpose()?;
+    let anchor = anchor
+        .map(|text| parse_vector("--anchor", text, &dmp.names))
+        .transpose()?;
+    let rows = dmp
+        .run(
+            dt,
+            duration,
+            frequency,
+            amplitude.as_deref(),
+            anchor.as_deref(),
+        )
+        .map_err(|e| CliError::input(format!("{file}: {e}")))?;
+    let mut buf = Vec::new();
+    write_rows(&mut buf, &dmp.names, rows)
+        .map_err(|e| CliError::other(format!("writing the trajectory: {e}")))?;
+    Ok(buf)
+}
+
+/// At most [`MAX_ROWS`] rows.
+fn check_rows(dt: f32, duration: f32, flag: &str) -> Result<(), CliError> {
+    let rows = duration / dt;
+    if rows > MAX_ROWS as f32 {
+        return Err(CliError::input(format!(
+            "--dt {dt} with {flag} {duration} s would write {rows:.0} rows, at most {MAX_ROWS}"
+        )));
+    }
+    Ok(())
 }

@@ -306,3 +306,106 @@ fn orientation_columns_fit_and_run_as_a_quaternion_dmp() {
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("--goal: qw…: not an orientation"), "{err}");
 }
+
+#[test]
+fn a_rhythmic_fit_replays_faster_and_wider() {
+    // Two periods of a wipe, 0.8 s each, at 250 Hz; fit the first.
+    let wipe = |t: f64| {
+        let p = std::f64::consts::TAU * t / 0.8;
+        [
+            0.5 + 0.1 * p.sin() + 0.02 * (2.0 * p).cos(),
+            0.2 + 0.05 * (p + 0.3).cos(),
+        ]
+    };
+    let mut csv = String::from("t,x,y\n");
+    for i in 0..=400 {
+        let t = i as f64 / 250.0;
+        let [x, y] = wipe(t);
+        csv += &format!("{t},{x},{y}\n");
+    }
+    let demo = tmp("wipe.csv");
+    std::fs::write(&demo, csv).unwrap();
+    let json = tmp("wipe.json");
+    let (code, _, err) = primo(&[
+        "dmp",
+        "fit",
+        "--demo",
+        demo.to_str().unwrap(),
+        "--rhythmic",
+        "--period",
+        "0.8",
+        "--kernels",
+        "25",
+        "--out",
+        json.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let run = |args: &[&str]| {
+        let mut all = vec!["dmp", "run", json.to_str().unwrap()];
+        all.extend_from_slice(args);
+        let (code, out, err) = primo(&all);
+        assert_eq!(code, 0, "{err}");
+        out.lines()
+            .skip(1)
+            .map(|l| {
+                l.split(',')
+                    .map(|v| v.parse::<f64>().unwrap())
+                    .collect::<Vec<_>>()
+            })
+            .collect::<Vec<_>>()
+    };
+    // Three periods at the demonstrated rate and size.
+    let rows = run(&[]);
+    assert_eq!(rows.len(), 2401);
+    let worst = rows
+        .iter()
+        .map(|r| {
+            let w = wipe(r[0]);
+            (r[1] - w[0]).abs().max((r[2] - w[1]).abs())
+        })
+        .fold(0.0, f64::max);
+    assert!(worst < 1e-4, "off by {worst}");
+    // Twice as fast, 1.5 times as wide: after settling, x spans 1.5 times
+    // the demonstrated range.
+    let rows = run(&[
+        "--frequency",
+        "2.5",
+        "--amplitude",
+        "1.5,1.5",
+        "--duration",
+        "2",
+    ]);
+    let settled: Vec<f64> = rows[1000..].iter().map(|r| r[1]).collect();
+    let span = settled.iter().cloned().fold(f64::MIN, f64::max)
+        - settled.iter().cloned().fold(f64::MAX, f64::min);
+    let demo_span = (0..800)
+        .map(|i| wipe(i as f64 / 1000.0)[0])
+        .fold((f64::MAX, f64::MIN), |(lo, hi), x| (lo.min(x), hi.max(x)));
+    let ratio = span / (demo_span.1 - demo_span.0);
+    assert!((ratio - 1.5).abs() < 0.01, "{ratio}");
+    // Rhythmic flags on a discrete DMP, and a bad period: refused.
+    let reach = tmp("reach-rhythm.json");
+    let (code, _, err) = primo(&[
+        "dmp",
+        "fit",
+        "--demo",
+        &demo_path(),
+        "--out",
+        reach.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let (code, _, err) = primo(&["dmp", "run", reach.to_str().unwrap(), "--frequency", "2"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("not a rhythmic DMP"), "{err}");
+    let (code, _, err) = primo(&[
+        "dmp",
+        "fit",
+        "--demo",
+        demo.to_str().unwrap(),
+        "--rhythmic",
+        "--period",
+        "0",
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("--period"), "{err}");
+}

@@ -72,7 +72,7 @@
 //! # Ok::<(), primo_core::Error>(())
 //! ```
 
-mod fit;
+pub(crate) mod fit;
 
 use heapless::Vec;
 use serde::{Deserialize, Serialize};
@@ -209,7 +209,7 @@ impl<const D: usize, const K: usize> TryFrom<DmpFields<D, K>> for Dmp<D, K> {
     }
 }
 
-fn check_positive(v: f32, what: &'static str) -> Result<(), Error> {
+pub(crate) fn check_positive(v: f32, what: &'static str) -> Result<(), Error> {
     if v.is_finite() && v > 0.0 {
         Ok(())
     } else {
@@ -217,7 +217,7 @@ fn check_positive(v: f32, what: &'static str) -> Result<(), Error> {
     }
 }
 
-fn check_tau(tau: f32, what: &'static str) -> Result<(), Error> {
+pub(crate) fn check_tau(tau: f32, what: &'static str) -> Result<(), Error> {
     if tau.is_finite() && tau >= MIN_TAU {
         Ok(())
     } else {
@@ -225,7 +225,7 @@ fn check_tau(tau: f32, what: &'static str) -> Result<(), Error> {
     }
 }
 
-fn check_alpha(alpha: f32) -> Result<(), Error> {
+pub(crate) fn check_alpha(alpha: f32) -> Result<(), Error> {
     if (MIN_ALPHA..=MAX_ALPHA).contains(&alpha) {
         Ok(())
     } else {
@@ -767,7 +767,7 @@ fn activations<const K: usize>(
 
 /// `exp(A u)` of the critically damped spring-damper for `u = dt/τ`, as
 /// `[Φ00, Φ01, Φ10, Φ11]` acting on `(y − y*, z)`.
-fn transition(alpha: f32, u: f32) -> [f32; 4] {
+pub(crate) fn transition(alpha: f32, u: f32) -> [f32; 4] {
     let a = 0.5 * alpha;
     let au = a * u;
     // Past 80 time constants the spring has settled (e^−80 < 2e−35); the

@@ -16,6 +16,7 @@
 //!   per-block exploration and an importance sampler.
 //! - [`quaternion`] and [`orientation`]: unit quaternions, orientation DMPs
 //!   and Cartesian DMPs (position and orientation on one phase).
+//! - [`rhythmic`]: periodic DMPs, frequency and amplitude changed online.
 //! - [`normal`]: a seedable standard-normal sampler on any [`rand_core::Rng`].
 //!
 //! All arithmetic is `f32` with [`libm`] functions only, and every public
@@ -64,6 +65,7 @@ pub mod normal;
 pub mod orientation;
 pub mod power;
 pub mod quaternion;
+pub mod rhythmic;
 pub mod rng;
 pub mod service;
 pub mod wire;

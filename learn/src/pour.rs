@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use primo_sim::cell::{CellConfig, GlassKind};
-use primo_skill::csv::parse_demo;
+use primo_skill::csv::{check_rotation_vectors, parse_demo};
 use primo_skill::{MAX_KERNELS, Skill, Space};
 use serde::{Deserialize, Serialize};
 
@@ -103,7 +103,10 @@ impl SkillSpec {
         for d in &self.demos {
             let text = std::fs::read_to_string(&d.file)
                 .map_err(|e| Error::Invalid(format!("{}: cannot read: {e}", d.file.display())))?;
-            demos.push((d.volume, parse_demo(&d.file.display().to_string(), &text)?));
+            let name = d.file.display().to_string();
+            let demo = parse_demo(&name, &text)?;
+            check_rotation_vectors(&name, &demo)?;
+            demos.push((d.volume, demo));
         }
         let examples: Vec<_> = demos.iter().map(|(q, d)| (*q, d)).collect();
         let skill = Skill::fit(

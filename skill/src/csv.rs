@@ -128,6 +128,55 @@ pub fn parse_demo(file: &str, text: &str) -> Result<Demo, Error> {
     })
 }
 
+/// Refuses a recording whose rotation-vector columns (`<p>rx,<p>ry,<p>rz`,
+/// adjacent) jump between two rows by more than the rotation between them
+/// (by over 1 rad): a rotation vector wraps by 2π as the angle passes 180°,
+/// and a DMP fitted across the jump would swing the long way round. The
+/// message names the row and says to record a quaternion instead.
+pub fn check_rotation_vectors(file: &str, demo: &Demo) -> Result<(), Error> {
+    let width = demo.names.len();
+    for c in 0..width.saturating_sub(2) {
+        let Some(prefix) = demo.names[c].strip_suffix("rx") else {
+            continue;
+        };
+        if demo.names[c + 1] != format!("{prefix}ry") || demo.names[c + 2] != format!("{prefix}rz")
+        {
+            continue;
+        }
+        let rotation =
+            |row: &[f32]| primo_core::quaternion::Quaternion::exp([row[c], row[c + 1], row[c + 2]]);
+        for (i, pair) in demo
+            .positions
+            .chunks_exact(width)
+            .collect::<Vec<_>>()
+            .windows(2)
+            .enumerate()
+        {
+            let (a, b) = (pair[0], pair[1]);
+            let step = ((b[c] - a[c]).powi(2)
+                + (b[c + 1] - a[c + 1]).powi(2)
+                + (b[c + 2] - a[c + 2]).powi(2))
+            .sqrt();
+            let relative = rotation(b).mul(&rotation(a).conj());
+            let v = (relative.x.powi(2) + relative.y.powi(2) + relative.z.powi(2)).sqrt();
+            let turn = 2.0 * v.atan2(relative.w.abs());
+            if step > turn + 1.0 {
+                return Err(Error::File(format!(
+                    "{file}: rows {} and {}: the rotation vector {}…{} jumps by {step:.2} rad \
+                     for a turn of {turn:.3} rad (it wraps by 2π where the angle passes 180°); \
+                     record the orientation as {prefix}qw,{prefix}qx,{prefix}qy,{prefix}qz \
+                     (a quaternion) instead",
+                    i + 1,
+                    i + 2,
+                    demo.names[c],
+                    demo.names[c + 2]
+                )));
+            }
+        }
+    }
+    Ok(())
+}
+
 /// A time in seconds to the microsecond, without trailing zeros: 9·0.1
 /// prints as 0.9, not as f32's 0.90000004 or a sum of steps' 0.9000000000000001.
 pub fn seconds(t: f64) -> String {
@@ -158,6 +207,26 @@ mod tests {
 
     fn msg(text: &str) -> String {
         parse_demo("d.csv", text).unwrap_err().to_string()
+    }
+
+    #[test]
+    fn a_wrapped_rotation_vector_is_refused_with_its_row() {
+        // Yaw 179° then −179° (2° of turn, a 358° jump of the vector).
+        let (a, b) = (179f32.to_radians(), -179f32.to_radians());
+        let text = format!("t,x,rx,ry,rz\n0,0,0,0,{a}\n0.1,0,0,0,{a}\n0.2,0,0,0,{b}\n");
+        let demo = parse_demo("d.csv", &text).unwrap();
+        let e = check_rotation_vectors("d.csv", &demo)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("d.csv: rows 2 and 3: the rotation vector rx…rz jumps"),
+            "{e}"
+        );
+        assert!(e.contains("qw,qx,qy,qz"), "{e}");
+        // A fast but genuine turn is fine.
+        let text = format!("t,rx,ry,rz\n0,0,0,0\n0.1,0,0,1.5\n0.2,0,0,{a}\n");
+        let demo = parse_demo("d.csv", &text).unwrap();
+        assert!(check_rotation_vectors("d.csv", &demo).is_ok());
     }
 
     #[test]

@@ -16,6 +16,10 @@
 //! hold `log(q ⊗ ḡ)` with `g` the group's `goal`; every other column is one
 //! DoF. A run writes the same columns back, the quaternions unit-norm.
 //!
+//! A rhythmic DMP (`primo dmp fit --rhythmic`) is the same format with a
+//! `rhythmic` object (the fields of [`RhythmicDmp`]) in place of `dmp` and
+//! `orientations`: one period, replayed at any frequency and amplitude.
+//!
 //! `format` and `version` are checked on load; a newer version is refused
 //! rather than misread. Version 1 files (no orientations) still load. The
 //! fields of `dmp` are those of [`primo_core::dmp::Dmp`] (see the README).
@@ -23,6 +27,7 @@
 use primo_core::dmp::{FitOptions, Scaling};
 use primo_core::orientation::{from_log, log_coordinates, nearest_log};
 use primo_core::quaternion::Quaternion;
+use primo_core::rhythmic::RhythmicDmp;
 use serde::{Deserialize, Serialize};
 
 use crate::csv::Demo;
@@ -62,6 +67,163 @@ pub struct DmpFile {
 struct Header {
     format: String,
     version: u32,
+    #[serde(default)]
+    rhythmic: Option<serde::de::IgnoredAny>,
+}
+
+/// The host's rhythmic DMP: up to 16 DoF, 128 kernels.
+pub type HostRhythmic = RhythmicDmp<HOST_MAX_DOF, MAX_KERNELS>;
+
+/// A rhythmic DMP with the names of its columns.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RhythmicFile {
+    /// Always [`FORMAT`].
+    pub format: String,
+    /// [`VERSION`] when written by this primo.
+    pub version: u32,
+    /// Column names, as in the demonstration's header.
+    pub names: Vec<String>,
+    /// The DMP itself.
+    pub rhythmic: HostRhythmic,
+}
+
+/// A DMP file of either kind.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Fitted {
+    /// A discrete movement (with orientations, if any).
+    Discrete(DmpFile),
+    /// A periodic one.
+    Rhythmic(RhythmicFile),
+}
+
+/// Checks `format` and `version` and reads either kind; `file` names the
+/// file in error messages.
+pub fn parse(file: &str, text: &str) -> Result<Fitted, Error> {
+    let header = header(file, text)?;
+    if header.rhythmic.is_none() {
+        return DmpFile::parse(file, text).map(Fitted::Discrete);
+    }
+    let parsed: RhythmicFile = serde_json::from_str(text).map_err(|e| at(file, e))?;
+    if parsed.names.len() != parsed.rhythmic.dof() {
+        return Err(Error::File(format!(
+            "{file}: {} names for a rhythmic DMP with {} DoF",
+            parsed.names.len(),
+            parsed.rhythmic.dof()
+        )));
+    }
+    Ok(Fitted::Rhythmic(parsed))
+}
+
+fn at(file: &str, e: serde_json::Error) -> Error {
+    Error::File(format!("{file}:{}:{}: {e}", e.line(), e.column()))
+}
+
+/// The header, checked.
+fn header(file: &str, text: &str) -> Result<Header, Error> {
+    let header: Header = serde_json::from_str(text).map_err(|e| at(file, e))?;
+    if header.format != FORMAT {
+        return Err(Error::File(format!(
+            "{file}: format is `{}`, expected `{FORMAT}`",
+            header.format
+        )));
+    }
+    if !(1..=VERSION).contains(&header.version) {
+        return Err(Error::File(format!(
+            "{file}: unsupported version {} (this primo reads versions 1 to {VERSION})",
+            header.version
+        )));
+    }
+    Ok(header)
+}
+
+impl RhythmicFile {
+    /// Fits one period (`period` seconds from the first sample, or the
+    /// whole recording) with `kernels` kernels per DoF; orientation
+    /// columns are refused (a rhythmic orientation DMP is not built).
+    pub fn fit(
+        file: &str,
+        demo: &Demo,
+        kernels: usize,
+        period: Option<f32>,
+    ) -> Result<Self, Error> {
+        if !(3..=MAX_KERNELS).contains(&kernels) {
+            return Err(Error::File(format!(
+                "--kernels: {kernels} is outside 3..={MAX_KERNELS} for a rhythmic DMP"
+            )));
+        }
+        if let Some((c, _)) = layout(&demo.names)
+            .into_iter()
+            .find(|(_, k)| *k == Column::Quaternion)
+        {
+            return Err(Error::File(format!(
+                "{file}:1: columns {}…: orientations are not fitted as rhythmic DMPs",
+                demo.names[c]
+            )));
+        }
+        if demo.names.len() > HOST_MAX_DOF {
+            return Err(Error::File(format!(
+                "{file}:1: {} DoF, at most {HOST_MAX_DOF}",
+                demo.names.len()
+            )));
+        }
+        let rhythmic = HostRhythmic::fit(
+            &demo.times,
+            &demo.positions,
+            demo.names.len(),
+            kernels,
+            period,
+            &FitOptions::default(),
+        )
+        .map_err(|e| Error::File(format!("{file}: cannot fit a rhythmic DMP: {e}")))?;
+        Ok(RhythmicFile {
+            format: FORMAT.into(),
+            version: VERSION,
+            names: demo.names.clone(),
+            rhythmic,
+        })
+    }
+
+    /// Serializes to pretty JSON.
+    pub fn to_json(&self) -> Result<String, serde_json::Error> {
+        serde_json::to_string_pretty(self)
+    }
+
+    /// Runs `duration` seconds at step `dt`: times and rows. `frequency`
+    /// (Hz), `amplitude` (relative, per column) and `anchor` (per column)
+    /// replace the demonstrated ones from the start.
+    pub fn run(
+        &self,
+        dt: f32,
+        duration: f32,
+        frequency: Option<f32>,
+        amplitude: Option<&[f32]>,
+        anchor: Option<&[f32]>,
+    ) -> Result<impl Iterator<Item = (f32, Vec<f32>)> + '_, Error> {
+        let movement = |e: primo_core::Error| Error::Movement(e.to_string());
+        let mut run = self.rhythmic.start().map_err(movement)?;
+        if let Some(hz) = frequency {
+            run.set_frequency(hz).map_err(|_| {
+                Error::Movement(format!("--frequency {hz}: must be in 0.001..=1000 Hz"))
+            })?;
+        }
+        if let Some(a) = amplitude {
+            run.set_amplitude(a)
+                .map_err(|e| Error::Movement(format!("--amplitude: {e}")))?;
+        }
+        if let Some(g) = anchor {
+            run.set_anchor(g)
+                .map_err(|e| Error::Movement(format!("--anchor: {e}")))?;
+        }
+        let steps = (duration / dt).round().max(0.0) as usize;
+        // The caller checked `dt` > 0, so a step cannot fail; the rows
+        // would stop if one ever did.
+        let first = std::iter::once((0.0, run.position().to_vec()));
+        let rest = (1..=steps).map_while(move |i| {
+            run.step(&self.rhythmic, dt).ok()?;
+            Some((i as f32 * dt, run.position().to_vec()))
+        });
+        Ok(first.chain(rest))
+    }
 }
 
 /// What a column of the demonstration is.
@@ -113,6 +275,7 @@ impl DmpFile {
                 "--kernels: {kernels} is outside 2..={MAX_KERNELS}"
             )));
         }
+        crate::csv::check_rotation_vectors(file, demo)?;
         let columns = demo.names.len();
         let layout = layout(&demo.names);
         let dof = dmp_dof(&layout);
@@ -178,24 +341,11 @@ impl DmpFile {
         })
     }
 
-    /// Parses a file's text; `file` names it in error messages.
+    /// Parses a discrete DMP file's text; `file` names it in error
+    /// messages (see [`parse`] for either kind).
     pub fn parse(file: &str, text: &str) -> Result<Self, Error> {
-        let at =
-            |e: serde_json::Error| Error::File(format!("{file}:{}:{}: {e}", e.line(), e.column()));
-        let header: Header = serde_json::from_str(text).map_err(at)?;
-        if header.format != FORMAT {
-            return Err(Error::File(format!(
-                "{file}: format is `{}`, expected `{FORMAT}`",
-                header.format
-            )));
-        }
-        if !(1..=VERSION).contains(&header.version) {
-            return Err(Error::File(format!(
-                "{file}: unsupported version {} (this primo reads versions 1 to {VERSION})",
-                header.version
-            )));
-        }
-        let parsed: Self = serde_json::from_str(text).map_err(at)?;
+        header(file, text)?;
+        let parsed: Self = serde_json::from_str(text).map_err(|e| at(file, e))?;
         let layout = layout(&parsed.names);
         let groups: Vec<&[String]> = layout
             .iter()

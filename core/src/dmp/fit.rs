@@ -45,7 +45,7 @@ pub(super) struct Demonstration<'a> {
 }
 
 /// `exp(A h)` of the critically damped spring in phase units, `f64`.
-fn transition(alpha: f64, h: f64) -> [f64; 4] {
+pub(crate) fn transition(alpha: f64, h: f64) -> [f64; 4] {
     let a = 0.5 * alpha;
     let ah = a * h;
     if !(ah < 700.0) {
@@ -150,7 +150,20 @@ pub(super) fn weights<const D: usize, const K: usize>(
         }
         i += 1;
     });
-    // Mirror the lower triangle, add the ridge, solve.
+    solve(&mut gram, &mut rhs, kernels, dof, demo.ridge, out)
+}
+
+/// Solves the normal equations `G w_d = b_d` of every DoF, `G` given by its
+/// lower triangle, with a ridge of `ridge` times `G`'s mean diagonal; the
+/// weights go to `out[d][..kernels]`.
+pub(crate) fn solve<const D: usize, const K: usize>(
+    gram: &mut [[f64; K]; K],
+    rhs: &mut [[f64; K]; D],
+    kernels: usize,
+    dof: usize,
+    ridge: f32,
+    out: &mut [[f32; K]; D],
+) -> Result<(), Error> {
     for a in 0..kernels {
         for b in 0..a {
             let lower = gram
@@ -166,19 +179,15 @@ pub(super) fn weights<const D: usize, const K: usize>(
     let trace: f64 = (0..kernels)
         .filter_map(|k| gram.get(k).and_then(|row| row.get(k)))
         .sum();
-    let lambda = f64::from(demo.ridge) * trace / kernels as f64;
+    let lambda = f64::from(ridge) * trace / kernels as f64;
     for (k, row) in gram.iter_mut().enumerate().take(kernels) {
         if let Some(g) = row.get_mut(k) {
             *g += lambda;
         }
     }
-    crate::linalg::cholesky(
-        &mut gram,
-        kernels,
-        "DMP fit (too few samples for the kernels?)",
-    )?;
+    crate::linalg::cholesky(gram, kernels, "DMP fit (too few samples for the kernels?)")?;
     for (b, w) in rhs.iter_mut().zip(out.iter_mut()).take(dof) {
-        crate::linalg::cholesky_solve(&gram, kernels, b);
+        crate::linalg::cholesky_solve(gram, kernels, b);
         for (wk, bk) in w.iter_mut().zip(b.iter()).take(kernels) {
             *wk = *bk as f32;
         }
