@@ -233,7 +233,6 @@ fn show(event: Event, progress: &mut Progress) -> Result<(), Error> {
             },
             dir.display()
         ),
-        Event::Logging(_) => return Ok(()),
         Event::Learning {
             settings: s,
             space,

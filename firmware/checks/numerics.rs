@@ -163,7 +163,8 @@ pub fn orientation_digest() -> u64 {
         let s = i as f32 / (SAMPLES - 1) as f32;
         t[i] = 2.0 * s;
         let turn = 4.36 * s * s * (3.0 - 2.0 * s);
-        let tilt = 0.4 * libm::sinf(3.14159 * s) * libm::sinf(3.14159 * s);
+        let wobble = libm::sinf(core::f32::consts::PI * s);
+        let tilt = 0.4 * wobble * wobble;
         let o = Quaternion::exp([0.0, 0.0, turn]).mul(&Quaternion::exp([tilt, 0.0, 0.0]));
         row.copy_from_slice(&o.to_array());
     }

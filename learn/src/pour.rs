@@ -271,8 +271,6 @@ pub enum Event<'a> {
         /// Roll-outs logged.
         logged: usize,
     },
-    /// The run log is open: from here on, the run can be resumed.
-    Logging(&'a Path),
     /// What is learned.
     Learning {
         /// The settings.
@@ -408,7 +406,6 @@ pub fn pour(
         error: Box::new(error),
         resumable: Some(dir.clone()),
     };
-    event(Event::Logging(&dir)).map_err(fail)?;
     let s = header.settings;
     let (cell, skill) = header.skill.build().map_err(fail)?;
     if examples_crc(&skill) != header.examples {

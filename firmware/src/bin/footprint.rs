@@ -13,8 +13,8 @@ use heapless::Vec;
 use primo_core::dmp::{DEFAULT_ALPHA, DEFAULT_OVERLAP, Dmp, Shape};
 use primo_core::generalize::Method;
 use primo_core::orientation::OrientationDmp;
-use primo_core::quaternion::Quaternion;
 use primo_core::power::{Block, PowerConfig};
+use primo_core::quaternion::Quaternion;
 use primo_core::service::{Coprocessor as Service, THETA};
 use primo_core::wire::{
     self, CHUNK, DmpStart, FrameReader, LearnerSetup, MAX_DOF, MAX_FRAME, Outcome, Reply, Request,
