@@ -2,11 +2,12 @@
 
 use std::path::{Path, PathBuf};
 
-use primo_learn::experiment::SearchRun;
+use primo_learn::experiment::{PowerComparison, SearchRun, THRESHOLDS};
 use primo_learn::learning::Algorithm;
 use primo_learn::output::create_dir;
 use primo_learn::pouring::built_in_skill;
 use primo_learn::report::{PowerSummary, median_rollouts, write_golden, write_power};
+use primo_learn::stats::Estimate;
 use primo_sim::cell::{CellConfig, GlassKind};
 
 use crate::args::{Glass, Space};
@@ -153,14 +154,14 @@ fn power(
     };
     let (cell, skill) = args.spec(Space::Joint, glass)?.build()?;
     let [extended, ordinary] = primo_learn::experiment::power(&skill, &cell, runs, updates, seed)?;
+    let comparison = PowerComparison::of(&extended.runs, &ordinary.runs, updates * 4 + 1);
     let summary = PowerSummary {
         runs,
         updates,
         kernels,
         parameters: skill.param_len() + 1,
         glass: glass.into(),
-        error_ratio: ordinary.error.last() / extended.error.last(),
-        spill_ratio: ordinary.spilled.last() / extended.spilled.last(),
+        comparison: &comparison,
         extended: &extended,
         ordinary: &ordinary,
         seconds: started.elapsed().as_secs_f64(),
@@ -181,10 +182,36 @@ fn power(
             c.rejected
         ))?;
     }
+    let e = |x: &Estimate, scale: f64, digits: usize| {
+        format!(
+            "{:.*} [{:.*}, {:.*}]",
+            digits,
+            x.value * scale,
+            digits,
+            x.low * scale,
+            digits,
+            x.high * scale
+        )
+    };
+    for (k, level) in THRESHOLDS.iter().enumerate() {
+        let c = &comparison;
+        say(&format!(
+            "to mean reward {level}: roll-outs, median [90 % CI]: extended {} ({}/{runs} reached), \
+             ordinary {} ({}/{runs}); saved by extended {}",
+            e(&c.extended.rollouts_to[k], 1.0, 0),
+            c.extended.reached[k],
+            e(&c.ordinary.rollouts_to[k], 1.0, 0),
+            c.ordinary.reached[k],
+            e(&c.rollouts_saved[k], 1.0, 0),
+        ))?;
+    }
     say(&format!(
-        "ordinary/extended: final error x{:.2}, final spill x{:.2}; {} parameters, {runs} runs x {updates} updates each; {:.1} s; wrote {}",
-        summary.error_ratio,
-        summary.spill_ratio,
+        "regret Σ(1 − r): extended {}, ordinary {}; ordinary/extended final error x{}, spill x{}; \
+         {} parameters, {runs} runs x {updates} updates each; {:.1} s; wrote {}",
+        e(&comparison.extended.regret, 1.0, 1),
+        e(&comparison.ordinary.regret, 1.0, 1),
+        e(&comparison.error_ratio, 1.0, 2),
+        e(&comparison.spill_ratio, 1.0, 2),
         summary.parameters,
         summary.seconds,
         out.display()

@@ -230,8 +230,32 @@ fn experiment_power_writes_both_curves() {
         assert!(count("rejected") <= count("zero_reward") && count("zero_reward") <= 26);
     }
     assert!(out.contains("% of roll-outs reward 0"), "{out}");
-    assert!(summary["spill_ratio"].is_number() || summary["spill_ratio"].is_null());
+    let ratio = &summary["comparison"]["spill_ratio"];
+    assert!(
+        ratio["value"].is_number() || ratio["value"].is_null(),
+        "{ratio}"
+    );
     assert!(dir.join("power.png").exists() && dir.join("power.csv").exists());
+    // One row per variant and seed; regret within its bounds; a level
+    // reached within the budget, its update no later than the last.
+    let runs = std::fs::read_to_string(dir.join("power_runs.csv")).unwrap();
+    let rows: Vec<Vec<&str>> = runs
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').collect())
+        .collect();
+    assert_eq!(rows.len(), 4, "{runs}");
+    for row in &rows {
+        let regret: f64 = row[6].parse().unwrap();
+        assert!((0.0..=13.0).contains(&regret), "{row:?}");
+        if let (Ok(n), Ok(u)) = (row[2].parse::<u32>(), row[3].parse::<u32>()) {
+            assert!(n <= 13 && u <= 3, "{row:?}");
+        }
+    }
+    assert!(
+        out.contains("to mean reward 0.95: roll-outs, median [90 % CI]"),
+        "{out}"
+    );
 }
 
 /// Checks a `series.csv`: its header, strictly increasing time, volume

@@ -15,6 +15,7 @@ use serde::Serialize;
 
 use crate::Error;
 use crate::learning::{Algorithm, Learner, Record, Settings, learn};
+use crate::stats::{Estimate, bootstrap, mean, median};
 use primo_sim::cell::CellConfig;
 use primo_skill::Skill;
 
@@ -141,6 +142,147 @@ pub struct PowerCurves {
     pub zero_reward: usize,
     /// Of those, roll-outs rejected by the safety check.
     pub rejected: usize,
+    /// Every run, by seed.
+    #[serde(skip)]
+    pub runs: Vec<PowerRun>,
+}
+
+/// The mean policy's reward levels runs are timed to.
+pub const THRESHOLDS: [f64; 2] = [0.95, 0.99];
+
+/// One seeded run of a PoWER variant.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PowerRun {
+    /// Its seed.
+    pub seed: u64,
+    /// Per [`THRESHOLDS`] level: the roll-outs made (all of them,
+    /// explorations and the mean's, from 1) when the mean policy's
+    /// roll-out first reached it; `None` if it never did.
+    pub rollouts_to: [Option<u32>; 2],
+    /// The same in updates completed.
+    pub updates_to: [Option<u32>; 2],
+    /// Cumulative regret `Σ (1 − r)` over every roll-out: what learning
+    /// cost on a cell, in lost pours.
+    pub regret: f64,
+    /// The final mean policy's |error|, l.
+    pub error: f64,
+    /// Its spill, l.
+    pub spilled: f64,
+    /// Its reward.
+    pub reward: f64,
+}
+
+impl PowerRun {
+    fn of(seed: u64, records: &[Record]) -> PowerRun {
+        let reached = |level: f64| {
+            records
+                .iter()
+                .find(|r| r.mean && r.trial.reward >= level)
+                .map(|r| (r.rollout, r.update))
+        };
+        let last = records.iter().rev().find(|r| r.mean);
+        PowerRun {
+            seed,
+            rollouts_to: THRESHOLDS.map(|l| reached(l).map(|(n, _)| n)),
+            updates_to: THRESHOLDS.map(|l| reached(l).map(|(_, u)| u)),
+            regret: records.iter().map(|r| 1.0 - r.trial.reward).sum(),
+            error: last.map_or(f64::NAN, |r| r.trial.error.abs()),
+            spilled: last.map_or(f64::NAN, |r| r.trial.spilled),
+            reward: last.map_or(f64::NAN, |r| r.trial.reward),
+        }
+    }
+}
+
+/// How a variant did over its runs, each figure with its bootstrap
+/// interval ([`crate::stats`]).
+#[derive(Debug, Clone, Serialize)]
+pub struct PowerStats {
+    /// Per [`THRESHOLDS`] level: the median roll-outs to it (a run that
+    /// never reached it counts as the budget plus one: a lower bound).
+    pub rollouts_to: [Estimate; 2],
+    /// Per level: how many runs reached it.
+    pub reached: [usize; 2],
+    /// The median updates to it (the same convention).
+    pub updates_to: [Estimate; 2],
+    /// Mean cumulative regret.
+    pub regret: Estimate,
+    /// Mean final |error|, l.
+    pub error: Estimate,
+    /// Mean final spill, l.
+    pub spilled: Estimate,
+}
+
+/// Extended against ordinary on the same seeds (paired).
+#[derive(Debug, Clone, Serialize)]
+pub struct PowerComparison {
+    /// Extended's figures.
+    pub extended: PowerStats,
+    /// Ordinary's.
+    pub ordinary: PowerStats,
+    /// Per level: the median over seeds of (ordinary − extended) roll-outs
+    /// to it: above 0, extended gets there sooner.
+    pub rollouts_saved: [Estimate; 2],
+    /// Ordinary's mean final |error| over extended's: the paper's claim is
+    /// an order of magnitude.
+    pub error_ratio: Estimate,
+    /// The same for the spill.
+    pub spill_ratio: Estimate,
+}
+
+impl PowerComparison {
+    /// The figures of two variants' runs (the same seeds, in order), with
+    /// `budget` roll-outs per run.
+    pub fn of(extended: &[PowerRun], ordinary: &[PowerRun], budget: u32) -> PowerComparison {
+        let censored = |n: Option<u32>| f64::from(n.unwrap_or(budget + 1));
+        let stats = |runs: &[PowerRun]| {
+            let pick = |f: &dyn Fn(&PowerRun) -> f64, of: fn(&[f64]) -> f64, seed: u64| {
+                bootstrap(
+                    runs.len(),
+                    |idx| of(&idx.iter().map(|i| f(&runs[*i])).collect::<Vec<_>>()),
+                    seed,
+                )
+            };
+            PowerStats {
+                rollouts_to: [0, 1]
+                    .map(|k| pick(&|r| censored(r.rollouts_to[k]), median, 1 + k as u64)),
+                reached: [0, 1].map(|k| runs.iter().filter(|r| r.rollouts_to[k].is_some()).count()),
+                updates_to: [0, 1]
+                    .map(|k| pick(&|r| censored(r.updates_to[k]), median, 3 + k as u64)),
+                regret: pick(&|r| r.regret, mean, 5),
+                error: pick(&|r| r.error, mean, 6),
+                spilled: pick(&|r| r.spilled, mean, 7),
+            }
+        };
+        let n = extended.len().min(ordinary.len());
+        let paired = |f: &dyn Fn(&[usize]) -> f64, seed| bootstrap(n, f, seed);
+        let ratio = |get: fn(&PowerRun) -> f64| {
+            move |idx: &[usize]| {
+                let sum = |runs: &[PowerRun]| idx.iter().map(|i| get(&runs[*i])).sum::<f64>();
+                sum(ordinary) / sum(extended)
+            }
+        };
+        PowerComparison {
+            extended: stats(extended),
+            ordinary: stats(ordinary),
+            rollouts_saved: [0, 1].map(|k| {
+                paired(
+                    &|idx: &[usize]| {
+                        median(
+                            &idx.iter()
+                                .map(|i| {
+                                    censored(ordinary[*i].rollouts_to[k])
+                                        - censored(extended[*i].rollouts_to[k])
+                                })
+                                .collect::<Vec<_>>(),
+                        )
+                    },
+                    11 + k as u64,
+                )
+            }),
+            error_ratio: paired(&ratio(|r| r.error), 13),
+            spill_ratio: paired(&ratio(|r| r.spilled), 14),
+        }
+    }
 }
 
 /// Figs. 5 and 6: `runs` seeded runs of extended (s1 = 0.2) and ordinary
@@ -172,7 +314,10 @@ pub fn power(
         let mut error = Vec::new();
         let mut spilled = Vec::new();
         let mut reward = Vec::new();
-        for records in &results[k * runs..(k + 1) * runs] {
+        for (r, records) in results[k * runs..(k + 1) * runs].iter().enumerate() {
+            curves
+                .runs
+                .push(PowerRun::of(seed.wrapping_add(r as u64), records));
             let means: Vec<&Record> = records.iter().filter(|r| r.mean).collect();
             error.push(means.iter().map(|r| r.trial.error.abs()).collect());
             spilled.push(means.iter().map(|r| r.trial.spilled).collect());

@@ -16,6 +16,7 @@
 //! - [`report`]: roll-out tables, summaries and charts.
 //! - [`series`]: a roll-out's time series and its CSV.
 //! - [`plot`]: PNG charts.
+//! - [`stats`]: medians, means and bootstrap intervals over seeded runs.
 //! - [`output`]: writing result files safely.
 #![deny(missing_docs)]
 
@@ -31,6 +32,7 @@ pub mod report;
 pub mod rig;
 pub mod runlog;
 pub mod series;
+pub mod stats;
 pub mod trial;
 
 pub use error::Error;

@@ -7,7 +7,7 @@ use std::path::Path;
 use serde::Serialize;
 
 use crate::Error;
-use crate::experiment::{PowerCurves, SearchRun};
+use crate::experiment::{PowerComparison, PowerCurves, SearchRun, THRESHOLDS};
 use crate::learning::{Algorithm, Record, Settings};
 use crate::output::write_file;
 use crate::plot::{Line, Panel, render_png};
@@ -334,10 +334,10 @@ pub struct PowerSummary<'a> {
     pub extended: &'a PowerCurves,
     /// s1 = 0, s2 = 0.05.
     pub ordinary: &'a PowerCurves,
-    /// Ordinary / extended final mean |error|.
-    pub error_ratio: f64,
-    /// Ordinary / extended final mean spill.
-    pub spill_ratio: f64,
+    /// The per-seed figures compared, with bootstrap intervals: roll-outs
+    /// to reward thresholds, regret, final error and spill, and the
+    /// ordinary/extended ratios.
+    pub comparison: &'a PowerComparison,
     /// Wall-clock time, s.
     pub seconds: f64,
 }
@@ -345,8 +345,34 @@ pub struct PowerSummary<'a> {
 /// A curve's points and its ± spread.
 type Band = (Vec<(f64, f64)>, Vec<f64>);
 
-/// Writes `power.csv`, `power.png` and `summary.json` into `dir`.
+/// Writes `power.csv`, `power_runs.csv` (one row per variant and seed),
+/// `power.png` and `summary.json` into `dir`.
 pub fn write_power(dir: &Path, s: &PowerSummary) -> Result<(), Error> {
+    let mut runs = String::from("variant,seed");
+    for level in THRESHOLDS {
+        let _ = write!(runs, ",rollouts_to_{level},updates_to_{level}");
+    }
+    runs += ",regret,final_error_l,final_spilled_l,final_reward\n";
+    for (name, c) in [("extended", s.extended), ("ordinary", s.ordinary)] {
+        for r in &c.runs {
+            let _ = write!(runs, "{name},{}", r.seed);
+            for k in 0..THRESHOLDS.len() {
+                let cell = |v: Option<u32>| v.map_or(String::new(), |v| v.to_string());
+                let _ = write!(
+                    runs,
+                    ",{},{}",
+                    cell(r.rollouts_to[k]),
+                    cell(r.updates_to[k])
+                );
+            }
+            let _ = writeln!(
+                runs,
+                ",{:.4},{:.6},{:.6},{:.6}",
+                r.regret, r.error, r.spilled, r.reward
+            );
+        }
+    }
+    write_file(&dir.join("power_runs.csv"), runs.as_bytes())?;
     let mut csv = String::from(
         "update,variant,error_mean_l,error_std_l,spilled_mean_l,spilled_std_l,reward_mean,reward_std\n",
     );
