@@ -52,12 +52,11 @@ use heapless::Vec;
 use serde::{Deserialize, Serialize};
 
 use crate::Error;
+use crate::dmp::fit::{Normal, Responses, SUBSTEPS_PER_SPACING};
 use crate::dmp::{FitOptions, MAX_ABS_POSITION, MAX_ABS_WEIGHT, check_alpha, check_positive};
 use crate::error::{check_bounded, check_capacity, check_finite, check_len};
 
 const TAU: f64 = core::f64::consts::TAU;
-/// Sub-steps per kernel spacing when integrating the responses.
-const SUBSTEPS_PER_SPACING: f64 = 64.0;
 /// Lowest and highest frequency a run accepts, Hz.
 pub const FREQUENCY_RANGE: [f32; 2] = [1e-3, 1e3];
 
@@ -152,7 +151,6 @@ impl<const D: usize, const K: usize> RhythmicDmp<D, K> {
         // The same overlap as the discrete kernels: h·(Δc)² in phase units.
         let width = f64::from(options.overlap) / (spacing * spacing);
         let alpha = f64::from(options.alpha);
-        let stiffness = alpha * alpha / 4.0;
         // Each sample's share of the period, wrapping around.
         let phase = |i: usize| {
             times
@@ -177,63 +175,24 @@ impl<const D: usize, const K: usize> RhythmicDmp<D, K> {
         }
         // Responses to each kernel from rest: one period for the transient,
         // the second sampled.
-        let mut gram = [[0.0f64; K]; K];
-        let mut rhs = [[0.0f64; K]; D];
-        let mut r = [0.0f64; K];
-        let mut v = [0.0f64; K];
-        let mut psi = [0.0f64; K];
-        let h_max = spacing / SUBSTEPS_PER_SPACING;
-        let mut u = 0.0f64;
-        let mut advance = |to: f64, r: &mut [f64; K], v: &mut [f64; K], u: &mut f64| {
-            let span = to - *u;
-            if span <= 0.0 {
-                return;
-            }
-            let steps = libm::ceil(span / h_max).max(1.0);
-            let h = span / steps;
-            let [p00, p01, p10, p11] = crate::dmp::fit::transition(alpha, h);
-            for s in 0..steps as u32 {
-                basis(*u + (f64::from(s) + 0.5) * h, width, kernels, &mut psi);
-                for ((rk, vk), pk) in r.iter_mut().zip(v.iter_mut()).zip(&psi).take(kernels) {
-                    let equilibrium = pk / stiffness;
-                    let e = *rk - equilibrium;
-                    *rk = equilibrium + p00 * e + p01 * *vk;
-                    *vk = p10 * e + p11 * *vk;
-                }
-            }
-            *u = to;
-        };
-        advance(TAU, &mut r, &mut v, &mut u);
+        let mut responses = Responses::<K>::new(alpha, kernels, spacing / SUBSTEPS_PER_SPACING);
+        let mut kernels_at = |u: f64, psi: &mut [f64; K]| basis(u, width, kernels, psi);
+        let (mut gram, mut rhs) = ([[0.0f64; K]; K], [[0.0f64; K]; D]);
+        let mut normal = Normal::new(&mut gram, &mut rhs, kernels, dof);
+        responses.advance(TAU, &mut kernels_at);
         let mut start = ([0.0f64; K], [0.0f64; K]);
         for i in 0..n {
-            advance(TAU + phase(i).unwrap_or(0.0), &mut r, &mut v, &mut u);
+            responses.advance(TAU + phase(i).unwrap_or(0.0), &mut kernels_at);
             if i == 0 {
-                start = (r, v);
+                start = (responses.r, responses.v);
             }
-            let q = share(i);
-            for (a, row) in gram.iter_mut().enumerate().take(kernels) {
-                let qa = q * r.get(a).copied().unwrap_or(0.0);
-                for (g, rb) in row.iter_mut().zip(&r).take(a + 1) {
-                    *g += qa * rb;
-                }
-            }
-            for (d, b) in rhs.iter_mut().enumerate().take(dof) {
+            normal.add(share(i), &responses.r, |d| {
                 let y = f64::from(positions.get(i * dof + d).copied().unwrap_or(0.0));
-                let forced = y - anchor.get(d).copied().unwrap_or(0.0);
-                for (bk, rk) in b.iter_mut().zip(&r).take(kernels) {
-                    *bk += q * rk * forced;
-                }
-            }
+                y - anchor.get(d).copied().unwrap_or(0.0)
+            });
         }
         let mut fitted = [[0.0f32; K]; D];
-        crate::dmp::fit::solve(
-            &mut gram,
-            &mut rhs,
-            kernels,
-            dof,
-            options.ridge,
-            &mut fitted,
-        )?;
+        normal.solve(options.ridge, &mut fitted)?;
         let mut weights: Vec<Vec<f32, K>, D> = Vec::new();
         let mut cycle: Vec<[f32; 2], D> = Vec::new();
         for (d, w) in fitted.iter().enumerate().take(dof) {

@@ -27,7 +27,7 @@
 use crate::Error;
 
 /// Sub-steps per kernel spacing when integrating the responses.
-const SUBSTEPS_PER_SPACING: f64 = 64.0;
+pub(crate) const SUBSTEPS_PER_SPACING: f64 = 64.0;
 
 /// What the weights are fitted to.
 pub(super) struct Demonstration<'a> {
@@ -45,7 +45,7 @@ pub(super) struct Demonstration<'a> {
 }
 
 /// `exp(A h)` of the critically damped spring in phase units, `f64`.
-pub(crate) fn transition(alpha: f64, h: f64) -> [f64; 4] {
+fn transition(alpha: f64, h: f64) -> [f64; 4] {
     let a = 0.5 * alpha;
     let ah = a * h;
     if !(ah < 700.0) {
@@ -83,6 +83,116 @@ fn basis<const K: usize>(u: f64, width: f32, kernels: usize, phi: &mut [f64; K])
     }
 }
 
+/// The responses `r_k(u)` of the spring, from rest at phase 0, to each
+/// kernel of a basis alone, and their phase derivatives: integrated with
+/// the runtime's scheme on sub-steps of at most `h_max`.
+pub(crate) struct Responses<const K: usize> {
+    /// The responses at the current phase.
+    pub r: [f64; K],
+    /// Their phase derivatives.
+    pub v: [f64; K],
+    phase: f64,
+    phi: [f64; K],
+    alpha: f64,
+    kernels: usize,
+    h_max: f64,
+}
+
+impl<const K: usize> Responses<K> {
+    /// At rest at phase 0.
+    pub fn new(alpha: f64, kernels: usize, h_max: f64) -> Self {
+        Responses {
+            r: [0.0; K],
+            v: [0.0; K],
+            phase: 0.0,
+            phi: [0.0; K],
+            alpha,
+            kernels,
+            h_max,
+        }
+    }
+
+    /// Integrates on to phase `to` (nothing if it is not ahead);
+    /// `basis(u, φ)` writes the kernels at phase `u`.
+    pub fn advance(&mut self, to: f64, basis: &mut impl FnMut(f64, &mut [f64; K])) {
+        let span = to - self.phase;
+        if !(span > 0.0) {
+            return;
+        }
+        let stiffness = self.alpha * self.alpha / 4.0;
+        let steps = libm::ceil(span / self.h_max).max(1.0);
+        let h = span / steps;
+        let [p00, p01, p10, p11] = transition(self.alpha, h);
+        for s in 0..steps as u32 {
+            basis(self.phase + (f64::from(s) + 0.5) * h, &mut self.phi);
+            for ((rk, vk), pk) in self
+                .r
+                .iter_mut()
+                .zip(self.v.iter_mut())
+                .zip(&self.phi)
+                .take(self.kernels)
+            {
+                let equilibrium = pk / stiffness;
+                let e = *rk - equilibrium;
+                *rk = equilibrium + p00 * e + p01 * *vk;
+                *vk = p10 * e + p11 * *vk;
+            }
+        }
+        self.phase = to;
+    }
+}
+
+/// The normal equations of a least-squares fit on the responses: the Gram
+/// matrix's lower triangle and one right-hand side per DoF, in the
+/// caller's buffers (a few KiB: on the M4F's stack they must not be
+/// copied).
+pub(crate) struct Normal<'a, const D: usize, const K: usize> {
+    gram: &'a mut [[f64; K]; K],
+    rhs: &'a mut [[f64; K]; D],
+    kernels: usize,
+    dof: usize,
+}
+
+impl<'a, const D: usize, const K: usize> Normal<'a, D, K> {
+    /// Empty: `gram` and `rhs` must be all zeros.
+    pub fn new(
+        gram: &'a mut [[f64; K]; K],
+        rhs: &'a mut [[f64; K]; D],
+        kernels: usize,
+        dof: usize,
+    ) -> Self {
+        Normal {
+            gram,
+            rhs,
+            kernels,
+            dof,
+        }
+    }
+
+    /// Adds a sample of weight `q` with responses `r`; `target(d)` is the
+    /// value DoF `d`'s weighted responses should reach there.
+    pub fn add(&mut self, q: f64, r: &[f64; K], target: impl Fn(usize) -> f64) {
+        for (a, gram_row) in self.gram.iter_mut().enumerate().take(self.kernels) {
+            let qa = q * r.get(a).copied().unwrap_or(0.0);
+            for (g, rb) in gram_row.iter_mut().zip(r).take(a + 1) {
+                *g += qa * rb;
+            }
+        }
+        for (d, b) in self.rhs.iter_mut().enumerate().take(self.dof) {
+            let forced = target(d);
+            for (bk, rk) in b.iter_mut().zip(r).take(self.kernels) {
+                *bk += q * rk * forced;
+            }
+        }
+    }
+
+    /// Solves with a ridge of `ridge` times the Gram matrix's mean
+    /// diagonal; the weights go to `out[d][..kernels]`.
+    pub fn solve(&mut self, ridge: f32, out: &mut [[f32; K]; D]) -> Result<(), Error> {
+        solve(self.gram, self.rhs, self.kernels, self.dof, ridge, out)
+    }
+}
+
 /// Fits the weights of every DoF into `out[d][..kernels]`.
 pub(super) fn weights<const D: usize, const K: usize>(
     demo: &Demonstration,
@@ -97,66 +207,37 @@ pub(super) fn weights<const D: usize, const K: usize>(
     };
     let (t0, tau) = (f64::from(t0), f64::from(t_end) - f64::from(t0));
     let alpha = f64::from(demo.alpha);
-    let stiffness = alpha * alpha / 4.0;
     let h_max = 1.0 / (SUBSTEPS_PER_SPACING * kernels.saturating_sub(1).max(1) as f64);
-
-    let mut gram = [[0.0f64; K]; K];
-    let mut rhs = [[0.0f64; K]; D];
-    // Responses r_k and their phase derivatives, from rest.
-    let mut r = [0.0f64; K];
-    let mut v = [0.0f64; K];
-    let mut phi = [0.0f64; K];
-    let mut u = 0.0f64;
+    let (mut gram, mut rhs) = ([[0.0f64; K]; K], [[0.0f64; K]; D]);
+    let mut normal = Normal::new(&mut gram, &mut rhs, kernels, dof);
+    let mut responses = Responses::<K>::new(alpha, kernels, h_max);
+    let mut basis = |u: f64, phi: &mut [f64; K]| basis(u, demo.width, kernels, phi);
     let mut i = 0usize;
     (demo.rows)(&mut |row: &[f32]| {
         let time = |j: usize| demo.times.get(j).map(|t| f64::from(*t));
         let ti = time(i).unwrap_or(t0);
-        let target = (ti - t0) / tau;
-        let span = target - u;
-        if span > 0.0 {
-            let steps = libm::ceil(span / h_max).max(1.0);
-            let h = span / steps;
-            let [p00, p01, p10, p11] = transition(alpha, h);
-            for s in 0..steps as u32 {
-                basis(u + (f64::from(s) + 0.5) * h, demo.width, kernels, &mut phi);
-                for ((rk, vk), pk) in r.iter_mut().zip(v.iter_mut()).zip(&phi).take(kernels) {
-                    let equilibrium = pk / stiffness;
-                    let e = *rk - equilibrium;
-                    *rk = equilibrium + p00 * e + p01 * *vk;
-                    *vk = p10 * e + p11 * *vk;
-                }
-            }
-            u = target;
-        }
+        let u = (ti - t0) / tau;
+        responses.advance(u, &mut basis);
         // The sample's share of the time axis.
         let prev = time(i.wrapping_sub(1)).unwrap_or(ti);
         let next = time(i + 1).unwrap_or(ti);
         let q = 0.5 * (next - prev) / tau;
-        for (a, gram_row) in gram.iter_mut().enumerate().take(kernels) {
-            let qa = q * r.get(a).copied().unwrap_or(0.0);
-            for (g, rb) in gram_row.iter_mut().zip(&r).take(a + 1) {
-                *g += qa * rb;
-            }
-        }
         // The unforced spring from rest at y0: y_h = g + (y0 − g)(1 + αu/2)e^(−αu/2).
         let decay = (1.0 + 0.5 * alpha * u) * libm::exp(-0.5 * alpha * u);
-        for (d, b) in rhs.iter_mut().enumerate().take(dof) {
+        normal.add(q, &responses.r, |d| {
             let at = |v: &[f32]| v.get(d).map_or(0.0, |x| f64::from(*x));
             let (y0, g, a) = (at(demo.start), at(demo.goal), at(demo.amplitude));
-            let forced = (at(row) - (g + (y0 - g) * decay)) / a;
-            for (bk, rk) in b.iter_mut().zip(&r).take(kernels) {
-                *bk += q * rk * forced;
-            }
-        }
+            (at(row) - (g + (y0 - g) * decay)) / a
+        });
         i += 1;
     });
-    solve(&mut gram, &mut rhs, kernels, dof, demo.ridge, out)
+    normal.solve(demo.ridge, out)
 }
 
 /// Solves the normal equations `G w_d = b_d` of every DoF, `G` given by its
 /// lower triangle, with a ridge of `ridge` times `G`'s mean diagonal; the
 /// weights go to `out[d][..kernels]`.
-pub(crate) fn solve<const D: usize, const K: usize>(
+fn solve<const D: usize, const K: usize>(
     gram: &mut [[f64; K]; K],
     rhs: &mut [[f64; K]; D],
     kernels: usize,
