@@ -151,9 +151,9 @@ impl RhythmicFile {
                 "--kernels: {kernels} is outside 3..={MAX_KERNELS} for a rhythmic DMP"
             )));
         }
-        if let Some((c, _)) = layout(&demo.names)
+        if let Some(Slot { column: c, .. }) = layout(&demo.names)
             .into_iter()
-            .find(|(_, k)| *k == Column::Quaternion)
+            .find(|s| s.kind == Column::Quaternion)
         {
             return Err(Error::File(format!(
                 "{file}:1: columns {}…: orientations are not fitted as rhythmic DMPs",
@@ -235,11 +235,24 @@ enum Column {
     Quaternion,
 }
 
-/// The layout of `names`: each column's kind, skipping an orientation's
-/// `x, y, z` (part of its `w`'s entry).
-fn layout(names: &[String]) -> Vec<(usize, Column)> {
+/// A column, or an orientation's four, and where it sits in the DMP.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Slot {
+    /// Its (first) column.
+    column: usize,
+    /// What it is.
+    kind: Column,
+    /// Its (first) DoF in the DMP.
+    dof: usize,
+    /// An orientation's index among the orientations.
+    orientation: usize,
+}
+
+/// The layout of `names`: one slot per column, one per orientation (its
+/// `x, y, z` are part of its `w`'s slot).
+fn layout(names: &[String]) -> Vec<Slot> {
     let mut out = Vec::new();
-    let mut i = 0;
+    let (mut i, mut dof, mut orientation) = (0, 0, 0);
     while i < names.len() {
         let group = names[i].strip_suffix("qw").filter(|prefix| {
             ["qx", "qy", "qz"]
@@ -247,23 +260,30 @@ fn layout(names: &[String]) -> Vec<(usize, Column)> {
                 .enumerate()
                 .all(|(k, axis)| names.get(i + 1 + k) == Some(&format!("{prefix}{axis}")))
         });
-        if group.is_some() {
-            out.push((i, Column::Quaternion));
-            i += 4;
+        let kind = if group.is_some() {
+            Column::Quaternion
         } else {
-            out.push((i, Column::Scalar));
-            i += 1;
+            Column::Scalar
+        };
+        out.push(Slot {
+            column: i,
+            kind,
+            dof,
+            orientation,
+        });
+        match kind {
+            Column::Quaternion => (i, dof, orientation) = (i + 4, dof + 3, orientation + 1),
+            Column::Scalar => (i, dof) = (i + 1, dof + 1),
         }
     }
     out
 }
 
 /// DMP DoFs of a layout.
-fn dmp_dof(layout: &[(usize, Column)]) -> usize {
-    layout
-        .iter()
-        .map(|(_, c)| if *c == Column::Quaternion { 3 } else { 1 })
-        .sum()
+fn dmp_dof(layout: &[Slot]) -> usize {
+    layout.last().map_or(0, |s| {
+        s.dof + if s.kind == Column::Quaternion { 3 } else { 1 }
+    })
 }
 
 impl DmpFile {
@@ -288,8 +308,13 @@ impl DmpFile {
         let mut positions = vec![0.0f32; rows * dof];
         let mut orientations = Vec::new();
         let mut scaled_mask = 0u32;
-        let mut d = 0;
-        for &(c, kind) in &layout {
+        for &Slot {
+            column: c,
+            kind,
+            dof: d,
+            ..
+        } in &layout
+        {
             let column = |k: usize| demo.positions.iter().skip(c + k).step_by(columns).copied();
             match kind {
                 Column::Scalar => {
@@ -297,7 +322,6 @@ impl DmpFile {
                         positions[r * dof + d] = v;
                     }
                     scaled_mask |= 1 << d;
-                    d += 1;
                 }
                 Column::Quaternion => {
                     let quaternions: Vec<f32> = (0..rows)
@@ -319,7 +343,6 @@ impl DmpFile {
                         columns: std::array::from_fn(|k| demo.names[c + k].clone()),
                         goal: goal.to_array(),
                     });
-                    d += 3;
                 }
             }
         }
@@ -349,8 +372,8 @@ impl DmpFile {
         let layout = layout(&parsed.names);
         let groups: Vec<&[String]> = layout
             .iter()
-            .filter(|(_, c)| *c == Column::Quaternion)
-            .map(|(i, _)| &parsed.names[*i..*i + 4])
+            .filter(|s| s.kind == Column::Quaternion)
+            .map(|s| &parsed.names[s.column..s.column + 4])
             .collect();
         let declared: Vec<&[String]> = parsed.orientations.iter().map(|o| &o.columns[..]).collect();
         if groups != declared {
@@ -380,11 +403,6 @@ impl DmpFile {
         serde_json::to_string_pretty(self)
     }
 
-    /// The demonstrated start, one value per column.
-    pub fn start(&self) -> Vec<f32> {
-        self.columns_of(self.dmp.start_position())
-    }
-
     /// Runs the DMP from `t = 0` to `t = τ` at step `dt` and returns the
     /// times and the rows, one value per column. `start` and `goal` (one
     /// value per column; an orientation's four are normalized) replace
@@ -408,18 +426,12 @@ impl DmpFile {
         let layout = layout(&self.names);
         if let Some(goal) = goal {
             self.check_len("goal", goal)?;
-            let mut d = 0;
-            let mut o = 0;
-            for &(c, kind) in &layout {
-                match kind {
-                    Column::Scalar => {
-                        exec.goal[d] = goal[c];
-                        d += 1;
-                    }
+            for s in &layout {
+                match s.kind {
+                    Column::Scalar => exec.goal[s.dof] = goal[s.column],
                     Column::Quaternion => {
-                        goals[o] = quaternion(&goal[c..c + 4], "goal", &self.names[c])?;
-                        o += 1;
-                        d += 3;
+                        let values = &goal[s.column..s.column + 4];
+                        goals[s.orientation] = quaternion(values, "goal", &self.names[s.column])?;
                     }
                 }
             }
@@ -427,19 +439,15 @@ impl DmpFile {
         if let Some(start) = start {
             self.check_len("start", start)?;
             let demonstrated = self.dmp.start_position().to_vec();
-            let (mut d, mut o) = (0, 0);
-            for &(c, kind) in &layout {
-                match kind {
-                    Column::Scalar => {
-                        exec.start[d] = start[c];
-                        d += 1;
-                    }
+            for s in &layout {
+                match s.kind {
+                    Column::Scalar => exec.start[s.dof] = start[s.column],
                     Column::Quaternion => {
-                        let q = quaternion(&start[c..c + 4], "start", &self.names[c])?;
-                        let e = nearest_log(&q, &goals[o], &demonstrated[d..d + 3]);
-                        exec.start[d..d + 3].copy_from_slice(&e);
-                        o += 1;
-                        d += 3;
+                        let values = &start[s.column..s.column + 4];
+                        let q = quaternion(values, "start", &self.names[s.column])?;
+                        let reference = &demonstrated[s.dof..s.dof + 3];
+                        let e = nearest_log(&q, &goals[s.orientation], reference);
+                        exec.start[s.dof..s.dof + 3].copy_from_slice(&e);
                     }
                 }
             }
@@ -448,39 +456,8 @@ impl DmpFile {
             .dmp
             .trajectory(&exec, dt)
             .map_err(|e| Error::Movement(e.to_string()))?;
-        Ok(steps.map(move |s| (s.time, self.columns_with(&s.position, &goals))))
-    }
-
-    /// DMP coordinates → column values, with the stored goals.
-    fn columns_of(&self, dmp: &[f32]) -> Vec<f32> {
-        let goals: Vec<Quaternion> = self
-            .orientations
-            .iter()
-            .map(|o| Quaternion::from_array(o.goal))
-            .collect();
-        self.columns_with(dmp, &goals)
-    }
-
-    /// DMP coordinates → column values, orientations relative to `goals`.
-    fn columns_with(&self, dmp: &[f32], goals: &[Quaternion]) -> Vec<f32> {
-        let mut out = Vec::with_capacity(self.names.len());
-        let (mut d, mut o) = (0, 0);
-        for (_, kind) in layout(&self.names) {
-            match kind {
-                Column::Scalar => {
-                    out.push(dmp.get(d).copied().unwrap_or(0.0));
-                    d += 1;
-                }
-                Column::Quaternion => {
-                    let goal = goals.get(o).copied().unwrap_or(Quaternion::IDENTITY);
-                    let e = dmp.get(d..d + 3).unwrap_or(&[0.0; 3]);
-                    out.extend(from_log(e, &goal).to_array());
-                    o += 1;
-                    d += 3;
-                }
-            }
-        }
-        out
+        let width = self.names.len();
+        Ok(steps.map(move |s| (s.time, columns(&s.position, &layout, &goals, width))))
     }
 
     fn check_len(&self, flag: &str, values: &[f32]) -> Result<(), Error> {
@@ -493,6 +470,26 @@ impl DmpFile {
         }
         Ok(())
     }
+}
+
+/// DMP coordinates → `width` column values, orientations relative to
+/// `goals`.
+fn columns(dmp: &[f32], layout: &[Slot], goals: &[Quaternion], width: usize) -> Vec<f32> {
+    let mut out = Vec::with_capacity(width);
+    for s in layout {
+        match s.kind {
+            Column::Scalar => out.push(dmp.get(s.dof).copied().unwrap_or(0.0)),
+            Column::Quaternion => {
+                let goal = goals
+                    .get(s.orientation)
+                    .copied()
+                    .unwrap_or(Quaternion::IDENTITY);
+                let e = dmp.get(s.dof..s.dof + 3).unwrap_or(&[0.0; 3]);
+                out.extend(from_log(e, &goal).to_array());
+            }
+        }
+    }
+    out
 }
 
 /// Four values as a unit quaternion (`flag` and `column` name it in errors).
@@ -513,7 +510,7 @@ mod tests {
     #[test]
     fn orientation_columns_are_recognized_by_name() {
         let l = layout(&names("x,qw,qx,qy,qz,tool_qw,tool_qx,tool_qy,tool_qz,qw"));
-        let kinds: Vec<Column> = l.iter().map(|(_, c)| *c).collect();
+        let kinds: Vec<Column> = l.iter().map(|s| s.kind).collect();
         assert_eq!(
             kinds,
             [
@@ -524,8 +521,11 @@ mod tests {
             ]
         );
         assert_eq!(dmp_dof(&l), 1 + 3 + 3 + 1);
+        let at: Vec<(usize, usize, usize)> =
+            l.iter().map(|s| (s.column, s.dof, s.orientation)).collect();
+        assert_eq!(at, [(0, 0, 0), (1, 1, 0), (5, 4, 1), (9, 7, 2)]);
         // Out of order or with another prefix: plain columns.
         let l = layout(&names("qw,qy,qx,qz,a_qw,b_qx,b_qy,b_qz"));
-        assert!(l.iter().all(|(_, c)| *c == Column::Scalar));
+        assert!(l.iter().all(|s| s.kind == Column::Scalar));
     }
 }
