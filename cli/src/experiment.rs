@@ -4,7 +4,7 @@ use std::path::{Path, PathBuf};
 
 use primo_learn::experiment::{PowerComparison, SearchRun, THRESHOLDS};
 use primo_learn::learning::Algorithm;
-use primo_learn::output::create_dir;
+use primo_learn::output::{check_dir, create_dir};
 use primo_learn::pouring::built_in_skill;
 use primo_learn::report::{PowerSummary, median_rollouts, write_golden, write_power};
 use primo_learn::stats::Estimate;
@@ -12,7 +12,7 @@ use primo_sim::cell::{CellConfig, GlassKind};
 
 use crate::args::{Glass, Space};
 use crate::error::CliError;
-use crate::output::{check_out_dir, say};
+use crate::output::say;
 use crate::pour::SkillArgs;
 
 /// `primo experiment …`.
@@ -82,14 +82,14 @@ pub fn run(command: ExperimentCommand) -> Result<(), CliError> {
 
 fn golden(volumes: &[f64], precision: f64, seed: u64, out: &Path) -> Result<(), CliError> {
     let started = std::time::Instant::now();
-    check_out_dir("--out", out)?;
+    check_dir("--out", out)?;
     if !(precision.is_finite() && precision > 0.0) {
         return Err(CliError::input(format!(
             "--precision {precision}: must be a positive volume in litres"
         )));
     }
     let cell = CellConfig::standard(GlassKind::Normal);
-    let capacity = cell.bottle.capacity() * 1e3;
+    let capacity = cell.bottle_litres();
     for v in volumes {
         let mut s = primo_learn::learning::Settings::paper(Algorithm::Golden, *v, 0.2, seed);
         s.precision = precision;
@@ -145,7 +145,7 @@ fn power(
     if runs == 0 || updates == 0 {
         return Err(CliError::input("--runs and --updates must be at least 1"));
     }
-    check_out_dir("--out", out)?;
+    check_dir("--out", out)?;
     let args = SkillArgs {
         space: Some(Space::Joint),
         kernels,

@@ -33,17 +33,6 @@ pub fn emit(out: Option<&Path>, bytes: &[u8]) -> Result<(), CliError> {
     }
 }
 
-/// Checks, before any work, that `out` can be a results directory.
-pub fn check_out_dir(flag: &str, out: &Path) -> Result<(), CliError> {
-    match std::fs::metadata(out) {
-        Ok(meta) if !meta.is_dir() => Err(CliError::input(format!(
-            "{flag} {}: exists and is not a directory",
-            out.display()
-        ))),
-        _ => Ok(()),
-    }
-}
-
 /// Checks, before any work, that a file can be written at `out`: not a
 /// directory, and its directory exists.
 pub fn check_out_file(flag: &str, out: &Path) -> Result<(), CliError> {

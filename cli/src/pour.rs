@@ -52,14 +52,12 @@ impl SkillArgs {
                 .map_err(|e| CliError::input(format!("--demo {arg}: {e}")))?;
             demos.push(DemoFile { file, volume });
         }
-        let spec = SkillSpec {
+        Ok(SkillSpec {
             space: self.space.unwrap_or(space).into(),
             glass: self.glass.unwrap_or(glass).into(),
             kernels: self.kernels,
             demos,
-        };
-        spec.validate()?;
-        Ok(spec)
+        })
     }
 }
 
@@ -169,8 +167,6 @@ pub fn run(args: &PourArgs) -> Result<(), CliError> {
             }
         }
     };
-    // Everything is checked before the first file or instrument is touched.
-    start.validate()?;
     let learner = LearnerSpec {
         coprocessor: args.coprocessor.clone(),
         firmware: args.firmware.clone(),

@@ -4,7 +4,7 @@
 use std::io::{BufRead, Write};
 use std::path::PathBuf;
 
-use primo_learn::learning::power_blocks;
+use primo_learn::learning::{check_target, power_blocks};
 use primo_learn::rig::Simulated;
 use primo_learn::trial::Trial;
 use primo_skill::Skill;
@@ -112,12 +112,7 @@ impl Objective {
 
 /// Runs `primo rollout`.
 pub fn run(args: &RolloutArgs) -> Result<(), CliError> {
-    if !(args.target.is_finite() && args.target > 0.0 && args.target < args.bottle) {
-        return Err(CliError::input(format!(
-            "--target {}: must be above 0 and below the bottle's {} l",
-            args.target, args.bottle
-        )));
-    }
+    check_target(args.bottle, args.target)?;
     if let Some(series) = &args.series {
         check_out_file("--series", series)?;
     }

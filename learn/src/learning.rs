@@ -108,12 +108,7 @@ impl Settings {
                 self.bottle
             ));
         }
-        if !(self.target.is_finite() && self.target > 0.0 && self.target < self.bottle) {
-            return bad(format!(
-                "--target {}: must be above 0 and below the bottle's {} l",
-                self.target, self.bottle
-            ));
-        }
+        check_target(self.bottle, self.target)?;
         if !(self.precision.is_finite() && self.precision > 0.0) {
             return bad(format!(
                 "--precision {}: must be a positive volume in litres",
@@ -130,6 +125,16 @@ impl Settings {
         }
         Ok(())
     }
+}
+
+/// The volume to pour: above 0 and below what the bottle holds.
+pub fn check_target(bottle: f64, target: f64) -> Result<(), Error> {
+    if !(target.is_finite() && target > 0.0 && target < bottle) {
+        return Err(Error::Invalid(format!(
+            "--target {target}: must be above 0 and below the bottle's {bottle} l"
+        )));
+    }
+    Ok(())
 }
 
 /// One roll-out of a learning run.

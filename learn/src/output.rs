@@ -95,6 +95,26 @@ fn replace(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     result
 }
 
+/// Checks, before any work, that `out` (given as `flag`) is a directory
+/// or can be made one: nothing that is not a directory in its way.
+pub fn check_dir(flag: &str, out: &Path) -> Result<(), Error> {
+    let mut at = Some(out);
+    while let Some(p) = at {
+        if let Ok(meta) = std::fs::metadata(p) {
+            if meta.is_dir() {
+                return Ok(());
+            }
+            return Err(Error::Invalid(format!(
+                "{flag} {}: {} is not a directory",
+                out.display(),
+                p.display()
+            )));
+        }
+        at = p.parent().filter(|p| !p.as_os_str().is_empty());
+    }
+    Ok(())
+}
+
 /// Creates `dir` and its parents.
 pub fn create_dir(dir: &Path) -> Result<(), Error> {
     std::fs::create_dir_all(dir).map_err(|e| Error::Io {

@@ -20,7 +20,7 @@ use serde::{Deserialize, Serialize};
 use crate::Error;
 use crate::coprocessor::{Link, Qemu};
 use crate::learning::{Algorithm, Entry, Learner, Record, Settings, best, learn_on};
-use crate::output::create_dir;
+use crate::output::{check_dir, create_dir};
 use crate::pouring::built_in_skill;
 use crate::report::{PourSummary, RolloutSummary};
 use crate::rig::{Instruments, InstrumentsSpec, Operator, Rig, Simulated};
@@ -206,7 +206,7 @@ impl Start {
             } => {
                 settings.validate()?;
                 skill.validate()?;
-                let capacity = CellConfig::standard(skill.glass).bottle.capacity() * 1e3;
+                let capacity = CellConfig::standard(skill.glass).bottle_litres();
                 if settings.bottle > capacity {
                     return Err(Error::Invalid(format!(
                         "--bottle {}: the cell's bottle holds {capacity:.3} l",
@@ -216,7 +216,7 @@ impl Start {
                 if let CellSpec::Instruments(spec) = cell {
                     spec.validate()?;
                 }
-                check_output_dir(out)?;
+                check_dir("--out", out)?;
                 RunLog::check_free(out, *force)
             }
             Start::Resume { dir, instruments } => {
@@ -234,25 +234,6 @@ impl Start {
             }
         }
     }
-}
-
-/// `out` is a directory or can be made one: nothing in the way.
-fn check_output_dir(out: &Path) -> Result<(), Error> {
-    let mut at = Some(out);
-    while let Some(p) = at {
-        if let Ok(meta) = std::fs::metadata(p) {
-            if meta.is_dir() {
-                return Ok(());
-            }
-            return Err(Error::Invalid(format!(
-                "--out {}: {} is not a directory",
-                out.display(),
-                p.display()
-            )));
-        }
-        at = p.parent().filter(|p| !p.as_os_str().is_empty());
-    }
-    Ok(())
 }
 
 /// What a run reports as it goes.

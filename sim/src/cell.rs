@@ -124,6 +124,11 @@ impl CellConfig {
         Ok(())
     }
 
+    /// What the bottle holds, l.
+    pub fn bottle_litres(&self) -> f64 {
+        self.bottle.capacity() * LITRE
+    }
+
     /// The arm with this grasp as its tool: `forward` gives the bottle frame.
     pub fn arm(&self) -> Arm {
         Arm::with_tool(self.robot, &self.grasp)
@@ -233,7 +238,7 @@ impl Cell {
     /// scale whose noise comes from `seed`.
     pub fn new(cfg: &CellConfig, volume: f64, seed: u64) -> Result<Cell, Error> {
         cfg.validate()?;
-        let capacity = cfg.bottle.capacity() * LITRE;
+        let capacity = cfg.bottle_litres();
         if !(volume.is_finite() && volume >= 0.0 && volume <= capacity) {
             return Err(Error::Invalid(format!(
                 "bottle volume {volume} l: must be in [0, {capacity:.3}] l"
