@@ -3,9 +3,19 @@
 //! clobbered; a closed stdout ends a run quietly and `--resume` continues.
 mod common;
 use std::io::{BufRead, BufReader};
-use std::process::{Command, Stdio};
+use std::process::{Child, Command, Stdio};
 
 use common::{primo, tmp};
+
+/// `primo args` running, its stdout and stderr piped.
+fn piped(args: &[&str]) -> Child {
+    Command::new(env!("CARGO_BIN_EXE_primo"))
+        .args(args)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap()
+}
 
 /// `primo args` is refused with status 2, naming `flag`, before `out`
 /// exists.
@@ -124,20 +134,15 @@ fn a_closed_stdout_ends_the_run_quietly_and_resume_continues_it() {
     let out = tmp("broken-pipe");
     let o = out.to_str().unwrap();
     // `primo pour | head -1`: the reader leaves after the first line.
-    let mut child = Command::new(env!("CARGO_BIN_EXE_primo"))
-        .args([
-            "pour",
-            "--method",
-            "power",
-            "--max-rollouts",
-            "40",
-            "--out",
-            o,
-        ])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
+    let mut child = piped(&[
+        "pour",
+        "--method",
+        "power",
+        "--max-rollouts",
+        "40",
+        "--out",
+        o,
+    ]);
     let mut first = String::new();
     BufReader::new(child.stdout.take().unwrap())
         .read_line(&mut first)
@@ -173,12 +178,7 @@ fn a_closed_stdout_ends_the_run_quietly_and_resume_continues_it() {
 
 #[test]
 fn print_start_into_a_closed_pipe_does_not_panic() {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_primo"))
-        .args(["rollout", "--print-start"])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
+    let mut child = piped(&["rollout", "--print-start"]);
     drop(child.stdout.take());
     let result = child.wait_with_output().unwrap();
     let stderr = String::from_utf8_lossy(&result.stderr);
@@ -190,20 +190,15 @@ fn print_start_into_a_closed_pipe_does_not_panic() {
 fn ctrl_c_stops_after_the_rollout_in_progress_and_resume_continues() {
     let out = tmp("ctrl-c");
     let o = out.to_str().unwrap();
-    let mut child = Command::new(env!("CARGO_BIN_EXE_primo"))
-        .args([
-            "pour",
-            "--method",
-            "power",
-            "--max-rollouts",
-            "200",
-            "--out",
-            o,
-        ])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
+    let mut child = piped(&[
+        "pour",
+        "--method",
+        "power",
+        "--max-rollouts",
+        "200",
+        "--out",
+        o,
+    ]);
     let mut stdout = BufReader::new(child.stdout.take().unwrap());
     let mut first = String::new();
     stdout.read_line(&mut first).unwrap();

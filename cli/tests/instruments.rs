@@ -87,10 +87,11 @@ fn free_udp_port() -> u16 {
         .port()
 }
 
-#[test]
-fn pour_learns_on_the_simulated_krc_and_scale_to_the_simulations_precision() {
+/// `primo robot sim-krc --scale` with a 0.5 l bottle at 4 ms cycles and
+/// `extra` flags: the program, `--robot` and `--scale` to reach it.
+fn cell(extra: &[&str]) -> (Program, String, String) {
     let port = free_udp_port().to_string();
-    let mut krc = Program::spawn(&[
+    let mut args = vec![
         "robot",
         "sim-krc",
         "--port",
@@ -100,7 +101,9 @@ fn pour_learns_on_the_simulated_krc_and_scale_to_the_simulations_precision() {
         "--scale",
         "--bottle",
         "0.5",
-    ]);
+    ];
+    args.extend_from_slice(extra);
+    let mut krc = Program::spawn(&args);
     let served = krc.expect("scale served on ", Duration::from_secs(30));
     let scale = served
         .rsplit("served on ")
@@ -108,9 +111,13 @@ fn pour_learns_on_the_simulated_krc_and_scale_to_the_simulations_precision() {
         .unwrap()
         .trim()
         .to_string();
+    (krc, format!("fri:127.0.0.1:{port}"), scale)
+}
 
+#[test]
+fn pour_learns_on_the_simulated_krc_and_scale_to_the_simulations_precision() {
+    let (mut krc, robot, scale) = cell(&[]);
     let out = tmp("instruments");
-    let robot = format!("fri:127.0.0.1:{port}");
     let mut pour = Program::spawn(&[
         "pour",
         "--robot",
@@ -188,31 +195,10 @@ fn pour_learns_on_the_simulated_krc_and_scale_to_the_simulations_precision() {
 
 #[test]
 fn a_robot_that_stops_mid_rollout_ends_the_run_with_status_1_and_a_resumable_log() {
-    let port = free_udp_port().to_string();
     // The KRC's quality drops to BAD 4 s after it starts: during the
     // first roll-out's movement, which takes longer than that.
-    let mut krc = Program::spawn(&[
-        "robot",
-        "sim-krc",
-        "--port",
-        &port,
-        "--cycle-ms",
-        "4",
-        "--scale",
-        "--bottle",
-        "0.5",
-        "--quality-drop-at",
-        "4",
-    ]);
-    let served = krc.expect("scale served on ", Duration::from_secs(30));
-    let scale = served
-        .rsplit("served on ")
-        .next()
-        .unwrap()
-        .trim()
-        .to_string();
+    let (krc, robot, scale) = cell(&["--quality-drop-at", "4"]);
     let out = tmp("robot-stop");
-    let robot = format!("fri:127.0.0.1:{port}");
     let (status, stdout, stderr) = primo(&[
         "pour",
         "--robot",
