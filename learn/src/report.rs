@@ -210,21 +210,15 @@ struct GoldenSummary<'a> {
     median_rollouts: [(Algorithm, Option<f64>); 2],
 }
 
-fn median(mut v: Vec<f64>) -> Option<f64> {
-    v.sort_by(f64::total_cmp);
-    let n = v.len();
-    (n > 0).then(|| 0.5 * (v[(n - 1) / 2] + v[n / 2]))
-}
-
 /// The median roll-outs to precision of `method` (runs that never reach it
 /// count as their budget: a lower bound).
 pub fn median_rollouts(runs: &[SearchRun], method: Algorithm) -> Option<f64> {
-    median(
-        runs.iter()
-            .filter(|r| r.method == method)
-            .map(|r| f64::from(r.rollouts_to_precision.unwrap_or(r.records.len() as u32)))
-            .collect(),
-    )
+    let counts: Vec<f64> = runs
+        .iter()
+        .filter(|r| r.method == method)
+        .map(|r| f64::from(r.rollouts_to_precision.unwrap_or(r.records.len() as u32)))
+        .collect();
+    (!counts.is_empty()).then(|| crate::stats::median(&counts))
 }
 
 /// Writes `golden.csv`, `golden.png` and `summary.json` into `dir`.
