@@ -292,7 +292,7 @@ fn show(event: Event, progress: &mut Progress) -> Result<(), Error> {
             let last = &f.last;
             format!(
                 "primo pour: {verdict}; last: q {:.4} l, poured {:.1} ml, spilled {:.1} ml, reward {:.3}; series.csv: {series}; wrote {}",
-                last.query,
+                last.volume(),
                 last.trial.poured * 1e3,
                 last.trial.spilled * 1e3,
                 last.trial.reward,

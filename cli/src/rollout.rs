@@ -70,6 +70,7 @@ fn parse_params(what: &str, text: &str, len: usize) -> Result<Vec<f32>, String> 
 
 /// The cell and the skill, for one roll-out after another.
 struct Objective {
+    space: primo_skill::Space,
     skill: Skill,
     rig: Simulated,
     base: Vec<f32>,
@@ -87,7 +88,7 @@ impl Objective {
         let trial = match self.skill.checked(
             primo_learn::rig::Rig::gate(&self.rig),
             primo_learn::rig::Rig::dt(&self.rig),
-            query,
+            &[query],
             &delta,
         ) {
             Ok((plan, path)) => Trial::scored(
@@ -116,12 +117,14 @@ pub fn run(args: &RolloutArgs) -> Result<(), CliError> {
     if let Some(series) = &args.series {
         check_out_file("--series", series)?;
     }
-    let (cell, skill) = args.skill.spec(Space::Joint, Glass::Normal)?.build()?;
+    let spec = args.skill.spec(Space::Joint, Glass::Normal)?;
+    let (cell, skill) = spec.build()?;
     let rig =
         Simulated::new(cell, args.bottle, args.seed)?.recording(usize::from(args.series.is_some()));
-    let base = skill.generalize(args.bottle as f32)?;
+    let base = skill.generalize(&[args.bottle as f32])?;
     let len = base.len() + 1;
     let objective = Objective {
+        space: spec.space,
         skill,
         rig,
         base,
@@ -145,7 +148,7 @@ pub fn run(args: &RolloutArgs) -> Result<(), CliError> {
     match &args.series {
         Some(file) => Ok(primo_learn::series::write_csv(
             file,
-            objective.skill.space(),
+            objective.space,
             trial.series.as_ref(),
         )?),
         None => Ok(()),
@@ -164,7 +167,7 @@ fn print_start(o: &Objective) -> Result<(), CliError> {
     start.push(o.bottle as f32);
     let out = serde_json::json!({
         "layout": "weights (dof x kernels, row by row), goals (dof), tau (s), query (l)",
-        "space": o.skill.space(),
+        "space": o.space,
         "dof": o.skill.dof(),
         "kernels": o.skill.kernels(),
         "bottle": o.bottle,

@@ -173,11 +173,11 @@ fn a_pouring_movement_is_streamed_tracked_and_pours() {
     // same check as the simulated roll-outs.
     let cell_cfg = CellConfig::standard(GlassKind::Normal);
     let skill = built_in_skill(&cell_cfg, Space::Joint, 30).unwrap();
-    let plan = skill.plan(0.5, &[], cell_cfg.dt).unwrap();
+    let plan = skill.plan(&[0.5], &[], cell_cfg.dt).unwrap();
     let gate = gate(&cell_cfg);
     let path = skill.check(&gate, &plan).unwrap();
     let mut rig = Simulated::new(cell_cfg, 0.5, 1).unwrap();
-    let direct = roll_out(&mut rig, &skill, 0.2, 1, 0.5, &[]).unwrap();
+    let direct = roll_out(&mut rig, &skill, 0.2, 1, &[0.5], &[]).unwrap();
 
     let (socket, addr) = client_socket();
     let mut cfg = krc_config(addr);
@@ -439,7 +439,7 @@ fn power_exploration_that_crosses_a_limit_never_reaches_the_robot() {
     for _ in 0..12 {
         let theta = power.ask().to_vec();
         let (query, delta) = (theta[0], &theta[1..]);
-        let trial = roll_out(&mut rig, &skill, 0.2, 1, query, delta).unwrap();
+        let trial = roll_out(&mut rig, &skill, 0.2, 1, &[query], delta).unwrap();
         power.tell(trial.reward as f32).unwrap();
         let Some(why) = trial.rejected else {
             continue;
@@ -448,7 +448,7 @@ fn power_exploration_that_crosses_a_limit_never_reaches_the_robot() {
         // check a roll-out on the robot passes first (the only way to a
         // JointPath, which is all `play` takes) says the same.
         assert_eq!(trial.reward, 0.0);
-        let plan = skill.plan(query, delta, cell.dt).unwrap();
+        let plan = skill.plan(&[query], delta, cell.dt).unwrap();
         let checked = skill.check(&gate(&cell), &plan).map_err(|e| e.to_string());
         assert_eq!(checked.map(|_| ()), Err(why.clone()));
         rejected.push(why);

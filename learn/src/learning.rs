@@ -22,7 +22,7 @@ use primo_skill::skill::{MAX_EXAMPLES, MAX_PARAMS};
 
 use crate::Error;
 use crate::coprocessor::Link;
-use crate::rig::{Rig, Simulated, roll_out};
+use crate::rig::{Simulated, roll_out};
 use crate::trial::Trial;
 
 /// Capacity of the extended parameter vector `[q̂, Δθ]`.
@@ -137,9 +137,40 @@ pub fn check_target(bottle: f64, target: f64) -> Result<(), Error> {
     Ok(())
 }
 
+/// What a roll-out gave, as the learners see it.
+pub trait Scored {
+    /// The error `ε` told to the error learners, one value per query
+    /// dimension; `ε_i > 0` asks for a larger `q_i`.
+    fn error(&self) -> Vec<f32>;
+    /// The reward, ≥ 0, told to PoWER.
+    fn reward(&self) -> f64;
+    /// Why the movement never left primo (the limits rejected it), if so.
+    fn rejected(&self) -> Option<&str>;
+    /// Drops what a run does not keep in memory (a recorded series).
+    fn lighten(&mut self) {}
+}
+
+impl Scored for Trial {
+    fn error(&self) -> Vec<f32> {
+        vec![self.error as f32]
+    }
+
+    fn reward(&self) -> f64 {
+        self.reward
+    }
+
+    fn rejected(&self) -> Option<&str> {
+        self.rejected.as_deref()
+    }
+
+    fn lighten(&mut self) {
+        self.series = None;
+    }
+}
+
 /// One roll-out of a learning run.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct Record {
+pub struct Record<T = Trial> {
     /// Roll-out number, from 1.
     pub rollout: u32,
     /// PoWER updates completed before this roll-out (0 for error learning).
@@ -147,9 +178,27 @@ pub struct Record {
     /// This roll-out executed PoWER's current mean (no exploration).
     pub mean: bool,
     /// The query `q̂` rolled out.
-    pub query: f32,
+    pub query: Vec<f32>,
     /// What happened.
-    pub trial: Trial,
+    pub trial: T,
+}
+
+impl<T> Record<T> {
+    /// The query's first value (a pouring run's query is one volume).
+    pub fn volume(&self) -> f32 {
+        self.query.first().copied().unwrap_or(f32::NAN)
+    }
+}
+
+/// The query as people write it: `0.5`, or `[1.5, 0.3]`.
+pub fn query_text(query: &[f32]) -> String {
+    match query {
+        [q] => q.to_string(),
+        q => format!(
+            "[{}]",
+            q.iter().map(f32::to_string).collect::<Vec<_>>().join(", ")
+        ),
+    }
 }
 
 /// PoWER's exploration blocks for `skill`, in the order of the extended
@@ -174,7 +223,7 @@ pub struct Record {
 ///   reach 2000), so one spread over all weights gave the unscaled joints
 ///   five times their own.
 pub fn power_blocks(skill: &Skill, s1: f32, s2: f32) -> Result<Vec<Block>, Error> {
-    let queries: Vec<[f32; 1]> = skill.examples().map(|(q, _)| [q]).collect();
+    let query: Vec<&[f32]> = skill.examples().map(|(q, _)| q).collect();
     let thetas: Vec<&[f32]> = skill.examples().map(|(_, t)| t).collect();
     let block = |s: f32, examples: &[&[f32]], range: std::ops::Range<usize>, decay: f32| {
         let len = range.len();
@@ -187,9 +236,8 @@ pub fn power_blocks(skill: &Skill, s1: f32, s2: f32) -> Result<Vec<Block>, Error
             decay,
         })
     };
-    let query: Vec<&[f32]> = queries.iter().map(|q| &q[..]).collect();
     let (n, k) = (skill.dof(), skill.kernels());
-    let mut blocks = vec![block(s1, &query, 0..1, QUERY_DECAY)?];
+    let mut blocks = vec![block(s1, &query, 0..skill.query_dim(), QUERY_DECAY)?];
     for d in 0..n {
         blocks.push(block(s2, &thetas, d * k..(d + 1) * k, 1.0)?);
     }
@@ -230,40 +278,14 @@ impl Learner {
         }
     }
 
-    /// Starts a run of `s` on `skill`: the learner and the examples.
-    fn configure(&mut self, skill: &Skill, s: &Settings) -> Result<(), Error> {
-        let search = SearchConfig {
-            low: s.search[0],
-            high: s.search[1],
-            desired: s.bottle as f32,
-            precision: s.precision as f32,
-            max_rollouts: s.max_rollouts,
-        };
-        let learner = match s.method {
-            Algorithm::Golden => LearnerSetup::Golden(search),
-            Algorithm::Illinois => LearnerSetup::Illinois(search),
-            Algorithm::Power => LearnerSetup::Power {
-                config: PowerConfig::paper(&power_blocks(skill, s.s1, s.s2)?)
-                    .map_err(|e| Error::Invalid(format!("PoWER: {e}")))?,
-                query: s.bottle as f32,
-            },
-        };
-        let examples: Vec<(f32, &[f32])> = skill.examples().collect();
-        let setup = Setup {
-            learner,
-            examples: u8::try_from(examples.len())
-                .map_err(|_| Error::Invalid("too many examples".into()))?,
-            theta_len: u16::try_from(skill.param_len())
-                .map_err(|_| Error::Invalid("θ too long".into()))?,
-            regression: skill.regression(),
-            seed: s.seed,
-        };
+    /// Starts a run: the learner's `setup`, then the examples of `skill`.
+    fn configure(&mut self, skill: &Skill, setup: Setup) -> Result<(), Error> {
         self.call(&Request::Configure(setup))?;
-        for (index, (query, theta)) in examples.into_iter().enumerate() {
+        for (index, (query, theta)) in skill.examples().enumerate() {
             for (c, values) in theta.chunks(CHUNK).enumerate() {
                 self.call(&Request::Example {
                     index: index as u8,
-                    query,
+                    query: wire_query(query)?,
                     offset: (c * CHUNK) as u16,
                     values: heapless::Vec::from_slice(values)
                         .map_err(|_| Error::Learner("chunk too long".into()))?,
@@ -297,6 +319,51 @@ impl Learner {
     }
 }
 
+/// The learner's setup for a pouring run of `s` on `skill`.
+pub fn pour_setup(skill: &Skill, s: &Settings) -> Result<Setup, Error> {
+    let search = SearchConfig {
+        low: s.search[0],
+        high: s.search[1],
+        desired: s.bottle as f32,
+        precision: s.precision as f32,
+        max_rollouts: s.max_rollouts,
+    };
+    let learner = match s.method {
+        Algorithm::Golden => LearnerSetup::Golden(search),
+        Algorithm::Illinois => LearnerSetup::Illinois(search),
+        Algorithm::Power => LearnerSetup::Power {
+            config: PowerConfig::paper(&power_blocks(skill, s.s1, s.s2)?)
+                .map_err(|e| Error::Invalid(format!("PoWER: {e}")))?,
+            query: wire_query(&[s.bottle as f32])?,
+        },
+    };
+    setup(skill, learner, s.seed)
+}
+
+/// The setup of `learner` over the examples of `skill`.
+pub fn setup(skill: &Skill, learner: LearnerSetup, seed: u64) -> Result<Setup, Error> {
+    Ok(Setup {
+        learner,
+        examples: u8::try_from(skill.examples().count())
+            .map_err(|_| Error::Invalid("too many examples".into()))?,
+        theta_len: u16::try_from(skill.param_len())
+            .map_err(|_| Error::Invalid("θ too long".into()))?,
+        regression: skill.regression(),
+        seed,
+    })
+}
+
+/// A query as the wire carries it.
+fn wire_query(query: &[f32]) -> Result<f32, Error> {
+    match query {
+        [q] => Ok(*q),
+        q => Err(Error::Invalid(format!(
+            "the learner takes one-dimensional queries, not {}",
+            query_text(q)
+        ))),
+    }
+}
+
 /// Runs the learner of `s` on `skill` in the simulated `cell`, calling
 /// `each` after every roll-out; returns all roll-outs.
 pub fn learn(
@@ -307,19 +374,27 @@ pub fn learn(
     mut each: impl FnMut(&Record),
 ) -> Result<Vec<Record>, Error> {
     let mut rig = Simulated::new(*cell, s.bottle, s.seed)?;
-    let run = learn_on(skill, s, learner, &mut rig, &[], |e, _| {
-        each(&e.record);
-        Ok(())
-    })?;
+    let run = learn_on(
+        skill,
+        pour_setup(skill, s)?,
+        s.max_rollouts,
+        learner,
+        &[],
+        |i, query, delta| roll_out(&mut rig, skill, s.target, i, query, delta),
+        |e, _| {
+            each(&e.record);
+            Ok(())
+        },
+    )?;
     Ok(run.into_iter().map(|e| e.record).collect())
 }
 
 /// A roll-out as the run log keeps it.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct Entry {
+pub struct Entry<T = Trial> {
     /// The roll-out and what happened.
     #[serde(flatten)]
-    pub record: Record,
+    pub record: Record<T>,
     /// The learner's `Δθ` (empty for the error learners).
     pub delta: Vec<f32>,
     /// The learner's state after it was told the outcome.
@@ -336,27 +411,32 @@ fn check(asked: &Rollout, delta: &[f32], status: &Status) -> Result<u32, Error> 
     Ok(crc::Crc::<u32>::new(&crc::CRC_32_ISCSI).checksum(&bytes))
 }
 
-/// Runs the learner of `s` on `skill` with roll-outs on `rig`, calling
-/// `each` after every roll-out (with `true` for a replayed one) before the
-/// next begins; returns all roll-outs. An error from `each` (the run log
-/// could not be written, the output closed) ends the run.
+/// Runs the learner of `setup` on `skill` for at most `max_rollouts`:
+/// `roll(i, q̂, Δθ)` makes roll-out `i` (on a rig, through an evaluator),
+/// and `each` is called after every roll-out (with `true` for a replayed
+/// one) before the next begins; returns all roll-outs. An error from
+/// `roll` (an instrument failed) or `each` (the run log could not be
+/// written, the output closed) ends the run. An error learner cannot learn
+/// from a movement the limits rejected: that ends the run too.
 ///
 /// `logged` are the roll-outs of an interrupted run of the same settings:
 /// the learner is told their outcomes again instead of rolling them out,
 /// and [`verify_replayed`] checks it asks for exactly the logged roll-outs
 /// and reaches exactly the logged states, so the run goes on as if it had
 /// never stopped.
-pub fn learn_on(
+pub fn learn_on<T: Scored + Clone>(
     skill: &Skill,
-    s: &Settings,
+    setup: Setup,
+    max_rollouts: u32,
     learner: &mut Learner,
-    rig: &mut dyn Rig,
-    logged: &[Entry],
-    mut each: impl FnMut(&Entry, bool) -> Result<(), Error>,
-) -> Result<Vec<Entry>, Error> {
-    learner.configure(skill, s)?;
+    logged: &[Entry<T>],
+    mut roll: impl FnMut(u32, &[f32], &[f32]) -> Result<T, Error>,
+    mut each: impl FnMut(&Entry<T>, bool) -> Result<(), Error>,
+) -> Result<Vec<Entry<T>>, Error> {
+    let error_learning = !matches!(setup.learner, LearnerSetup::Power { .. });
+    learner.configure(skill, setup)?;
     let mut run = Vec::new();
-    for i in 1..=s.max_rollouts {
+    for i in 1..=max_rollouts {
         let asked = match learner.call(&Request::Ask)? {
             Reply::Rollout(r) => r,
             Reply::Finished(_) => break,
@@ -367,23 +447,22 @@ pub fn learn_on(
             }
         };
         let delta = learner.delta(asked.delta_len)?;
-        let query = asked.query;
+        let query = vec![asked.query];
         let before = logged.get(run.len());
         let trial = match before {
             Some(e) => e.record.trial.clone(),
-            None => roll_out(rig, skill, s.target, i, query, &delta)?,
+            None => roll(i, &query, &delta)?,
         };
-        if let (Some(why), Algorithm::Golden | Algorithm::Illinois) = (&trial.rejected, s.method) {
+        if let (Some(why), true) = (trial.rejected(), error_learning) {
             return Err(Error::Invalid(format!(
-                "roll-out {i} (q = {query}) rejected: {why}"
+                "roll-out {i} (q = {}) rejected: {why}",
+                query_text(&query)
             )));
         }
-        // Error learning: ε > 0 (poured too much) asks for a larger query,
-        // a fuller bottle needs less tilt. PoWER: a rejected roll-out's
-        // reward is 0.
+        let error = trial.error();
         learner.call(&Request::Tell(Outcome {
-            error: trial.error as f32,
-            reward: trial.reward as f32,
+            error: error.first().copied().unwrap_or(f32::NAN),
+            reward: trial.reward() as f32,
         }))?;
         let status = match learner.call(&Request::Status)? {
             Reply::Status(status) => status,
@@ -410,7 +489,7 @@ pub fn learn_on(
         }
         each(&entry, before.is_some())?;
         // A series (megabytes) is not kept: the best one is replayed.
-        entry.record.trial.series = None;
+        entry.record.trial.lighten();
         run.push(entry);
     }
     if run.len() < logged.len() {
@@ -426,7 +505,7 @@ pub fn learn_on(
 
 /// A replayed roll-out must be the logged one: the learner asked for the
 /// same roll-out and `Δθ` and reached the same state, bit for bit.
-pub fn verify_replayed(logged: &Entry, replayed: &Entry) -> Result<(), Error> {
+pub fn verify_replayed<T>(logged: &Entry<T>, replayed: &Entry<T>) -> Result<(), Error> {
     if logged.check != replayed.check || logged.record.rollout != replayed.record.rollout {
         return Err(Error::Log(format!(
             "the run log's roll-out {} is not what the learner asks for and reaches \
@@ -434,8 +513,8 @@ pub fn verify_replayed(logged: &Entry, replayed: &Entry) -> Result<(), Error> {
              learner, seed or skill",
             logged.record.rollout,
             replayed.record.rollout,
-            replayed.record.query,
-            logged.record.query
+            query_text(&replayed.record.query),
+            query_text(&logged.record.query)
         )));
     }
     Ok(())
@@ -443,11 +522,11 @@ pub fn verify_replayed(logged: &Entry, replayed: &Entry) -> Result<(), Error> {
 
 /// The best executed roll-out: the highest reward, the later of equals
 /// (the more learned).
-pub fn best(run: &[Entry]) -> Option<&Entry> {
+pub fn best<T: Scored>(run: &[Entry<T>]) -> Option<&Entry<T>> {
     run.iter()
-        .filter(|e| e.record.trial.rejected.is_none())
-        .fold(None, |best: Option<&Entry>, e| match best {
-            Some(b) if b.record.trial.reward > e.record.trial.reward => Some(b),
+        .filter(|e| e.record.trial.rejected().is_none())
+        .fold(None, |best: Option<&Entry<T>>, e| match best {
+            Some(b) if b.record.trial.reward() > e.record.trial.reward() => Some(b),
             _ => Some(e),
         })
 }

@@ -19,11 +19,11 @@ use serde::{Deserialize, Serialize};
 
 use crate::Error;
 use crate::coprocessor::{Link, Qemu};
-use crate::learning::{Algorithm, Entry, Learner, Record, Settings, best, learn_on};
+use crate::learning::{Algorithm, Entry, Learner, Record, Settings, best, learn_on, pour_setup};
 use crate::output::{check_dir, create_dir};
 use crate::pouring::built_in_skill;
 use crate::report::{PourSummary, RolloutSummary};
-use crate::rig::{Instruments, InstrumentsSpec, Operator, Rig, Simulated};
+use crate::rig::{Instruments, InstrumentsSpec, Operator, Rig, Simulated, roll_out};
 use crate::runlog::RunLog;
 use crate::trial::Measured;
 
@@ -106,16 +106,9 @@ impl SkillSpec {
             let name = d.file.display().to_string();
             let demo = parse_demo(&name, &text)?;
             check_rotation_vectors(&name, &demo)?;
-            demos.push((d.volume, demo));
+            demos.push((name, d.volume, demo));
         }
-        let examples: Vec<_> = demos.iter().map(|(q, d)| (*q, d)).collect();
-        let skill = Skill::fit(
-            self.space,
-            &examples,
-            self.kernels,
-            primo_core::generalize::Method::Lwr { bandwidth: None },
-        )?;
-        Ok((cell, skill))
+        Ok((cell, crate::pouring::fit(self.space, &demos, self.kernels)?))
     }
 }
 
@@ -149,7 +142,9 @@ fn examples_crc(skill: &Skill) -> u32 {
     let crc = crc::Crc::<u32>::new(&crc::CRC_32_ISCSI);
     let mut digest = crc.digest();
     for (q, theta) in skill.examples() {
-        digest.update(&q.to_le_bytes());
+        for q in q {
+            digest.update(&q.to_le_bytes());
+        }
         for t in theta {
             digest.update(&t.to_le_bytes());
         }
@@ -396,9 +391,10 @@ pub fn pour(
             dir.display()
         ))));
     }
+    let space = header.skill.space;
     event(Event::Learning {
         settings: &s,
-        space: skill.space(),
+        space,
         parameters: learned_parameters(&s, &skill),
     })
     .map_err(fail)?;
@@ -417,12 +413,14 @@ pub fn pour(
             Box::new(rig)
         }
     };
+    let setup = pour_setup(&skill, &s).map_err(fail)?;
     let run = learn_on(
         &skill,
-        &s,
+        setup,
+        s.max_rollouts,
         &mut learner,
-        rig.as_mut(),
         &logged,
+        |i, query, delta| roll_out(rig.as_mut(), &skill, s.target, i, query, delta),
         |entry, replayed| {
             if !(replayed || ended) {
                 log.append(entry)?;
@@ -437,8 +435,17 @@ pub fn pour(
     if !ended {
         log.end().map_err(fail)?;
     }
-    let finished =
-        report(&dir, &s, &skill, &run, &simulated, &header.cell, started).map_err(fail)?;
+    let finished = report(
+        &dir,
+        &s,
+        space,
+        &skill,
+        &run,
+        &simulated,
+        &header.cell,
+        started,
+    )
+    .map_err(fail)?;
     event(Event::Finished(&finished)).map_err(fail)
 }
 
@@ -476,9 +483,11 @@ pub fn learned_parameters(s: &Settings, skill: &Skill) -> usize {
 }
 
 /// Writes the reports of a run.
+#[allow(clippy::too_many_arguments)]
 fn report(
     dir: &Path,
     s: &Settings,
+    space: Space,
     skill: &Skill,
     run: &[Entry],
     simulated: &Simulated,
@@ -501,7 +510,7 @@ fn report(
     let best = best(run);
     let summary = PourSummary {
         settings: s,
-        space: skill.space(),
+        space,
         parameters: learned_parameters(s, skill),
         rollouts: records.len(),
         converged_at,
@@ -520,14 +529,14 @@ fn report(
                 skill,
                 s.target,
                 e.record.rollout,
-                e.record.query,
+                &e.record.query,
                 &e.delta,
             )?
             .series
         }
         _ => None,
     };
-    crate::series::write_csv(&dir.join("series.csv"), skill.space(), series.as_ref())?;
+    crate::series::write_csv(&dir.join("series.csv"), space, series.as_ref())?;
     Ok(Finished {
         settings: *s,
         last: last.clone(),

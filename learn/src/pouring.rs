@@ -6,6 +6,7 @@ use primo_robot::{CartesianLimits, Gate};
 use primo_sim::cell::CellConfig;
 use primo_sim::expert::{BUILT_IN, Recording, rest_configuration, synthesize};
 use primo_skill::csv::Demo;
+use primo_skill::skill::same_columns;
 use primo_skill::{Skill, Space};
 
 use crate::Error;
@@ -52,9 +53,33 @@ pub fn to_csv_demo(demo: &Recording, space: Space) -> Demo {
 /// which with two examples is the paper's linear interpolation).
 pub fn built_in_skill(cell: &CellConfig, space: Space, kernels: usize) -> Result<Skill, Error> {
     let demos = built_in_demos(cell, space)?;
-    let examples: Vec<(f32, &Demo)> = demos.iter().map(|(q, d)| (*q, d)).collect();
+    let named: Vec<(String, f32, Demo)> = demos
+        .into_iter()
+        .map(|(q, d)| (format!("the built-in {q} l demonstration"), q, d))
+        .collect();
+    fit(space, &named, kernels)
+}
+
+/// The pouring skill in `space` fitted to `demos` (a name for messages,
+/// the bottle volume, the recording), generalized by LWR over the volume.
+/// Every demonstration's columns are the space's, by name and in order.
+pub fn fit(space: Space, demos: &[(String, f32, Demo)], kernels: usize) -> Result<Skill, Error> {
+    let expected: Vec<String> = space.names().iter().map(|n| n.to_string()).collect();
+    for (name, _, demo) in demos {
+        same_columns(&expected, &demo.names).map_err(|why| {
+            Error::Invalid(format!(
+                "{name}: {why}; {space:?} space's columns are t,{}",
+                expected.join(",")
+            ))
+        })?;
+    }
+    let queries: Vec<[f32; 1]> = demos.iter().map(|(_, q, _)| [*q]).collect();
+    let examples: Vec<(&[f32], &Demo)> = queries
+        .iter()
+        .zip(demos)
+        .map(|(q, (_, _, d))| (&q[..], d))
+        .collect();
     Ok(Skill::fit(
-        space,
         &examples,
         kernels,
         Regression::Lwr { bandwidth: None },

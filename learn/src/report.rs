@@ -26,7 +26,15 @@ pub fn rollout_row(r: &Record) -> String {
         .unwrap_or_default();
     format!(
         "{},{},{},{},{:.6},{:.6},{:.6},{:.6},{}",
-        r.rollout, r.update, r.mean, r.query, t.poured, t.spilled, t.error, t.reward, why
+        r.rollout,
+        r.update,
+        r.mean,
+        r.volume(),
+        t.poured,
+        t.spilled,
+        t.error,
+        t.reward,
+        why
     )
 }
 
@@ -36,12 +44,13 @@ pub fn rollout_line(r: &Record) -> String {
     match &t.rejected {
         Some(why) => format!(
             "roll-out {:>3}: q {:.4} l  REJECTED ({why})  reward 0",
-            r.rollout, r.query
+            r.rollout,
+            r.volume()
         ),
         None => format!(
             "roll-out {:>3}: q {:.4} l  poured {:6.1} ml  spilled {:5.1} ml  error {:+6.1} ml  reward {:.3}{}",
             r.rollout,
-            r.query,
+            r.volume(),
             t.poured * 1e3,
             t.spilled * 1e3,
             t.error * 1e3,
@@ -95,7 +104,7 @@ impl RolloutSummary {
     pub fn of(r: &Record) -> Self {
         RolloutSummary {
             rollout: r.rollout,
-            query: r.query,
+            query: r.volume(),
             poured: r.trial.poured,
             spilled: r.trial.spilled,
             error: r.trial.error,
@@ -142,7 +151,10 @@ pub fn write_pour(dir: &Path, records: &[Record], summary: &PourSummary) -> Resu
         .iter()
         .map(|r| (x(r), r.trial.spilled * 1e3))
         .collect();
-    let query: Vec<(f64, f64)> = shown.iter().map(|r| (x(r), f64::from(r.query))).collect();
+    let query: Vec<(f64, f64)> = shown
+        .iter()
+        .map(|r| (x(r), f64::from(r.volume())))
+        .collect();
     let reward: Vec<(f64, f64)> = records.iter().map(|r| (x(r), r.trial.reward)).collect();
     let one = |label, points| {
         [Line {
@@ -229,7 +241,12 @@ pub fn write_golden(dir: &Path, runs: &[SearchRun], precision: f64) -> Result<()
             let _ = writeln!(
                 csv,
                 "{},{:?},{},{},{:.6},{:.6}",
-                run.volume, run.method, r.rollout, r.query, r.trial.poured, r.trial.error
+                run.volume,
+                run.method,
+                r.rollout,
+                r.volume(),
+                r.trial.poured,
+                r.trial.error
             );
         }
     }
@@ -256,7 +273,7 @@ pub fn write_golden(dir: &Path, runs: &[SearchRun], precision: f64) -> Result<()
             .collect()
     };
     let error = |r: &Record| r.trial.error.abs() * 1e3;
-    let query = |r: &Record| f64::from(r.query);
+    let query = |r: &Record| f64::from(r.volume());
     let sets = [
         (
             "Golden section: pouring error",

@@ -43,7 +43,7 @@ pub fn roll_out(
     skill: &Skill,
     target: f64,
     rollout: u32,
-    query: f32,
+    query: &[f32],
     delta: &[f32],
 ) -> Result<Trial, Error> {
     match skill.checked(rig.gate(), rig.dt(), query, delta) {
@@ -102,12 +102,15 @@ impl Simulated {
         }
         let out = sim.finish();
         let recorded = !out.series.is_empty();
+        let space = plan
+            .space
+            .ok_or_else(|| Error::Invalid("the pouring cell runs pouring movements only".into()))?;
         Ok(Measured {
             poured: out.poured,
             spilled: out.spilled,
             series: recorded.then(|| {
                 Series::new(
-                    plan.space,
+                    space,
                     &plan.rows,
                     plan.dof,
                     self.cell.record_every,

@@ -11,7 +11,7 @@
 //! let skill = built_in_skill(&cell, Space::Cartesian, 10)?;
 //! // Only a recording cell pays for the series.
 //! let mut rig = Simulated::new(cell, 0.5, 1)?.recording(1);
-//! let trial = roll_out(&mut rig, &skill, 0.2, 1, 0.5, &[])?;
+//! let trial = roll_out(&mut rig, &skill, 0.2, 1, &[0.5], &[])?;
 //! let series = trial.series.expect("the cell recorded");
 //! let csv = series.to_csv();
 //! assert!(csv.starts_with("t,x,y,z,rx,ry,rz,tilt_rad,"));
@@ -134,7 +134,7 @@ mod tests {
         let cell = CellConfig::standard(GlassKind::Small);
         let skill = built_in_skill(&cell, Space::Joint, 10).unwrap();
         let rig = Simulated::new(cell, 0.5, 1).unwrap();
-        let trial = roll_out(&mut rig.recording(3), &skill, 0.2, 1, 0.5, &[]).unwrap();
+        let trial = roll_out(&mut rig.recording(3), &skill, 0.2, 1, &[0.5], &[]).unwrap();
         let series = trial.series.unwrap();
         assert_eq!(series.commands.len(), 7 * series.samples.len());
         let arm = cell.arm();
@@ -147,7 +147,7 @@ mod tests {
         let dt = series.samples[1].t - series.samples[0].t;
         assert!((dt - 3.0 * cell.dt).abs() < 1e-12);
         // Not recording: no series.
-        let trial = roll_out(&mut rig.recording(0), &skill, 0.2, 1, 0.5, &[]).unwrap();
+        let trial = roll_out(&mut rig.recording(0), &skill, 0.2, 1, &[0.5], &[]).unwrap();
         assert!(trial.series.is_none());
     }
 

@@ -6,6 +6,9 @@
 //!   forward and inverse kinematics.
 //! - [`limits`]: the joint position and velocity limits checked along a
 //!   trajectory.
+//! - [`envelope`]: the limits of a task's trajectory of named columns (a
+//!   robot preset, or per-column limits and a workspace box); its only
+//!   output is a [`envelope::Checked`] trajectory.
 //! - [`safety`]: the one gate every trajectory passes before it moves a
 //!   robot, simulated or real; its only output is a [`JointPath`].
 //!
@@ -14,6 +17,7 @@
 #![deny(missing_docs)]
 
 pub mod description;
+pub mod envelope;
 pub mod kinematics;
 pub mod limits;
 pub mod safety;
@@ -21,4 +25,4 @@ pub mod safety;
 pub use description::{DescriptionError, JOINTS, Link, Robot};
 pub use kinematics::{Arm, IkError, Pose};
 pub use limits::Violation;
-pub use safety::{CartesianLimits, Gate, JointPath, Rejection};
+pub use safety::{CartesianLimits, Gate, JointPath, Rejection, check_joints};

@@ -112,6 +112,52 @@ pub enum Rejection {
         /// How close the inverse kinematics came.
         ik: IkError,
     },
+    /// A trajectory's columns cannot be limited (a column without
+    /// limits, a robot's joints out of order).
+    #[error("{0}")]
+    Columns(String),
+    /// A column outside its range.
+    #[error("column `{column}` at sample {sample}: {value:.4} outside [{low}, {high}]")]
+    Column {
+        /// Sample index.
+        sample: usize,
+        /// The column.
+        column: String,
+        /// Its value.
+        value: f64,
+        /// The lowest allowed.
+        low: f64,
+        /// The highest allowed.
+        high: f64,
+    },
+    /// A column changing too fast.
+    #[error(
+        "column `{column}` at sample {sample}: speed {speed:.4} per s beyond the limit of {limit} per s"
+    )]
+    ColumnSpeed {
+        /// Sample index.
+        sample: usize,
+        /// The column.
+        column: String,
+        /// Its speed, per second.
+        speed: f64,
+        /// The limit, per second.
+        limit: f64,
+    },
+    /// A workspace point moving too fast.
+    #[error(
+        "sample {sample}: the point ({columns}) moves at {speed:.4} per s, beyond {limit} per s"
+    )]
+    PointSpeed {
+        /// Sample index.
+        sample: usize,
+        /// Its columns, comma-separated.
+        columns: String,
+        /// Its speed, per second.
+        speed: f64,
+        /// The limit, per second.
+        limit: f64,
+    },
     /// The joint angles of a Cartesian trajectory cross a joint limit.
     #[error("{0} (joint angles of the bottle poses, by inverse kinematics)")]
     Joints(Violation),

@@ -1,5 +1,6 @@
-//! A skill: demonstrations fitted as DMPs, generalized over the query
-//! (for pouring, the bottle's volume), planned and checked.
+//! A skill: demonstrations fitted as DMPs, generalized over the task
+//! query (for pouring, the bottle's volume; any vector of 1 to
+//! [`MAX_QUERY`] values), planned and checked.
 //!
 //! A movement is `θ = G(q̂) + Δθ` (paper eq. 12) with the DMP parameter
 //! layout `[weights row by row, goals, τ]`; the start is generalized with
@@ -28,7 +29,10 @@ pub const MAX_EXAMPLES: usize = 8;
 /// Longest DMP parameter vector (weights, goals, τ).
 pub const MAX_PARAMS: usize = HOST_MAX_DOF * MAX_KERNELS + HOST_MAX_DOF + 1;
 
-type Gen = Generalizer<MAX_EXAMPLES, 1, MAX_PARAMS>;
+/// Largest dimension of a query.
+pub const MAX_QUERY: usize = 4;
+
+type Gen = Generalizer<MAX_EXAMPLES, MAX_QUERY, MAX_PARAMS>;
 
 /// Which coordinates the movement is learned in.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -48,12 +52,43 @@ impl Space {
             Space::Joint => &JOINT_NAMES,
         }
     }
+
+    /// The space whose columns are `names`, if any.
+    pub fn of(names: &[String]) -> Option<Space> {
+        [Space::Joint, Space::Cartesian]
+            .into_iter()
+            .find(|s| s.names().iter().eq(names.iter()))
+    }
+}
+
+/// `names` are `expected`, by name and in order; the message names the
+/// first column that differs.
+pub fn same_columns(expected: &[String], names: &[String]) -> Result<(), String> {
+    for (i, e) in expected.iter().enumerate() {
+        match names.get(i) {
+            Some(n) if n == e => {}
+            Some(n) if expected.contains(n) => {
+                return Err(format!(
+                    "column {} is `{n}`, expected `{e}` (the columns are in another order)",
+                    i + 2
+                ));
+            }
+            Some(n) => return Err(format!("column {} is `{n}`, expected `{e}`", i + 2)),
+            None => return Err(format!("column `{e}` is missing")),
+        }
+    }
+    match names.get(expected.len()) {
+        Some(extra) => Err(format!("column `{extra}` is extra")),
+        None => Ok(()),
+    }
 }
 
 /// Demonstrations fitted and generalized.
 #[derive(Debug, Clone)]
 pub struct Skill {
-    space: Space,
+    names: Vec<String>,
+    query_dim: usize,
+    space: Option<Space>,
     template: HostDmp,
     generalizer: Box<Gen>,
     starts: Vec<Vec<f32>>,
@@ -63,8 +98,8 @@ pub struct Skill {
 /// sample, in f64 for the cell.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Plan {
-    /// The space of the coordinates.
-    pub space: Space,
+    /// The pouring cell's space of the coordinates, if they are one's.
+    pub space: Option<Space>,
     /// Sample times, s.
     pub t: Vec<f64>,
     /// Positions.
@@ -74,29 +109,42 @@ pub struct Plan {
 }
 
 impl Skill {
-    /// Fits one DMP per demonstration, all with the same amplitude scaling
-    /// (decided on the first: interpolating weights only makes sense when
-    /// every example scales them alike), and generalizes over the queries.
+    /// Fits one DMP per demonstration `(q_i, demo_i)`, all with the same
+    /// amplitude scaling (decided on the first: interpolating weights only
+    /// makes sense when every example scales them alike), and generalizes
+    /// over the queries. Every demonstration has the first one's columns,
+    /// by name and in order, and every query its dimension (1 to
+    /// [`MAX_QUERY`]).
     pub fn fit(
-        space: Space,
-        examples: &[(f32, &Demo)],
+        examples: &[(&[f32], &Demo)],
         kernels: usize,
         method: Method,
     ) -> Result<Skill, Error> {
-        let dof = space.names().len();
+        let (first_query, first) = examples.first().ok_or_else(|| {
+            Error::Demonstrations("a skill needs at least one demonstration".into())
+        })?;
+        let names = first.names.clone();
+        let dof = names.len();
+        let query_dim = first_query.len();
+        if !(1..=MAX_QUERY).contains(&query_dim) {
+            return Err(Error::Demonstrations(format!(
+                "a query has 1 to {MAX_QUERY} values, demonstration 1's has {query_dim}"
+            )));
+        }
         let mut options = FitOptions::default();
         let mut dmps = Vec::new();
         for (i, (q, demo)) in examples.iter().enumerate() {
-            if demo.names.len() != dof {
+            same_columns(&names, &demo.names)
+                .map_err(|why| Error::Demonstrations(format!("demonstration {}: {why}", i + 1)))?;
+            if q.len() != query_dim {
                 return Err(Error::Demonstrations(format!(
-                    "demonstration {} has {} columns; {:?} space needs {dof}",
+                    "demonstration {}: its query has {} values, demonstration 1's has {query_dim}",
                     i + 1,
-                    demo.names.len(),
-                    space
+                    q.len()
                 )));
             }
             let dmp = HostDmp::fit(&demo.times, &demo.positions, dof, kernels, &options).map_err(
-                |e| Error::Demonstrations(format!("demonstration {} (q = {q}): {e}", i + 1)),
+                |e| Error::Demonstrations(format!("demonstration {} (q = {q:?}): {e}", i + 1)),
             )?;
             if i == 0 {
                 let mask = (0..dof)
@@ -106,23 +154,26 @@ impl Skill {
             }
             dmps.push((*q, dmp));
         }
-        let template = dmps.first().map(|(_, d)| d.clone()).ok_or_else(|| {
-            Error::Demonstrations("a skill needs at least one demonstration".into())
-        })?;
-        let mut generalizer = Box::new(Gen::new(1, template.param_len(), method));
+        let template = dmps
+            .first()
+            .map(|(_, d)| d.clone())
+            .ok_or_else(|| Error::Demonstrations("no demonstration".into()))?;
+        let mut generalizer = Box::new(Gen::new(query_dim, template.param_len(), method));
         let mut theta = vec![0.0; template.param_len()];
         for (q, dmp) in &dmps {
             dmp.params(&mut theta)
                 .map_err(|e| Error::Demonstrations(e.to_string()))?;
             generalizer
-                .add_example(&[*q], &theta)
-                .map_err(|e| Error::Demonstrations(format!("example q = {q}: {e}")))?;
+                .add_example(q, &theta)
+                .map_err(|e| Error::Demonstrations(format!("example q = {q:?}: {e}")))?;
         }
         generalizer
             .build()
             .map_err(|e| Error::Demonstrations(e.to_string()))?;
         Ok(Skill {
-            space,
+            space: Space::of(&names),
+            names,
+            query_dim,
             starts: dmps
                 .iter()
                 .map(|(_, d)| d.start_position().to_vec())
@@ -132,8 +183,19 @@ impl Skill {
         })
     }
 
-    /// The space the skill moves in.
-    pub fn space(&self) -> Space {
+    /// The column names of the skill's movements.
+    pub fn names(&self) -> &[String] {
+        &self.names
+    }
+
+    /// The query's dimension.
+    pub fn query_dim(&self) -> usize {
+        self.query_dim
+    }
+
+    /// The pouring cell's space the skill moves in, if its columns are
+    /// one's.
+    pub fn space(&self) -> Option<Space> {
         self.space
     }
 
@@ -153,11 +215,19 @@ impl Skill {
     }
 
     /// The examples `(q_i, θ_i)`.
-    pub fn examples(&self) -> impl Iterator<Item = (f32, &[f32])> + Clone {
-        (0..self.generalizer.len()).filter_map(|i| {
-            let (q, theta) = self.generalizer.example(i)?;
-            Some((*q.first()?, theta))
-        })
+    pub fn examples(&self) -> impl Iterator<Item = (&[f32], &[f32])> + Clone {
+        (0..self.generalizer.len()).filter_map(|i| self.generalizer.example(i))
+    }
+
+    /// A query of the skill's dimension, every value finite.
+    fn check_query(&self, query: &[f32]) -> Result<(), Error> {
+        if query.len() != self.query_dim || query.iter().any(|q| !q.is_finite()) {
+            return Err(Error::Movement(format!(
+                "the query {query:?} is not {} finite value(s)",
+                self.query_dim
+            )));
+        }
+        Ok(())
     }
 
     /// How the skill generalizes.
@@ -166,18 +236,19 @@ impl Skill {
     }
 
     /// `G(q)`.
-    pub fn generalize(&self, query: f32) -> Result<Vec<f32>, Error> {
+    pub fn generalize(&self, query: &[f32]) -> Result<Vec<f32>, Error> {
+        self.check_query(query)?;
         let mut theta = vec![0.0; self.param_len()];
         self.generalizer
-            .generalize(&[query], &mut theta)
-            .map_err(|e| Error::Movement(format!("generalizing to q = {query}: {e}")))?;
+            .generalize(query, &mut theta)
+            .map_err(|e| Error::Movement(format!("generalizing to q = {query:?}: {e}")))?;
         Ok(theta)
     }
 
     /// The DMP and its execution for `θ = G(q̂) + Δθ`.
     pub fn movement(
         &self,
-        query: f32,
+        query: &[f32],
         delta: &[f32],
     ) -> Result<(HostDmp, Execution<HOST_MAX_DOF>), Error> {
         if delta.len() > self.param_len() {
@@ -193,10 +264,10 @@ impl Skill {
         }
         let mut dmp = self.template.clone();
         dmp.set_params(&theta)
-            .map_err(|e| Error::Movement(format!("movement for q = {query}: {e}")))?;
+            .map_err(|e| Error::Movement(format!("movement for q = {query:?}: {e}")))?;
         let mut c = [0.0f32; MAX_EXAMPLES];
         self.generalizer
-            .coefficients(&[query], &mut c)
+            .coefficients(query, &mut c)
             .map_err(|e| Error::Movement(e.to_string()))?;
         let mut exec = dmp.execution();
         for (d, s) in exec.start.iter_mut().enumerate() {
@@ -211,7 +282,7 @@ impl Skill {
     }
 
     /// The movement sampled every `dt` seconds from 0 to τ.
-    pub fn plan(&self, query: f32, delta: &[f32], dt: f64) -> Result<Plan, Error> {
+    pub fn plan(&self, query: &[f32], delta: &[f32], dt: f64) -> Result<Plan, Error> {
         let (dmp, exec) = self.movement(query, delta)?;
         let dof = dmp.dof();
         let mut plan = Plan {
@@ -237,8 +308,16 @@ impl Skill {
     /// checked joint angles.
     pub fn check(&self, gate: &Gate, plan: &Plan) -> Result<JointPath, Error> {
         Ok(match self.space {
-            Space::Joint => gate.check_joints(plan.t.clone(), rows(plan))?,
-            Space::Cartesian => gate.check_cartesian(&plan.t, &rows(plan))?,
+            Some(Space::Joint) => gate.check_joints(plan.t.clone(), rows(plan))?,
+            Some(Space::Cartesian) => gate.check_cartesian(&plan.t, &rows(plan))?,
+            None => {
+                return Err(Error::Movement(format!(
+                    "the pouring cell moves joints ({}) or the bottle ({}), not ({})",
+                    JOINT_NAMES.join(","),
+                    CARTESIAN_NAMES.join(","),
+                    self.names.join(",")
+                )));
+            }
         })
     }
 
@@ -248,7 +327,7 @@ impl Skill {
         &self,
         gate: &Gate,
         dt: f64,
-        query: f32,
+        query: &[f32],
         delta: &[f32],
     ) -> Result<(Plan, JointPath), Error> {
         let plan = self.plan(query, delta, dt)?;

@@ -50,7 +50,7 @@ fn joint_space_generalization_spills_where_cartesian_does_not() {
     let trial = |space| {
         let skill = built_in_skill(&cell, space, 30).unwrap();
         let mut rig = Simulated::new(cell, 0.5, 1).unwrap();
-        roll_out(&mut rig, &skill, 0.2, 1, 0.5, &[]).unwrap()
+        roll_out(&mut rig, &skill, 0.2, 1, &[0.5], &[]).unwrap()
     };
     let (cartesian, joint) = (trial(Space::Cartesian), trial(Space::Joint));
     println!("cartesian {cartesian:?}\njoint {joint:?}");
@@ -60,7 +60,7 @@ fn joint_space_generalization_spills_where_cartesian_does_not() {
     let skill = built_in_skill(&cell, Space::Joint, 30).unwrap();
     for q in [0.3f32, 1.0] {
         let mut rig = Simulated::new(cell, q.into(), 1).unwrap();
-        let t = roll_out(&mut rig, &skill, 0.2, 1, q, &[]).unwrap();
+        let t = roll_out(&mut rig, &skill, 0.2, 1, &[q], &[]).unwrap();
         assert!(
             t.spilled < 1e-3 && (t.poured - 0.2).abs() < 0.02,
             "q {q}: {t:?}"

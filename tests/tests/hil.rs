@@ -124,7 +124,7 @@ fn bits(records: &[Record]) -> Vec<(u32, u32, u64, u64)> {
         .map(|r| {
             (
                 r.rollout,
-                r.query.to_bits(),
+                r.volume().to_bits(),
                 r.trial.poured.to_bits(),
                 r.trial.reward.to_bits(),
             )
