@@ -9,6 +9,7 @@ mod dmp;
 mod error;
 mod experiment;
 mod interrupt;
+mod learn;
 mod output;
 mod pour;
 mod robot;
@@ -40,6 +41,10 @@ enum Command {
     /// --scale): fit the demonstrations, generalize to the bottle, learn,
     /// log and report every roll-out.
     Pour(pour::PourArgs),
+    /// Learn any skill from a task file: your demonstrations and query,
+    /// your limits, your evaluator (a program, the operator) or the
+    /// built-in pouring cell.
+    Learn(learn::LearnArgs),
     /// Execute parameter vectors on the simulated cell (an objective for
     /// any optimizer).
     Rollout(rollout::RolloutArgs),
@@ -66,6 +71,7 @@ fn main() {
         Command::Dmp(command) => dmp::run(command),
         Command::Demo(command) => demo::run(command),
         Command::Pour(args) => pour::run(&args),
+        Command::Learn(args) => learn::run(&args),
         Command::Rollout(args) => rollout::run(&args),
         Command::Experiment(command) => experiment::run(command),
         Command::Scale(command) => scale::run(command),

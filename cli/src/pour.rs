@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use primo_learn::Error;
 use primo_learn::learning::{Algorithm, Settings};
-use primo_learn::pour::{CellSpec, DemoFile, Event, LearnerSpec, SkillSpec, Start};
+use primo_learn::pour::{CellSpec, DemoFile, Event, Failure, LearnerSpec, SkillSpec, Start};
 use primo_learn::report::rollout_line;
 use primo_learn::rig::{InstrumentsSpec, Operator};
 
@@ -101,15 +101,15 @@ pub struct PourArgs {
         "space", "kernels", "glass", "demos",
     ])]
     resume: Option<PathBuf>,
-    /// Run the learner on a coprocessor: a serial port (e.g.
-    /// /dev/ttyACM0), or `qemu` to boot the firmware on an emulated
-    /// Cortex-M4F (qemu-system-arm) for the run.
-    #[arg(long, value_name = "PORT|qemu")]
-    coprocessor: Option<String>,
-    /// With --coprocessor qemu: the firmware ELF (default: the release
-    /// build in firmware/).
-    #[arg(long, requires = "coprocessor", value_name = "ELF")]
-    firmware: Option<PathBuf>,
+    #[command(flatten)]
+    learner: LearnerArgs,
+    #[command(flatten)]
+    cell: CellArgs,
+}
+
+/// Where a pour's roll-outs happen, when not on the simulated cell.
+#[derive(Debug, Clone, clap::Args)]
+pub struct CellArgs {
     /// Roll out on a real cell: the robot, `fri:ADDR[:PORT]`, the local
     /// UDP address the KRC sends its FRI packets to (default port 49938).
     #[arg(long, requires = "scale", value_name = "fri:ADDR[:PORT]")]
@@ -130,18 +130,49 @@ pub struct PourArgs {
     confirm: bool,
 }
 
+impl CellArgs {
+    /// The real cell's instruments, if given.
+    pub fn instruments(&self) -> Option<InstrumentsSpec> {
+        match (&self.robot, &self.scale) {
+            (Some(robot), Some(scale)) => Some(InstrumentsSpec {
+                robot: robot.clone(),
+                scale: scale.clone(),
+                baud: self.baud,
+                density: self.density,
+                confirm: self.confirm,
+            }),
+            _ => None,
+        }
+    }
+}
+
+/// Where the learner runs.
+#[derive(Debug, Clone, clap::Args)]
+pub struct LearnerArgs {
+    /// Run the learner on a coprocessor: a serial port (e.g.
+    /// /dev/ttyACM0), or `qemu` to boot the firmware on an emulated
+    /// Cortex-M4F (qemu-system-arm) for the run.
+    #[arg(long, value_name = "PORT|qemu")]
+    coprocessor: Option<String>,
+    /// With --coprocessor qemu: the firmware ELF (default: the release
+    /// build in firmware/).
+    #[arg(long, requires = "coprocessor", value_name = "ELF")]
+    firmware: Option<PathBuf>,
+}
+
+impl LearnerArgs {
+    /// The learner's place.
+    pub fn spec(&self) -> LearnerSpec {
+        LearnerSpec {
+            coprocessor: self.coprocessor.clone(),
+            firmware: self.firmware.clone(),
+        }
+    }
+}
+
 /// Runs `primo pour`.
 pub fn run(args: &PourArgs) -> Result<(), CliError> {
-    let instruments = match (&args.robot, &args.scale) {
-        (Some(robot), Some(scale)) => Some(InstrumentsSpec {
-            robot: robot.clone(),
-            scale: scale.clone(),
-            baud: args.baud,
-            density: args.density,
-            confirm: args.confirm,
-        }),
-        _ => None,
-    };
+    let instruments = args.cell.instruments();
     let start = match &args.resume {
         Some(dir) => Start::Resume {
             dir: dir.clone(),
@@ -167,21 +198,45 @@ pub fn run(args: &PourArgs) -> Result<(), CliError> {
             }
         }
     };
-    let learner = LearnerSpec {
-        coprocessor: args.coprocessor.clone(),
-        firmware: args.firmware.clone(),
-    };
+    execute(start, &args.learner.spec(), "pour")
+}
+
+/// Runs a pour (`primo pour`, or `primo learn` of the built-in pour task:
+/// `command` names which, for the messages).
+pub fn execute(start: Start, learner: &LearnerSpec, command: &str) -> Result<(), CliError> {
     let dir = match &start {
         Start::New { out, .. } => out.clone(),
         Start::Resume { dir, .. } => dir.clone(),
     };
-    crate::interrupt::install(resume_hint(&dir))?;
+    finish(
+        command,
+        with_progress(&dir, command, |progress| {
+            primo_learn::pour::pour(start, learner, Box::new(Terminal), |event| {
+                show(event, progress)
+            })
+        }),
+    )
+}
+
+/// Runs `run` with Ctrl-C caught and a progress bar, cleared at the end.
+pub fn with_progress<T>(
+    dir: &std::path::Path,
+    command: &str,
+    run: impl FnOnce(&mut Progress) -> T,
+) -> Result<T, CliError> {
+    crate::interrupt::install(resume_hint(command, dir))?;
     let mut progress = Progress::new();
-    let result = primo_learn::pour::pour(start, &learner, Box::new(Terminal), |event| {
-        show(event, &mut progress)
-    });
+    let result = run(&mut progress);
     progress.clear();
-    match result {
+    Ok(result)
+}
+
+/// The end of a learning run: a failure's message says how to resume.
+pub fn finish(
+    command: &str,
+    result: Result<Result<(), Failure>, CliError>,
+) -> Result<(), CliError> {
+    match result? {
         Ok(()) => Ok(()),
         Err(failure) => {
             let mut e = CliError::from(*failure.error);
@@ -190,9 +245,16 @@ pub fn run(args: &PourArgs) -> Result<(), CliError> {
             {
                 if e.status == crate::error::CLOSED {
                     // Nobody reads stdout any more: say it where one may.
-                    eprintln!("primo pour: stdout closed; {}", resume_hint(&dir));
+                    eprintln!(
+                        "primo {command}: stdout closed; {}",
+                        resume_hint(command, &dir)
+                    );
                 } else if !e.message.is_empty() {
-                    e.message = format!("{}\nprimo pour: {}", e.message, resume_hint(&dir));
+                    e.message = format!(
+                        "{}\nprimo {command}: {}",
+                        e.message,
+                        resume_hint(command, &dir)
+                    );
                 }
             }
             Err(e)
@@ -200,9 +262,9 @@ pub fn run(args: &PourArgs) -> Result<(), CliError> {
     }
 }
 
-fn resume_hint(dir: &std::path::Path) -> String {
+fn resume_hint(command: &str, dir: &std::path::Path) -> String {
     format!(
-        "the run log in {} keeps every roll-out made; continue with `primo pour --resume {}`",
+        "the run log in {} keeps every roll-out made; continue with `primo {command} --resume {}`",
         dir.display(),
         dir.display()
     )
@@ -304,7 +366,7 @@ fn show(event: Event, progress: &mut Progress) -> Result<(), Error> {
 }
 
 /// A line on stdout; a closed stdout is an error that ends the run.
-fn print(line: &str) -> Result<(), Error> {
+pub fn print(line: &str) -> Result<(), Error> {
     let mut out = std::io::stdout().lock();
     writeln!(out, "{line}")
         .and_then(|()| out.flush())
@@ -338,8 +400,9 @@ impl Operator for Terminal {
 }
 
 /// A progress bar on stderr, redrawn in place when stderr is a terminal.
-struct Progress {
-    total: u32,
+pub struct Progress {
+    /// Roll-outs in the budget.
+    pub total: u32,
     tty: bool,
 }
 
@@ -351,7 +414,8 @@ impl Progress {
         }
     }
 
-    fn show(&self, done: u32, note: &str) {
+    /// Shows `done` of the total, with a note.
+    pub fn show(&self, done: u32, note: &str) {
         if !self.tty {
             return;
         }
@@ -365,7 +429,8 @@ impl Progress {
         );
     }
 
-    fn clear(&self) {
+    /// Clears the bar.
+    pub fn clear(&self) {
         if self.tty {
             eprint!("\r{}\r", " ".repeat(70));
         }

@@ -4,7 +4,7 @@
 use std::io::{BufRead, Write};
 use std::path::PathBuf;
 
-use primo_learn::learning::{check_target, power_blocks};
+use primo_learn::learning::{QUERY_DECAY, check_target, power_blocks};
 use primo_learn::rig::Simulated;
 use primo_learn::trial::Trial;
 use primo_skill::Skill;
@@ -156,7 +156,7 @@ pub fn run(args: &RolloutArgs) -> Result<(), CliError> {
 }
 
 fn print_start(o: &Objective) -> Result<(), CliError> {
-    let blocks = power_blocks(&o.skill, 0.2, 0.05)?;
+    let blocks = power_blocks(&o.skill, 0.2, 0.05, QUERY_DECAY)?;
     // Blocks are [q̂, weights, goals, τ]; the vector puts q̂ last.
     let mut std: Vec<f32> = blocks
         .iter()

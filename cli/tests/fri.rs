@@ -427,7 +427,7 @@ fn power_exploration_that_crosses_a_limit_never_reaches_the_robot() {
     let cell = CellConfig::standard(GlassKind::Normal);
     let skill = built_in_skill(&cell, Space::Joint, 10).unwrap();
     // PoWER exploring Δθ with 100 times the paper's variance.
-    let blocks = power_blocks(&skill, 0.2, 5.0).unwrap();
+    let blocks = power_blocks(&skill, 0.2, 5.0, primo_learn::learning::QUERY_DECAY).unwrap();
     let mut start = vec![0.0f32; skill.param_len() + 1];
     start[0] = 0.5;
     let cfg = PowerConfig::paper(&blocks).unwrap();

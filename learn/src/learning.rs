@@ -205,8 +205,8 @@ pub fn query_text(query: &[f32]) -> String {
 /// vector: the query, the kernel weights of each DoF (one block per DoF),
 /// the goals, τ. Each block explores with the standard deviation
 /// `σ = s·max_ij ‖x_i − x_j‖/√len`, `s` times the examples' RMS spread over
-/// the block (`s1` for the query, decaying by [`QUERY_DECAY`] per update;
-/// `s2` for the rest).
+/// the block (`s1` for the query, its variance decaying by `decay` per
+/// update, the pour's [`QUERY_DECAY`]; `s2` for the rest).
 ///
 /// The paper writes `σ² = s·max‖θ_i − θ_j‖` with one `σ2` for all of Δθ,
 /// and calls `s` the span of exploration. Three departures, each measured
@@ -222,7 +222,7 @@ pub fn query_text(query: &[f32]) -> String {
 ///   weights are per unit of its amplitude (a5 moves 0.07 rad, its weights
 ///   reach 2000), so one spread over all weights gave the unscaled joints
 ///   five times their own.
-pub fn power_blocks(skill: &Skill, s1: f32, s2: f32) -> Result<Vec<Block>, Error> {
+pub fn power_blocks(skill: &Skill, s1: f32, s2: f32, decay: f32) -> Result<Vec<Block>, Error> {
     let query: Vec<&[f32]> = skill.examples().map(|(q, _)| q).collect();
     let thetas: Vec<&[f32]> = skill.examples().map(|(_, t)| t).collect();
     let block = |s: f32, examples: &[&[f32]], range: std::ops::Range<usize>, decay: f32| {
@@ -237,7 +237,7 @@ pub fn power_blocks(skill: &Skill, s1: f32, s2: f32) -> Result<Vec<Block>, Error
         })
     };
     let (n, k) = (skill.dof(), skill.kernels());
-    let mut blocks = vec![block(s1, &query, 0..skill.query_dim(), QUERY_DECAY)?];
+    let mut blocks = vec![block(s1, &query, 0..skill.query_dim(), decay)?];
     for d in 0..n {
         blocks.push(block(s2, &thetas, d * k..(d + 1) * k, 1.0)?);
     }
@@ -332,7 +332,7 @@ pub fn pour_setup(skill: &Skill, s: &Settings) -> Result<Setup, Error> {
         Algorithm::Golden => LearnerSetup::Golden(search),
         Algorithm::Illinois => LearnerSetup::Illinois(search),
         Algorithm::Power => LearnerSetup::Power {
-            config: PowerConfig::paper(&power_blocks(skill, s.s1, s.s2)?)
+            config: PowerConfig::paper(&power_blocks(skill, s.s1, s.s2, QUERY_DECAY)?)
                 .map_err(|e| Error::Invalid(format!("PoWER: {e}")))?,
             query: wire_query(&[s.bottle as f32])?,
         },
@@ -351,6 +351,19 @@ pub fn setup(skill: &Skill, learner: LearnerSetup, seed: u64) -> Result<Setup, E
         regression: skill.regression(),
         seed,
     })
+}
+
+/// CRC-32C of the examples `(q_i, θ_i)` of `skill`, bit for bit: a run
+/// log keeps it, so changed demonstration files are caught on resume.
+pub(crate) fn examples_crc(skill: &Skill) -> u32 {
+    let crc = crc::Crc::<u32>::new(&crc::CRC_32_ISCSI);
+    let mut digest = crc.digest();
+    for (q, theta) in skill.examples() {
+        for v in q.iter().chain(theta) {
+            digest.update(&v.to_le_bytes());
+        }
+    }
+    digest.finalize()
 }
 
 /// A query as the wire carries it.
@@ -542,7 +555,7 @@ mod tests {
     fn power_blocks_explore_a_fraction_of_each_blocks_spread() {
         let cell = CellConfig::standard(GlassKind::Small);
         let skill = built_in_skill(&cell, Space::Joint, 10).unwrap();
-        let blocks = power_blocks(&skill, 0.2, 0.05).unwrap();
+        let blocks = power_blocks(&skill, 0.2, 0.05, QUERY_DECAY).unwrap();
         assert_eq!(blocks.len(), 1 + skill.dof() + 2);
         let lens: Vec<usize> = blocks.iter().map(|b| b.len).collect();
         assert_eq!(lens[1..=skill.dof()], vec![skill.kernels(); skill.dof()]);
@@ -567,6 +580,9 @@ mod tests {
             start += b.len;
         }
         // Ordinary PoWER explores no query.
-        assert_eq!(power_blocks(&skill, 0.0, 0.05).unwrap()[0].variance, 0.0);
+        assert_eq!(
+            power_blocks(&skill, 0.0, 0.05, QUERY_DECAY).unwrap()[0].variance,
+            0.0
+        );
     }
 }

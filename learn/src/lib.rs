@@ -22,6 +22,7 @@
 
 pub mod coprocessor;
 mod error;
+pub mod evaluator;
 pub mod experiment;
 pub mod learning;
 pub mod output;
@@ -33,6 +34,8 @@ pub mod rig;
 pub mod runlog;
 pub mod series;
 pub mod stats;
+pub mod task;
+pub mod teach;
 pub mod trial;
 
 pub use error::Error;

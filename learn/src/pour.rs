@@ -19,7 +19,9 @@ use serde::{Deserialize, Serialize};
 
 use crate::Error;
 use crate::coprocessor::{Link, Qemu};
-use crate::learning::{Algorithm, Entry, Learner, Record, Settings, best, learn_on, pour_setup};
+use crate::learning::{
+    Algorithm, Entry, Learner, Record, Settings, best, examples_crc, learn_on, pour_setup,
+};
 use crate::output::{check_dir, create_dir};
 use crate::pouring::built_in_skill;
 use crate::report::{PourSummary, RolloutSummary};
@@ -135,21 +137,6 @@ pub struct Header {
     pub cell: CellSpec,
     /// CRC-32C of the skill's examples `(q_i, θ_i)`, bit for bit.
     pub examples: u32,
-}
-
-/// CRC-32C of the examples of `skill`.
-fn examples_crc(skill: &Skill) -> u32 {
-    let crc = crc::Crc::<u32>::new(&crc::CRC_32_ISCSI);
-    let mut digest = crc.digest();
-    for (q, theta) in skill.examples() {
-        for q in q {
-            digest.update(&q.to_le_bytes());
-        }
-        for t in theta {
-            digest.update(&t.to_le_bytes());
-        }
-    }
-    digest.finalize()
 }
 
 /// Where the learner runs.
@@ -323,7 +310,10 @@ pub fn pour(
     let started = Instant::now();
     start.validate()?;
     // QEMU (when asked for) lives until the run ends.
-    let (_qemu, mut learner) = open_learner(learner, &mut event)?;
+    let (_qemu, mut learner, connected) = open_learner(learner)?;
+    if let Some(what) = connected {
+        event(Event::Learner(what))?;
+    }
     let (dir, header, logged, mut log, ended) = match start {
         Start::New {
             out,
@@ -547,27 +537,32 @@ fn report(
     })
 }
 
-fn open_learner(
+/// Connects the learner of `spec`: in this process, on a coprocessor, or
+/// on the firmware booted in QEMU (returned: it lives until the run ends);
+/// with where it is, unless in this process.
+pub(crate) fn open_learner(
     spec: &LearnerSpec,
-    event: &mut impl FnMut(Event) -> Result<(), Error>,
-) -> Result<(Option<Qemu>, Learner), Error> {
+) -> Result<(Option<Qemu>, Learner, Option<String>), Error> {
     Ok(match spec.coprocessor.as_deref() {
-        None => (None, Learner::local()),
+        None => (None, Learner::local(), None),
         Some("qemu") => {
             let elf = spec.firmware.clone().unwrap_or_else(Qemu::default_firmware);
             let qemu = Qemu::start(&elf)?;
             let link = Link::open(qemu.pty())?;
-            event(Event::Learner(format!(
+            let what = format!(
                 "learner: firmware {} on QEMU mps2-an386, {}",
                 elf.display(),
                 qemu.pty()
-            )))?;
-            (Some(qemu), Learner::Remote(link))
+            );
+            (Some(qemu), Learner::Remote(link), Some(what))
         }
         Some(port) => {
             let link = Link::open(port)?;
-            event(Event::Learner(format!("learner: coprocessor on {port}")))?;
-            (None, Learner::Remote(link))
+            (
+                None,
+                Learner::Remote(link),
+                Some(format!("learner: coprocessor on {port}")),
+            )
         }
     })
 }

@@ -126,6 +126,87 @@ fn png(path: &Path, panels: &[Panel<'_>], height: u32) -> Result<(), Error> {
     write_file(path, &bytes)
 }
 
+/// Writes a task run's `convergence.png`: the largest error component
+/// (error learning) or the reward (PoWER) of every roll-out, and the query.
+pub fn write_task_chart(
+    dir: &Path,
+    task: &crate::task::Task,
+    records: &[&Record<crate::teach::TaskTrial>],
+) -> Result<(), Error> {
+    let x = |r: &Record<crate::teach::TaskTrial>| f64::from(r.rollout);
+    let power = task.learner.method == crate::task::Method::Power;
+    let error: Vec<(f64, f64)> = records
+        .iter()
+        .filter(|r| r.mean)
+        .filter_map(|r| Some((x(r), r.trial.worst_error()?)))
+        .collect();
+    let reward: Vec<(f64, f64)> = records.iter().map(|r| (x(r), r.trial.reward)).collect();
+    let queries: Vec<Vec<(f64, f64)>> = (0..task.query_dim())
+        .map(|i| {
+            records
+                .iter()
+                .filter(|r| r.mean)
+                .filter_map(|r| Some((x(r), f64::from(*r.query.get(i)?))))
+                .collect()
+        })
+        .collect();
+    let labels: Vec<String> = (1..=queries.len()).map(|i| format!("q{i}")).collect();
+    let q: Vec<Line> = queries
+        .iter()
+        .zip(&labels)
+        .map(|(points, label)| Line {
+            label,
+            points,
+            spread: None,
+        })
+        .collect();
+    let e = [Line {
+        label: "max |error|",
+        points: &error,
+        spread: None,
+    }];
+    let w = [Line {
+        label: "reward",
+        points: &reward,
+        spread: None,
+    }];
+    let mut panels = vec![Panel {
+        title: if power {
+            "Largest error of the mean policy"
+        } else {
+            "Largest error"
+        },
+        x_label: "roll-out",
+        y_label: "max |desired - measured|",
+        series: &e,
+        log_y: true,
+        hline: (!power).then_some((f64::from(task.goal.precision), "precision")),
+    }];
+    if power {
+        panels.push(Panel {
+            title: "Reward of every roll-out",
+            x_label: "roll-out",
+            y_label: "reward",
+            series: &w,
+            log_y: false,
+            hline: None,
+        });
+    }
+    panels.push(Panel {
+        title: "Learned query",
+        x_label: "roll-out",
+        y_label: "q",
+        series: &q,
+        log_y: false,
+        hline: None,
+    });
+    png(
+        &dir.join("convergence.png"),
+        &panels,
+        300 * panels.len() as u32,
+    )
+}
+
 /// Writes `rollouts.csv`, `summary.json` and `convergence.png` into `dir`.
 pub fn write_pour(dir: &Path, records: &[Record], summary: &PourSummary) -> Result<(), Error> {
     let mut csv = String::from(ROLLOUT_HEADER);

@@ -1,0 +1,215 @@
+//! `primo learn`: learn the skill a task file describes (README: "Teach
+//! your own skill"), with the lab's evaluator, the operator, or the
+//! built-in pouring cell.
+
+use std::io::{BufRead, Write};
+use std::path::PathBuf;
+
+use primo_learn::Error;
+use primo_learn::evaluator::Prompt;
+use primo_learn::learning::query_text;
+use primo_learn::pour::{CellSpec, Start as PourStart};
+use primo_learn::task::{Evaluate, Method, Task};
+use primo_learn::teach::{Event, Logged, Start, logged_kind, rollout_line};
+
+use crate::error::CliError;
+use crate::pour::{CellArgs, LearnerArgs, Progress, execute, finish, print, with_progress};
+
+/// `primo learn` options.
+#[derive(Debug, clap::Args)]
+pub struct LearnArgs {
+    /// The task file (TOML: demonstrations, query, limits, learner,
+    /// evaluator; README "Teach your own skill").
+    #[arg(long, value_name = "TASK.toml", required_unless_present = "resume")]
+    task: Option<PathBuf>,
+    /// Output directory: run.log (every roll-out, appended as it is made),
+    /// trajectories/ (each roll-out's checked trajectory), and at the end
+    /// rollouts.csv, summary.json and convergence.png.
+    #[arg(long, default_value = "learn-out")]
+    out: PathBuf,
+    /// Seed of exploration.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Roll-out budget (default: the task's [learner] max_rollouts).
+    #[arg(long)]
+    max_rollouts: Option<u32>,
+    /// Replace a finished run in --out (an unfinished one is never
+    /// replaced: continue it with --resume).
+    #[arg(long)]
+    force: bool,
+    /// Continue the run logged in DIR: its task and settings come from the
+    /// log, and no roll-out is lost or repeated.
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["task", "out", "seed", "max_rollouts", "force"])]
+    resume: Option<PathBuf>,
+    #[command(flatten)]
+    learner: LearnerArgs,
+    /// For the built-in pour task only.
+    #[command(flatten)]
+    cell: CellArgs,
+}
+
+/// Runs `primo learn`.
+pub fn run(args: &LearnArgs) -> Result<(), CliError> {
+    let instruments = args.cell.instruments();
+    let learner = args.learner.spec();
+    let start = match (&args.resume, &args.task) {
+        (Some(dir), _) => match logged_kind(dir)? {
+            Logged::Pour => {
+                let start = PourStart::Resume {
+                    dir: dir.clone(),
+                    instruments,
+                };
+                return execute(start, &learner, "learn");
+            }
+            Logged::Task => {
+                refuse_cell(&instruments)?;
+                Start::Resume { dir: dir.clone() }
+            }
+        },
+        (None, Some(file)) => {
+            let mut task = Task::load(file)?;
+            if let Some(n) = args.max_rollouts {
+                if n == 0 {
+                    return Err(CliError::input("--max-rollouts 0: must be at least 1"));
+                }
+                task.learner.max_rollouts = n;
+            }
+            if let Some(pour) = task.pour_start(args.out.clone(), args.force, args.seed) {
+                let mut start = pour?;
+                if let (PourStart::New { cell, .. }, Some(spec)) = (&mut start, instruments) {
+                    *cell = CellSpec::Instruments(spec);
+                }
+                return execute(start, &learner, "learn");
+            }
+            refuse_cell(&instruments)?;
+            Start::New {
+                task: Box::new(task),
+                out: args.out.clone(),
+                force: args.force,
+                seed: args.seed,
+            }
+        }
+        (None, None) => return Err(CliError::input("give --task TASK.toml or --resume DIR")),
+    };
+    let dir = match &start {
+        Start::New { out, .. } => out.clone(),
+        Start::Resume { dir } => dir.clone(),
+    };
+    finish(
+        "learn",
+        with_progress(&dir, "learn", |progress| {
+            primo_learn::teach::learn(start, &learner, Box::new(Terminal), |event| {
+                show(event, progress)
+            })
+        }),
+    )
+}
+
+/// --robot and --scale are the built-in pour's instruments.
+fn refuse_cell(instruments: &Option<primo_learn::rig::InstrumentsSpec>) -> Result<(), CliError> {
+    match instruments {
+        Some(_) => Err(CliError::input(
+            "--robot/--scale: the task's own evaluator executes its roll-outs; the real cell's \
+             instruments are for the built-in pour (builtin = \"pour\")",
+        )),
+        None => Ok(()),
+    }
+}
+
+/// Prints what the run reports; a closed stdout or Ctrl-C ends the run.
+fn show(event: Event, progress: &mut Progress) -> Result<(), Error> {
+    let line = match event {
+        Event::Learner(line) => line,
+        Event::Recovered(note) => {
+            eprintln!("primo learn: {note}");
+            return Ok(());
+        }
+        Event::Resuming {
+            dir,
+            complete,
+            logged,
+        } => format!(
+            "primo learn: {} {} after roll-out {logged}",
+            if complete {
+                "the run is complete: reporting"
+            } else {
+                "resuming"
+            },
+            dir.display()
+        ),
+        Event::Learning { task, parameters } => {
+            progress.total = task.learner.max_rollouts.max(1);
+            let evaluator = match &task.evaluate {
+                Evaluate::Command { argv, .. } => format!("evaluator `{}`", argv.join(" ")),
+                Evaluate::Operator => "the operator evaluates".into(),
+                Evaluate::Pour(_) => "the built-in pouring cell".into(),
+            };
+            format!(
+                "primo learn: {} toward q = {}, {} demonstrations, {parameters} learned \
+                 parameter(s), {evaluator}",
+                match task.learner.method {
+                    Method::Golden => "golden-section error learning",
+                    Method::Illinois => "Illinois error learning",
+                    Method::Secant => "secant error learning",
+                    Method::Power => "extended PoWER",
+                },
+                query_text(&task.goal.desired),
+                task.demos.len(),
+            )
+        }
+        Event::Rollout { entry, logged } => {
+            progress.clear();
+            let line = rollout_line(&entry.record);
+            print(&if logged {
+                format!("{line}  (logged)")
+            } else {
+                line
+            })?;
+            progress.show(
+                entry.record.rollout,
+                &format!("reward {:.3}", entry.record.trial.reward),
+            );
+            if crate::interrupt::pressed() {
+                return Err(Error::Interrupted);
+            }
+            return Ok(());
+        }
+        Event::Finished(f) => {
+            let verdict = match f.converged_at {
+                Some(n) => format!("reached the precision in {n} roll-outs"),
+                None => match &f.best {
+                    Some(b) => {
+                        format!("best roll-out {} (reward {:.3})", b.rollout, b.trial.reward)
+                    }
+                    None => "no roll-out passed the limits".into(),
+                },
+            };
+            format!(
+                "primo learn: {verdict}; last: {}; wrote {}",
+                rollout_line(&f.last),
+                f.dir.display()
+            )
+        }
+    };
+    print(&line)
+}
+
+/// The operator at the terminal: questions on stdout, answers on stdin.
+struct Terminal;
+
+impl Prompt for Terminal {
+    fn ask(&mut self, question: &str) -> Result<Option<String>, Error> {
+        let mut out = std::io::stdout().lock();
+        write!(out, "{question}")
+            .and_then(|()| out.flush())
+            .map_err(Error::io("stdout"))?;
+        let mut line = String::new();
+        match std::io::stdin().lock().read_line(&mut line) {
+            Ok(0) => Ok(None),
+            Ok(_) => Ok(Some(line)),
+            Err(e) => Err(Error::Instrument(format!(
+                "reading the operator's answer: {e}"
+            ))),
+        }
+    }
+}

@@ -1,0 +1,373 @@
+//! Evaluators: who executes a task's checked trajectory and says what it
+//! achieved. A program of the lab's (its robot, its simulator, its sensor)
+//! talking JSON lines, or the operator at the terminal.
+//!
+//! The JSON-lines contract (README, "Teach your own skill"): primo starts
+//! the program once, in the task file's directory; for each roll-out it
+//! writes one line `{"rollout": N, "csv": "PATH"}` to the program's
+//! standard input, PATH a CSV file `t,<the demonstrations' columns>` that
+//! passed the task's limits; the program answers one line on its standard
+//! output: `{"measured": [..]}` (the query achieved), `{"reward": R}`
+//! (R ≥ 0), both, or `{"failed": "why"}`. Its standard error is the
+//! user's (it shows on the terminal). A program that exits, says nothing
+//! within the timeout, or answers anything else ends the run with an error
+//! naming the roll-out; the run log keeps every roll-out before it.
+
+use std::io::{BufRead, BufReader, Write};
+use std::path::Path;
+use std::process::{Child, ChildStdin, Command, Stdio};
+use std::sync::mpsc::{Receiver, RecvTimeoutError, channel};
+use std::time::Duration;
+
+use serde::Deserialize;
+
+use crate::Error;
+
+/// What an evaluator said of one roll-out.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Answer {
+    /// The query achieved.
+    pub measured: Option<Vec<f64>>,
+    /// The reward, ≥ 0.
+    pub reward: Option<f64>,
+    /// The roll-out failed: why.
+    pub failed: Option<String>,
+}
+
+/// Executes a checked trajectory and measures it.
+pub trait Evaluator {
+    /// Roll-out `rollout`: its trajectory is the CSV file `csv`.
+    fn evaluate(&mut self, rollout: u32, csv: &Path) -> Result<Answer, Error>;
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Line {
+    measured: Option<Vec<f64>>,
+    reward: Option<f64>,
+    failed: Option<String>,
+}
+
+/// Reads one answer: a JSON object with `measured` (`dim` finite numbers),
+/// `reward` (a finite number ≥ 0), both, or `failed` (a text) alone.
+pub fn parse_answer(line: &str, dim: usize) -> Result<Answer, String> {
+    let l: Line = serde_json::from_str(line.trim()).map_err(|e| {
+        format!(
+            "{e}; expected {{\"measured\": [..]}}, {{\"reward\": R}}, both, or \
+             {{\"failed\": \"why\"}}"
+        )
+    })?;
+    check(
+        Answer {
+            measured: l.measured,
+            reward: l.reward,
+            failed: l.failed,
+        },
+        dim,
+    )
+}
+
+/// The rules every answer keeps, however it came.
+fn check(a: Answer, dim: usize) -> Result<Answer, String> {
+    if a.failed.is_some() {
+        if a.measured.is_some() || a.reward.is_some() {
+            return Err("a failed roll-out has no `measured` or `reward`".into());
+        }
+        return Ok(a);
+    }
+    if a.measured.is_none() && a.reward.is_none() {
+        return Err("give `measured`, `reward`, or `failed`".into());
+    }
+    if let Some(m) = &a.measured {
+        if m.len() != dim {
+            return Err(format!(
+                "`measured` has {} values; the task's query has {dim}",
+                m.len()
+            ));
+        }
+        if m.iter().any(|v| !v.is_finite()) {
+            return Err("`measured` holds a value that is not a finite number".into());
+        }
+    }
+    if let Some(r) = a.reward
+        && !(r.is_finite() && r >= 0.0)
+    {
+        return Err(format!("`reward` {r}: must be a finite number >= 0"));
+    }
+    Ok(a)
+}
+
+/// An evaluator program talking JSON lines.
+pub struct Program {
+    what: String,
+    child: Child,
+    stdin: Option<ChildStdin>,
+    lines: Receiver<std::io::Result<String>>,
+    timeout: Duration,
+    dim: usize,
+}
+
+impl Program {
+    /// Starts `argv` in `dir`; answers must come within `timeout` seconds
+    /// and carry `dim`-value measurements.
+    pub fn start(argv: &[String], dir: &Path, timeout: f64, dim: usize) -> Result<Program, Error> {
+        let what = format!("the evaluator `{}`", argv.join(" "));
+        let (program, args) = argv
+            .split_first()
+            .ok_or_else(|| Error::Invalid("the evaluator command is empty".into()))?;
+        let mut child = Command::new(program)
+            .args(args)
+            .current_dir(dir)
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::inherit())
+            .spawn()
+            .map_err(|e| {
+                Error::Instrument(format!("{what} (in {}) cannot start: {e}", dir.display()))
+            })?;
+        let stdout = child
+            .stdout
+            .take()
+            .ok_or_else(|| Error::Instrument(format!("{what}: no standard output")))?;
+        let (tx, lines) = channel();
+        // A reader thread: a blocking read cannot time out, a channel can.
+        std::thread::spawn(move || {
+            for line in BufReader::new(stdout).lines() {
+                let end = line.is_err();
+                if tx.send(line).is_err() || end {
+                    break;
+                }
+            }
+        });
+        Ok(Program {
+            what,
+            stdin: child.stdin.take(),
+            child,
+            lines,
+            timeout: Duration::from_secs_f64(timeout),
+            dim,
+        })
+    }
+
+    /// How the program ended, if it has.
+    fn exit(&mut self) -> String {
+        std::thread::sleep(Duration::from_millis(50));
+        match self.child.try_wait() {
+            Ok(Some(status)) => format!("it exited ({status})"),
+            _ => "it closed its standard output".into(),
+        }
+    }
+}
+
+impl Evaluator for Program {
+    fn evaluate(&mut self, rollout: u32, csv: &Path) -> Result<Answer, Error> {
+        let request = serde_json::json!({"rollout": rollout, "csv": csv});
+        let sent = self
+            .stdin
+            .as_mut()
+            .map(|s| writeln!(s, "{request}").and_then(|()| s.flush()));
+        if !matches!(sent, Some(Ok(()))) {
+            let how = self.exit();
+            return Err(Error::Instrument(format!(
+                "{} cannot be sent roll-out {rollout}: {how}",
+                self.what
+            )));
+        }
+        let line = match self.lines.recv_timeout(self.timeout) {
+            Ok(Ok(line)) => line,
+            Ok(Err(e)) => {
+                return Err(Error::Instrument(format!(
+                    "{}: reading its answer to roll-out {rollout}: {e}",
+                    self.what
+                )));
+            }
+            Err(RecvTimeoutError::Disconnected) => {
+                let how = self.exit();
+                return Err(Error::Instrument(format!(
+                    "{} did not answer roll-out {rollout}: {how}",
+                    self.what
+                )));
+            }
+            Err(RecvTimeoutError::Timeout) => {
+                return Err(Error::Instrument(format!(
+                    "{} did not answer roll-out {rollout} within {} s ([evaluate] timeout)",
+                    self.what,
+                    self.timeout.as_secs_f64()
+                )));
+            }
+        };
+        parse_answer(&line, self.dim).map_err(|why| {
+            Error::Instrument(format!(
+                "{} answered roll-out {rollout} with `{}`: {why}",
+                self.what,
+                line.chars().take(200).collect::<String>()
+            ))
+        })
+    }
+}
+
+impl Drop for Program {
+    fn drop(&mut self) {
+        // End of input tells a well-behaved program to finish; one that
+        // hangs is stopped.
+        drop(self.stdin.take());
+        for _ in 0..20 {
+            if matches!(self.child.try_wait(), Ok(Some(_))) {
+                return;
+            }
+            std::thread::sleep(Duration::from_millis(10));
+        }
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+/// The person at the cell, asked at the terminal.
+pub trait Prompt {
+    /// Shows `question` and returns the line typed (`None` at the end of
+    /// input).
+    fn ask(&mut self, question: &str) -> Result<Option<String>, Error>;
+}
+
+/// The operator as the evaluator: told where each trajectory is, asked
+/// what it achieved; a bad answer is asked again with the reason.
+pub struct Operator {
+    prompt: Box<dyn Prompt>,
+    dim: usize,
+}
+
+impl Operator {
+    /// Asks through `prompt` for `dim`-value measurements.
+    pub fn new(prompt: Box<dyn Prompt>, dim: usize) -> Operator {
+        Operator { prompt, dim }
+    }
+}
+
+/// Reads what the operator typed: the measured query's values (separated
+/// by spaces or commas), `reward R`, both (`0.41 0.2 reward 0.8`), or
+/// `failed WHY`.
+pub fn parse_typed(line: &str, dim: usize) -> Result<Answer, String> {
+    let line = line.trim();
+    if let Some(why) = line.strip_prefix("failed") {
+        let why = why.trim();
+        return Ok(Answer {
+            failed: Some(
+                if why.is_empty() {
+                    "the operator said so"
+                } else {
+                    why
+                }
+                .into(),
+            ),
+            ..Answer::default()
+        });
+    }
+    let (measured, reward) = match line.split_once("reward") {
+        Some((m, r)) => (m, Some(r)),
+        None => (line, None),
+    };
+    let number = |s: &str| {
+        s.parse::<f64>()
+            .map_err(|_| format!("`{s}` is not a number"))
+    };
+    let values: Vec<f64> = measured
+        .split([' ', ',', '\t'])
+        .filter(|s| !s.is_empty())
+        .map(number)
+        .collect::<Result<_, _>>()?;
+    let reward = reward.map(|r| number(r.trim())).transpose()?;
+    check(
+        Answer {
+            measured: (!values.is_empty()).then_some(values),
+            reward,
+            failed: None,
+        },
+        dim,
+    )
+}
+
+impl Evaluator for Operator {
+    fn evaluate(&mut self, rollout: u32, csv: &Path) -> Result<Answer, Error> {
+        let mut question = format!(
+            "roll-out {rollout}: execute {} and enter the measured query ({} value{}), \
+             `reward R`, or `failed WHY`: ",
+            csv.display(),
+            self.dim,
+            if self.dim == 1 { "" } else { "s" }
+        );
+        loop {
+            let Some(line) = self.prompt.ask(&question)? else {
+                return Err(Error::Instrument(format!(
+                    "the operator's input ended before roll-out {rollout} was measured"
+                )));
+            };
+            match parse_typed(&line, self.dim) {
+                Ok(answer) => return Ok(answer),
+                Err(why) => question = format!("{why}; again: "),
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn answers_are_read_strictly() {
+        let a = parse_answer(r#"{"measured": [1.5, 0.25]}"#, 2).unwrap();
+        assert_eq!(a.measured, Some(vec![1.5, 0.25]));
+        let a = parse_answer(r#"{"reward": 0.7, "measured": [2]}"#, 1).unwrap();
+        assert_eq!((a.reward, a.measured), (Some(0.7), Some(vec![2.0])));
+        assert!(parse_answer(r#"{"failed": "ball hit the wall"}"#, 1).is_ok());
+        for (bad, why) in [
+            ("", "EOF"),
+            ("garbage", "expected"),
+            (r#"{"measured": [1]}"#, "has 1 values"),
+            (r#"{"reward": -1}"#, ">= 0"),
+            (r#"{"measured": [1, 2], "extra": 1}"#, "unknown field"),
+            (r#"{}"#, "give `measured`"),
+            (r#"{"failed": "x", "reward": 1}"#, "no `measured`"),
+        ] {
+            let e = parse_answer(bad, 2).unwrap_err();
+            assert!(e.contains(why), "{bad}: {e}");
+        }
+    }
+
+    #[test]
+    fn the_operator_types_numbers() {
+        assert_eq!(
+            parse_typed(" 1.5, 0.2 ", 2).unwrap().measured,
+            Some(vec![1.5, 0.2])
+        );
+        let a = parse_typed("1.5 reward 0.8", 1).unwrap();
+        assert_eq!((a.measured, a.reward), (Some(vec![1.5]), Some(0.8)));
+        assert_eq!(parse_typed("reward 0.8", 1).unwrap().reward, Some(0.8));
+        assert!(parse_typed("failed spilled", 1).unwrap().failed.is_some());
+        assert!(
+            parse_typed("1.5 x", 1)
+                .unwrap_err()
+                .contains("`x` is not a number")
+        );
+        assert!(parse_typed("1 2", 1).unwrap_err().contains("has 2 values"));
+        assert!(parse_typed("", 1).is_err());
+    }
+
+    struct Script(Vec<&'static str>, Vec<String>);
+
+    impl Prompt for Script {
+        fn ask(&mut self, question: &str) -> Result<Option<String>, Error> {
+            self.1.push(question.to_string());
+            Ok((!self.0.is_empty()).then(|| self.0.remove(0).to_string()))
+        }
+    }
+
+    #[test]
+    fn a_bad_typed_answer_is_asked_again() {
+        let mut op = Operator::new(Box::new(Script(vec!["two", "2.5"], Vec::new())), 1);
+        let a = op.evaluate(1, Path::new("/tmp/r.csv")).unwrap();
+        assert_eq!(a.measured, Some(vec![2.5]));
+        let mut op = Operator::new(Box::new(Script(vec![], Vec::new())), 1);
+        assert!(op.evaluate(1, Path::new("/tmp/r.csv")).is_err());
+    }
+}
