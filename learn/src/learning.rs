@@ -245,7 +245,7 @@ impl Learner {
             Algorithm::Power => LearnerSetup::Power {
                 config: PowerConfig::paper(&power_blocks(skill, s.s1, s.s2)?)
                     .map_err(|e| Error::Invalid(format!("PoWER: {e}")))?,
-                query: s.bottle as f32,
+                query: heapless::Vec::from_iter([s.bottle as f32]),
             },
         };
         let examples: Vec<(f32, &[f32])> = skill.examples().collect();
@@ -257,13 +257,14 @@ impl Learner {
                 .map_err(|_| Error::Invalid("θ too long".into()))?,
             regression: skill.regression(),
             seed: s.seed,
+            query_dim: 1,
         };
         self.call(&Request::Configure(setup))?;
         for (index, (query, theta)) in examples.into_iter().enumerate() {
             for (c, values) in theta.chunks(CHUNK).enumerate() {
                 self.call(&Request::Example {
                     index: index as u8,
-                    query,
+                    query: heapless::Vec::from_iter([query]),
                     offset: (c * CHUNK) as u16,
                     values: heapless::Vec::from_slice(values)
                         .map_err(|_| Error::Learner("chunk too long".into()))?,
@@ -367,7 +368,10 @@ pub fn learn_on(
             }
         };
         let delta = learner.delta(asked.delta_len)?;
-        let query = asked.query;
+        let query = *asked
+            .query
+            .first()
+            .ok_or_else(|| Error::Learner("learner: a roll-out without a query".into()))?;
         let before = logged.get(run.len());
         let trial = match before {
             Some(e) => e.record.trial.clone(),
@@ -382,7 +386,7 @@ pub fn learn_on(
         // a fuller bottle needs less tilt. PoWER: a rejected roll-out's
         // reward is 0.
         learner.call(&Request::Tell(Outcome {
-            error: trial.error as f32,
+            error: heapless::Vec::from_iter([trial.error as f32]),
             reward: trial.reward as f32,
         }))?;
         let status = match learner.call(&Request::Status)? {
