@@ -88,6 +88,10 @@ pub enum Status {
     /// The bracket has shrunk to adjacent `f32` values without reaching the
     /// precision: the error is discontinuous or noisy at the root.
     BracketCollapsed,
+    /// [`crate::secant`]: the next step would leave the query where it is
+    /// in `f32` (too small, or pushing only against the search limits: the
+    /// target lies outside them) without reaching the precision.
+    Stalled,
 }
 
 /// The best roll-out so far: smallest `|ε|`.

@@ -11,7 +11,9 @@
 //!   regression).
 //! - [`golden`]: the paper's error learning with golden-section search on the
 //!   query, as an ask/tell state machine; [`illinois`]: a bracketed method
-//!   that also uses the error's magnitude.
+//!   that also uses the error's magnitude; [`secant`]: the paper's eq. 10,
+//!   `q ← q + K ε`, for a query of any dimension, with the gain `K` learned
+//!   by secant (Broyden) updates.
 //! - [`power`]: PoWER over the extended parameter set `[q̂, Δθ]` with
 //!   per-block exploration and an importance sampler.
 //! - [`quaternion`] and [`orientation`]: unit quaternions, orientation DMPs
@@ -67,6 +69,7 @@ pub mod power;
 pub mod quaternion;
 pub mod rhythmic;
 pub mod rng;
+pub mod secant;
 pub mod service;
 pub mod wire;
 

@@ -2,35 +2,49 @@
 //! runs in-process when it has no coprocessor, so both give the same
 //! roll-outs bit for bit.
 //!
-//! A [`Service`] holds the training examples, one learner (golden section,
-//! Illinois or PoWER) and the movement being streamed, in fixed buffers;
-//! the coprocessor's, [`Coprocessor`], is sized for the paper's arm:
-//! [`THETA`] = 7 DoF × 30 kernels + 7 goals + τ.
+//! A [`Service`] holds the training examples, one learner (golden section
+//! or Illinois on a 1-D query; secant error learning or PoWER on a query of
+//! `query_dim` = 1..=[`MAX_QUERY`] values) and the movement being streamed,
+//! in fixed buffers; the coprocessor's, [`Coprocessor`], is sized for the
+//! paper's arm: [`THETA`] = 7 DoF × 30 kernels + 7 goals + τ.
 //! [`Service::respond`] answers one [`Request`]; [`Service::handle`] does
 //! the same for a frame off the line and makes retransmissions idempotent:
 //! a frame with the sequence number of the previous one gets the previous
 //! reply's bytes again and changes nothing.
 //!
 //! ```
-//! use primo_core::golden::SearchConfig;
+//! use heapless::Vec;
 //! use primo_core::generalize::Method;
+//! use primo_core::golden::Status as SearchStatus;
+//! use primo_core::secant::SecantConfig;
 //! use primo_core::service::Coprocessor;
 //! use primo_core::wire::{LearnerSetup, Outcome, Reply, Request, Setup};
+//! let v = |s: &[f32]| Vec::from_slice(s).unwrap();
 //! let mut s = Coprocessor::new();
-//! let cfg = SearchConfig { low: 0.0, high: 2.0, desired: 1.0, precision: 1e-3, max_rollouts: 50 };
+//! let cfg = SecantConfig {
+//!     low: v(&[0.0, 0.0]),
+//!     high: v(&[2.0, 2.0]),
+//!     desired: v(&[1.0, 0.5]),
+//!     precision: 1e-3,
+//!     max_rollouts: 50,
+//! };
 //! let setup = Setup {
-//!     learner: LearnerSetup::Golden(cfg),
+//!     learner: LearnerSetup::Secant(cfg),
 //!     examples: 0,
 //!     theta_len: 0,
 //!     regression: Method::Lwr { bandwidth: None },
 //!     seed: 1,
+//!     query_dim: 2,
 //! };
 //! assert_eq!(s.respond(&Request::Configure(setup)), Reply::Ok);
-//! // The "cell": the outcome is q², and we want 0.5.
+//! // The "cell": the outcome is (q₀², q₀ q₁), and we want (1, 0.5).
 //! while let Reply::Rollout(r) = s.respond(&Request::Ask) {
-//!     let outcome = Outcome { error: 0.5 - r.query * r.query, reward: 0.0 };
-//!     assert_eq!(s.respond(&Request::Tell(outcome)), Reply::Ok);
+//!     let q = &r.query;
+//!     let error = v(&[1.0 - q[0] * q[0], 0.5 - q[0] * q[1]]);
+//!     assert_eq!(s.respond(&Request::Tell(Outcome { error, reward: 0.0 })), Reply::Ok);
 //! }
+//! let Reply::Status(status) = s.respond(&Request::Status) else { panic!() };
+//! assert_eq!(status.search, SearchStatus::Converged);
 //! ```
 
 use heapless::Vec;
@@ -41,9 +55,10 @@ use crate::generalize::{Generalizer, Method as Regression};
 use crate::golden::{ErrorLearner, GoldenSection, Status as SearchStatus};
 use crate::illinois::Illinois;
 use crate::power::Power;
+use crate::secant::Secant;
 use crate::wire::{
     self, CHUNK, Capacities, DmpStart, Fault, FaultKind, FrameError, LearnerSetup, MAX_DOF,
-    MAX_FRAME, Outcome, Reply, Request, Rollout, Setup, Status,
+    MAX_FRAME, MAX_QUERY, Outcome, Query, Reply, Request, Rollout, Setup, Status,
 };
 
 /// The coprocessor's kernels per DoF.
@@ -54,8 +69,8 @@ pub const THETA: usize = MAX_DOF * KERNELS + MAX_DOF + 1;
 /// The coprocessor's most training examples.
 pub const EXAMPLES: usize = 8;
 /// The service the coprocessor runs: the paper's arm, 7 DoF × 30 kernels,
-/// `[q̂, Δθ]` of 219 values.
-pub type Coprocessor = Service<{ THETA + 1 }, EXAMPLES, KERNELS>;
+/// `[q̂, Δθ]` of up to 218 + [`MAX_QUERY`] values.
+pub type Coprocessor = Service<{ THETA + MAX_QUERY }, EXAMPLES, KERNELS>;
 /// Largest importance sampler of PoWER (the paper's 3).
 pub const SAMPLER: usize = 3;
 /// The sequence number of replies to frames that could not be read (hosts
@@ -70,6 +85,7 @@ enum Learner {
     Idle,
     Golden(GoldenSection),
     Illinois(Illinois),
+    Secant(Secant<MAX_QUERY>),
     Power,
 }
 
@@ -97,17 +113,19 @@ struct Intake<const P: usize> {
     expected: u8,
     theta_len: usize,
     index: u8,
-    query: f32,
+    query: Query,
     filled: usize,
     theta: [f32; P],
 }
 
 /// The learner behind the wire (see the module docs) for `[q̂, Δθ]` of up
-/// to `P` values (θ of up to `P − 1`), `E` training examples and DMPs of
-/// up to `K` kernels per DoF.
+/// to `P` values (θ of up to `P −` [`MAX_QUERY`]), `E` training examples
+/// and DMPs of up to `K` kernels per DoF.
 #[derive(Debug, Clone)]
 pub struct Service<const P: usize, const E: usize, const K: usize> {
-    examples: Generalizer<E, 1, P>,
+    examples: Generalizer<E, MAX_QUERY, P>,
+    /// The setup's query dimension.
+    query_dim: usize,
     intake: Intake<P>,
     learner: Learner,
     power: Power<P, SAMPLER>,
@@ -139,6 +157,32 @@ fn bad_state(why: &str) -> Reply {
     Reply::Error(Fault::new(FaultKind::BadState, why))
 }
 
+/// The first [`MAX_QUERY`] values as a query.
+fn query_of(values: &[f32]) -> Query {
+    values.iter().take(MAX_QUERY).copied().collect()
+}
+
+/// The one error value of a 1-D error learner.
+fn scalar(error: &[f32]) -> Result<f32, Error> {
+    match error {
+        [e] => Ok(*e),
+        _ => Err(Error::Length {
+            what: "error of a 1-D error learner",
+            expected: 1,
+            found: error.len(),
+        }),
+    }
+}
+
+/// Golden section and Illinois search a 1-D query.
+fn one_dimensional(query_dim: usize) -> Result<(), Error> {
+    crate::error::check_len(
+        "query dimension of golden section or Illinois",
+        1,
+        query_dim,
+    )
+}
+
 impl<const P: usize, const E: usize, const K: usize> Service<P, E, K> {
     /// A service with no learner configured. Its bytes are all zero, so a
     /// static one costs RAM (.bss) but no flash; the coprocessor builds it
@@ -146,11 +190,12 @@ impl<const P: usize, const E: usize, const K: usize> Service<P, E, K> {
     pub const fn new() -> Self {
         Self {
             examples: Generalizer::new(0, 0, Regression::Lwr { bandwidth: None }),
+            query_dim: 0,
             intake: Intake {
                 expected: 0,
                 theta_len: 0,
                 index: 0,
-                query: 0.0,
+                query: Vec::new(),
                 filled: 0,
                 theta: [0.0; P],
             },
@@ -167,7 +212,7 @@ impl<const P: usize, const E: usize, const K: usize> Service<P, E, K> {
     pub fn capacities() -> Capacities {
         let clamp = |n: usize, max: usize| n.min(max);
         Capacities {
-            theta: clamp(P.saturating_sub(1), u16::MAX as usize) as u16,
+            theta: clamp(P.saturating_sub(MAX_QUERY), u16::MAX as usize) as u16,
             examples: clamp(E, u8::MAX as usize) as u8,
             dof: MAX_DOF as u8,
             kernels: clamp(K, u8::MAX as usize) as u8,
@@ -241,7 +286,7 @@ impl<const P: usize, const E: usize, const K: usize> Service<P, E, K> {
                 query,
                 offset,
                 values,
-            } => self.example(*index, *query, usize::from(*offset), values),
+            } => self.example(*index, query, usize::from(*offset), values),
             Request::Ask => self.ask(),
             Request::Fetch { offset } => self.fetch(usize::from(*offset)),
             Request::Tell(outcome) => self.tell(outcome),
@@ -253,28 +298,44 @@ impl<const P: usize, const E: usize, const K: usize> Service<P, E, K> {
 
     fn configure(&mut self, setup: &Setup) -> Result<(), Error> {
         let theta_len = usize::from(setup.theta_len);
-        crate::error::check_capacity("θ length", theta_len, P.saturating_sub(1))?;
+        crate::error::check_capacity("θ length", theta_len, P.saturating_sub(MAX_QUERY))?;
         crate::error::check_capacity("examples", usize::from(setup.examples), E)?;
+        let query_dim = usize::from(setup.query_dim);
+        if !(1..=MAX_QUERY).contains(&query_dim) {
+            return Err(Error::OutOfRange("query_dim must be 1..=MAX_QUERY"));
+        }
         let learner = match &setup.learner {
-            LearnerSetup::Golden(cfg) => Learner::Golden(GoldenSection::new(*cfg)?),
-            LearnerSetup::Illinois(cfg) => Learner::Illinois(Illinois::new(*cfg)?),
+            LearnerSetup::Golden(cfg) => {
+                one_dimensional(query_dim)?;
+                Learner::Golden(GoldenSection::new(*cfg)?)
+            }
+            LearnerSetup::Illinois(cfg) => {
+                one_dimensional(query_dim)?;
+                Learner::Illinois(Illinois::new(*cfg)?)
+            }
+            LearnerSetup::Secant(cfg) => {
+                crate::error::check_len("secant query", query_dim, cfg.dim())?;
+                Learner::Secant(Secant::new(cfg.clone())?)
+            }
             LearnerSetup::Power { config, query } => {
+                crate::error::check_len("PoWER start query", query_dim, query.len())?;
                 let mut start = [0.0f32; P];
-                let start = start.get_mut(..=theta_len).ok_or(Error::Capacity {
-                    what: "θ length",
-                    requested: theta_len,
-                    capacity: P.saturating_sub(1),
-                })?;
-                if let Some(q) = start.first_mut() {
-                    *q = *query;
-                }
+                let start = start
+                    .get_mut(..theta_len + query_dim)
+                    .ok_or(Error::Capacity {
+                        what: "θ length",
+                        requested: theta_len,
+                        capacity: P.saturating_sub(MAX_QUERY),
+                    })?;
+                start.iter_mut().zip(query).for_each(|(s, q)| *s = *q);
                 self.power.reset(start, config.clone(), setup.seed)?;
                 Learner::Power
             }
         };
         // Field by field: a fresh Service would be a second 15 KiB on the
         // coprocessor's stack.
-        self.examples.reset(1, theta_len, setup.regression);
+        self.examples.reset(query_dim, theta_len, setup.regression);
+        self.query_dim = query_dim;
         self.intake.expected = setup.examples;
         self.intake.theta_len = theta_len;
         self.intake.index = 0;
@@ -287,7 +348,7 @@ impl<const P: usize, const E: usize, const K: usize> Service<P, E, K> {
     }
 
     /// Examples arrive in order, each in consecutive chunks.
-    fn example(&mut self, index: u8, query: f32, offset: usize, values: &[f32]) -> Reply {
+    fn example(&mut self, index: u8, query: &Query, offset: usize, values: &[f32]) -> Reply {
         let i = &mut self.intake;
         if matches!(self.learner, Learner::Idle) {
             return bad_state("example before configure");
@@ -298,10 +359,21 @@ impl<const P: usize, const E: usize, const K: usize> Service<P, E, K> {
                 format_args!("example {index} not announced ({} expected)", i.expected),
             ));
         }
-        if index != i.index
-            || offset != i.filled
-            || (offset > 0 && query.to_bits() != i.query.to_bits())
-        {
+        if query.len() != self.query_dim {
+            return Reply::Error(Fault::new(
+                FaultKind::Invalid,
+                format_args!(
+                    "example query of {} values, query_dim is {}",
+                    query.len(),
+                    self.query_dim
+                ),
+            ));
+        }
+        let same_query = query
+            .iter()
+            .zip(&i.query)
+            .all(|(a, b)| a.to_bits() == b.to_bits());
+        if index != i.index || offset != i.filled || (offset > 0 && !same_query) {
             return Reply::Error(Fault::new(
                 FaultKind::BadState,
                 format_args!("expected example {} from value {}", i.index, i.filled),
@@ -315,13 +387,13 @@ impl<const P: usize, const E: usize, const K: usize> Service<P, E, K> {
             ));
         };
         dst.copy_from_slice(values);
-        i.query = query;
+        i.query.clone_from(query);
         i.filled = end;
         if end < i.theta_len {
             return Reply::Ok;
         }
         let theta = i.theta.get(..i.theta_len).unwrap_or(&[]);
-        if let Err(e) = self.examples.add_example(&[query], theta) {
+        if let Err(e) = self.examples.add_example(query, theta) {
             return fault(e);
         }
         i.index += 1;
@@ -336,35 +408,26 @@ impl<const P: usize, const E: usize, const K: usize> Service<P, E, K> {
 
     fn ask(&mut self) -> Reply {
         let number = self.asked.wrapping_sub(u32::from(self.in_flight));
-        let search = |query| Rollout {
+        let (search, mean, update) = match &self.learner {
+            Learner::Idle => return bad_state("ask before configure"),
+            Learner::Golden(l) => (l.status(), true, 0),
+            Learner::Illinois(l) => (l.status(), true, 0),
+            Learner::Secant(l) => (l.status(), true, 0),
+            Learner::Power => (
+                SearchStatus::Running,
+                self.power.next_is_mean(),
+                self.power.updates(),
+            ),
+        };
+        let Some((query, delta)) = self.next_rollout() else {
+            return Reply::Finished(search);
+        };
+        let rollout = Rollout {
             number,
             query,
-            delta_len: 0,
-            mean: true,
-            update: 0,
-        };
-        let rollout = match &mut self.learner {
-            Learner::Idle => return bad_state("ask before configure"),
-            Learner::Golden(l) => match l.ask() {
-                Some(q) => search(q),
-                None => return Reply::Finished(l.status()),
-            },
-            Learner::Illinois(l) => match l.ask() {
-                Some(q) => search(q),
-                None => return Reply::Finished(l.status()),
-            },
-            Learner::Power => {
-                let p = &mut self.power;
-                let (mean, update) = (p.next_is_mean(), p.updates());
-                let theta = p.ask();
-                Rollout {
-                    number,
-                    query: theta.first().copied().unwrap_or(0.0),
-                    delta_len: theta.len().saturating_sub(1) as u16,
-                    mean,
-                    update,
-                }
-            }
+            delta_len: delta.len() as u16,
+            mean,
+            update,
         };
         if !self.in_flight {
             self.asked = self.asked.wrapping_add(1);
@@ -373,10 +436,28 @@ impl<const P: usize, const E: usize, const K: usize> Service<P, E, K> {
         Reply::Rollout(rollout)
     }
 
+    /// The query and `Δθ` (empty for the error learners) of the roll-out
+    /// to execute: PoWER draws it at the first call after a tell, and every
+    /// call until the next tell gives the same. `None` once the search has
+    /// finished.
+    fn next_rollout(&mut self) -> Option<(Query, &[f32])> {
+        let none: &[f32] = &[];
+        match &self.learner {
+            Learner::Idle => None,
+            Learner::Golden(l) => l.ask().map(|q| (query_of(&[q]), none)),
+            Learner::Illinois(l) => l.ask().map(|q| (query_of(&[q]), none)),
+            Learner::Secant(l) => l.ask().map(|q| (query_of(q), none)),
+            Learner::Power => {
+                let (query, delta) = self.power.ask().split_at_checked(self.query_dim)?;
+                Some((query_of(query), delta))
+            }
+        }
+    }
+
     /// `Δθ` of the roll-out in flight (PoWER only).
     fn delta(&mut self) -> Option<&[f32]> {
         match self.learner {
-            Learner::Power if self.in_flight => self.power.ask().get(1..),
+            Learner::Power if self.in_flight => self.next_rollout().map(|(_, delta)| delta),
             _ => None,
         }
     }
@@ -404,8 +485,9 @@ impl<const P: usize, const E: usize, const K: usize> Service<P, E, K> {
         }
         let told = match &mut self.learner {
             Learner::Idle => return bad_state("tell before configure"),
-            Learner::Golden(l) => l.tell(outcome.error).map(drop),
-            Learner::Illinois(l) => l.tell(outcome.error).map(drop),
+            Learner::Golden(l) => scalar(&outcome.error).and_then(|e| l.tell(e)).map(drop),
+            Learner::Illinois(l) => scalar(&outcome.error).and_then(|e| l.tell(e)).map(drop),
+            Learner::Secant(l) => l.tell(&outcome.error).map(drop),
             Learner::Power => self.power.tell(outcome.reward).map(drop),
         };
         match told {
@@ -422,18 +504,29 @@ impl<const P: usize, const E: usize, const K: usize> Service<P, E, K> {
             rollouts: l.rollouts(),
             updates: 0,
             search: l.status(),
-            best_query: l.best().map(|b| b.query),
+            best_query: l.best().map(|b| query_of(&[b.query])),
             best: l.best().map(|b| b.error),
         };
         Reply::Status(match &self.learner {
             Learner::Idle => return bad_state("status before configure"),
             Learner::Golden(l) => search(l),
             Learner::Illinois(l) => search(l),
+            Learner::Secant(l) => Status {
+                rollouts: l.rollouts(),
+                updates: 0,
+                search: l.status(),
+                best_query: l.best().map(|b| query_of(b.query)),
+                best: l.best().map(|b| b.size),
+            },
             Learner::Power => Status {
                 rollouts: self.asked.wrapping_sub(u32::from(self.in_flight)),
                 updates: self.power.updates(),
                 search: SearchStatus::Running,
-                best_query: self.power.best().and_then(|b| b.params.first().copied()),
+                best_query: self
+                    .power
+                    .best()
+                    .and_then(|b| b.params.get(..self.query_dim))
+                    .map(query_of),
                 best: self.power.best().map(|b| b.reward),
             },
         })
@@ -447,27 +540,16 @@ impl<const P: usize, const E: usize, const K: usize> Service<P, E, K> {
         if self.intake.index != self.intake.expected || self.examples.is_empty() {
             return Ok(bad_state("movement before all examples arrived"));
         }
-        let query = match &self.learner {
-            Learner::Golden(l) => l.ask(),
-            Learner::Illinois(l) => l.ask(),
-            Learner::Power | Learner::Idle => None,
-        };
         let len = self.intake.theta_len;
         let mut theta = [0.0f32; P];
         let theta = theta.get_mut(..len).unwrap_or(&mut []);
-        let query = match query {
-            Some(q) => q,
-            None => {
-                let ext = self.power.ask();
-                for (t, d) in theta.iter_mut().zip(ext.get(1..).unwrap_or(&[])) {
-                    *t = *d;
-                }
-                ext.first().copied().unwrap_or(0.0)
-            }
+        let Some((query, delta)) = self.next_rollout() else {
+            return Ok(bad_state("movement after the search finished"));
         };
+        theta.iter_mut().zip(delta).for_each(|(t, d)| *t = *d);
         let mut g = [0.0f32; P];
         let g = g.get_mut(..len).unwrap_or(&mut []);
-        self.examples.generalize(&[query], g)?;
+        self.examples.generalize(&query, g)?;
         for (t, g) in theta.iter_mut().zip(g.iter()) {
             *t += g;
         }

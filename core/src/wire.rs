@@ -48,9 +48,10 @@ use crate::dmp::Shape;
 use crate::generalize::Method as Regression;
 use crate::golden::{SearchConfig, Status as SearchStatus};
 use crate::power::PowerConfig;
+use crate::secant::SecantConfig;
 
 /// Protocol version; a coprocessor speaking another one refuses to work.
-pub const VERSION: u16 = 1;
+pub const VERSION: u16 = 2;
 /// Largest frame on the line, in bytes, the 0x00 delimiter included.
 pub const MAX_FRAME: usize = 160;
 /// Values per chunk of a long vector.
@@ -59,6 +60,12 @@ pub const CHUNK: usize = 8;
 pub const MAX_DOF: usize = 7;
 /// Length of the detail text of an error reply.
 pub const DETAIL: usize = 64;
+/// Largest dimension of a task query.
+pub const MAX_QUERY: usize = 4;
+
+/// A task query `q` (or an error vector `ε` over one), of the setup's
+/// `query_dim` values.
+pub type Query = Vec<f32, MAX_QUERY>;
 
 /// CRC-32C (Castagnoli): better error detection than the Ethernet CRC at
 /// the same cost.
@@ -88,8 +95,8 @@ pub enum Request {
     Example {
         /// Which example (0-based, in order).
         index: u8,
-        /// Its query `q_i`.
-        query: f32,
+        /// Its query `q_i` (`query_dim` values).
+        query: Query,
         /// Where in `θ_i` the values go.
         offset: u16,
         /// The values.
@@ -127,31 +134,39 @@ pub struct Setup {
     pub regression: Regression,
     /// Seed of the learner's random generator.
     pub seed: u64,
+    /// Dimension of the task query, 1..=[`MAX_QUERY`]: every example's
+    /// query and the learner's start and limits have this many values.
+    pub query_dim: u8,
 }
 
 /// Which learner, with its settings.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub enum LearnerSetup {
-    /// The paper's golden-section error learning on the query.
+    /// The paper's golden-section error learning on a 1-D query.
     Golden(SearchConfig),
-    /// Illinois error learning on the query.
+    /// Illinois error learning on a 1-D query.
     Illinois(SearchConfig),
+    /// Secant error learning (the paper's eq. 10 with a learned gain) on a
+    /// query of any dimension.
+    Secant(SecantConfig<MAX_QUERY>),
     /// PoWER over `[q̂, Δθ]` starting from `[query, 0, …, 0]`; the blocks'
-    /// lengths add up to `theta_len + 1`.
+    /// lengths add up to `theta_len + query_dim`.
     Power {
         /// Its settings.
         config: PowerConfig,
         /// The starting query `q̂`.
-        query: f32,
+        query: Query,
     },
 }
 
 /// A roll-out's measured outcome: error learners use the error, PoWER the
 /// reward.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Outcome {
-    /// The error `ε` (`ε > 0`: the query must increase).
-    pub error: f32,
+    /// The error vector `ε = desired − measured` (`ε_i > 0`: component `i`
+    /// of the query must increase): one value for golden section and
+    /// Illinois, `query_dim` for the secant learner; PoWER ignores it.
+    pub error: Query,
     /// The reward (finite, ≥ 0).
     pub reward: f32,
 }
@@ -223,12 +238,12 @@ pub struct Capacities {
 }
 
 /// A roll-out to execute.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Rollout {
     /// Roll-outs asked before this one.
     pub number: u32,
     /// The query `q̂` to generalize to.
-    pub query: f32,
+    pub query: Query,
     /// Length of `Δθ` to fetch (0 for the error learners).
     pub delta_len: u16,
     /// PoWER: the unperturbed mean of this update.
@@ -238,7 +253,7 @@ pub struct Rollout {
 }
 
 /// Where the learning stands.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Status {
     /// Roll-outs told.
     pub rollouts: u32,
@@ -247,8 +262,9 @@ pub struct Status {
     /// The error learners' state (PoWER is always running).
     pub search: SearchStatus,
     /// The best roll-out's query, if any was told.
-    pub best_query: Option<f32>,
-    /// Its error (error learners) or reward (PoWER).
+    pub best_query: Option<Query>,
+    /// Its error (golden section, Illinois), its error's size `max_i |ε_i|`
+    /// (secant) or its reward (PoWER).
     pub best: Option<f32>,
 }
 
@@ -477,8 +493,19 @@ mod tests {
         };
         let mut config = PowerConfig::paper(&[block; crate::power::MAX_BLOCKS]).unwrap();
         config.sampler = usize::from(u8::MAX);
+        setup(LearnerSetup::Power {
+            config,
+            query: full_query(),
+        })
+    }
+
+    fn full_query() -> Query {
+        Vec::from_slice(&[f32::MAX; MAX_QUERY]).unwrap()
+    }
+
+    fn setup(learner: LearnerSetup) -> Request {
         Request::Configure(Setup {
-            learner: LearnerSetup::Power { config, query: 0.5 },
+            learner,
             examples: u8::MAX,
             theta_len: u16::MAX,
             regression: Regression::Gpr {
@@ -486,6 +513,7 @@ mod tests {
                 noise: 1e-3,
             },
             seed: u64::MAX,
+            query_dim: u8::MAX,
         })
     }
 
@@ -495,9 +523,20 @@ mod tests {
         let full = Vec::from_slice(&[f32::MAX; CHUNK]).unwrap();
         let messages = [
             biggest_setup(),
+            setup(LearnerSetup::Secant(SecantConfig {
+                low: full_query(),
+                high: full_query(),
+                desired: full_query(),
+                precision: f32::MAX,
+                max_rollouts: u32::MAX,
+            })),
+            Request::Tell(Outcome {
+                error: full_query(),
+                reward: f32::MAX,
+            }),
             Request::Example {
                 index: u8::MAX,
-                query: 1.0,
+                query: full_query(),
                 offset: u16::MAX,
                 values: full.clone(),
             },
@@ -516,6 +555,20 @@ mod tests {
             encode(u32::MAX, m, &mut buf).unwrap();
         }
         let replies = [
+            Reply::Rollout(Rollout {
+                number: u32::MAX,
+                query: full_query(),
+                delta_len: u16::MAX,
+                mean: true,
+                update: u32::MAX,
+            }),
+            Reply::Status(Status {
+                rollouts: u32::MAX,
+                updates: u32::MAX,
+                search: SearchStatus::BracketCollapsed,
+                best_query: Some(full_query()),
+                best: Some(f32::MAX),
+            }),
             Reply::Chunk {
                 offset: u16::MAX,
                 values: full,

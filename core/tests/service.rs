@@ -6,10 +6,11 @@ use primo_core::dmp::{Dmp, FitOptions};
 use primo_core::generalize::{Generalizer, Method};
 use primo_core::golden::{ErrorLearner, GoldenSection, SearchConfig, Status as SearchStatus};
 use primo_core::power::{Block, Power, PowerConfig};
+use primo_core::secant::{Secant, SecantConfig};
 use primo_core::service::{Coprocessor as Service, THETA, UNREAD};
 use primo_core::wire::{
-    self, CHUNK, DmpStart, FaultKind, FrameReader, LearnerSetup, MAX_FRAME, Outcome, Reply,
-    Request, Setup,
+    self, CHUNK, DmpStart, FaultKind, FrameReader, LearnerSetup, MAX_FRAME, MAX_QUERY, Outcome,
+    Reply, Request, Setup,
 };
 
 const LWR: Method = Method::Lwr { bandwidth: None };
@@ -44,6 +45,12 @@ fn examples() -> (Dmp<2, 6>, Vec<(f32, Vec<f32>)>) {
 }
 
 fn configure(s: &mut Service, learner: LearnerSetup) {
+    configure_dim(s, learner, 1);
+}
+
+/// Configures `learner` with the two examples, each at the query with all
+/// `query_dim` components equal to its 1-D query.
+fn configure_dim(s: &mut Service, learner: LearnerSetup, query_dim: u8) {
     let (_, ex) = examples();
     let setup = Setup {
         learner,
@@ -51,19 +58,26 @@ fn configure(s: &mut Service, learner: LearnerSetup) {
         theta_len: ex[0].1.len() as u16,
         regression: LWR,
         seed: 11,
+        query_dim,
     };
     assert_eq!(s.respond(&Request::Configure(setup)), Reply::Ok);
     for (i, (q, theta)) in ex.iter().enumerate() {
+        let query = HVec::from_slice(&[*q; MAX_QUERY][..usize::from(query_dim)]).unwrap();
         for (c, chunk) in theta.chunks(CHUNK).enumerate() {
             let r = s.respond(&Request::Example {
                 index: i as u8,
-                query: *q,
+                query: query.clone(),
                 offset: (c * CHUNK) as u16,
                 values: HVec::from_slice(chunk).unwrap(),
             });
             assert_eq!(r, Reply::Ok, "example {i} chunk {c}");
         }
     }
+}
+
+/// A 1-D query or error.
+fn q1(v: f32) -> HVec<f32, MAX_QUERY> {
+    HVec::from_slice(&[v]).unwrap()
 }
 
 fn power_config() -> PowerConfig {
@@ -115,11 +129,11 @@ fn golden_section_through_the_service_is_the_learner_itself() {
         let Reply::Rollout(r) = reply else {
             panic!("{reply:?}")
         };
-        assert_eq!((r.number, r.query.to_bits()), (n, q.to_bits()));
+        assert_eq!((r.number, r.query[0].to_bits()), (n, q.to_bits()));
         // Asking again before telling is the same roll-out.
-        assert_eq!(s.respond(&Request::Ask), Reply::Rollout(r));
+        assert_eq!(s.respond(&Request::Ask), Reply::Rollout(r.clone()));
         let outcome = Outcome {
-            error: cell(q),
+            error: q1(cell(q)),
             reward: 0.0,
         };
         assert_eq!(s.respond(&Request::Tell(outcome)), Reply::Ok);
@@ -132,7 +146,7 @@ fn golden_section_through_the_service_is_the_learner_itself() {
     };
     assert_eq!(st.search, SearchStatus::Converged);
     assert_eq!(st.rollouts, n);
-    assert_eq!(st.best_query, direct.best().map(|b| b.query));
+    assert_eq!(st.best_query, direct.best().map(|b| q1(b.query)));
 }
 
 #[test]
@@ -142,7 +156,7 @@ fn power_through_the_service_gives_the_same_bits() {
         &mut s,
         LearnerSetup::Power {
             config: power_config(),
-            query: 0.6,
+            query: q1(0.6),
         },
     );
     let mut start = vec![0.0f32; 16];
@@ -155,12 +169,15 @@ fn power_through_the_service_gives_the_same_bits() {
             panic!()
         };
         assert_eq!((r.number, r.mean, r.delta_len), (i, mean, 15));
-        let mut got = vec![r.query];
+        let mut got = r.query.to_vec();
         got.extend(fetch(&mut s, 15));
         let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
         assert_eq!(bits(&got), bits(&theta), "roll-out {i}");
         let reward = 1.0 / (1.0 + theta.iter().map(|x| x * x).sum::<f32>());
-        let out = Outcome { error: 0.0, reward };
+        let out = Outcome {
+            error: q1(0.0),
+            reward,
+        };
         assert_eq!(s.respond(&Request::Tell(out)), Reply::Ok);
         direct.tell(reward).unwrap();
     }
@@ -185,7 +202,7 @@ fn streamed_setpoints_are_the_generalized_dmp_integrated() {
     }
     g.build().unwrap();
     let mut theta = [0.0f32; 15];
-    g.generalize(&[r.query], &mut theta).unwrap();
+    g.generalize(&r.query, &mut theta).unwrap();
     let start = [0.05f32, -0.1];
     let dmp = Dmp::<2, 6>::from_shape(&template.shape(), 2, 6, &start, &theta).unwrap();
     let mut run = dmp.start(&dmp.execution()).unwrap();
@@ -247,7 +264,7 @@ fn a_retransmitted_request_gets_the_same_reply_and_changes_nothing() {
     configure(&mut s, LearnerSetup::Golden(search()));
     let ask = exchange(&mut s, 1, &Request::Ask);
     let tell = Request::Tell(Outcome {
-        error: 0.3,
+        error: q1(0.3),
         reward: 0.0,
     });
     let told = exchange(&mut s, 2, &tell);
@@ -265,7 +282,7 @@ fn a_retransmitted_request_gets_the_same_reply_and_changes_nothing() {
     ) else {
         panic!()
     };
-    assert!(b.query > a.query && b.number == 1);
+    assert!(b.query[0] > a.query[0] && b.number == 1);
 }
 
 #[test]
@@ -288,7 +305,7 @@ fn corrupt_frames_get_a_bad_frame_reply_and_change_nothing() {
     assert!(matches!(&replies[0].body, Reply::Error(f) if f.kind == FaultKind::BadFrame));
     // Nothing was asked: telling is a bad state.
     let tell = Request::Tell(Outcome {
-        error: 0.1,
+        error: q1(0.1),
         reward: 0.0,
     });
     assert!(matches!(s.respond(&tell), Reply::Error(f) if f.kind == FaultKind::BadState));
@@ -317,6 +334,7 @@ fn faults_say_what_is_wrong() {
         theta_len: THETA as u16 + 1,
         regression: LWR,
         seed: 1,
+        query_dim: 1,
     };
     let (k, d) = fault(s.respond(&Request::Configure(too_long)));
     assert_eq!(k, FaultKind::Capacity);
@@ -329,21 +347,192 @@ fn faults_say_what_is_wrong() {
         theta_len: 0,
         regression: LWR,
         seed: 1,
+        query_dim: 1,
     })));
     assert_eq!(k, FaultKind::Invalid);
     // Examples out of order, and a NaN outcome.
     configure(&mut s, LearnerSetup::Golden(search()));
     let chunk = Request::Example {
         index: 0,
-        query: 0.3,
+        query: q1(0.3),
         offset: 0,
         values: HVec::from_slice(&[0.0; CHUNK]).unwrap(),
     };
     assert_eq!(fault(s.respond(&chunk)).0, FaultKind::BadState);
     s.respond(&Request::Ask);
     let nan = Request::Tell(Outcome {
-        error: f32::NAN,
+        error: q1(f32::NAN),
         reward: 0.0,
     });
     assert_eq!(fault(s.respond(&nan)).0, FaultKind::Invalid);
+}
+
+/// A setup with no examples over a `query_dim`-dimensional query.
+fn bare(learner: LearnerSetup, query_dim: u8, theta_len: u16) -> Setup {
+    Setup {
+        learner,
+        examples: 0,
+        theta_len,
+        regression: LWR,
+        seed: 5,
+        query_dim,
+    }
+}
+
+fn secant_config(n: usize) -> SecantConfig<MAX_QUERY> {
+    SecantConfig {
+        low: HVec::from_slice(&[-1.0; MAX_QUERY][..n]).unwrap(),
+        high: HVec::from_slice(&[2.0; MAX_QUERY][..n]).unwrap(),
+        desired: HVec::from_slice(&[0.5; MAX_QUERY][..n]).unwrap(),
+        precision: 1e-4,
+        max_rollouts: 30,
+    }
+}
+
+#[test]
+fn secant_through_the_service_is_the_learner_itself() {
+    let mut s = Service::new();
+    configure_dim(&mut s, LearnerSetup::Secant(secant_config(3)), 3);
+    let mut direct = Secant::<MAX_QUERY>::new(secant_config(3)).unwrap();
+    // measured = A q with A ≠ I; the target is A·(0.9, −0.2, 1.3).
+    let cell = |q: &[f32]| {
+        let m = [
+            1.5 * q[0] + 0.2 * q[2],
+            -0.3 * q[0] + 0.8 * q[1],
+            0.1 * q[1] - 1.2 * q[2],
+        ];
+        let t = [1.61, -0.43, -1.58];
+        HVec::<f32, MAX_QUERY>::from_iter((0..3).map(|i| t[i] - m[i]))
+    };
+    let mut n = 0;
+    while let Some(q) = direct.ask() {
+        let Reply::Rollout(r) = s.respond(&Request::Ask) else {
+            panic!()
+        };
+        assert_eq!((r.number, r.query.as_slice(), r.delta_len), (n, q, 0));
+        // The movement generalizes to the 3-D query.
+        let start = DmpStart {
+            shape: examples().0.shape(),
+            kernels: 6,
+            start: HVec::from_slice(&[0.0, 0.0]).unwrap(),
+            dt: 0.01,
+        };
+        assert_eq!(s.respond(&Request::DmpStart(start)), Reply::Ok);
+        let error = cell(q);
+        let outcome = Outcome {
+            error: error.clone(),
+            reward: 0.0,
+        };
+        assert_eq!(s.respond(&Request::Tell(outcome)), Reply::Ok);
+        direct.tell(&error).unwrap();
+        n += 1;
+    }
+    assert_eq!(
+        s.respond(&Request::Ask),
+        Reply::Finished(SearchStatus::Converged)
+    );
+    let Reply::Status(st) = s.respond(&Request::Status) else {
+        panic!()
+    };
+    assert_eq!((st.search, st.rollouts), (SearchStatus::Converged, n));
+    let best = direct.best().unwrap();
+    assert_eq!(st.best_query.as_deref(), Some(best.query));
+    assert_eq!(st.best, Some(best.size));
+    assert!(n <= 12, "{n} roll-outs");
+}
+
+#[test]
+fn power_over_a_two_dimensional_query_gives_the_same_bits() {
+    let config = PowerConfig::paper(&[
+        Block {
+            len: 2,
+            variance: 0.01,
+            decay: 0.9,
+        },
+        Block {
+            len: 15,
+            variance: 0.05,
+            decay: 1.0,
+        },
+    ])
+    .unwrap();
+    let mut s = Service::new();
+    let query = HVec::from_slice(&[0.6, -0.4]).unwrap();
+    let learner = LearnerSetup::Power {
+        config: config.clone(),
+        query,
+    };
+    configure_dim(&mut s, learner, 2);
+    let mut start = vec![0.0f32; 17];
+    start[..2].copy_from_slice(&[0.6, -0.4]);
+    let mut direct = Power::<17, 3>::new(&start, config, 11).unwrap();
+    for i in 0..12u32 {
+        let theta = direct.ask().to_vec();
+        let Reply::Rollout(r) = s.respond(&Request::Ask) else {
+            panic!()
+        };
+        assert_eq!((r.number, r.delta_len), (i, 15));
+        let mut got = r.query.to_vec();
+        got.extend(fetch(&mut s, 15));
+        assert_eq!(got, theta, "roll-out {i}");
+        let reward = 1.0 / (1.0 + theta.iter().map(|x| x * x).sum::<f32>());
+        let out = Outcome {
+            error: HVec::new(),
+            reward,
+        };
+        assert_eq!(s.respond(&Request::Tell(out)), Reply::Ok);
+        direct.tell(reward).unwrap();
+    }
+    let Reply::Status(st) = s.respond(&Request::Status) else {
+        panic!()
+    };
+    let best = direct.best().unwrap();
+    assert_eq!(st.best_query.as_deref(), Some(&best.params[..2]));
+}
+
+#[test]
+fn query_dimensions_that_do_not_fit_are_invalid_and_change_nothing() {
+    let mut s = Service::new();
+    configure(&mut s, LearnerSetup::Golden(search()));
+    s.respond(&Request::Ask);
+    let status = s.respond(&Request::Status);
+    let invalid = |r: Reply| matches!(r, Reply::Error(f) if f.kind == FaultKind::Invalid);
+    let power = |query: &[f32], block: usize| LearnerSetup::Power {
+        config: PowerConfig::paper(&[Block {
+            len: block,
+            variance: 0.01,
+            decay: 1.0,
+        }])
+        .unwrap(),
+        query: HVec::from_slice(query).unwrap(),
+    };
+    for bad in [
+        bare(LearnerSetup::Secant(secant_config(1)), 0, 0),
+        bare(LearnerSetup::Secant(secant_config(1)), 5, 0),
+        bare(LearnerSetup::Secant(secant_config(2)), 3, 0),
+        bare(LearnerSetup::Golden(search()), 2, 0),
+        bare(LearnerSetup::Illinois(search()), 2, 0),
+        bare(power(&[0.5], 4), 2, 2),
+        // The blocks add up to θ + 1, not θ + query_dim.
+        bare(power(&[0.5, 0.5], 3), 2, 2),
+    ] {
+        assert!(
+            invalid(s.respond(&Request::Configure(bad.clone()))),
+            "{bad:?}"
+        );
+        assert_eq!(s.respond(&Request::Status), status);
+    }
+    // Examples must have query_dim values; a wrong one changes nothing.
+    let mut setup = bare(LearnerSetup::Secant(secant_config(2)), 2, 8);
+    setup.examples = 1;
+    assert_eq!(s.respond(&Request::Configure(setup)), Reply::Ok);
+    let example = |query: &[f32]| Request::Example {
+        index: 0,
+        query: HVec::from_slice(query).unwrap(),
+        offset: 0,
+        values: HVec::from_slice(&[0.0; CHUNK]).unwrap(),
+    };
+    assert!(invalid(s.respond(&example(&[0.3]))));
+    assert!(invalid(s.respond(&example(&[0.3, 0.1, 0.0]))));
+    assert_eq!(s.respond(&example(&[0.3, 0.1])), Reply::Ok);
 }

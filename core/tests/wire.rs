@@ -6,9 +6,10 @@ use primo_core::dmp::Shape;
 use primo_core::generalize::Method;
 use primo_core::golden::{SearchConfig, Status as SearchStatus};
 use primo_core::power::{Block, MAX_BLOCKS, PowerConfig};
+use primo_core::secant::SecantConfig;
 use primo_core::wire::{
     self, CHUNK, Capacities, DETAIL, DmpStart, Fault, FaultKind, Frame, FrameError, FrameReader,
-    LearnerSetup, MAX_DOF, MAX_FRAME, Outcome, Reply, Request, Rollout, Setup, Status,
+    LearnerSetup, MAX_DOF, MAX_FRAME, MAX_QUERY, Outcome, Reply, Request, Rollout, Setup, Status,
 };
 use proptest::collection::vec;
 use proptest::prelude::*;
@@ -40,6 +41,25 @@ fn search_config() -> impl Strategy<Value = SearchConfig> {
     )
 }
 
+fn secant_config() -> impl Strategy<Value = SecantConfig<MAX_QUERY>> {
+    (
+        floats::<MAX_QUERY>(),
+        floats::<MAX_QUERY>(),
+        floats::<MAX_QUERY>(),
+        float(),
+        any::<u32>(),
+    )
+        .prop_map(
+            |(low, high, desired, precision, max_rollouts)| SecantConfig {
+                low,
+                high,
+                desired,
+                precision,
+                max_rollouts,
+            },
+        )
+}
+
 fn power_config() -> impl Strategy<Value = PowerConfig> {
     // Mostly lengths of one or two varint bytes: ten blocks of the
     // largest do not fit a frame.
@@ -69,7 +89,9 @@ fn setup() -> impl Strategy<Value = Setup> {
     let learner = prop_oneof![
         search_config().prop_map(LearnerSetup::Golden),
         search_config().prop_map(LearnerSetup::Illinois),
-        (power_config(), float()).prop_map(|(config, query)| LearnerSetup::Power { config, query }),
+        secant_config().prop_map(LearnerSetup::Secant),
+        (power_config(), floats::<MAX_QUERY>())
+            .prop_map(|(config, query)| LearnerSetup::Power { config, query }),
     ];
     let regression = prop_oneof![
         prop::option::of(float()).prop_map(|bandwidth| Method::Lwr { bandwidth }),
@@ -78,15 +100,24 @@ fn setup() -> impl Strategy<Value = Setup> {
             noise
         }),
     ];
-    (learner, any::<u8>(), any::<u16>(), regression, any::<u64>()).prop_map(
-        |(learner, examples, theta_len, regression, seed)| Setup {
-            learner,
-            examples,
-            theta_len,
-            regression,
-            seed,
-        },
+    (
+        learner,
+        any::<u8>(),
+        any::<u16>(),
+        regression,
+        any::<u64>(),
+        any::<u8>(),
     )
+        .prop_map(
+            |(learner, examples, theta_len, regression, seed, query_dim)| Setup {
+                learner,
+                examples,
+                theta_len,
+                regression,
+                seed,
+                query_dim,
+            },
+        )
 }
 
 fn request() -> impl Strategy<Value = Request> {
@@ -98,17 +129,22 @@ fn request() -> impl Strategy<Value = Request> {
     prop_oneof![
         any::<u16>().prop_map(|version| Request::Hello { version }),
         setup().prop_map(Request::Configure),
-        (any::<u8>(), float(), any::<u16>(), floats::<CHUNK>()).prop_map(
-            |(index, query, offset, values)| Request::Example {
+        (
+            any::<u8>(),
+            floats::<MAX_QUERY>(),
+            any::<u16>(),
+            floats::<CHUNK>()
+        )
+            .prop_map(|(index, query, offset, values)| Request::Example {
                 index,
                 query,
                 offset,
                 values
-            }
-        ),
+            }),
         Just(Request::Ask),
         any::<u16>().prop_map(|offset| Request::Fetch { offset }),
-        (float(), float()).prop_map(|(error, reward)| Request::Tell(Outcome { error, reward })),
+        (floats::<MAX_QUERY>(), float())
+            .prop_map(|(error, reward)| Request::Tell(Outcome { error, reward })),
         Just(Request::Status),
         (shape, any::<u8>(), floats::<MAX_DOF>(), float()).prop_map(
             |(shape, kernels, start, dt)| Request::DmpStart(DmpStart {
@@ -128,6 +164,7 @@ fn search_status() -> impl Strategy<Value = SearchStatus> {
         SearchStatus::Converged,
         SearchStatus::BudgetExhausted,
         SearchStatus::BracketCollapsed,
+        SearchStatus::Stalled,
     ])
 }
 
@@ -144,7 +181,7 @@ fn reply() -> impl Strategy<Value = Reply> {
         });
     let rollout = (
         any::<u32>(),
-        float(),
+        floats::<MAX_QUERY>(),
         any::<u16>(),
         any::<bool>(),
         any::<u32>(),
@@ -160,7 +197,7 @@ fn reply() -> impl Strategy<Value = Reply> {
         any::<u32>(),
         any::<u32>(),
         search_status(),
-        prop::option::of(float()),
+        prop::option::of(floats::<MAX_QUERY>()),
         prop::option::of(float()),
     )
         .prop_map(|(rollouts, updates, search, best_query, best)| Status {

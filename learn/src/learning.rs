@@ -12,7 +12,9 @@
 use primo_core::golden::SearchConfig;
 use primo_core::power::{Block, PowerConfig, widest_distance};
 use primo_core::service::Service;
-use primo_core::wire::{CHUNK, LearnerSetup, Outcome, Reply, Request, Rollout, Setup, Status};
+use primo_core::wire::{
+    CHUNK, LearnerSetup, MAX_QUERY, Outcome, Query, Reply, Request, Rollout, Setup, Status,
+};
 use serde::{Deserialize, Serialize};
 
 use primo_sim::cell::CellConfig;
@@ -350,6 +352,8 @@ pub fn setup(skill: &Skill, learner: LearnerSetup, seed: u64) -> Result<Setup, E
             .map_err(|_| Error::Invalid("θ too long".into()))?,
         regression: skill.regression(),
         seed,
+        query_dim: u8::try_from(skill.query_dim())
+            .map_err(|_| Error::Invalid("query too long".into()))?,
     })
 }
 
@@ -366,15 +370,14 @@ pub(crate) fn examples_crc(skill: &Skill) -> u32 {
     digest.finalize()
 }
 
-/// A query as the wire carries it.
-fn wire_query(query: &[f32]) -> Result<f32, Error> {
-    match query {
-        [q] => Ok(*q),
-        q => Err(Error::Invalid(format!(
-            "the learner takes one-dimensional queries, not {}",
-            query_text(q)
-        ))),
-    }
+/// A query (or an error over one) as the wire carries it.
+pub fn wire_query(query: &[f32]) -> Result<Query, Error> {
+    Query::from_slice(query).map_err(|_| {
+        Error::Invalid(format!(
+            "a query has at most {MAX_QUERY} values, not {}",
+            query.len()
+        ))
+    })
 }
 
 /// Runs the learner of `s` on `skill` in the simulated `cell`, calling
@@ -460,7 +463,7 @@ pub fn learn_on<T: Scored + Clone>(
             }
         };
         let delta = learner.delta(asked.delta_len)?;
-        let query = vec![asked.query];
+        let query = asked.query.to_vec();
         let before = logged.get(run.len());
         let trial = match before {
             Some(e) => e.record.trial.clone(),
@@ -472,9 +475,8 @@ pub fn learn_on<T: Scored + Clone>(
                 query_text(&query)
             )));
         }
-        let error = trial.error();
         learner.call(&Request::Tell(Outcome {
-            error: error.first().copied().unwrap_or(f32::NAN),
+            error: wire_query(&trial.error())?,
             reward: trial.reward() as f32,
         }))?;
         let status = match learner.call(&Request::Status)? {

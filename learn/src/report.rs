@@ -180,7 +180,7 @@ pub fn write_task_chart(
         y_label: "max |desired - measured|",
         series: &e,
         log_y: true,
-        hline: (!power).then_some((f64::from(task.goal.precision), "precision")),
+        hline: (!power).then_some((task.goal.precision, "precision")),
     }];
     if power {
         panels.push(Panel {

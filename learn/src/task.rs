@@ -149,7 +149,7 @@ pub struct Goal {
     /// See `low`.
     pub high: Vec<f32>,
     /// Error learning stops once every `|ε_i| < precision`.
-    pub precision: f32,
+    pub precision: f64,
 }
 
 /// The learner and its settings.
@@ -203,8 +203,9 @@ pub struct PourTask {
     pub target: f64,
     /// `normal` or `small`.
     pub glass: primo_sim::cell::GlassKind,
-    /// `joint` or `cartesian`.
-    pub space: primo_skill::Space,
+    /// `joint` or `cartesian` (default: as `primo pour`, Cartesian for
+    /// error learning, joint for PoWER).
+    pub space: Option<primo_skill::Space>,
 }
 
 /// A checked task.
@@ -839,11 +840,11 @@ fn goal(p: &Place, raw: &Spanned<GoalKeys>, dim: usize, method: Method) -> Resul
         ))
     };
     let (low, high, precision) = match (low, high, precision) {
-        (Some(l), Some(h), Some(pr)) => (l, h, pr as f32),
+        (Some(l), Some(h), Some(pr)) => (l, h, pr),
         (l, h, pr) if !error_learning => (
             l.unwrap_or_else(|| vec![f32::NEG_INFINITY; dim]),
             h.unwrap_or_else(|| vec![f32::INFINITY; dim]),
-            pr.unwrap_or(0.0) as f32,
+            pr.unwrap_or(0.0),
         ),
         (None, _, _) => return Err(need("low")),
         (_, None, _) => return Err(need("high")),
@@ -958,9 +959,6 @@ fn evaluate(p: &Place, raw: &Spanned<EvaluateKeys>, dir: &Path) -> Result<Evalua
             .glass
             .as_ref()
             .map_or(primo_sim::cell::GlassKind::Normal, |g| *g.get_ref()),
-        space: e
-            .space
-            .as_ref()
-            .map_or(primo_skill::Space::Joint, |s| *s.get_ref()),
+        space: e.space.as_ref().map(|s| *s.get_ref()),
     }))
 }

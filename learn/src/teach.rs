@@ -15,6 +15,7 @@ use std::time::Instant;
 
 use primo_core::golden::SearchConfig;
 use primo_core::power::PowerConfig;
+use primo_core::secant::SecantConfig;
 use primo_core::wire::{LearnerSetup, Setup};
 use primo_robot::envelope::Limits;
 use primo_skill::Skill;
@@ -25,6 +26,7 @@ use crate::Error;
 use crate::evaluator::{Answer, Evaluator, Operator, Program, Prompt};
 use crate::learning::{
     Entry, Record, Scored, best, examples_crc, learn_on, power_blocks, query_text, setup,
+    wire_query,
 };
 use crate::output::{check_dir, create_dir, write_file};
 use crate::pour::{Failure, LearnerSpec, open_learner};
@@ -218,17 +220,19 @@ pub fn task_setup(task: &Task, skill: &Skill, seed: u64) -> Result<Setup, Error>
         low: first(&g.low),
         high: first(&g.high),
         desired: first(&g.desired),
-        precision: g.precision,
+        precision: g.precision as f32,
         max_rollouts: l.max_rollouts,
     };
     let learner = match l.method {
         Method::Golden => LearnerSetup::Golden(search),
         Method::Illinois => LearnerSetup::Illinois(search),
-        Method::Secant => {
-            return Err(Error::Invalid(
-                "[learner] method = \"secant\" needs a learner of query vectors".into(),
-            ));
-        }
+        Method::Secant => LearnerSetup::Secant(SecantConfig {
+            low: wire_query(&g.low)?,
+            high: wire_query(&g.high)?,
+            desired: wire_query(&g.desired)?,
+            precision: g.precision as f32,
+            max_rollouts: l.max_rollouts,
+        }),
         Method::Power => {
             let blocks = power_blocks(skill, l.s1, l.s2, l.decay)?;
             let config = PowerConfig {
@@ -238,7 +242,7 @@ pub fn task_setup(task: &Task, skill: &Skill, seed: u64) -> Result<Setup, Error>
             };
             LearnerSetup::Power {
                 config,
-                query: first(&g.desired),
+                query: wire_query(&g.desired)?,
             }
         }
     };
@@ -377,7 +381,7 @@ impl Task {
         let settings = crate::learning::Settings {
             max_rollouts: self.learner.max_rollouts,
             precision: if error_learning {
-                f64::from(self.goal.precision)
+                self.goal.precision
             } else {
                 defaults.precision
             },
@@ -398,7 +402,10 @@ impl Task {
             force,
             settings,
             skill: crate::pour::SkillSpec {
-                space: p.space,
+                space: p.space.unwrap_or(match method {
+                    crate::learning::Algorithm::Power => primo_skill::Space::Joint,
+                    _ => primo_skill::Space::Cartesian,
+                }),
                 glass: p.glass,
                 kernels: self.kernels,
                 demos: self
@@ -576,7 +583,7 @@ fn report(
             .find(|r| {
                 r.trial
                     .worst_error()
-                    .is_some_and(|e| e < f64::from(task.goal.precision))
+                    .is_some_and(|e| e < task.goal.precision)
             })
             .map(|r| r.rollout),
     };

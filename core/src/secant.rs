@@ -1,0 +1,496 @@
+//! Error learning on a query of any dimension: the paper's eq. 10,
+//! `q ← q + K ε`, with the gain `K` learned from the roll-outs themselves.
+//!
+//! `ε = desired − measured` is the error vector, with the sign convention
+//! of [`crate::golden`]: `ε_i > 0` means component `i` of the query must
+//! grow when `K = I`. The paper takes `K ≈ I`, right when generalization is
+//! accurate (then `measured ≈ q`, so `ε ≈ desired − q`). Where it is not,
+//! a fixed `K` converges slowly, or not at all. This learner starts from
+//! `K = I` and corrects `K` after every roll-out:
+//!
+//! - With `J = ∂ε/∂q`, Newton's step is `q ← q − J⁻¹ ε`, so the ideal gain
+//!   is `K = −J⁻¹`. Two consecutive roll-outs give `Δq` and `Δε ≈ J Δq`,
+//!   that is `K Δε ≈ −Δq` (the secant condition).
+//! - Broyden's ("good") update of the Jacobian, `J ← J + (Δε − J Δq) Δqᵀ /
+//!   (Δqᵀ Δq)`, the smallest change that satisfies the secant condition,
+//!   kept as its inverse by Sherman–Morrison so that no system is solved:
+//!   `K ← K − (Δq + K Δε) (Δqᵀ K) / (Δqᵀ K Δε)`. On one dimension this is
+//!   the secant method, `K = −Δq/Δε`; on a linear map of dimension `n`,
+//!   undamped and unclamped, it reaches the root in at most `2n` steps
+//!   (Gay 1979). (The "bad" update, `… Δεᵀ / (Δεᵀ Δε)`, needed more
+//!   roll-outs on the test maps and failed on some within 30.)
+//!
+//! Safeguards, for errors measured on a robot:
+//!
+//! - An update is skipped when `Δε` is not finite or is below
+//!   [`MIN_CHANGE`] of the error's size (rounding or noise, not slope), or
+//!   when `Δqᵀ K Δε` is near 0 ([`MIN_ALIGNMENT`]; also for `Δq = 0`).
+//! - An update that makes `K` non-finite resets `K = I`; so does a step
+//!   `K ε` that is not finite.
+//! - When a roll-out's error is more than [`GROWTH`] times the best so far
+//!   (`max_i |ε_i|`), the next step starts from the best query instead, with
+//!   a step halved at every such fallback in a row (a backtracking line
+//!   search along the learned direction).
+//! - Every query is clamped into `[low, high]`; when a step can no longer
+//!   move the query in `f32` (too small, or pushing only against the box's
+//!   limits: the target lies outside), the search stops as
+//!   [`Status::Stalled`].
+//!
+//! It stops once `max_i |ε_i| < precision` or the budget is used up; the
+//! first query is the desired one. The state machine is ask/tell, as the
+//! scalar learners' [`crate::golden::ErrorLearner`], on slices:
+//!
+//! ```
+//! use heapless::Vec;
+//! use primo_core::golden::Status;
+//! use primo_core::secant::{Secant, SecantConfig};
+//! let v = |s: &[f32]| Vec::from_slice(s).unwrap();
+//! let cfg = SecantConfig {
+//!     low: v(&[-2.0, -2.0]),
+//!     high: v(&[2.0, 2.0]),
+//!     desired: v(&[0.5, 0.3]),
+//!     precision: 1e-4,
+//!     max_rollouts: 20,
+//! };
+//! // A linear "cell", measured = A q + b, with A so far from I that the
+//! // paper's K = I diverges (I − A has an eigenvalue −1.38); the learned
+//! // gain converges.
+//! let cell = |q: &[f32]| [2.5 * q[0] + 0.5 * q[1] + 0.1, -0.4 * q[0] + 0.7 * q[1] - 0.05];
+//! let mut learner = Secant::<2>::new(cfg.clone())?;
+//! while let Some(q) = learner.ask() {
+//!     let m = cell(q);
+//!     learner.tell(&[cfg.desired[0] - m[0], cfg.desired[1] - m[1]])?;
+//! }
+//! assert_eq!(learner.status(), Status::Converged);
+//! assert!(learner.rollouts() <= 6);
+//! # Ok::<(), primo_core::Error>(())
+//! ```
+
+use heapless::Vec;
+use serde::{Deserialize, Serialize};
+
+use crate::Error;
+use crate::error::{check_finite, check_len};
+use crate::golden::Status;
+
+/// A change of the error below this fraction of its size is rounding or
+/// noise: no slope is learned from it.
+pub const MIN_CHANGE: f32 = 1e-5;
+/// A roll-out whose error is more than this many times the best one's
+/// overshot: the next step starts from the best query.
+pub const GROWTH: f32 = 2.0;
+/// Broyden's update is skipped when `|Δqᵀ K Δε|` is below this fraction of
+/// `max|Δq_i| · max|(K Δε)_i|`: the update would be near singular.
+pub const MIN_ALIGNMENT: f32 = 1e-6;
+
+/// Settings of the secant learner for a query of dimension `n = 1..=Q`:
+/// `low`, `high` and `desired` all hold `n` values (postcard writes each
+/// with its length, so the dimension travels with them).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SecantConfig<const Q: usize> {
+    /// Lower limits of the query, per component.
+    pub low: Vec<f32, Q>,
+    /// Upper limits, each above its lower limit.
+    pub high: Vec<f32, Q>,
+    /// The desired query: the first one tried, within the limits.
+    pub desired: Vec<f32, Q>,
+    /// Stop when `max_i |ε_i| < precision` (> 0).
+    pub precision: f32,
+    /// Stop after this many roll-outs (≥ 1).
+    pub max_rollouts: u32,
+}
+
+impl<const Q: usize> SecantConfig<Q> {
+    /// The query's dimension.
+    pub fn dim(&self) -> usize {
+        self.desired.len()
+    }
+
+    /// Checks the settings.
+    pub fn validate(&self) -> Result<(), Error> {
+        let n = self.dim();
+        if n == 0 {
+            return Err(Error::OutOfRange("the query needs at least one dimension"));
+        }
+        check_len("query lower limits", n, self.low.len())?;
+        check_len("query upper limits", n, self.high.len())?;
+        for v in [&self.low, &self.high, &self.desired] {
+            check_finite(v, "search settings")?;
+        }
+        check_finite(&[self.precision], "precision")?;
+        for ((l, h), d) in self.low.iter().zip(&self.high).zip(&self.desired) {
+            if !(l < h && l <= d && d <= h) {
+                return Err(Error::OutOfRange(
+                    "search limits must satisfy low <= desired <= high, low < high",
+                ));
+            }
+            if !(h - l).is_finite() {
+                return Err(Error::OutOfRange("search limits too far apart for f32"));
+            }
+        }
+        if !(self.precision > 0.0) {
+            return Err(Error::OutOfRange("precision must be > 0"));
+        }
+        if self.max_rollouts == 0 {
+            return Err(Error::OutOfRange("max_rollouts must be >= 1"));
+        }
+        Ok(())
+    }
+}
+
+/// A roll-out told: query, error and the error's size `max_i |ε_i|`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Point<const Q: usize> {
+    query: [f32; Q],
+    error: [f32; Q],
+    size: f32,
+}
+
+/// The best roll-out so far: smallest `max_i |ε_i|`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Best<'a> {
+    /// Its query.
+    pub query: &'a [f32],
+    /// Its error.
+    pub error: &'a [f32],
+    /// `max_i |ε_i|`.
+    pub size: f32,
+}
+
+/// The secant error learner (see the module docs) for queries of up to `Q`
+/// dimensions.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Secant<const Q: usize> {
+    cfg: SecantConfig<Q>,
+    n: usize,
+    /// The query in flight.
+    query: [f32; Q],
+    /// The gain `K`, its leading `n × n` block.
+    gain: [[f32; Q]; Q],
+    last: Option<Point<Q>>,
+    best: Option<Point<Q>>,
+    /// The step's factor: 1, halved at each fallback to the best query.
+    damping: f32,
+    rollouts: u32,
+    status: Status,
+}
+
+/// `max_i |v_i|`.
+fn size(v: &[f32]) -> f32 {
+    v.iter().fold(0.0, |m, x| m.max(libm::fabsf(*x)))
+}
+
+/// `aᵀ b` over the first `n` values (0 for a missing `a`).
+fn dot<const Q: usize>(a: Option<&[f32; Q]>, b: &[f32; Q], n: usize) -> f32 {
+    a.map_or(0.0, |a| a.iter().zip(b).take(n).map(|(x, y)| x * y).sum())
+}
+
+impl<const Q: usize> Secant<Q> {
+    /// A new search starting at the desired query with `K = I`.
+    pub fn new(cfg: SecantConfig<Q>) -> Result<Self, Error> {
+        cfg.validate()?;
+        let mut query = [0.0; Q];
+        query
+            .iter_mut()
+            .zip(&cfg.desired)
+            .for_each(|(q, d)| *q = *d);
+        Ok(Self {
+            n: cfg.dim(),
+            cfg,
+            query,
+            gain: Self::identity(),
+            last: None,
+            best: None,
+            damping: 1.0,
+            rollouts: 0,
+            status: Status::Running,
+        })
+    }
+
+    fn identity() -> [[f32; Q]; Q] {
+        core::array::from_fn(|i| core::array::from_fn(|j| if i == j { 1.0 } else { 0.0 }))
+    }
+
+    /// The query to roll out next, or `None` once finished. Asking again
+    /// before telling returns the same query.
+    pub fn ask(&self) -> Option<&[f32]> {
+        (self.status == Status::Running)
+            .then(|| self.query.get(..self.n))
+            .flatten()
+    }
+
+    /// Reports the error vector of the asked query. A wrong length, a
+    /// non-finite value, or a call after the search finished is an error
+    /// and changes nothing.
+    pub fn tell(&mut self, error: &[f32]) -> Result<Status, Error> {
+        if self.status != Status::Running {
+            return Err(Error::BadState("the search has finished"));
+        }
+        check_len("error", self.n, error.len())?;
+        check_finite(error, "error")?;
+        let mut current = Point {
+            query: self.query,
+            error: [0.0; Q],
+            size: size(error),
+        };
+        current
+            .error
+            .iter_mut()
+            .zip(error)
+            .for_each(|(e, v)| *e = *v);
+        self.rollouts += 1;
+        let best = match self.best {
+            Some(b) if b.size <= current.size => b,
+            _ => current,
+        };
+        self.best = Some(best);
+        let last = self.last.replace(current);
+        self.status = if current.size < self.cfg.precision {
+            Status::Converged
+        } else if self.rollouts >= self.cfg.max_rollouts {
+            Status::BudgetExhausted
+        } else {
+            Status::Running
+        };
+        if self.status != Status::Running {
+            return Ok(self.status);
+        }
+        if let Some(last) = last {
+            self.learn(&last, &current);
+        }
+        let from = if current.size > GROWTH * best.size {
+            self.damping *= 0.5;
+            best
+        } else {
+            self.damping = 1.0;
+            current
+        };
+        let next = self.step(&from);
+        if next.iter().take(self.n).map(|v| v.to_bits()).eq(from
+            .query
+            .iter()
+            .take(self.n)
+            .map(|v| v.to_bits()))
+        {
+            self.status = Status::Stalled;
+        }
+        self.query = next;
+        Ok(self.status)
+    }
+
+    /// Broyden's update of `K` from two roll-outs (module docs).
+    fn learn(&mut self, last: &Point<Q>, current: &Point<Q>) {
+        let n = self.n;
+        let mut dq = [0.0f32; Q];
+        let mut de = [0.0f32; Q];
+        let pairs = current.query.iter().zip(&last.query);
+        let errors = current.error.iter().zip(&last.error);
+        for ((q, e), ((q1, q0), (e1, e0))) in dq.iter_mut().zip(&mut de).zip(pairs.zip(errors)) {
+            *q = q1 - q0;
+            *e = e1 - e0;
+        }
+        // Δε scaled by max |Δε_i|, so that no product overflows.
+        let scale = size(&de);
+        if !scale.is_finite() || !(scale > MIN_CHANGE * current.size.max(last.size)) {
+            return;
+        }
+        de.iter_mut().for_each(|e| *e /= scale);
+        // v = K Δε, r = Δq + K Δε, w = Δqᵀ K (all over `scale`).
+        let v: [f32; Q] = core::array::from_fn(|i| dot(self.gain.get(i), &de, n));
+        let r: [f32; Q] =
+            core::array::from_fn(|i| dq.get(i).zip(v.get(i)).map_or(0.0, |(q, v)| q / scale + v));
+        let w: [f32; Q] = core::array::from_fn(|j| {
+            self.gain
+                .iter()
+                .zip(&dq)
+                .take(n)
+                .map(|(row, q)| q * row.get(j).copied().unwrap_or(0.0))
+                .sum()
+        });
+        // Δqᵀ K Δε: near 0 (also for Δq = 0), K Δε is blind to Δq and the
+        // update would be near singular.
+        let den = dot(Some(&dq), &v, n);
+        if !(libm::fabsf(den) > MIN_ALIGNMENT * size(&dq) * size(&v)) {
+            return;
+        }
+        for (row, ri) in self.gain.iter_mut().zip(r).take(n) {
+            for (k, wj) in row.iter_mut().zip(w).take(n) {
+                *k -= ri * wj / den;
+            }
+        }
+        if !self.gain.iter().flatten().all(|k| k.is_finite()) {
+            self.gain = Self::identity();
+        }
+    }
+
+    /// `from.query + damping · K ε`, clamped into the box; with `K = I`
+    /// (reset) if `K ε` is not finite.
+    fn step(&mut self, from: &Point<Q>) -> [f32; Q] {
+        let n = self.n;
+        let mut step: [f32; Q] = core::array::from_fn(|i| dot(self.gain.get(i), &from.error, n));
+        if !step.iter().all(|s| s.is_finite()) {
+            self.gain = Self::identity();
+            step = from.error;
+        }
+        let mut next = from.query;
+        let limits = self.cfg.low.iter().zip(&self.cfg.high);
+        for ((q, s), (low, high)) in next.iter_mut().zip(step).zip(limits) {
+            // max/min rather than clamp: they never panic, and an
+            // overflow to ±∞ lands on a limit.
+            *q = (*q + self.damping * s).max(*low).min(*high);
+        }
+        next
+    }
+
+    /// Current status.
+    pub fn status(&self) -> Status {
+        self.status
+    }
+
+    /// Roll-outs told so far.
+    pub fn rollouts(&self) -> u32 {
+        self.rollouts
+    }
+
+    /// The query's dimension.
+    pub fn dim(&self) -> usize {
+        self.n
+    }
+
+    /// The best roll-out so far.
+    pub fn best(&self) -> Option<Best<'_>> {
+        let b = self.best.as_ref()?;
+        Some(Best {
+            query: b.query.get(..self.n)?,
+            error: b.error.get(..self.n)?,
+            size: b.size,
+        })
+    }
+
+    /// The learned gain `K`, row by row (the leading `n` values of each of
+    /// the first `n` rows).
+    pub fn gain(&self) -> impl Iterator<Item = &[f32]> {
+        self.gain
+            .iter()
+            .take(self.n)
+            .map(|row| row.get(..self.n).unwrap_or(&[]))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn cfg(low: &[f32], high: &[f32], desired: &[f32]) -> SecantConfig<4> {
+        SecantConfig {
+            low: Vec::from_slice(low).unwrap(),
+            high: Vec::from_slice(high).unwrap(),
+            desired: Vec::from_slice(desired).unwrap(),
+            precision: 1e-4,
+            max_rollouts: 30,
+        }
+    }
+
+    /// Runs `error` to the end; returns the learner and the queries asked.
+    fn run(
+        mut l: Secant<4>,
+        error: impl Fn(&[f32]) -> std::vec::Vec<f32>,
+    ) -> (Secant<4>, std::vec::Vec<std::vec::Vec<f32>>) {
+        let mut asked = std::vec::Vec::new();
+        while let Some(q) = l.ask() {
+            asked.push(q.to_vec());
+            let e = error(q);
+            l.tell(&e).unwrap();
+        }
+        (l, asked)
+    }
+
+    #[test]
+    fn one_dimension_is_the_secant_method_and_learns_the_sign() {
+        let root = 0.7f32;
+        // ε = −0.5 (q − q*): K = I already moves the right way, K → 2.
+        // ε = +0.5 (q − q*) (desired − measured with a decreasing measured
+        // outcome, as in pouring): K = I moves away, K must become −2.
+        for (slope, gain) in [(-0.5f32, 2.0f32), (0.5, -2.0)] {
+            let l = Secant::new(cfg(&[-2.0], &[2.0], &[0.2])).unwrap();
+            let (l, asked) = run(l, |q| std::vec![slope * (q[0] - root)]);
+            assert_eq!(l.status(), Status::Converged, "slope {slope}: {asked:?}");
+            assert!(asked.len() <= 4, "slope {slope}: {asked:?}");
+            assert!((l.best().unwrap().query[0] - root).abs() < 1e-3);
+            let k = l.gain().next().unwrap()[0];
+            assert!((k - gain).abs() < 1e-3, "slope {slope}: K = {k}");
+        }
+    }
+
+    #[test]
+    fn queries_stay_in_the_box_and_a_target_outside_stalls() {
+        // The root is at q = 5, beyond the upper limit 1.
+        let l = Secant::new(cfg(&[0.0, 0.0], &[1.0, 1.0], &[0.5, 0.5])).unwrap();
+        let (l, asked) = run(l, |q| std::vec![5.0 - q[0], 0.5 - q[1]]);
+        assert!(asked.iter().flatten().all(|v| (0.0..=1.0).contains(v)));
+        assert_eq!(l.status(), Status::Stalled, "{asked:?}");
+        assert_eq!(l.best().unwrap().query, &[1.0, 0.5]);
+    }
+
+    #[test]
+    fn bad_errors_are_refused_and_change_nothing() {
+        let mut l = Secant::new(cfg(&[0.0, 0.0], &[1.0, 1.0], &[0.5, 0.5])).unwrap();
+        l.tell(&[0.1, -0.1]).unwrap();
+        let before = l.clone();
+        for bad in [
+            &[f32::NAN, 0.0][..],
+            &[0.0, f32::INFINITY],
+            &[0.1],
+            &[0.1, 0.1, 0.1],
+        ] {
+            assert!(l.tell(bad).is_err(), "{bad:?}");
+            assert_eq!(l, before);
+        }
+        l.tell(&[0.0, 0.0]).unwrap();
+        assert_eq!(l.status(), Status::Converged);
+        let done = l.clone();
+        assert!(l.tell(&[0.0, 0.0]).is_err());
+        assert_eq!(l, done);
+    }
+
+    #[test]
+    fn invalid_settings_are_refused() {
+        let ok = cfg(&[0.0], &[1.0], &[0.0]);
+        assert!(
+            Secant::new(ok.clone()).is_ok(),
+            "desired on a limit is inside"
+        );
+        let bad = [
+            cfg(&[], &[], &[]),
+            cfg(&[0.0], &[1.0, 2.0], &[0.5]),
+            cfg(&[1.0], &[0.0], &[0.5]),
+            cfg(&[0.0], &[1.0], &[1.5]),
+            cfg(&[0.0], &[f32::NAN], &[0.5]),
+            cfg(&[-3e38], &[3e38], &[0.0]),
+            SecantConfig {
+                precision: 0.0,
+                ..ok.clone()
+            },
+            SecantConfig {
+                max_rollouts: 0,
+                ..ok
+            },
+        ];
+        for c in bad {
+            assert!(Secant::new(c.clone()).is_err(), "{c:?}");
+        }
+    }
+
+    #[test]
+    fn a_huge_error_resets_the_gain_instead_of_overflowing() {
+        let mut l = Secant::new(cfg(&[-1.0, -1.0], &[1.0, 1.0], &[0.0, 0.0])).unwrap();
+        for e in [[3e38f32, -3e38], [-3e38, 3e38], [1e-30, 0.0], [3e38, 3e38]] {
+            if l.ask().is_none() {
+                break;
+            }
+            l.tell(&e).unwrap();
+            assert!(l.gain().flatten().all(|k| k.is_finite()));
+            assert!(l.ask().is_none_or(|q| q.iter().all(|v| v.abs() <= 1.0)));
+        }
+    }
+}

@@ -1,0 +1,207 @@
+//! The secant error learner (property tests): converges on well-conditioned
+//! linear and mildly nonlinear maps of 1 to 4 dimensions within a small
+//! budget, never leaves the box, never panics whatever it is told.
+use heapless::Vec as HVec;
+use primo_core::golden::Status;
+use primo_core::secant::{Secant, SecantConfig};
+use proptest::prelude::*;
+
+const BUDGET: u32 = 30;
+
+fn config(n: usize, desired: &[f32]) -> SecantConfig<4> {
+    SecantConfig {
+        low: HVec::from_slice(&[-4.0; 4][..n]).unwrap(),
+        high: HVec::from_slice(&[4.0; 4][..n]).unwrap(),
+        desired: HVec::from_slice(desired).unwrap(),
+        precision: 1e-4,
+        max_rollouts: BUDGET,
+    }
+}
+
+/// A cell `measured = A q + b + c·sin(q)` (componentwise sine) and its
+/// error `desired − measured`.
+#[derive(Debug, Clone)]
+struct Cell {
+    n: usize,
+    a: [[f32; 4]; 4],
+    b: [f32; 4],
+    curve: f32,
+}
+
+impl Cell {
+    fn measured(&self, q: &[f32]) -> Vec<f32> {
+        (0..self.n)
+            .map(|i| {
+                (0..self.n).map(|j| self.a[i][j] * q[j]).sum::<f32>()
+                    + self.b[i]
+                    + self.curve * q[i].sin()
+            })
+            .collect()
+    }
+
+    fn error(&self, desired: &[f32], q: &[f32]) -> Vec<f32> {
+        desired
+            .iter()
+            .zip(self.measured(q))
+            .map(|(d, m)| d - m)
+            .collect()
+    }
+}
+
+/// `A = s (R + D)`: a random sign and scale, a diagonal `D` of 1 to 2 and
+/// off-diagonal terms `R` of at most 0.3/n, so `A` stays well conditioned
+/// (diagonally dominant) but is far from `I` and may flip the error's sign.
+fn cell(n: usize, curved: bool) -> impl Strategy<Value = Cell> {
+    (
+        prop::array::uniform4(prop::array::uniform4(-1.0f32..1.0)),
+        prop::array::uniform4(1.0f32..2.0),
+        prop::array::uniform4(-0.5f32..0.5),
+        prop_oneof![Just(1.0f32), Just(-1.0)],
+        0.3f32..3.0,
+        0.0f32..0.2,
+    )
+        .prop_map(move |(r, d, b, sign, scale, c)| {
+            let mut a = [[0.0; 4]; 4];
+            for i in 0..n {
+                for j in 0..n {
+                    let off = if i == j {
+                        d[i]
+                    } else {
+                        0.3 / n as f32 * r[i][j]
+                    };
+                    a[i][j] = sign * scale * off;
+                }
+            }
+            Cell {
+                n,
+                a,
+                b,
+                curve: if curved { sign * scale * c } else { 0.0 },
+            }
+        })
+}
+
+/// Runs the learner from `start` on the error `target − measured`;
+/// returns it and the queries asked, each checked to be in the box.
+fn run(cell: &Cell, target: &[f32], start: &[f32]) -> (Secant<4>, Vec<Vec<f32>>) {
+    let cfg = config(cell.n, start);
+    let mut l = Secant::new(cfg.clone()).unwrap();
+    let mut asked = Vec::new();
+    while let Some(q) = l.ask() {
+        for (v, (lo, hi)) in q.iter().zip(cfg.low.iter().zip(&cfg.high)) {
+            assert!(lo <= v && v <= hi, "{q:?} outside the box");
+        }
+        asked.push(q.to_vec());
+        let e = cell.error(target, q);
+        l.tell(&e).unwrap();
+    }
+    (l, asked)
+}
+
+/// A target whose root lies well inside the box: the desired outcome of a
+/// query in [−1, 1]ⁿ, started from a query in [−1, 1]ⁿ.
+fn case(curved: bool) -> impl Strategy<Value = (Cell, Vec<f32>, Vec<f32>)> {
+    (1usize..=4).prop_flat_map(move |n| {
+        (
+            cell(n, curved),
+            prop::collection::vec(-1.0f32..1.0, n),
+            prop::collection::vec(-1.0f32..1.0, n),
+        )
+    })
+}
+
+proptest! {
+    #[test]
+    fn converges_on_linear_maps((cell, root, start) in case(false)) {
+        // The target is what the cell measures at `root`.
+        let target = cell.measured(&root);
+        let (l, asked) = run(&cell, &target, &start);
+        prop_assert_eq!(l.status(), Status::Converged, "{:?}", asked);
+        prop_assert!(asked.len() <= 4 * cell.n + 8, "{} roll-outs", asked.len());
+    }
+
+    #[test]
+    fn converges_on_mildly_nonlinear_maps((cell, root, start) in case(true)) {
+        let target = cell.measured(&root);
+        let (l, asked) = run(&cell, &target, &start);
+        prop_assert_eq!(l.status(), Status::Converged, "{:?}", asked);
+        prop_assert!(asked.len() <= 20, "{} roll-outs", asked.len());
+    }
+
+    #[test]
+    fn never_panics_and_stays_in_the_box(
+        n in 1usize..=4,
+        desired in prop::array::uniform4(-1.0f32..1.0),
+        errors in prop::collection::vec(prop::array::uniform4(prop_oneof![
+            any::<u32>().prop_map(f32::from_bits),
+            Just(f32::NAN), Just(f32::INFINITY), Just(f32::MAX), Just(-f32::MAX),
+            -10.0f32..10.0,
+        ]), 1..60),
+    ) {
+        let cfg = config(n, &desired[..n]);
+        let mut l = Secant::new(cfg).unwrap();
+        for e in errors {
+            let Some(q) = l.ask() else { break };
+            prop_assert!(q.iter().all(|v| (-4.0..=4.0).contains(v)), "{:?}", q);
+            let before = l.clone();
+            let finite = e[..n].iter().all(|v| v.is_finite());
+            prop_assert_eq!(l.tell(&e[..n]).is_ok(), finite);
+            if !finite {
+                prop_assert_eq!(&l, &before);
+            }
+            prop_assert!(l.gain().flatten().all(|k| k.is_finite()));
+        }
+    }
+}
+
+#[test]
+fn pouring_like_decreasing_outcome_learns_a_negative_gain() {
+    // measured = 1.2 − 0.5 q decreases with the query; ε = desired −
+    // measured grows with it, so K = I walks away and K must become −2.
+    let cell = Cell {
+        n: 1,
+        a: [[-0.5, 0.0, 0.0, 0.0]; 4],
+        b: [1.2, 0.0, 0.0, 0.0],
+        curve: 0.0,
+    };
+    let (l, asked) = run(&cell, &[0.6], &[0.6]);
+    assert_eq!(l.status(), Status::Converged, "{asked:?}");
+    assert!(asked.len() <= 4, "{asked:?}");
+    assert!(l.gain().next().unwrap()[0] < 0.0);
+}
+
+/// Prints roll-outs to converge per dimension on the property tests' maps
+/// (the numbers in the module docs): `cargo test --release --test secant
+/// -- --ignored --nocapture`.
+#[test]
+#[ignore]
+fn roll_out_counts() {
+    use proptest::strategy::ValueTree;
+    let mut runner = proptest::test_runner::TestRunner::deterministic();
+    for curved in [false, true] {
+        for n in 1..=4usize {
+            let mut counts = Vec::new();
+            let mut fails = 0;
+            for _ in 0..4000 {
+                let (cell, root, start) = case(curved).new_tree(&mut runner).unwrap().current();
+                if cell.n != n {
+                    continue;
+                }
+                let target = cell.measured(&root);
+                let (l, asked) = run(&cell, &target, &start);
+                if l.status() != Status::Converged {
+                    fails += 1;
+                }
+                counts.push(asked.len());
+            }
+            counts.sort();
+            let mean = counts.iter().sum::<usize>() as f32 / counts.len() as f32;
+            println!(
+                "curved {curved} n {n}: runs {} mean {mean:.1} median {} max {} not converged {fails}",
+                counts.len(),
+                counts[counts.len() / 2],
+                counts.last().unwrap()
+            );
+        }
+    }
+}
