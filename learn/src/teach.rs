@@ -130,10 +130,11 @@ pub fn logged_kind(dir: &Path) -> Result<Logged, Error> {
             dir.display()
         ))
     })?;
+    // The header is the first record, `CRC JSON`; the log's own checks
+    // come when it is opened.
     let first = text.lines().next().unwrap_or("");
-    let header: serde_json::Value = serde_json::from_str(first).unwrap_or_default();
-    // Run log records are `{"header": …}` or an entry.
-    let header = header.get("header").unwrap_or(&header);
+    let json = first.split_once(' ').map_or("", |(_, json)| json);
+    let header: serde_json::Value = serde_json::from_str(json).unwrap_or_default();
     Ok(if header.get("task").is_some() {
         Logged::Task
     } else {

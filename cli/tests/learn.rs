@@ -1,0 +1,454 @@
+//! `primo learn` end to end, through the real binary: the example throw
+//! learned by every learner, evaluators that crash, hang or talk garbage,
+//! a killed run resumed, the pour task file against `primo pour`, the
+//! operator at the terminal, and bad task files refused before anything
+//! runs.
+mod common;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+use common::{primo, primo_with_input, tmp};
+
+fn examples() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples")
+}
+
+fn throw_dir() -> PathBuf {
+    examples().join("throw").canonicalize().unwrap()
+}
+
+/// A task file in its own directory: the example throw's, with `edit`
+/// applied, the demonstrations and the evaluator named absolutely.
+fn task(name: &str, example: &str, edit: impl Fn(String) -> String) -> PathBuf {
+    let dir = tmp(name);
+    std::fs::create_dir_all(&dir).unwrap();
+    let throw = throw_dir();
+    let text = std::fs::read_to_string(throw.join(example))
+        .unwrap()
+        .replace("\"demos/", &format!("\"{}/demos/", throw.display()))
+        .replace("\"throw.py\"", &format!("\"{}/throw.py\"", throw.display()));
+    let file = dir.join("task.toml");
+    std::fs::write(&file, edit(text)).unwrap();
+    file
+}
+
+fn learn(task: &Path, out: &Path, extra: &[&str]) -> (i32, String, String) {
+    let mut args = vec![
+        "learn",
+        "--task",
+        task.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    args.extend(extra);
+    primo(&args)
+}
+
+fn summary(out: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap()
+}
+
+fn logged(out: &Path) -> usize {
+    std::fs::read_to_string(out.join("run.log")).map_or(0, |t| t.lines().count().saturating_sub(1))
+}
+
+#[test]
+fn the_throw_reaches_its_precision_with_each_error_learner() {
+    for (method, example, most) in [
+        ("golden", "throw.toml", 10),
+        ("illinois", "throw.toml", 8),
+        ("secant", "throw.toml", 8),
+        ("secant", "throw-2d.toml", 8),
+    ] {
+        let file = task(&format!("{method}-{example}"), example, |t| {
+            t.replace("method = \"golden\" ", &format!("method = \"{method}\" "))
+        });
+        let out = tmp(&format!("out-{method}-{example}"));
+        let (code, stdout, err) = learn(&file, &out, &[]);
+        assert_eq!(code, 0, "{method} {example}: {err}");
+        let s = summary(&out);
+        let at = s["converged_at"]
+            .as_u64()
+            .unwrap_or_else(|| panic!("{stdout}"));
+        assert!(at <= most, "{method} {example}: {at} roll-outs\n{stdout}");
+        // The last roll-out measured the desired query to the precision.
+        let desired = s["desired"].as_array().unwrap();
+        let measured = s["last"]["trial"]["measured"].as_array().unwrap();
+        for (d, m) in desired.iter().zip(measured) {
+            assert!((d.as_f64().unwrap() - m.as_f64().unwrap()).abs() < 0.005);
+        }
+        // Every roll-out's checked trajectory is kept, with the demos' columns.
+        let first = std::fs::read_to_string(out.join("trajectories/rollout-0001.csv")).unwrap();
+        assert!(first.starts_with("t,shoulder,elbow\n"), "{first}");
+        for f in ["rollouts.csv", "convergence.png", "run.log"] {
+            assert!(out.join(f).is_file(), "{f}");
+        }
+    }
+}
+
+#[test]
+fn power_improves_the_throws_reward() {
+    let file = task("power", "throw-power.toml", |t| t);
+    let out = tmp("out-power");
+    let (code, stdout, err) = learn(&file, &out, &["--seed", "2"]);
+    assert_eq!(code, 0, "{err}");
+    let means: Vec<f64> = stdout
+        .lines()
+        .filter(|l| l.starts_with("roll-out") && l.ends_with("(mean)"))
+        .map(|l| {
+            let r = l.split("reward ").nth(1).unwrap();
+            r.split_whitespace().next().unwrap().parse().unwrap()
+        })
+        .collect();
+    assert_eq!(means.len(), 10, "{stdout}");
+    assert!(
+        means[9] > means[0] + 0.1 && means[9] > 0.95,
+        "the mean's reward went {means:?}"
+    );
+}
+
+/// An evaluator that fails once, at roll-out 3, as `how` says, then (run
+/// again) is the throw's.
+fn flaky(name: &str, how: &str) -> PathBuf {
+    let dir = tmp(name);
+    std::fs::create_dir_all(&dir).unwrap();
+    let script = dir.join("flaky.py");
+    std::fs::write(
+        &script,
+        format!(
+            r#"import json, os, sys, time
+sys.path.insert(0, {throw:?})
+import throw
+for line in sys.stdin:
+    request = json.loads(line)
+    if request["rollout"] == 3 and not os.path.exists("failed-once"):
+        open("failed-once", "w").close()
+        how = {how:?}
+        if how == "crash":
+            sys.exit(3)
+        if how == "hang":
+            time.sleep(60)
+        if how == "garbage":
+            print("the ball went somewhere", flush=True)
+            continue
+    d, h = throw.throw(*throw.read(request["csv"]))
+    print(json.dumps({{"measured": [d]}}), flush=True)
+"#,
+            throw = throw_dir().display().to_string(),
+        ),
+    )
+    .unwrap();
+    task(name, "throw.toml", |t| {
+        t.replace(
+            &format!(
+                "command = [\"python3\", \"{}/throw.py\"]",
+                throw_dir().display()
+            ),
+            &format!("command = [\"python3\", \"{}\"]", script.display()),
+        )
+        .replace("timeout = 30", "timeout = 2")
+    })
+}
+
+#[test]
+fn an_evaluator_that_fails_ends_the_run_resumably() {
+    for (how, says) in [
+        (
+            "crash",
+            "did not answer roll-out 3: it exited (exit status: 3)",
+        ),
+        (
+            "hang",
+            "did not answer roll-out 3 within 2 s ([evaluate] timeout)",
+        ),
+        (
+            "garbage",
+            "answered roll-out 3 with `the ball went somewhere`",
+        ),
+    ] {
+        let file = flaky(&format!("flaky-{how}"), how);
+        let out = tmp(&format!("out-flaky-{how}"));
+        let started = Instant::now();
+        let (code, _, err) = learn(&file, &out, &[]);
+        assert_eq!(code, 1, "{how}: {err}");
+        assert!(err.contains(says), "{how}: {err}");
+        assert!(err.contains("primo learn --resume"), "{how}: {err}");
+        assert!(started.elapsed() < Duration::from_secs(30), "{how}");
+        assert_eq!(logged(&out), 2, "{how}");
+        let (code, stdout, err) = primo(&["learn", "--resume", out.to_str().unwrap()]);
+        assert_eq!(code, 0, "{how}: {err}");
+        assert!(stdout.contains("resuming"), "{stdout}");
+        assert_eq!(
+            stdout.lines().filter(|l| l.ends_with("(logged)")).count(),
+            2,
+            "{stdout}"
+        );
+        assert!(summary(&out)["converged_at"].as_u64().is_some(), "{stdout}");
+    }
+}
+
+#[test]
+fn a_killed_run_resumes_with_nothing_lost() {
+    // A slow evaluator, so the kill lands mid-run.
+    let slow = tmp("slow.py");
+    std::fs::write(
+        &slow,
+        format!(
+            "import sys, time\nsys.path.insert(0, {:?})\nimport throw\n\
+             sys.stdin = (time.sleep(0.2) or l for l in sys.stdin)\nthrow.serve(True)\n",
+            throw_dir().display().to_string()
+        ),
+    )
+    .unwrap();
+    let file = task("killed-task", "throw-2d.toml", |t| {
+        t.replace(
+            &format!(
+                "[\"python3\", \"{}/throw.py\", \"--height\"]",
+                throw_dir().display()
+            ),
+            &format!("[\"python3\", \"{}\"]", slow.display()),
+        )
+        .replace("precision = 0.005", "precision = 0.0000001")
+    });
+    let whole = tmp("killed-whole");
+    let (code, stdout, err) = learn(&file, &whole, &[]);
+    assert_eq!(code, 0, "{err}");
+    let made = stdout.lines().filter(|l| l.starts_with("roll-out")).count();
+    assert!(made >= 5, "{stdout}");
+
+    let killed = tmp("killed-run");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_primo"))
+        .args(["learn", "--task", file.to_str().unwrap(), "--out"])
+        .arg(&killed)
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let deadline = Instant::now() + Duration::from_secs(60);
+    while logged(&killed) < 3 {
+        assert!(
+            Instant::now() < deadline,
+            "the run never logged 3 roll-outs"
+        );
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    child.kill().unwrap(); // SIGKILL
+    child.wait().unwrap();
+    assert!(!killed.join("summary.json").exists());
+    let (code, stdout, err) = primo(&["learn", "--resume", killed.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(
+        stdout.lines().filter(|l| l.starts_with("roll-out")).count(),
+        made,
+        "{stdout}"
+    );
+    for f in ["run.log", "rollouts.csv"] {
+        assert_eq!(
+            std::fs::read_to_string(killed.join(f)).unwrap(),
+            std::fs::read_to_string(whole.join(f)).unwrap(),
+            "{f}"
+        );
+    }
+}
+
+#[test]
+fn the_pour_task_file_is_primo_pour() {
+    let (a, b) = (tmp("pour-task"), tmp("pour-cli"));
+    let pour = examples().join("pour.toml");
+    let (code, _, err) = learn(&pour, &a, &["--seed", "4", "--max-rollouts", "6"]);
+    assert_eq!(code, 0, "{err}");
+    let b_out = b.to_str().unwrap();
+    let (code, _, err) = primo(&["pour", "--seed", "4", "--max-rollouts", "6", "--out", b_out]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(
+        std::fs::read_to_string(a.join("rollouts.csv")).unwrap(),
+        std::fs::read_to_string(b.join("rollouts.csv")).unwrap()
+    );
+}
+
+#[test]
+fn the_operator_is_asked_again_after_a_bad_answer() {
+    let file = task("operator", "throw.toml", |t| {
+        let at = t.find("[evaluate]").unwrap();
+        format!("{}[evaluate]\noperator = true\n", &t[..at])
+            .replace("max_rollouts = 20", "max_rollouts = 2")
+    });
+    let out = tmp("out-operator");
+    let (code, stdout, err) = primo_with_input(
+        &[
+            "learn",
+            "--task",
+            file.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        b"far\n1.2 1.3\n1.25\n1.6\n",
+    );
+    assert_eq!(code, 0, "{err}");
+    assert!(stdout.contains("`far` is not a number; again:"), "{stdout}");
+    assert!(
+        stdout.contains("has 2 values; the task's query has 1; again:"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("trajectories/rollout-0001.csv"), "{stdout}");
+    assert!(stdout.contains("measured 1.25"), "{stdout}");
+    assert!(stdout.contains("measured 1.6"), "{stdout}");
+}
+
+#[test]
+fn bad_task_files_are_refused_before_anything_runs() {
+    let throw = throw_dir();
+    let slow_dir = throw.display().to_string();
+    let cases: Vec<(&str, Box<dyn Fn(String) -> String>, &str)> = vec![
+        (
+            "unknown key",
+            Box::new(|t| t.replace("kernels = 20", "kernels = 20\nkernals = 3")),
+            ":18: unknown field `kernals`",
+        ),
+        (
+            "wrong type",
+            Box::new(|t| t.replace("kernels = 20", "kernels = \"many\"")),
+            ":17: invalid type: string \"many\"",
+        ),
+        (
+            "missing goal",
+            Box::new(|t| t.replace("[goal]", "[goal_]")),
+            "unknown field `goal_`",
+        ),
+        (
+            "one demo",
+            Box::new(move |t| {
+                t.replace(
+                    &format!(
+                        "[[demo]]\nfile = \"{}/demos/slow.csv\"\nquery = [1.0639]",
+                        slow_dir
+                    ),
+                    "",
+                )
+            }),
+            "1 [[demo]]: a skill generalizes over at least two demonstrations",
+        ),
+        (
+            "same query",
+            Box::new(|t| t.replace("query = [1.0639]", "query = [1.8079]")),
+            ":14: [[demo]] query: [1.8079] is also the query of",
+        ),
+        (
+            "desired outside",
+            Box::new(|t| t.replace("desired = [1.5]", "desired = [2.5]")),
+            ":26: [goal] desired: value 1 is 2.5, outside the bounds",
+        ),
+        (
+            "no precision",
+            Box::new(|t| t.replace("precision = 0.005         # 5 mm", "")),
+            "[goal]: error learning needs `precision`",
+        ),
+        (
+            "demo beyond the limits",
+            Box::new(|t| t.replace("max_speed = 10.0", "max_speed = 2.0")),
+            "fast.csv: the demonstration itself is beyond the task's limits: column `shoulder` at sample",
+        ),
+        (
+            "limit of no column",
+            Box::new(|t| {
+                t.replace(
+                    "elbow = {",
+                    "wrist = { min = 0.0, max = 1.0, max_speed = 1.0 }\nelbow = {",
+                )
+            }),
+            "[movement.limits] wrist: not a column of the demonstrations (shoulder,elbow)",
+        ),
+        (
+            "no limits",
+            Box::new(|t| {
+                t.lines()
+                    .filter(|l| {
+                        !l.starts_with("shoulder")
+                            && !l.starts_with("elbow")
+                            && *l != "[movement.limits]"
+                    })
+                    .collect::<Vec<_>>()
+                    .join("\n")
+            }),
+            "[movement]: no limits",
+        ),
+        (
+            "golden on two values",
+            Box::new(|t| {
+                t.replace("query = [1.8079]", "query = [1.8079, 1.0]")
+                    .replace("query = [1.0639]", "query = [1.0639, 1.0]")
+            }),
+            ":32: [learner] method: golden searches a one-value query; the demonstrations' \
+             queries have 2: use \"secant\"",
+        ),
+        (
+            "desired of another dimension",
+            Box::new(|t| t.replace("desired = [1.5]", "desired = [1.5, 0.5]")),
+            ":26: [goal] desired: 2 values; the demonstrations' queries have 1",
+        ),
+        (
+            "power key for golden",
+            Box::new(|t| t.replace("max_rollouts = 20", "max_rollouts = 20\ns1 = 0.3")),
+            "[learner] s1: a PoWER setting",
+        ),
+        (
+            "two evaluators",
+            Box::new(|t| t.replace("timeout = 30", "timeout = 30\noperator = true")),
+            "[evaluate]: give exactly one of",
+        ),
+        (
+            "version",
+            Box::new(|t| t.replace("version = 1", "version = 7")),
+            ":6: version: 7: this primo reads task files of version 1",
+        ),
+        (
+            "missing demo file",
+            Box::new(|t| t.replace("demos/slow.csv", "demos/none.csv")),
+            ":13: [[demo]] file:",
+        ),
+    ];
+    for (what, edit, says) in cases {
+        let file = task(
+            &format!("bad-{}", what.replace(' ', "-")),
+            "throw.toml",
+            edit,
+        );
+        let out = tmp(&format!("out-bad-{}", what.replace(' ', "-")));
+        let (code, _, err) = learn(&file, &out, &[]);
+        assert_eq!(code, 2, "{what}: {err}");
+        assert!(err.contains(says), "{what}: {err}");
+        assert!(
+            err.contains(&file.display().to_string()) || err.contains(".csv"),
+            "{what}: {err}"
+        );
+        assert!(!out.exists(), "{what}: output made");
+    }
+    // Demonstrations with other columns: named by file and column.
+    let dir = tmp("bad-columns");
+    std::fs::create_dir_all(&dir).unwrap();
+    let swapped = std::fs::read_to_string(throw.join("demos/slow.csv"))
+        .unwrap()
+        .replacen("t,shoulder,elbow", "t,elbow,shoulder", 1);
+    std::fs::write(dir.join("swapped.csv"), swapped).unwrap();
+    let file = task("bad-columns", "throw.toml", |t| {
+        t.replace(
+            &format!("{}/demos/slow.csv", throw.display()),
+            &dir.join("swapped.csv").display().to_string(),
+        )
+    });
+    let (code, _, err) = learn(&file, &tmp("out-bad-columns"), &[]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("swapped.csv: column 2 is `elbow`, expected `shoulder` (the columns are in another order)"),
+        "{err}"
+    );
+    // A flag that makes no sense for a task with its own evaluator.
+    let (code, _, err) = learn(
+        &task("bad-robot", "throw.toml", |t| t),
+        &tmp("out-bad-robot"),
+        &["--robot", "fri:127.0.0.1", "--scale", "/dev/null"],
+    );
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("--robot/--scale"), "{err}");
+}
