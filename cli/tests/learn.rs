@@ -296,11 +296,14 @@ fn the_operator_is_asked_again_after_a_bad_answer() {
     assert!(stdout.contains("measured 1.6"), "{stdout}");
 }
 
+/// A change to a task file's text.
+type Edit = Box<dyn Fn(String) -> String>;
+
 #[test]
 fn bad_task_files_are_refused_before_anything_runs() {
     let throw = throw_dir();
     let slow_dir = throw.display().to_string();
-    let cases: Vec<(&str, Box<dyn Fn(String) -> String>, &str)> = vec![
+    let cases: Vec<(&str, Edit, &str)> = vec![
         (
             "unknown key",
             Box::new(|t| t.replace("kernels = 20", "kernels = 20\nkernals = 3")),
