@@ -27,7 +27,11 @@ fn vector(u: &mut Unstructured, n: usize, scale: f32) -> Result<HVec<f32, MAX_QU
     Ok(v)
 }
 
-fn drive(u: &mut Unstructured, mut learner: Secant<MAX_QUERY>, cfg: &SecantConfig<MAX_QUERY>) -> Result<()> {
+fn drive(
+    u: &mut Unstructured,
+    mut learner: Secant<MAX_QUERY>,
+    cfg: &SecantConfig<MAX_QUERY>,
+) -> Result<()> {
     let n = cfg.dim();
     // Half the runs measure a linear cell, ε = A (root − q), so that the
     // search converges, stalls or runs out; the others get arbitrary errors.
