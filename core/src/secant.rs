@@ -37,7 +37,11 @@
 //!   [`Status::Stalled`].
 //!
 //! It stops once `max_i |ε_i| < precision` or the budget is used up; the
-//! first query is the desired one. The state machine is ask/tell, as the
+//! first query is the desired one. On random well-conditioned maps of 1 /
+//! 2 / 3 / 4 dimensions (`core/tests/secant.rs`, 10,000 each, precision
+//! 1e-4 in a box of ±4) it converged every time, in 3.6 / 6.3 / 9.0 / 11.3
+//! roll-outs on average (at most 4 / 14 / 15 / 21) on linear maps and 4.8 /
+//! 7.5 / 9.9 / 12.0 (at most 6 / 13 / 17 / 21) on mildly nonlinear ones. The state machine is ask/tell, as the
 //! scalar learners' [`crate::golden::ErrorLearner`], on slices:
 //!
 //! ```
@@ -71,7 +75,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::Error;
 use crate::error::{check_finite, check_len};
-use crate::golden::Status;
+use crate::golden::{Status, check_span, check_stop_rules};
 
 /// A change of the error below this fraction of its size is rounding or
 /// noise: no slope is learned from it.
@@ -124,17 +128,9 @@ impl<const Q: usize> SecantConfig<Q> {
                     "search limits must satisfy low <= desired <= high, low < high",
                 ));
             }
-            if !(h - l).is_finite() {
-                return Err(Error::OutOfRange("search limits too far apart for f32"));
-            }
+            check_span(*l, *h)?;
         }
-        if !(self.precision > 0.0) {
-            return Err(Error::OutOfRange("precision must be > 0"));
-        }
-        if self.max_rollouts == 0 {
-            return Err(Error::OutOfRange("max_rollouts must be >= 1"));
-        }
-        Ok(())
+        check_stop_rules(self.precision, self.max_rollouts)
     }
 }
 
