@@ -63,17 +63,29 @@ impl SearchConfig {
                 "search limits must satisfy low < desired < high",
             ));
         }
-        if !(self.high - self.low).is_finite() {
-            return Err(Error::OutOfRange("search limits too far apart for f32"));
-        }
-        if !(self.precision > 0.0) {
-            return Err(Error::OutOfRange("precision must be > 0"));
-        }
-        if self.max_rollouts == 0 {
-            return Err(Error::OutOfRange("max_rollouts must be >= 1"));
-        }
-        Ok(())
+        check_span(self.low, self.high)?;
+        check_stop_rules(self.precision, self.max_rollouts)
     }
+}
+
+/// `high − low` must be finite in `f32` for the steps between them.
+pub(crate) fn check_span(low: f32, high: f32) -> Result<(), Error> {
+    if (high - low).is_finite() {
+        Ok(())
+    } else {
+        Err(Error::OutOfRange("search limits too far apart for f32"))
+    }
+}
+
+/// Every error learner's stop rules: `precision > 0`, `max_rollouts ≥ 1`.
+pub(crate) fn check_stop_rules(precision: f32, max_rollouts: u32) -> Result<(), Error> {
+    if !(precision > 0.0) {
+        return Err(Error::OutOfRange("precision must be > 0"));
+    }
+    if max_rollouts == 0 {
+        return Err(Error::OutOfRange("max_rollouts must be >= 1"));
+    }
+    Ok(())
 }
 
 /// Where a search stands.

@@ -37,7 +37,11 @@
 //!   [`Status::Stalled`].
 //!
 //! It stops once `max_i |ε_i| < precision` or the budget is used up; the
-//! first query is the desired one. The state machine is ask/tell, as the
+//! first query is the desired one. On random well-conditioned maps of 1 /
+//! 2 / 3 / 4 dimensions (`core/tests/secant.rs`, 10,000 each, precision
+//! 1e-4 in a box of ±4) it converged every time, in 3.6 / 6.3 / 9.0 / 11.3
+//! roll-outs on average (at most 4 / 14 / 15 / 21) on linear maps and 4.8 /
+//! 7.5 / 9.9 / 12.0 (at most 6 / 13 / 17 / 21) on mildly nonlinear ones. The state machine is ask/tell, as the
 //! scalar learners' [`crate::golden::ErrorLearner`], on slices:
 //!
 //! ```
@@ -71,7 +75,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::Error;
 use crate::error::{check_finite, check_len};
-use crate::golden::Status;
+use crate::golden::{Status, check_span, check_stop_rules};
 
 /// A change of the error below this fraction of its size is rounding or
 /// noise: no slope is learned from it.
@@ -124,17 +128,9 @@ impl<const Q: usize> SecantConfig<Q> {
                     "search limits must satisfy low <= desired <= high, low < high",
                 ));
             }
-            if !(h - l).is_finite() {
-                return Err(Error::OutOfRange("search limits too far apart for f32"));
-            }
+            check_span(*l, *h)?;
         }
-        if !(self.precision > 0.0) {
-            return Err(Error::OutOfRange("precision must be > 0"));
-        }
-        if self.max_rollouts == 0 {
-            return Err(Error::OutOfRange("max_rollouts must be >= 1"));
-        }
-        Ok(())
+        check_stop_rules(self.precision, self.max_rollouts)
     }
 }
 
@@ -178,11 +174,6 @@ pub struct Secant<const Q: usize> {
 /// `max_i |v_i|`.
 fn size(v: &[f32]) -> f32 {
     v.iter().fold(0.0, |m, x| m.max(libm::fabsf(*x)))
-}
-
-/// `aᵀ b` over the first `n` values (0 for a missing `a`).
-fn dot<const Q: usize>(a: Option<&[f32; Q]>, b: &[f32; Q], n: usize) -> f32 {
-    a.map_or(0.0, |a| a.iter().zip(b).take(n).map(|(x, y)| x * y).sum())
 }
 
 impl<const Q: usize> Secant<Q> {
@@ -266,11 +257,10 @@ impl<const Q: usize> Secant<Q> {
             current
         };
         let next = self.step(&from);
-        if next.iter().take(self.n).map(|v| v.to_bits()).eq(from
-            .query
+        if next
             .iter()
-            .take(self.n)
-            .map(|v| v.to_bits()))
+            .zip(&from.query)
+            .all(|(a, b)| a.to_bits() == b.to_bits())
         {
             self.status = Status::Stalled;
         }
@@ -278,9 +268,10 @@ impl<const Q: usize> Secant<Q> {
         Ok(self.status)
     }
 
-    /// Broyden's update of `K` from two roll-outs (module docs).
+    /// Broyden's update of `K` from two roll-outs (module docs). Every
+    /// vector is zero beyond `n` and `K` the identity there, so the loops
+    /// run over all `Q` values and leave that part as it is.
     fn learn(&mut self, last: &Point<Q>, current: &Point<Q>) {
-        let n = self.n;
         let mut dq = [0.0f32; Q];
         let mut de = [0.0f32; Q];
         let pairs = current.query.iter().zip(&last.query);
@@ -294,28 +285,26 @@ impl<const Q: usize> Secant<Q> {
         if !scale.is_finite() || !(scale > MIN_CHANGE * current.size.max(last.size)) {
             return;
         }
-        de.iter_mut().for_each(|e| *e /= scale);
-        // v = K Δε, r = Δq + K Δε, w = Δqᵀ K (all over `scale`).
-        let v: [f32; Q] = core::array::from_fn(|i| dot(self.gain.get(i), &de, n));
-        let r: [f32; Q] =
-            core::array::from_fn(|i| dq.get(i).zip(v.get(i)).map_or(0.0, |(q, v)| q / scale + v));
-        let w: [f32; Q] = core::array::from_fn(|j| {
-            self.gain
-                .iter()
-                .zip(&dq)
-                .take(n)
-                .map(|(row, q)| q * row.get(j).copied().unwrap_or(0.0))
-                .sum()
-        });
+        // v = K Δε / scale, w = Δqᵀ K.
+        let mut v = [0.0f32; Q];
+        let mut w = [0.0f32; Q];
+        for ((row, vi), dqi) in self.gain.iter().zip(&mut v).zip(&dq) {
+            for ((k, e), wj) in row.iter().zip(&de).zip(&mut w) {
+                *vi += k * e / scale;
+                *wj += dqi * k;
+            }
+        }
         // Δqᵀ K Δε: near 0 (also for Δq = 0), K Δε is blind to Δq and the
         // update would be near singular.
-        let den = dot(Some(&dq), &v, n);
+        let den: f32 = dq.iter().zip(&v).map(|(q, v)| q * v).sum();
         if !(libm::fabsf(den) > MIN_ALIGNMENT * size(&dq) * size(&v)) {
             return;
         }
-        for (row, ri) in self.gain.iter_mut().zip(r).take(n) {
-            for (k, wj) in row.iter_mut().zip(w).take(n) {
-                *k -= ri * wj / den;
+        // K ← K − (Δq + K Δε)(Δqᵀ K)/(Δqᵀ K Δε), all over `scale`.
+        for ((row, vi), dqi) in self.gain.iter_mut().zip(v).zip(dq) {
+            let r = dqi / scale + vi;
+            for (k, wj) in row.iter_mut().zip(w) {
+                *k -= r * wj / den;
             }
         }
         if !self.gain.iter().flatten().all(|k| k.is_finite()) {
@@ -326,8 +315,10 @@ impl<const Q: usize> Secant<Q> {
     /// `from.query + damping · K ε`, clamped into the box; with `K = I`
     /// (reset) if `K ε` is not finite.
     fn step(&mut self, from: &Point<Q>) -> [f32; Q] {
-        let n = self.n;
-        let mut step: [f32; Q] = core::array::from_fn(|i| dot(self.gain.get(i), &from.error, n));
+        let mut step = [0.0f32; Q];
+        for (s, row) in step.iter_mut().zip(&self.gain) {
+            *s = row.iter().zip(&from.error).map(|(k, e)| k * e).sum();
+        }
         if !step.iter().all(|s| s.is_finite()) {
             self.gain = Self::identity();
             step = from.error;

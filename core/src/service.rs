@@ -540,18 +540,17 @@ impl<const P: usize, const E: usize, const K: usize> Service<P, E, K> {
         if self.intake.index != self.intake.expected || self.examples.is_empty() {
             return Ok(bad_state("movement before all examples arrived"));
         }
-        let len = self.intake.theta_len;
-        let mut theta = [0.0f32; P];
-        let theta = theta.get_mut(..len).unwrap_or(&mut []);
-        let Some((query, delta)) = self.next_rollout() else {
+        let Some((query, _)) = self.next_rollout() else {
             return Ok(bad_state("movement after the search finished"));
         };
-        theta.iter_mut().zip(delta).for_each(|(t, d)| *t = *d);
-        let mut g = [0.0f32; P];
-        let g = g.get_mut(..len).unwrap_or(&mut []);
-        self.examples.generalize(&query, g)?;
-        for (t, g) in theta.iter_mut().zip(g.iter()) {
-            *t += g;
+        // θ = G(q̂) + Δθ in one buffer: the M4F's stack has no room for a
+        // second. Asking again gives the same Δθ (empty for the error
+        // learners), and + commutes, so the bits are those of Δθ + G(q̂).
+        let mut theta = [0.0f32; P];
+        let theta = theta.get_mut(..self.intake.theta_len).unwrap_or(&mut []);
+        self.examples.generalize(&query, theta)?;
+        if let Some((_, delta)) = self.next_rollout() {
+            theta.iter_mut().zip(delta).for_each(|(t, d)| *t += d);
         }
         let dmp = Dmp::from_shape(
             &start.shape,

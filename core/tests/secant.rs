@@ -182,7 +182,7 @@ fn roll_out_counts() {
         for n in 1..=4usize {
             let mut counts = Vec::new();
             let mut fails = 0;
-            for _ in 0..4000 {
+            for _ in 0..40_000 {
                 let (cell, root, start) = case(curved).new_tree(&mut runner).unwrap().current();
                 if cell.n != n {
                     continue;

@@ -80,10 +80,11 @@ fn q1(v: f32) -> HVec<f32, MAX_QUERY> {
     HVec::from_slice(&[v]).unwrap()
 }
 
-fn power_config() -> PowerConfig {
+/// PoWER over `[q̂, Δθ]` with a query of `query_dim` values and θ of 15.
+fn power_config(query_dim: usize) -> PowerConfig {
     PowerConfig::paper(&[
         Block {
-            len: 1,
+            len: query_dim,
             variance: 0.01,
             decay: 0.9,
         },
@@ -155,13 +156,13 @@ fn power_through_the_service_gives_the_same_bits() {
     configure(
         &mut s,
         LearnerSetup::Power {
-            config: power_config(),
+            config: power_config(1),
             query: q1(0.6),
         },
     );
     let mut start = vec![0.0f32; 16];
     start[0] = 0.6;
-    let mut direct = Power::<16, 3>::new(&start, power_config(), 11).unwrap();
+    let mut direct = Power::<16, 3>::new(&start, power_config(1), 11).unwrap();
     for i in 0..40u32 {
         let mean = direct.next_is_mean();
         let theta = direct.ask().to_vec();
@@ -443,19 +444,7 @@ fn secant_through_the_service_is_the_learner_itself() {
 
 #[test]
 fn power_over_a_two_dimensional_query_gives_the_same_bits() {
-    let config = PowerConfig::paper(&[
-        Block {
-            len: 2,
-            variance: 0.01,
-            decay: 0.9,
-        },
-        Block {
-            len: 15,
-            variance: 0.05,
-            decay: 1.0,
-        },
-    ])
-    .unwrap();
+    let config = power_config(2);
     let mut s = Service::new();
     let query = HVec::from_slice(&[0.6, -0.4]).unwrap();
     let learner = LearnerSetup::Power {

@@ -10,7 +10,8 @@ use primo_core::illinois::Illinois;
 use primo_core::orientation::OrientationDmp;
 use primo_core::quaternion::Quaternion;
 use primo_core::power::{Block, Power, PowerConfig};
-use primo_core::wire::{self, MAX_FRAME, Outcome, Request};
+use primo_core::secant::{Secant, SecantConfig};
+use primo_core::wire::{self, MAX_FRAME, Outcome, Query, Request};
 
 /// FNV-1a over 32-bit words.
 pub struct Digest(u64);
@@ -123,6 +124,29 @@ pub fn digest() -> u64 {
             let _ = illinois.tell(cell(q));
         }
     }
+    // The secant learner on a 2-D linear "cell", measured = A q + b, with
+    // A so far from I that K = I would diverge.
+    let v = |s: &[f32]| Query::from_slice(s).unwrap_or_default();
+    let cfg = SecantConfig {
+        low: v(&[-2.0, -2.0]),
+        high: v(&[2.0, 2.0]),
+        desired: v(&[0.5, 0.3]),
+        precision: 1e-6,
+        max_rollouts: 30,
+    };
+    let Ok(mut secant) = Secant::<{ wire::MAX_QUERY }>::new(cfg) else {
+        return 14;
+    };
+    while let Some(q) = secant.ask() {
+        h.floats(q);
+        let (q0, q1) = (q.first().copied().unwrap_or(0.0), q.get(1).copied().unwrap_or(0.0));
+        let measured = [2.5 * q0 + 0.5 * q1 + 0.1, -0.4 * q0 + 0.7 * q1 - 0.05];
+        let _ = secant.tell(&[0.5 - measured[0], 0.3 - measured[1]]);
+    }
+    h.floats(&[secant.rollouts() as f32]);
+    for row in secant.gain() {
+        h.floats(row);
+    }
     // PoWER over 219 parameters, 10 updates.
     let blocks = [
         Block { len: 1, variance: 0.05, decay: 0.9 },
@@ -143,7 +167,7 @@ pub fn digest() -> u64 {
     h.floats(power.mean());
     // A frame: postcard, CRC-32C, COBS.
     let mut buf = [0u8; MAX_FRAME];
-    let tell = Request::Tell(Outcome { error: -0.25, reward: 0.75 });
+    let tell = Request::Tell(Outcome { error: v(&[-0.25, 0.5]), reward: 0.75 });
     if let Ok(bytes) = wire::encode(0x1234_5678, &tell, &mut buf) {
         for b in bytes {
             h.word(u32::from(*b));

@@ -11,7 +11,7 @@ use arbitrary::{Result, Unstructured};
 use libfuzzer_sys::fuzz_target;
 use primo_core::golden::{ErrorLearner, GoldenSection, SearchConfig, Status};
 use primo_core::illinois::Illinois;
-use primo_fuzz::num;
+use primo_fuzz::{check_told, num};
 
 fn drive<L: ErrorLearner + Clone + PartialEq + Debug>(
     u: &mut Unstructured,
@@ -58,12 +58,15 @@ fn drive<L: ErrorLearner + Clone + PartialEq + Debug>(
             lo <= lo2 && hi2 <= hi,
             "({lo}, {hi}) grew to ({lo2}, {hi2})"
         );
-        assert_eq!(learner.rollouts(), told);
-        assert!(told <= cfg.max_rollouts);
-        assert_eq!(learner.best().map(|b| b.error.abs()), Some(best));
-        if status == Status::Converged {
-            assert!(best < cfg.precision);
-        }
+        check_told(
+            learner.rollouts(),
+            told,
+            cfg.max_rollouts,
+            learner.best().map(|b| b.error.abs()),
+            best,
+            status == Status::Converged,
+            cfg.precision,
+        );
     }
     Ok(())
 }

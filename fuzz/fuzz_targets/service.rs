@@ -16,7 +16,7 @@ const MAX_REQUESTS: usize = 400;
 
 fn check_finite(reply: &Reply) {
     let values: &[f32] = match reply {
-        Reply::Rollout(r) => &[r.query],
+        Reply::Rollout(r) => &r.query,
         Reply::Chunk { values, .. } => values,
         Reply::Setpoint { time, position, .. } => {
             assert!(time.is_finite());

@@ -22,3 +22,23 @@ pub fn positive(u: &mut Unstructured, scale: f32) -> Result<f32> {
         Ok((f32::from(u.arbitrary::<u16>()?) + 1.0) / 65536.0 * scale)
     }
 }
+
+/// What every error learner must keep after a tell: `told` roll-outs
+/// counted, within `max_rollouts`; its best error (`best`, as it reports
+/// it) is `smallest` of those told; converged only below `precision`.
+pub fn check_told(
+    rollouts: u32,
+    told: u32,
+    max_rollouts: u32,
+    best: Option<f32>,
+    smallest: f32,
+    converged: bool,
+    precision: f32,
+) {
+    assert_eq!(rollouts, told);
+    assert!(told <= max_rollouts);
+    assert_eq!(best, Some(smallest));
+    if converged {
+        assert!(smallest < precision);
+    }
+}

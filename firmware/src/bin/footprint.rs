@@ -1,8 +1,9 @@
 //! Measures the coprocessor's costs on the target, under QEMU with
 //! `-icount shift=0` (virtual time counts instructions; SysTick is
 //! calibrated against a loop of known length): instructions per 7×30 DMP
-//! step, per 3×30 orientation DMP step, and per 219-parameter PoWER update, and the stack the service needs
-//! for a whole PoWER run, frames and all, as the firmware runs it.
+//! step, per 3×30 orientation DMP step and per 219-parameter PoWER update,
+//! and the stack the service needs for a whole PoWER run, frames and all,
+//! as the firmware runs it.
 #![no_std]
 #![no_main]
 
@@ -17,8 +18,8 @@ use primo_core::power::{Block, PowerConfig};
 use primo_core::quaternion::Quaternion;
 use primo_core::service::{Coprocessor as Service, THETA};
 use primo_core::wire::{
-    self, CHUNK, DmpStart, FrameReader, LearnerSetup, MAX_DOF, MAX_FRAME, Outcome, Reply, Request,
-    Setup,
+    self, CHUNK, DmpStart, FrameReader, LearnerSetup, MAX_DOF, MAX_FRAME, Outcome, Query, Reply,
+    Request, Setup,
 };
 
 const UPDATES: u32 = 20;
@@ -136,11 +137,15 @@ fn power_run(service: &mut Service, syst: &mut SYST, dmp: &Dmp<MAX_DOF, KERNELS>
     ])
     .unwrap_or_else(|_| fail("config"));
     let setup = Setup {
-        learner: LearnerSetup::Power { config, query: 0.5 },
+        learner: LearnerSetup::Power {
+            config,
+            query: Query::from_slice(&[0.5]).unwrap_or_default(),
+        },
         examples: 2,
         theta_len: THETA as u16,
         regression: Method::Lwr { bandwidth: None },
         seed: 3,
+        query_dim: 1,
     };
     send(service, &mut seq, &Request::Configure(setup));
     let mut theta = [0.0f32; THETA];
@@ -156,7 +161,7 @@ fn power_run(service: &mut Service, syst: &mut SYST, dmp: &Dmp<MAX_DOF, KERNELS>
                 &mut seq,
                 &Request::Example {
                     index: i as u8,
-                    query: *q,
+                    query: Query::from_slice(&[*q]).unwrap_or_default(),
                     offset,
                     values,
                 },
@@ -183,9 +188,10 @@ fn power_run(service: &mut Service, syst: &mut SYST, dmp: &Dmp<MAX_DOF, KERNELS>
         send(service, &mut seq, &Request::DmpStart(motion));
         while let Reply::Setpoint { done: false, .. } = send(service, &mut seq, &Request::DmpNext) {
         }
+        let q = r.query.first().copied().unwrap_or(0.0);
         let tell = Request::Tell(Outcome {
-            error: 0.0,
-            reward: 1.0 / (1.0 + r.query * r.query),
+            error: Query::new(),
+            reward: 1.0 / (1.0 + q * q),
         });
         let t = ticks(syst, || {
             send(service, &mut seq, &tell);
