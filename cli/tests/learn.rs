@@ -455,3 +455,27 @@ fn bad_task_files_are_refused_before_anything_runs() {
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("--robot/--scale"), "{err}");
 }
+
+#[test]
+fn the_secant_learner_runs_on_the_emulated_mcu() {
+    let file = task("copro", "throw-2d.toml", |t| t);
+    let (mcu, host) = (tmp("out-copro-mcu"), tmp("out-copro-host"));
+    let (code, on_mcu, err) = learn(&file, &mcu, &["--coprocessor", "qemu"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(on_mcu.contains("learner: firmware"), "{on_mcu}");
+    let (code, in_process, err) = learn(&file, &host, &[]);
+    assert_eq!(code, 0, "{err}");
+    // The same roll-outs, bit for bit: the M4F's secant is the host's.
+    let rollouts = |s: &str| -> Vec<String> {
+        s.lines()
+            .filter(|l| l.starts_with("roll-out"))
+            .map(String::from)
+            .collect()
+    };
+    assert!(rollouts(&in_process).len() >= 2, "{in_process}");
+    assert_eq!(rollouts(&on_mcu), rollouts(&in_process));
+    assert_eq!(
+        std::fs::read_to_string(mcu.join("rollouts.csv")).unwrap(),
+        std::fs::read_to_string(host.join("rollouts.csv")).unwrap()
+    );
+}

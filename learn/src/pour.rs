@@ -30,7 +30,7 @@ use crate::runlog::RunLog;
 use crate::trial::Measured;
 
 /// The log format's version.
-pub const VERSION: u32 = 1;
+pub const VERSION: u32 = 2;
 
 /// A demonstration file and the query (bottle volume, l) it shows.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
