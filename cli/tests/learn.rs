@@ -106,6 +106,10 @@ fn power_improves_the_throws_reward() {
         means[9] > means[0] + 0.1 && means[9] > 0.95,
         "the mean's reward went {means:?}"
     );
+    // The complete run's log (a task without bounds) reads back.
+    let (code, again, err) = primo(&["learn", "--resume", out.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    assert!(again.contains("the run is complete: reporting"), "{again}");
 }
 
 /// An evaluator that fails once, at roll-out 3, as `how` says, then (run

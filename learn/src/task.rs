@@ -144,7 +144,7 @@ fn robot_preset(name: &str) -> Result<Robot, Error> {
 pub struct Goal {
     /// The desired query: the first one tried.
     pub desired: Vec<f32>,
-    /// Error learning's bounds, per value.
+    /// Error learning's bounds, per value (PoWER: empty if not given).
     pub low: Vec<f32>,
     /// See `low`.
     pub high: Vec<f32>,
@@ -712,10 +712,14 @@ fn learner(
             l.method.span(),
             "[learner] method",
             format!(
-                "{method:?} searches a one-value query; the demonstrations' queries have \
-                 {dim}: use \"secant\" (or \"power\")"
-            )
-            .to_lowercase(),
+                "{} searches a one-value query; the demonstrations' queries have {dim}: use \
+                 \"secant\" (or \"power\")",
+                if method == Method::Golden {
+                    "golden"
+                } else {
+                    "illinois"
+                }
+            ),
         ));
     }
     let power = method == Method::Power;
@@ -842,15 +846,26 @@ fn goal(p: &Place, raw: &Spanned<GoalKeys>, dim: usize, method: Method) -> Resul
     let (low, high, precision) = match (low, high, precision) {
         (Some(l), Some(h), Some(pr)) => (l, h, pr),
         (l, h, pr) if !error_learning => (
-            l.unwrap_or_else(|| vec![f32::NEG_INFINITY; dim]),
-            h.unwrap_or_else(|| vec![f32::INFINITY; dim]),
+            l.unwrap_or_default(),
+            h.unwrap_or_default(),
             pr.unwrap_or(0.0),
         ),
         (None, _, _) => return Err(need("low")),
         (_, None, _) => return Err(need("high")),
         (_, _, None) => return Err(need("precision")),
     };
-    for (i, ((l, h), d)) in low.iter().zip(&high).zip(&desired).enumerate() {
+    let unbounded = |b: &[f32], fill: f32| {
+        if b.is_empty() {
+            vec![fill; dim]
+        } else {
+            b.to_vec()
+        }
+    };
+    let (lo, hi) = (
+        unbounded(&low, f32::NEG_INFINITY),
+        unbounded(&high, f32::INFINITY),
+    );
+    for (i, ((l, h), d)) in lo.iter().zip(&hi).zip(&desired).enumerate() {
         if !(l < d && d < h) {
             return Err(p.at(
                 g.desired.span(),
