@@ -13,7 +13,9 @@ use primo_learn::task::{Evaluate, Method, Task};
 use primo_learn::teach::{Event, Logged, Start, logged_kind, rollout_line};
 
 use crate::error::CliError;
-use crate::pour::{CellArgs, LearnerArgs, Progress, execute, finish, print, with_progress};
+use crate::pour::{
+    CellArgs, LearnerArgs, Progress, execute, finish, print, run_line, with_progress,
+};
 
 /// `primo learn` options.
 #[derive(Debug, clap::Args)]
@@ -119,24 +121,10 @@ fn refuse_cell(instruments: &Option<primo_learn::rig::InstrumentsSpec>) -> Resul
 /// Prints what the run reports; a closed stdout or Ctrl-C ends the run.
 fn show(event: Event, progress: &mut Progress) -> Result<(), Error> {
     let line = match event {
-        Event::Learner(line) => line,
-        Event::Recovered(note) => {
-            eprintln!("primo learn: {note}");
-            return Ok(());
-        }
-        Event::Resuming {
-            dir,
-            complete,
-            logged,
-        } => format!(
-            "primo learn: {} {} after roll-out {logged}",
-            if complete {
-                "the run is complete: reporting"
-            } else {
-                "resuming"
-            },
-            dir.display()
-        ),
+        Event::Run(e) => match run_line("learn", e) {
+            Some(line) => line,
+            None => return Ok(()),
+        },
         Event::Learning { task, parameters } => {
             progress.total = task.learner.max_rollouts.max(1);
             let evaluator = match &task.evaluate {

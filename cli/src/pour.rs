@@ -8,6 +8,7 @@ use primo_learn::learning::{Algorithm, Settings};
 use primo_learn::pour::{CellSpec, DemoFile, Event, Failure, LearnerSpec, SkillSpec, Start};
 use primo_learn::report::rollout_line;
 use primo_learn::rig::{InstrumentsSpec, Operator};
+use primo_learn::runlog::RunEvent;
 
 use crate::args::{Glass, Method, Space};
 use crate::error::CliError;
@@ -270,27 +271,38 @@ fn resume_hint(command: &str, dir: &std::path::Path) -> String {
     )
 }
 
-/// Prints what the run reports; a closed stdout or Ctrl-C ends the run.
-fn show(event: Event, progress: &mut Progress) -> Result<(), Error> {
-    let line = match event {
-        Event::Learner(line) => line,
-        Event::Recovered(note) => {
-            eprintln!("primo pour: {note}");
-            return Ok(());
+/// The line a run's learner and log events print, if one (a recovered
+/// log's note goes to stderr).
+pub fn run_line(command: &str, event: RunEvent) -> Option<String> {
+    match event {
+        RunEvent::Learner(line) => Some(line),
+        RunEvent::Recovered(note) => {
+            eprintln!("primo {command}: {note}");
+            None
         }
-        Event::Resuming {
+        RunEvent::Resuming {
             dir,
             complete,
             logged,
-        } => format!(
-            "primo pour: {} {} after roll-out {logged}",
+        } => Some(format!(
+            "primo {command}: {} {} after roll-out {logged}",
             if complete {
                 "the run is complete: reporting"
             } else {
                 "resuming"
             },
             dir.display()
-        ),
+        )),
+    }
+}
+
+/// Prints what the run reports; a closed stdout or Ctrl-C ends the run.
+fn show(event: Event, progress: &mut Progress) -> Result<(), Error> {
+    let line = match event {
+        Event::Run(e) => match run_line("pour", e) {
+            Some(line) => line,
+            None => return Ok(()),
+        },
         Event::Learning {
             settings: s,
             space,

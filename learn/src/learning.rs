@@ -15,6 +15,8 @@ use primo_core::service::Service;
 use primo_core::wire::{
     CHUNK, LearnerSetup, MAX_QUERY, Outcome, Query, Reply, Request, Rollout, Setup, Status,
 };
+use std::path::Path;
+
 use serde::{Deserialize, Serialize};
 
 use primo_sim::cell::CellConfig;
@@ -25,6 +27,7 @@ use primo_skill::skill::{MAX_EXAMPLES, MAX_PARAMS};
 use crate::Error;
 use crate::coprocessor::Link;
 use crate::rig::{Simulated, roll_out};
+use crate::runlog::RunLog;
 use crate::trial::Trial;
 
 /// Capacity of the extended parameter vector `[q̂, Δθ]`.
@@ -370,6 +373,18 @@ pub(crate) fn examples_crc(skill: &Skill) -> u32 {
     digest.finalize()
 }
 
+/// The examples of `skill` are those a run logged in `dir` began with.
+pub(crate) fn check_examples(skill: &Skill, logged: u32, dir: &Path) -> Result<(), Error> {
+    if examples_crc(skill) != logged {
+        return Err(Error::Log(format!(
+            "the demonstrations of the run in {} have changed since it started: its examples \
+             no longer fit to the same DMPs",
+            dir.display()
+        )));
+    }
+    Ok(())
+}
+
 /// A query (or an error over one) as the wire carries it.
 pub fn wire_query(query: &[f32]) -> Result<Query, Error> {
     Query::from_slice(query).map_err(|_| {
@@ -514,6 +529,40 @@ pub fn learn_on<T: Scored + Clone>(
             logged.len(),
             run.len()
         )));
+    }
+    Ok(run)
+}
+
+/// [`learn_on`] for a logged run: every new roll-out is appended to the
+/// `log` before `show` is told of it, and the log ended after the last;
+/// a run whose log is already `ended` is only told again.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn learn_logged<T: Scored + Clone + Serialize>(
+    skill: &Skill,
+    setup: Setup,
+    max_rollouts: u32,
+    learner: &mut Learner,
+    logged: &[Entry<T>],
+    (log, ended): (&mut RunLog, bool),
+    roll: impl FnMut(u32, &[f32], &[f32]) -> Result<T, Error>,
+    mut show: impl FnMut(&Entry<T>, bool) -> Result<(), Error>,
+) -> Result<Vec<Entry<T>>, Error> {
+    let run = learn_on(
+        skill,
+        setup,
+        max_rollouts,
+        learner,
+        logged,
+        roll,
+        |entry, replayed| {
+            if !(replayed || ended) {
+                log.append(entry)?;
+            }
+            show(entry, replayed)
+        },
+    )?;
+    if !ended {
+        log.end()?;
     }
     Ok(run)
 }

@@ -20,13 +20,14 @@ use serde::{Deserialize, Serialize};
 use crate::Error;
 use crate::coprocessor::{Link, Qemu};
 use crate::learning::{
-    Algorithm, Entry, Learner, Record, Settings, best, examples_crc, learn_on, pour_setup,
+    Algorithm, Entry, Learner, Record, Settings, best, check_examples, examples_crc, learn_logged,
+    pour_setup,
 };
 use crate::output::{check_dir, create_dir};
 use crate::pouring::built_in_skill;
 use crate::report::{PourSummary, RolloutSummary};
 use crate::rig::{Instruments, InstrumentsSpec, Operator, Rig, Simulated, roll_out};
-use crate::runlog::RunLog;
+use crate::runlog::{RunEvent, RunLog};
 use crate::trial::Measured;
 
 /// The log format's version.
@@ -221,19 +222,8 @@ impl Start {
 /// What a run reports as it goes.
 #[derive(Debug)]
 pub enum Event<'a> {
-    /// The learner is connected: where.
-    Learner(String),
-    /// A damaged last record of the run log was set aside.
-    Recovered(&'a str),
-    /// A logged run is taken up again (or, complete, reported again).
-    Resuming {
-        /// Its directory.
-        dir: &'a Path,
-        /// The logged run was complete.
-        complete: bool,
-        /// Roll-outs logged.
-        logged: usize,
-    },
+    /// The learner and the log.
+    Run(RunEvent<'a>),
     /// What is learned.
     Learning {
         /// The settings.
@@ -312,7 +302,7 @@ pub fn pour(
     // QEMU (when asked for) lives until the run ends.
     let (_qemu, mut learner, connected) = open_learner(learner)?;
     if let Some(what) = connected {
-        event(Event::Learner(what))?;
+        event(Event::Run(RunEvent::Learner(what)))?;
     }
     let (dir, header, logged, mut log, ended) = match start {
         Start::New {
@@ -335,10 +325,12 @@ pub fn pour(
             (out, header, Vec::new(), log, false)
         }
         Start::Resume { dir, instruments } => {
-            let opened = RunLog::open::<Header, Entry>(&dir)?;
-            if let Some(note) = &opened.recovered {
-                event(Event::Recovered(note))?;
-            }
+            let opened = RunLog::resume::<Header, Entry>(
+                &dir,
+                |h| h.version,
+                VERSION,
+                |e| event(Event::Run(e)),
+            )?;
             let mut header = opened.header;
             match (&mut header.cell, instruments) {
                 (CellSpec::Instruments(logged), Some(now)) => *logged = now,
@@ -352,19 +344,6 @@ pub fn pour(
                 }
                 (_, None) => {}
             }
-            if header.version != VERSION {
-                return Err(Error::Log(format!(
-                    "{}: run log version {}, this primo reads version {VERSION}",
-                    dir.join(crate::runlog::FILE).display(),
-                    header.version
-                ))
-                .into());
-            }
-            event(Event::Resuming {
-                dir: &dir,
-                complete: opened.ended,
-                logged: opened.entries.len(),
-            })?;
             (dir, header, opened.entries, opened.log, opened.ended)
         }
     };
@@ -374,13 +353,7 @@ pub fn pour(
     };
     let s = header.settings;
     let (cell, skill) = header.skill.build().map_err(fail)?;
-    if examples_crc(&skill) != header.examples {
-        return Err(fail(Error::Log(format!(
-            "the demonstrations of the run in {} have changed since it started: its examples \
-             no longer fit to the same DMPs",
-            dir.display()
-        ))));
-    }
+    check_examples(&skill, header.examples, &dir).map_err(fail)?;
     let space = header.skill.space;
     event(Event::Learning {
         settings: &s,
@@ -404,27 +377,17 @@ pub fn pour(
         }
     };
     let setup = pour_setup(&skill, &s).map_err(fail)?;
-    let run = learn_on(
+    let run = learn_logged(
         &skill,
         setup,
         s.max_rollouts,
         &mut learner,
         &logged,
+        (&mut log, ended),
         |i, query, delta| roll_out(rig.as_mut(), &skill, s.target, i, query, delta),
-        |entry, replayed| {
-            if !(replayed || ended) {
-                log.append(entry)?;
-            }
-            event(Event::Rollout {
-                entry,
-                logged: replayed,
-            })
-        },
+        |entry, logged| event(Event::Rollout { entry, logged }),
     )
     .map_err(fail)?;
-    if !ended {
-        log.end().map_err(fail)?;
-    }
     let finished = report(
         &dir,
         &s,

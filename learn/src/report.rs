@@ -113,6 +113,18 @@ impl RolloutSummary {
     }
 }
 
+/// A linear panel over the roll-outs.
+fn per_rollout<'a>(title: &'a str, y_label: &'a str, series: &'a [Line<'a>]) -> Panel<'a> {
+    Panel {
+        title,
+        x_label: "roll-out",
+        y_label,
+        series,
+        log_y: false,
+        hline: None,
+    }
+}
+
 fn json(value: &impl Serialize) -> Result<Vec<u8>, Error> {
     let mut s =
         serde_json::to_string_pretty(value).map_err(|e| Error::Report(format!("summary: {e}")))?;
@@ -183,23 +195,9 @@ pub fn write_task_chart(
         hline: (!power).then_some((task.goal.precision, "precision")),
     }];
     if power {
-        panels.push(Panel {
-            title: "Reward of every roll-out",
-            x_label: "roll-out",
-            y_label: "reward",
-            series: &w,
-            log_y: false,
-            hline: None,
-        });
+        panels.push(per_rollout("Reward of every roll-out", "reward", &w));
     }
-    panels.push(Panel {
-        title: "Learned query",
-        x_label: "roll-out",
-        y_label: "q",
-        series: &q,
-        log_y: false,
-        hline: None,
-    });
+    panels.push(per_rollout("Learned query", "q", &q));
     png(
         &dir.join("convergence.png"),
         &panels,
@@ -263,31 +261,14 @@ pub fn write_pour(dir: &Path, records: &[Record], summary: &PourSummary) -> Resu
         hline: Some((precision_ml, "precision")),
     }];
     if power {
-        panels.push(Panel {
-            title: "Spilled by the mean policy",
-            x_label: "roll-out",
-            y_label: "spilled [ml]",
-            series: &s,
-            log_y: false,
-            hline: None,
-        });
-        panels.push(Panel {
-            title: "Reward of every roll-out",
-            x_label: "roll-out",
-            y_label: "reward",
-            series: &w,
-            log_y: false,
-            hline: None,
-        });
+        panels.push(per_rollout(
+            "Spilled by the mean policy",
+            "spilled [ml]",
+            &s,
+        ));
+        panels.push(per_rollout("Reward of every roll-out", "reward", &w));
     }
-    panels.push(Panel {
-        title: "Learned query",
-        x_label: "roll-out",
-        y_label: "q [l]",
-        series: &q,
-        log_y: false,
-        hline: None,
-    });
+    panels.push(per_rollout("Learned query", "q [l]", &q));
     png(
         &dir.join("convergence.png"),
         &panels,

@@ -50,6 +50,25 @@ enum Line<H, E> {
     End,
 }
 
+/// What every learning run (`primo pour`, `primo learn`) reports of its
+/// learner and its log.
+#[derive(Debug)]
+pub enum RunEvent<'a> {
+    /// The learner is connected: where.
+    Learner(String),
+    /// A damaged last record of the run log was set aside.
+    Recovered(&'a str),
+    /// A logged run is taken up again (or, complete, reported again).
+    Resuming {
+        /// Its directory.
+        dir: &'a Path,
+        /// The logged run was complete.
+        complete: bool,
+        /// Roll-outs logged.
+        logged: usize,
+    },
+}
+
 /// An open run log, appending.
 #[derive(Debug)]
 pub struct RunLog {
@@ -135,6 +154,35 @@ impl RunLog {
             .write_all(bytes)
             .and_then(|()| self.file.sync_data())
             .map_err(|e| io_error(&self.path, e))
+    }
+
+    /// Opens the log in `dir` to continue its run ([`RunLog::open`]),
+    /// telling `event` of a recovered record and of the resumption; a
+    /// header (`version` gives its format version) of another version than
+    /// `expected` is refused.
+    pub fn resume<H: DeserializeOwned, E: DeserializeOwned>(
+        dir: &Path,
+        version: impl Fn(&H) -> u32,
+        expected: u32,
+        mut event: impl FnMut(RunEvent) -> Result<(), Error>,
+    ) -> Result<Opened<H, E>, Error> {
+        let opened = RunLog::open::<H, E>(dir)?;
+        if let Some(note) = &opened.recovered {
+            event(RunEvent::Recovered(note))?;
+        }
+        let found = version(&opened.header);
+        if found != expected {
+            return Err(Error::Log(format!(
+                "{}: run log version {found}, this primo reads version {expected}",
+                dir.join(FILE).display()
+            )));
+        }
+        event(RunEvent::Resuming {
+            dir,
+            complete: opened.ended,
+            logged: opened.entries.len(),
+        })?;
+        Ok(opened)
     }
 
     /// Reads the log in `dir`, recovering a damaged last record (see the

@@ -25,12 +25,12 @@ use serde::{Deserialize, Serialize};
 use crate::Error;
 use crate::evaluator::{Answer, Evaluator, Operator, Program, Prompt};
 use crate::learning::{
-    Entry, Record, Scored, best, examples_crc, learn_on, power_blocks, query_text, setup,
-    wire_query,
+    Entry, Record, Scored, best, check_examples, examples_crc, learn_logged, power_blocks,
+    query_text, setup, wire_query,
 };
 use crate::output::{check_dir, create_dir, write_file};
 use crate::pour::{Failure, LearnerSpec, open_learner};
-use crate::runlog::RunLog;
+use crate::runlog::{RunEvent, RunLog};
 use crate::task::{Evaluate, Method, RewardRule, Task};
 
 /// The log format's version of task runs.
@@ -145,19 +145,8 @@ pub fn logged_kind(dir: &Path) -> Result<Logged, Error> {
 /// What a run reports as it goes.
 #[derive(Debug)]
 pub enum Event<'a> {
-    /// The learner is connected: where.
-    Learner(String),
-    /// A damaged last record of the run log was set aside.
-    Recovered(&'a str),
-    /// A logged run is taken up again (or, complete, reported again).
-    Resuming {
-        /// Its directory.
-        dir: &'a Path,
-        /// The logged run was complete.
-        complete: bool,
-        /// Roll-outs logged.
-        logged: usize,
-    },
+    /// The learner and the log.
+    Run(RunEvent<'a>),
     /// What is learned.
     Learning {
         /// The task.
@@ -456,23 +445,12 @@ pub fn learn(
             (header, out, Vec::new(), log, false)
         }
         Start::Resume { dir } => {
-            let opened = RunLog::open::<Header, Entry<TaskTrial>>(&dir)?;
-            if let Some(note) = &opened.recovered {
-                event(Event::Recovered(note))?;
-            }
-            if opened.header.version != VERSION {
-                return Err(Error::Log(format!(
-                    "{}: task run log version {}, this primo reads version {VERSION}",
-                    dir.join(crate::runlog::FILE).display(),
-                    opened.header.version
-                ))
-                .into());
-            }
-            event(Event::Resuming {
-                dir: &dir,
-                complete: opened.ended,
-                logged: opened.entries.len(),
-            })?;
+            let opened = RunLog::resume::<Header, Entry<TaskTrial>>(
+                &dir,
+                |h| h.version,
+                VERSION,
+                |e| event(Event::Run(e)),
+            )?;
             (opened.header, dir, opened.entries, opened.log, opened.ended)
         }
     };
@@ -482,16 +460,10 @@ pub fn learn(
     };
     let task = &header.task;
     let built = task.build().map_err(fail)?;
-    if examples_crc(&built.skill) != header.examples {
-        return Err(fail(Error::Log(format!(
-            "the demonstrations of the run in {} have changed since it started: its examples \
-             no longer fit to the same DMPs",
-            dir.display()
-        ))));
-    }
+    check_examples(&built.skill, header.examples, &dir).map_err(fail)?;
     let (_qemu, mut learner, connected) = open_learner(learner).map_err(fail)?;
     if let Some(what) = connected {
-        event(Event::Learner(what)).map_err(fail)?;
+        event(Event::Run(RunEvent::Learner(what))).map_err(fail)?;
     }
     event(Event::Learning {
         task,
@@ -525,27 +497,17 @@ pub fn learn(
         evaluator,
     };
     let setup = task_setup(task, &built.skill, header.seed).map_err(fail)?;
-    let run = learn_on(
+    let run = learn_logged(
         &built.skill,
         setup,
         task.learner.max_rollouts,
         &mut learner,
         &logged,
+        (&mut log, ended),
         |i, query, delta| rollouts.roll(i, query, delta),
-        |entry, replayed| {
-            if !(replayed || ended) {
-                log.append(entry)?;
-            }
-            event(Event::Rollout {
-                entry,
-                logged: replayed,
-            })
-        },
+        |entry, logged| event(Event::Rollout { entry, logged }),
     )
     .map_err(fail)?;
-    if !ended {
-        log.end().map_err(fail)?;
-    }
     let finished = report(&dir, task, &built.skill, &run, started).map_err(fail)?;
     event(Event::Finished(&finished)).map_err(fail)
 }
