@@ -47,6 +47,13 @@ pub enum Method {
     /// Error learning that also uses the error's magnitude (Illinois
     /// regula falsi), with the same bracket guarantee.
     Illinois,
+    /// Error learning with a gain learned from the roll-outs (Broyden's
+    /// secant update of the paper's eq. 10).
+    Secant,
+    /// The paper's eq. 10 with a fixed gain (--gain).
+    FixedGain,
+    /// The paper's eq. 11: eq. 10 weighted by e^(-ε²).
+    WeightedGain,
     /// PoWER over the extended parameter set `[q̂, Δθ]`.
     Power,
 }
@@ -57,6 +64,9 @@ impl From<Method> for primo_learn::learning::Algorithm {
         match m {
             Method::Golden => Algorithm::Golden,
             Method::Illinois => Algorithm::Illinois,
+            Method::Secant => Algorithm::Secant,
+            Method::FixedGain => Algorithm::FixedGain,
+            Method::WeightedGain => Algorithm::WeightedGain,
             Method::Power => Algorithm::Power,
         }
     }

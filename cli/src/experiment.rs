@@ -2,8 +2,8 @@
 
 use std::path::{Path, PathBuf};
 
-use primo_learn::experiment::{PowerComparison, SearchRun, THRESHOLDS};
-use primo_learn::learning::Algorithm;
+use primo_learn::experiment::{PowerComparison, THRESHOLDS};
+use primo_learn::learning::{Algorithm, ERROR_LEARNERS};
 use primo_learn::output::{check_dir, create_dir};
 use primo_learn::pouring::built_in_skill;
 use primo_learn::report::{PowerSummary, median_rollouts, write_golden, write_power};
@@ -105,29 +105,42 @@ fn golden(volumes: &[f64], precision: f64, seed: u64, out: &Path) -> Result<(), 
     let runs = primo_learn::experiment::golden(&skill, &cell, volumes, precision, seed)?;
     create_dir(out)?;
     write_golden(out, &runs, precision)?;
+    let names = ["golden", "illinois", "secant", "fixed-gain", "weighted-gain"];
     say(&format!(
-        "volume  golden  illinois   (roll-outs to |error| < {} ml)",
+        "volume {}   (roll-outs to |error| < {} ml)",
+        names.map(|n| format!("{n:>14}")).join(""),
         precision * 1e3
     ))?;
-    for pair in runs.chunks(2) {
-        let show = |r: &SearchRun| {
-            r.rollouts_to_precision
-                .map_or("-".to_string(), |n| n.to_string())
-        };
-        if let [g, i] = pair {
-            say(&format!(
-                "{:>5.2} l {:>7} {:>9}",
-                g.volume,
-                show(g),
-                show(i)
-            ))?;
-        }
+    for row in runs.chunks(ERROR_LEARNERS.len()) {
+        let cells: Vec<String> = row
+            .iter()
+            .map(|r| {
+                let n = r.rollouts_to_precision.map_or("-".to_string(), |n| n.to_string());
+                format!("{n:>14}")
+            })
+            .collect();
+        let volume = row.first().map_or(f64::NAN, |r| r.volume);
+        say(&format!("{volume:>5.2} l{}", cells.join("")))?;
     }
-    let median = |m| median_rollouts(&runs, m).unwrap_or(f64::NAN);
+    let medians: Vec<String> = ERROR_LEARNERS
+        .iter()
+        .zip(names)
+        .map(|(m, n)| {
+            let worst = runs
+                .iter()
+                .filter(|r| r.method == *m)
+                .map(|r| r.worst_overpour)
+                .fold(0.0, f64::max);
+            format!(
+                "{n} {} (worst over-pour {:.0} ml)",
+                median_rollouts(&runs, *m).unwrap_or(f64::NAN),
+                worst * 1e3
+            )
+        })
+        .collect();
     say(&format!(
-        "median: golden {}, illinois {}; {:.1} s; wrote {}",
-        median(Algorithm::Golden),
-        median(Algorithm::Illinois),
+        "median: {}; {:.1} s; wrote {}",
+        medians.join(", "),
         started.elapsed().as_secs_f64(),
         out.display()
     ))

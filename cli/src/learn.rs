@@ -9,7 +9,7 @@ use primo_learn::Error;
 use primo_learn::evaluator::Prompt;
 use primo_learn::learning::query_text;
 use primo_learn::pour::{CellSpec, Start as PourStart};
-use primo_learn::task::{Evaluate, Method, Task};
+use primo_learn::task::{Evaluate, Task};
 use primo_learn::teach::{Event, Logged, Start, logged_kind, rollout_line};
 
 use crate::error::CliError;
@@ -135,12 +135,7 @@ fn show(event: Event, progress: &mut Progress) -> Result<(), Error> {
             format!(
                 "primo learn: {} toward q = {}, {} demonstrations, {parameters} learned \
                  parameter(s), {evaluator}",
-                match task.learner.method {
-                    Method::Golden => "golden-section error learning",
-                    Method::Illinois => "Illinois error learning",
-                    Method::Secant => "secant error learning",
-                    Method::Power => "extended PoWER",
-                },
+                task.learner.method.name(),
                 query_text(&task.goal.desired),
                 task.demos.len(),
             )

@@ -85,6 +85,10 @@ pub struct PourArgs {
     /// Error learning stops at |error| below this, l.
     #[arg(long, default_value_t = 0.002)]
     precision: f64,
+    /// The error learners' gain K in l per l of error (the first for
+    /// secant, the only one for fixed-gain and weighted-gain).
+    #[arg(long, default_value_t = 1.0, allow_hyphen_values = true)]
+    gain: f32,
     /// Output directory: run.log (every roll-out, appended as it is made),
     /// and at the end rollouts.csv, summary.json, convergence.png and
     /// series.csv (the best roll-out's time series).
@@ -98,7 +102,7 @@ pub struct PourArgs {
     /// instrument): its settings come from the log, and no roll-out is
     /// lost or repeated.
     #[arg(long, value_name = "DIR", conflicts_with_all = [
-        "bottle", "target", "method", "seed", "max_rollouts", "precision", "out", "force",
+        "bottle", "target", "method", "seed", "max_rollouts", "precision", "gain", "out", "force",
         "space", "kernels", "glass", "demos",
     ])]
     resume: Option<PathBuf>,
@@ -187,6 +191,7 @@ pub fn run(args: &PourArgs) -> Result<(), CliError> {
             let mut settings =
                 Settings::paper(args.method.into(), args.bottle, args.target, args.seed);
             settings.precision = args.precision;
+            settings.gain = args.gain;
             if let Some(n) = args.max_rollouts {
                 settings.max_rollouts = n;
             }
@@ -311,11 +316,7 @@ fn show(event: Event, progress: &mut Progress) -> Result<(), Error> {
             progress.total = s.max_rollouts.max(1);
             format!(
                 "primo pour: {} from a {} l bottle, target {} l, {space:?} space, {parameters} learned parameter(s)",
-                match s.method {
-                    Algorithm::Golden => "golden-section error learning",
-                    Algorithm::Illinois => "Illinois error learning",
-                    Algorithm::Power => "extended PoWER",
-                },
+                s.method.name(),
                 s.bottle,
                 s.target,
             )

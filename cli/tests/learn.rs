@@ -59,6 +59,8 @@ fn the_throw_reaches_its_precision_with_each_error_learner() {
         ("golden", "throw.toml", 10),
         ("illinois", "throw.toml", 8),
         ("secant", "throw.toml", 8),
+        ("fixed-gain", "throw.toml", 10),
+        ("weighted-gain", "throw.toml", 10),
         ("secant", "throw-2d.toml", 8),
     ] {
         let file = task(&format!("{method}-{example}"), example, |t| {

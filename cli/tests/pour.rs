@@ -192,7 +192,8 @@ fn experiment_golden_writes_its_figure_data() {
     assert!(out.contains("median: golden"), "{out}");
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
-    assert_eq!(summary["runs"].as_array().unwrap().len(), 4);
+    // Two volumes, five error learners.
+    assert_eq!(summary["runs"].as_array().unwrap().len(), 10);
     assert!(dir.join("golden.png").exists() && dir.join("golden.csv").exists());
 }
 

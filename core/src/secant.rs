@@ -1,5 +1,7 @@
 //! Error learning on a query of any dimension: the paper's eq. 10,
-//! `q ← q + K ε`, with the gain `K` learned from the roll-outs themselves.
+//! `q ← q + K ε`, with the gain `K` learned from the roll-outs themselves
+//! ([`Rule::Broyden`]); and, as baselines, the paper's eq. 10 and 11 with
+//! `K` fixed ([`Rule::Fixed`], [`Rule::Weighted`]).
 //!
 //! `ε = desired − measured` is the error vector, with the sign convention
 //! of [`crate::golden`]: `ε_i > 0` means component `i` of the query must
@@ -47,7 +49,7 @@
 //! ```
 //! use heapless::Vec;
 //! use primo_core::golden::Status;
-//! use primo_core::secant::{Secant, SecantConfig};
+//! use primo_core::secant::{Rule, Secant, SecantConfig};
 //! let v = |s: &[f32]| Vec::from_slice(s).unwrap();
 //! let cfg = SecantConfig {
 //!     low: v(&[-2.0, -2.0]),
@@ -55,6 +57,8 @@
 //!     desired: v(&[0.5, 0.3]),
 //!     precision: 1e-4,
 //!     max_rollouts: 20,
+//!     gain: 1.0,
+//!     rule: Rule::Broyden,
 //! };
 //! // A linear "cell", measured = A q + b, with A so far from I that the
 //! // paper's K = I diverges (I − A has an eigenvalue −1.38); the learned
@@ -102,6 +106,25 @@ pub struct SecantConfig<const Q: usize> {
     pub precision: f32,
     /// Stop after this many roll-outs (≥ 1).
     pub max_rollouts: u32,
+    /// The first gain, `K = gain · I` (finite, ≠ 0; the paper's `K ≈ I`
+    /// is 1).
+    pub gain: f32,
+    /// How `K` is used.
+    pub rule: Rule,
+}
+
+/// The update rule.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Rule {
+    /// `q ← q + K ε`, `K` corrected by Broyden's update after every
+    /// roll-out (the module docs).
+    Broyden,
+    /// The paper's eq. 10, `q ← q + K ε` with `K` fixed.
+    Fixed,
+    /// The paper's eq. 11, `q ← q + e^{−εᵀε} K ε` with `K` fixed: smaller
+    /// steps at large errors. (`εᵀε` is in the query's units: the weight
+    /// depends on them.)
+    Weighted,
 }
 
 impl<const Q: usize> SecantConfig<Q> {
@@ -121,7 +144,10 @@ impl<const Q: usize> SecantConfig<Q> {
         for v in [&self.low, &self.high, &self.desired] {
             check_finite(v, "search settings")?;
         }
-        check_finite(&[self.precision], "precision")?;
+        check_finite(&[self.precision, self.gain], "precision and gain")?;
+        if self.gain == 0.0 {
+            return Err(Error::OutOfRange("the gain must not be 0"));
+        }
         for ((l, h), d) in self.low.iter().zip(&self.high).zip(&self.desired) {
             if !(l < h && l <= d && d <= h) {
                 return Err(Error::OutOfRange(
@@ -186,10 +212,10 @@ impl<const Q: usize> Secant<Q> {
             .zip(&cfg.desired)
             .for_each(|(q, d)| *q = *d);
         Ok(Self {
+            gain: Self::identity(cfg.gain),
             n: cfg.dim(),
             cfg,
             query,
-            gain: Self::identity(),
             last: None,
             best: None,
             damping: 1.0,
@@ -198,8 +224,9 @@ impl<const Q: usize> Secant<Q> {
         })
     }
 
-    fn identity() -> [[f32; Q]; Q] {
-        core::array::from_fn(|i| core::array::from_fn(|j| if i == j { 1.0 } else { 0.0 }))
+    /// `gain · I`.
+    fn identity(gain: f32) -> [[f32; Q]; Q] {
+        core::array::from_fn(|i| core::array::from_fn(|j| if i == j { gain } else { 0.0 }))
     }
 
     /// The query to roll out next, or `None` once finished. Asking again
@@ -246,10 +273,11 @@ impl<const Q: usize> Secant<Q> {
         if self.status != Status::Running {
             return Ok(self.status);
         }
-        if let Some(last) = last {
+        if let (Some(last), Rule::Broyden) = (last, self.cfg.rule) {
             self.learn(&last, &current);
         }
-        let from = if current.size > GROWTH * best.size {
+        // The paper's rules step from the last roll-out, whatever it gave.
+        let from = if current.size > GROWTH * best.size && self.cfg.rule == Rule::Broyden {
             self.damping *= 0.5;
             best
         } else {
@@ -308,20 +336,25 @@ impl<const Q: usize> Secant<Q> {
             }
         }
         if !self.gain.iter().flatten().all(|k| k.is_finite()) {
-            self.gain = Self::identity();
+            self.gain = Self::identity(self.cfg.gain);
         }
     }
 
-    /// `from.query + damping · K ε`, clamped into the box; with `K = I`
-    /// (reset) if `K ε` is not finite.
+    /// `from.query + damping · w · K ε` (`w = e^{−εᵀε}` for
+    /// [`Rule::Weighted`], else 1), clamped into the box; with `K` reset to
+    /// the first gain if `K ε` is not finite.
     fn step(&mut self, from: &Point<Q>) -> [f32; Q] {
+        let weight = match self.cfg.rule {
+            Rule::Weighted => libm::expf(-from.error.iter().map(|e| e * e).sum::<f32>()),
+            _ => 1.0,
+        };
         let mut step = [0.0f32; Q];
         for (s, row) in step.iter_mut().zip(&self.gain) {
-            *s = row.iter().zip(&from.error).map(|(k, e)| k * e).sum();
+            *s = weight * row.iter().zip(&from.error).map(|(k, e)| k * e).sum::<f32>();
         }
         if !step.iter().all(|s| s.is_finite()) {
-            self.gain = Self::identity();
-            step = from.error;
+            self.gain = Self::identity(self.cfg.gain);
+            step = from.error.map(|e| weight * self.cfg.gain * e);
         }
         let mut next = from.query;
         let limits = self.cfg.low.iter().zip(&self.cfg.high);
@@ -379,6 +412,8 @@ mod tests {
             desired: Vec::from_slice(desired).unwrap(),
             precision: 1e-4,
             max_rollouts: 30,
+            gain: 1.0,
+            rule: Rule::Broyden,
         }
     }
 
@@ -394,6 +429,35 @@ mod tests {
             l.tell(&e).unwrap();
         }
         (l, asked)
+    }
+
+    #[test]
+    fn the_papers_fixed_gain_rules_converge_only_where_k_suits_the_map() {
+        let fixed = |rule, gain| SecantConfig {
+            rule,
+            gain,
+            ..cfg(&[-2.0], &[2.0], &[0.2])
+        };
+        // measured = a q: ε = 0.5 − a q. K = 1 converges for 0 < a < 2
+        // (|1 − a K| < 1), geometrically; a = 0.5 halves the error per step.
+        let cell = |a: f32| move |q: &[f32]| std::vec![0.5 - a * q[0]];
+        let (l, asked) = run(Secant::new(fixed(Rule::Fixed, 1.0)).unwrap(), cell(0.5));
+        assert_eq!(l.status(), Status::Converged);
+        assert!((10..=16).contains(&asked.len()), "{}", asked.len());
+        // The same map with K = 2 = 1/a: one step.
+        let (_, asked) = run(Secant::new(fixed(Rule::Fixed, 2.0)).unwrap(), cell(0.5));
+        assert_eq!(asked.len(), 2);
+        // a = 3: K = 1 oscillates, growing, until the box holds it.
+        let (l, _) = run(Secant::new(fixed(Rule::Fixed, 1.0)).unwrap(), cell(3.0));
+        assert_ne!(l.status(), Status::Converged);
+        let (l, asked) = run(Secant::new(fixed(Rule::Broyden, 1.0)).unwrap(), cell(3.0));
+        assert_eq!(l.status(), Status::Converged, "{asked:?}");
+        // Eq. 11 steps by e^{−εᵀε} K ε: at ε = 0.4 (from q = 0.2, a = 0.5)
+        // the first step is e^{−0.16}·0.4.
+        let l = Secant::new(fixed(Rule::Weighted, 1.0)).unwrap();
+        let (_, asked) = run(l, cell(0.5));
+        let step = asked[1][0] - asked[0][0];
+        assert!((step - 0.4 * (-0.16f32).exp()).abs() < 1e-6, "{step}");
     }
 
     #[test]
@@ -460,6 +524,14 @@ mod tests {
             cfg(&[-3e38], &[3e38], &[0.0]),
             SecantConfig {
                 precision: 0.0,
+                ..ok.clone()
+            },
+            SecantConfig {
+                gain: 0.0,
+                ..ok.clone()
+            },
+            SecantConfig {
+                gain: f32::INFINITY,
                 ..ok.clone()
             },
             SecantConfig {

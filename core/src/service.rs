@@ -16,7 +16,7 @@
 //! use heapless::Vec;
 //! use primo_core::generalize::Method;
 //! use primo_core::golden::Status as SearchStatus;
-//! use primo_core::secant::SecantConfig;
+//! use primo_core::secant::{Rule, SecantConfig};
 //! use primo_core::service::Coprocessor;
 //! use primo_core::wire::{LearnerSetup, Outcome, Reply, Request, Setup};
 //! let v = |s: &[f32]| Vec::from_slice(s).unwrap();
@@ -27,6 +27,8 @@
 //!     desired: v(&[1.0, 0.5]),
 //!     precision: 1e-3,
 //!     max_rollouts: 50,
+//!     gain: 1.0,
+//!     rule: Rule::Broyden,
 //! };
 //! let setup = Setup {
 //!     learner: LearnerSetup::Secant(cfg),

@@ -529,6 +529,8 @@ mod tests {
                 desired: full_query(),
                 precision: f32::MAX,
                 max_rollouts: u32::MAX,
+                gain: f32::MAX,
+                rule: crate::secant::Rule::Weighted,
             })),
             Request::Tell(Outcome {
                 error: full_query(),

@@ -3,7 +3,7 @@
 //! budget, never leaves the box, never panics whatever it is told.
 use heapless::Vec as HVec;
 use primo_core::golden::Status;
-use primo_core::secant::{Secant, SecantConfig};
+use primo_core::secant::{Rule, Secant, SecantConfig};
 use proptest::prelude::*;
 
 const BUDGET: u32 = 30;
@@ -15,6 +15,8 @@ fn config(n: usize, desired: &[f32]) -> SecantConfig<4> {
         desired: HVec::from_slice(desired).unwrap(),
         precision: 1e-4,
         max_rollouts: BUDGET,
+        gain: 1.0,
+        rule: Rule::Broyden,
     }
 }
 

@@ -6,7 +6,7 @@ use primo_core::dmp::{Dmp, FitOptions};
 use primo_core::generalize::{Generalizer, Method};
 use primo_core::golden::{ErrorLearner, GoldenSection, SearchConfig, Status as SearchStatus};
 use primo_core::power::{Block, Power, PowerConfig};
-use primo_core::secant::{Secant, SecantConfig};
+use primo_core::secant::{Rule, Secant, SecantConfig};
 use primo_core::service::{Coprocessor as Service, THETA, UNREAD};
 use primo_core::wire::{
     self, CHUNK, DmpStart, FaultKind, FrameReader, LearnerSetup, MAX_FRAME, MAX_QUERY, Outcome,
@@ -387,6 +387,8 @@ fn secant_config(n: usize) -> SecantConfig<MAX_QUERY> {
         desired: HVec::from_slice(&[0.5; MAX_QUERY][..n]).unwrap(),
         precision: 1e-4,
         max_rollouts: 30,
+        gain: 1.0,
+        rule: Rule::Broyden,
     }
 }
 

@@ -6,7 +6,7 @@ use primo_core::dmp::Shape;
 use primo_core::generalize::Method;
 use primo_core::golden::{SearchConfig, Status as SearchStatus};
 use primo_core::power::{Block, MAX_BLOCKS, PowerConfig};
-use primo_core::secant::SecantConfig;
+use primo_core::secant::{Rule, SecantConfig};
 use primo_core::wire::{
     self, CHUNK, Capacities, DETAIL, DmpStart, Fault, FaultKind, Frame, FrameError, FrameReader,
     LearnerSetup, MAX_DOF, MAX_FRAME, MAX_QUERY, Outcome, Reply, Request, Rollout, Setup, Status,
@@ -48,14 +48,18 @@ fn secant_config() -> impl Strategy<Value = SecantConfig<MAX_QUERY>> {
         floats::<MAX_QUERY>(),
         float(),
         any::<u32>(),
+        float(),
+        prop::sample::select(vec![Rule::Broyden, Rule::Fixed, Rule::Weighted]),
     )
         .prop_map(
-            |(low, high, desired, precision, max_rollouts)| SecantConfig {
+            |(low, high, desired, precision, max_rollouts, gain, rule)| SecantConfig {
                 low,
                 high,
                 desired,
                 precision,
                 max_rollouts,
+                gain,
+                rule,
             },
         )
 }

@@ -10,7 +10,7 @@ use primo_core::illinois::Illinois;
 use primo_core::orientation::OrientationDmp;
 use primo_core::quaternion::Quaternion;
 use primo_core::power::{Block, Power, PowerConfig};
-use primo_core::secant::{Secant, SecantConfig};
+use primo_core::secant::{Rule, Secant, SecantConfig};
 use primo_core::wire::{self, MAX_FRAME, Outcome, Query, Request};
 
 /// FNV-1a over 32-bit words.
@@ -133,6 +133,8 @@ pub fn digest() -> u64 {
         desired: v(&[0.5, 0.3]),
         precision: 1e-6,
         max_rollouts: 30,
+        gain: 1.0,
+        rule: Rule::Broyden,
     };
     let Ok(mut secant) = Secant::<{ wire::MAX_QUERY }>::new(cfg) else {
         return 14;

@@ -9,7 +9,7 @@ use arbitrary::{Result, Unstructured};
 use heapless::Vec as HVec;
 use libfuzzer_sys::fuzz_target;
 use primo_core::golden::Status;
-use primo_core::secant::{Secant, SecantConfig};
+use primo_core::secant::{Rule, Secant, SecantConfig};
 use primo_core::wire::MAX_QUERY;
 use primo_fuzz::{check_told, num, positive};
 
@@ -97,6 +97,8 @@ fuzz_target!(|data: &[u8]| {
             desired: vector(&mut u, n, 2.0)?,
             precision: positive(&mut u, 0.1)?,
             max_rollouts: u.int_in_range(0..=100)?,
+            gain: num(&mut u, 3.0)?,
+            rule: *u.choose(&[Rule::Broyden, Rule::Fixed, Rule::Weighted])?,
         };
         // The documented settings, spelled out independently of validate().
         let dim = cfg.desired.len();
@@ -109,6 +111,8 @@ fuzz_target!(|data: &[u8]| {
             })
             && cfg.precision > 0.0
             && cfg.precision.is_finite()
+            && cfg.gain.is_finite()
+            && cfg.gain != 0.0
             && cfg.max_rollouts >= 1;
         let made = Secant::new(cfg.clone());
         assert_eq!(made.is_ok(), valid, "{cfg:?}");

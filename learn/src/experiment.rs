@@ -14,7 +14,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use serde::Serialize;
 
 use crate::Error;
-use crate::learning::{Algorithm, Learner, Record, Settings, learn};
+use crate::learning::{Algorithm, ERROR_LEARNERS, Learner, Record, Settings, learn};
 use crate::stats::{Estimate, bootstrap, mean, median};
 use primo_sim::cell::CellConfig;
 use primo_skill::Skill;
@@ -59,12 +59,16 @@ pub struct SearchRun {
     pub method: Algorithm,
     /// First roll-out with |error| below the precision, if any.
     pub rollouts_to_precision: Option<u32>,
+    /// The most poured beyond the target in any roll-out, l (0 if never):
+    /// what a search spills over the glass's mark on a real cell.
+    pub worst_overpour: f64,
     /// Per roll-out: query and error (l).
     #[serde(skip)]
     pub records: Vec<Record>,
 }
 
-/// Fig. 3: golden section and Illinois for every volume.
+/// Fig. 3: every error learner ([`ERROR_LEARNERS`]: golden section,
+/// Illinois, secant, and the paper's fixed-gain rules) for every volume.
 pub fn golden(
     skill: &Skill,
     cell: &CellConfig,
@@ -74,7 +78,7 @@ pub fn golden(
 ) -> Result<Vec<SearchRun>, Error> {
     let jobs: Vec<(f64, Algorithm)> = volumes
         .iter()
-        .flat_map(|v| [(*v, Algorithm::Golden), (*v, Algorithm::Illinois)])
+        .flat_map(|v| ERROR_LEARNERS.map(|m| (*v, m)))
         .collect();
     parallel(jobs.len(), |i| {
         let (volume, method) = jobs[i];
@@ -88,6 +92,7 @@ pub fn golden(
                 .iter()
                 .find(|r| r.trial.error.abs() < precision)
                 .map(|r| r.rollout),
+            worst_overpour: records.iter().map(|r| r.trial.error).fold(0.0, f64::max),
             records,
         })
     })

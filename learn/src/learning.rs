@@ -11,6 +11,7 @@
 
 use primo_core::golden::SearchConfig;
 use primo_core::power::{Block, PowerConfig, widest_distance};
+use primo_core::secant::{Rule, SecantConfig};
 use primo_core::service::Service;
 use primo_core::wire::{
     CHUNK, LearnerSetup, MAX_QUERY, Outcome, Query, Reply, Request, Rollout, Setup, Status,
@@ -38,15 +39,84 @@ pub const QUERY_DECAY: f32 = 0.9;
 
 /// The learning algorithm.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
+#[serde(rename_all = "kebab-case")]
 pub enum Algorithm {
-    /// The paper's error learning with golden-section search on the query.
+    /// The paper's error learning with golden-section search on the query
+    /// (one value).
     Golden,
     /// Error learning that also uses the error's magnitude (Illinois
-    /// regula falsi), with the same bracket guarantee.
+    /// regula falsi), with the same bracket guarantee (one value).
     Illinois,
+    /// Error learning on a query of any dimension, `q ← q + K ε` with the
+    /// gain `K` learned from the roll-outs (Broyden; paper eq. 10).
+    Secant,
+    /// The paper's eq. 10 with a fixed gain `K = gain · I`.
+    FixedGain,
+    /// The paper's eq. 11, `q ← q + e^{−εᵀε} K ε`, `K = gain · I` fixed.
+    WeightedGain,
     /// PoWER over the extended parameter set `[q̂, Δθ]`.
     Power,
+}
+
+/// The error learners, in the order experiments report them.
+pub const ERROR_LEARNERS: [Algorithm; 5] = [
+    Algorithm::Golden,
+    Algorithm::Illinois,
+    Algorithm::Secant,
+    Algorithm::FixedGain,
+    Algorithm::WeightedGain,
+];
+
+impl Algorithm {
+    /// How people call it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Algorithm::Golden => "golden-section error learning",
+            Algorithm::Illinois => "Illinois error learning",
+            Algorithm::Secant => "secant error learning",
+            Algorithm::FixedGain => "fixed-gain error learning (eq. 10)",
+            Algorithm::WeightedGain => "weighted fixed-gain error learning (eq. 11)",
+            Algorithm::Power => "extended PoWER",
+        }
+    }
+
+    /// Its search core's setup, for the error learners over the bounds
+    /// `low`, `high` from `desired` (one value each for golden section and
+    /// Illinois); `None` for PoWER.
+    pub fn search(
+        self,
+        (low, high, desired): (&[f32], &[f32], &[f32]),
+        precision: f32,
+        max_rollouts: u32,
+        gain: f32,
+    ) -> Result<Option<LearnerSetup>, Error> {
+        let scalar = || SearchConfig {
+            low: low.first().copied().unwrap_or(f32::NAN),
+            high: high.first().copied().unwrap_or(f32::NAN),
+            desired: desired.first().copied().unwrap_or(f32::NAN),
+            precision,
+            max_rollouts,
+        };
+        let secant = |rule| -> Result<LearnerSetup, Error> {
+            Ok(LearnerSetup::Secant(SecantConfig {
+                low: wire_query(low)?,
+                high: wire_query(high)?,
+                desired: wire_query(desired)?,
+                precision,
+                max_rollouts,
+                gain,
+                rule,
+            }))
+        };
+        Ok(Some(match self {
+            Algorithm::Golden => LearnerSetup::Golden(scalar()),
+            Algorithm::Illinois => LearnerSetup::Illinois(scalar()),
+            Algorithm::Secant => secant(Rule::Broyden)?,
+            Algorithm::FixedGain => secant(Rule::Fixed)?,
+            Algorithm::WeightedGain => secant(Rule::Weighted)?,
+            Algorithm::Power => return Ok(None),
+        }))
+    }
 }
 
 /// What to learn and how.
@@ -66,6 +136,8 @@ pub struct Settings {
     pub precision: f64,
     /// Query search limits for error learning, l.
     pub search: [f32; 2],
+    /// The error learners' first (fixed-gain: only) gain `K = gain · I`.
+    pub gain: f32,
     /// PoWER exploration scales s1 (query; 0 is ordinary PoWER) and s2 (Δθ).
     pub s1: f32,
     /// See `s1`.
@@ -87,6 +159,7 @@ impl Settings {
             },
             precision: 0.002,
             search: [0.1, 1.5],
+            gain: 1.0,
             s1: 0.2,
             s2: 0.05,
         }
@@ -122,6 +195,9 @@ impl Settings {
         }
         if self.max_rollouts == 0 {
             return bad("--max-rollouts 0: must be at least 1".into());
+        }
+        if !(self.gain.is_finite() && self.gain != 0.0) {
+            return bad(format!("--gain {}: must be a finite number other than 0", self.gain));
         }
         for (flag, s) in [("s1", self.s1), ("s2", self.s2)] {
             if !(s.is_finite() && s >= 0.0) {
@@ -326,20 +402,14 @@ impl Learner {
 
 /// The learner's setup for a pouring run of `s` on `skill`.
 pub fn pour_setup(skill: &Skill, s: &Settings) -> Result<Setup, Error> {
-    let search = SearchConfig {
-        low: s.search[0],
-        high: s.search[1],
-        desired: s.bottle as f32,
-        precision: s.precision as f32,
-        max_rollouts: s.max_rollouts,
-    };
-    let learner = match s.method {
-        Algorithm::Golden => LearnerSetup::Golden(search),
-        Algorithm::Illinois => LearnerSetup::Illinois(search),
-        Algorithm::Power => LearnerSetup::Power {
+    let bottle = [s.bottle as f32];
+    let search = (&s.search[..1], &s.search[1..], &bottle[..]);
+    let learner = match s.method.search(search, s.precision as f32, s.max_rollouts, s.gain)? {
+        Some(learner) => learner,
+        None => LearnerSetup::Power {
             config: PowerConfig::paper(&power_blocks(skill, s.s1, s.s2, QUERY_DECAY)?)
                 .map_err(|e| Error::Invalid(format!("PoWER: {e}")))?,
-            query: wire_query(&[s.bottle as f32])?,
+            query: wire_query(&bottle)?,
         },
     };
     setup(skill, learner, s.seed)

@@ -8,7 +8,7 @@ use serde::Serialize;
 
 use crate::Error;
 use crate::experiment::{PowerComparison, PowerCurves, SearchRun, THRESHOLDS};
-use crate::learning::{Algorithm, Record, Settings};
+use crate::learning::{Algorithm, ERROR_LEARNERS, Record, Settings};
 use crate::output::write_file;
 use crate::plot::{Line, Panel, render_png};
 
@@ -146,7 +146,7 @@ pub fn write_task_chart(
     records: &[&Record<crate::teach::TaskTrial>],
 ) -> Result<(), Error> {
     let x = |r: &Record<crate::teach::TaskTrial>| f64::from(r.rollout);
-    let power = task.learner.method == crate::task::Method::Power;
+    let power = task.learner.method == Algorithm::Power;
     let error: Vec<(f64, f64)> = records
         .iter()
         .filter(|r| r.mean)
@@ -281,7 +281,7 @@ pub fn write_pour(dir: &Path, records: &[Record], summary: &PourSummary) -> Resu
 struct GoldenSummary<'a> {
     precision: f64,
     runs: &'a [SearchRun],
-    median_rollouts: [(Algorithm, Option<f64>); 2],
+    median_rollouts: [(Algorithm, Option<f64>); ERROR_LEARNERS.len()],
 }
 
 /// The median roll-outs to precision of `method` (runs that never reach it
@@ -316,8 +316,7 @@ pub fn write_golden(dir: &Path, runs: &[SearchRun], precision: f64) -> Result<()
     let summary = GoldenSummary {
         precision,
         runs,
-        median_rollouts: [Algorithm::Golden, Algorithm::Illinois]
-            .map(|m| (m, median_rollouts(runs, m))),
+        median_rollouts: ERROR_LEARNERS.map(|m| (m, median_rollouts(runs, m))),
     };
     write_file(&dir.join("summary.json"), &json(&summary)?)?;
     let points = |m: Algorithm, f: &dyn Fn(&Record) -> f64| -> Vec<(String, Vec<(f64, f64)>)> {
@@ -335,33 +334,12 @@ pub fn write_golden(dir: &Path, runs: &[SearchRun], precision: f64) -> Result<()
             .collect()
     };
     let error = |r: &Record| r.trial.error.abs() * 1e3;
-    let query = |r: &Record| f64::from(r.volume());
-    let sets = [
-        (
-            "Golden section: pouring error",
-            "|error| [ml]",
-            points(Algorithm::Golden, &error),
-            true,
-        ),
-        (
-            "Golden section: learned query",
-            "q [l]",
-            points(Algorithm::Golden, &query),
-            false,
-        ),
-        (
-            "Illinois: pouring error",
-            "|error| [ml]",
-            points(Algorithm::Illinois, &error),
-            true,
-        ),
-        (
-            "Illinois: learned query",
-            "q [l]",
-            points(Algorithm::Illinois, &query),
-            false,
-        ),
-    ];
+    let titles = ERROR_LEARNERS.map(|m| format!("{}: pouring error", m.name()));
+    let sets: Vec<(&str, &str, _, bool)> = ERROR_LEARNERS
+        .iter()
+        .zip(&titles)
+        .map(|(m, title)| (title.as_str(), "|error| [ml]", points(*m, &error), true))
+        .collect();
     let series: Vec<Vec<Line>> = sets
         .iter()
         .map(|(_, _, s, _)| {
@@ -386,7 +364,7 @@ pub fn write_golden(dir: &Path, runs: &[SearchRun], precision: f64) -> Result<()
             hline: log.then_some((precision * 1e3, "precision")),
         })
         .collect();
-    png(&dir.join("golden.png"), &panels, 1200)
+    png(&dir.join("golden.png"), &panels, 300 * panels.len() as u32)
 }
 
 /// `summary.json` of `primo experiment power`.

@@ -22,27 +22,12 @@ use serde::{Deserialize, Serialize};
 use toml::Spanned;
 
 use crate::Error;
-use crate::learning::QUERY_DECAY;
+use crate::learning::{Algorithm, QUERY_DECAY};
 
 /// The task file format's version.
 pub const VERSION: u32 = 1;
 /// Seconds an evaluator program may take for one roll-out, by default.
 pub const DEFAULT_TIMEOUT: f64 = 60.0;
-
-/// The learners a task can use.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Method {
-    /// Golden-section error learning on a one-value query.
-    Golden,
-    /// Illinois error learning on a one-value query.
-    Illinois,
-    /// Error learning on a query of any dimension: `q ← q + K ε`, the
-    /// gain `K` estimated from the roll-outs (paper eq. 10).
-    Secant,
-    /// PoWER over `[q̂, Δθ]`.
-    Power,
-}
 
 /// How a reward is made from the error when the evaluator gives none.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -156,9 +141,11 @@ pub struct Goal {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct LearnerSettings {
     /// Which.
-    pub method: Method,
+    pub method: Algorithm,
     /// Roll-out budget.
     pub max_rollouts: u32,
+    /// The error learners' first (fixed-gain: only) gain `K = gain · I`.
+    pub gain: f32,
     /// PoWER's exploration of the query, a fraction of the demonstrations'
     /// spread (0: ordinary PoWER).
     pub s1: f32,
@@ -289,8 +276,9 @@ struct GoalKeys {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct LearnerKeys {
-    method: Spanned<Method>,
+    method: Spanned<Algorithm>,
     max_rollouts: Option<Spanned<u32>>,
+    gain: Option<Spanned<f64>>,
     s1: Option<Spanned<f64>>,
     s2: Option<Spanned<f64>>,
     sampler: Option<Spanned<usize>>,
@@ -707,14 +695,14 @@ fn learner(
 ) -> Result<LearnerSettings, Error> {
     let l = raw.get_ref();
     let method = *l.method.get_ref();
-    if dim > 1 && matches!(method, Method::Golden | Method::Illinois) {
+    if dim > 1 && matches!(method, Algorithm::Golden | Algorithm::Illinois) {
         return Err(p.at(
             l.method.span(),
             "[learner] method",
             format!(
                 "{} searches a one-value query; the demonstrations' queries have {dim}: use \
                  \"secant\" (or \"power\")",
-                if method == Method::Golden {
+                if method == Algorithm::Golden {
                     "golden"
                 } else {
                     "illinois"
@@ -722,7 +710,7 @@ fn learner(
             ),
         ));
     }
-    let power = method == Method::Power;
+    let power = method == Algorithm::Power;
     let power_keys = [
         ("s1", l.s1.as_ref().map(Spanned::span)),
         ("s2", l.s2.as_ref().map(Spanned::span)),
@@ -797,9 +785,24 @@ fn learner(
         None if span > 0.0 => 1.0 / span,
         None => 1.0,
     };
+    let gain = match &l.gain {
+        Some(v) if power => {
+            return Err(p.at(v.span(), "[learner] gain", "an error learner's setting; this task's method is PoWER"));
+        }
+        Some(v) if !(v.get_ref().is_finite() && *v.get_ref() != 0.0) => {
+            return Err(p.at(
+                v.span(),
+                "[learner] gain",
+                format!("{}: must be a finite number other than 0", v.get_ref()),
+            ));
+        }
+        Some(v) => *v.get_ref() as f32,
+        None => 1.0,
+    };
     Ok(LearnerSettings {
         method,
         max_rollouts,
+        gain,
         s1: unit(&l.s1, "[learner] s1", 0.2, false)?,
         s2: unit(&l.s2, "[learner] s2", 0.05, false)?,
         sampler,
@@ -822,10 +825,10 @@ pub fn distance(a: &[f32], b: &[f32]) -> f32 {
         .sqrt()
 }
 
-fn goal(p: &Place, raw: &Spanned<GoalKeys>, dim: usize, method: Method) -> Result<Goal, Error> {
+fn goal(p: &Place, raw: &Spanned<GoalKeys>, dim: usize, method: Algorithm) -> Result<Goal, Error> {
     let g = raw.get_ref();
     let desired = query(p, &g.desired, "[goal] desired", dim)?;
-    let error_learning = method != Method::Power;
+    let error_learning = method != Algorithm::Power;
     let bound = |v: &Option<Spanned<Vec<f64>>>, key: &str| -> Result<Option<Vec<f32>>, Error> {
         v.as_ref().map(|v| query(p, v, key, dim)).transpose()
     };

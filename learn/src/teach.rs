@@ -13,9 +13,7 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use primo_core::golden::SearchConfig;
 use primo_core::power::PowerConfig;
-use primo_core::secant::SecantConfig;
 use primo_core::wire::{LearnerSetup, Setup};
 use primo_robot::envelope::Limits;
 use primo_skill::Skill;
@@ -31,7 +29,8 @@ use crate::learning::{
 use crate::output::{check_dir, create_dir, write_file};
 use crate::pour::{Failure, LearnerSpec, open_learner};
 use crate::runlog::{RunEvent, RunLog};
-use crate::task::{Evaluate, Method, RewardRule, Task};
+use crate::learning::Algorithm;
+use crate::task::{Evaluate, RewardRule, Task};
 
 /// The log format's version of task runs.
 pub const VERSION: u32 = 1;
@@ -182,7 +181,7 @@ pub struct Finished {
 #[derive(Debug, Serialize)]
 struct Summary<'a> {
     task: &'a Path,
-    method: Method,
+    method: Algorithm,
     query_dim: usize,
     desired: &'a [f32],
     parameters: usize,
@@ -196,7 +195,7 @@ struct Summary<'a> {
 /// Parameters learned: `[q̂, Δθ]` for PoWER, the query otherwise.
 pub fn learned_parameters(task: &Task, skill: &Skill) -> usize {
     match task.learner.method {
-        Method::Power => skill.param_len() + task.query_dim(),
+        Algorithm::Power => skill.param_len() + task.query_dim(),
         _ => task.query_dim(),
     }
 }
@@ -205,25 +204,13 @@ pub fn learned_parameters(task: &Task, skill: &Skill) -> usize {
 pub fn task_setup(task: &Task, skill: &Skill, seed: u64) -> Result<Setup, Error> {
     let l = &task.learner;
     let g = &task.goal;
-    let first = |v: &[f32]| v.first().copied().unwrap_or(f32::NAN);
-    let search = SearchConfig {
-        low: first(&g.low),
-        high: first(&g.high),
-        desired: first(&g.desired),
-        precision: g.precision as f32,
-        max_rollouts: l.max_rollouts,
-    };
-    let learner = match l.method {
-        Method::Golden => LearnerSetup::Golden(search),
-        Method::Illinois => LearnerSetup::Illinois(search),
-        Method::Secant => LearnerSetup::Secant(SecantConfig {
-            low: wire_query(&g.low)?,
-            high: wire_query(&g.high)?,
-            desired: wire_query(&g.desired)?,
-            precision: g.precision as f32,
-            max_rollouts: l.max_rollouts,
-        }),
-        Method::Power => {
+    let bounds = (&g.low[..], &g.high[..], &g.desired[..]);
+    let learner = match l
+        .method
+        .search(bounds, g.precision as f32, l.max_rollouts, l.gain)?
+    {
+        Some(learner) => learner,
+        None => {
             let blocks = power_blocks(skill, l.s1, l.s2, l.decay)?;
             let config = PowerConfig {
                 rollouts_per_update: l.rollouts_per_update,
@@ -252,7 +239,7 @@ pub fn reward(rule: RewardRule, scale: f32, error: &[f64]) -> f64 {
 /// error learning cannot learn from it, so it ends the run (unlogged:
 /// `--resume` tries it again).
 fn score(task: &Task, rollout: u32, answer: Answer) -> Result<TaskTrial, Error> {
-    let power = task.learner.method == Method::Power;
+    let power = task.learner.method == Algorithm::Power;
     if let Some(why) = answer.failed {
         if !power {
             return Err(Error::Instrument(format!(
@@ -355,21 +342,13 @@ impl Task {
         let Evaluate::Pour(p) = &self.evaluate else {
             return None;
         };
-        let method = match self.learner.method {
-            Method::Golden => crate::learning::Algorithm::Golden,
-            Method::Illinois => crate::learning::Algorithm::Illinois,
-            Method::Power => crate::learning::Algorithm::Power,
-            Method::Secant => {
-                return Some(Err(Error::Invalid(
-                    "the built-in pour learns with golden, illinois or power".into(),
-                )));
-            }
-        };
+        let method = self.learner.method;
         let bottle = f64::from(self.goal.desired.first().copied().unwrap_or(0.0));
         let defaults = crate::learning::Settings::paper(method, bottle, p.target, seed);
         let error_learning = method != crate::learning::Algorithm::Power;
         let settings = crate::learning::Settings {
             max_rollouts: self.learner.max_rollouts,
+            gain: self.learner.gain,
             precision: if error_learning {
                 self.goal.precision
             } else {
@@ -540,7 +519,7 @@ fn report(
         .copied()
         .ok_or_else(|| Error::Learner("no roll-out was made".into()))?;
     let converged_at = match task.learner.method {
-        Method::Power => None,
+        Algorithm::Power => None,
         _ => records
             .iter()
             .find(|r| {

@@ -26,13 +26,31 @@ fn error_learning_reaches_2_ml_for_every_bottle_volume() {
         let last = run.records.last().unwrap();
         assert!(last.trial.error.abs() < 0.002 && last.trial.spilled == 0.0);
     }
-    let (golden, illinois) = (
-        median_rollouts(&runs, Method::Golden).unwrap(),
-        median_rollouts(&runs, Method::Illinois).unwrap(),
+    let median = |m| median_rollouts(&runs, m).unwrap();
+    let (golden, illinois, secant) = (
+        median(Method::Golden),
+        median(Method::Illinois),
+        median(Method::Secant),
     );
-    println!("median roll-outs: golden {golden}, illinois {illinois}");
-    // Measured: golden 7.5, Illinois 5.
-    assert!(illinois < golden);
+    println!("median roll-outs: golden {golden}, illinois {illinois}, secant {secant}");
+    // Measured: golden 7.5, Illinois 5, secant 3.
+    assert!(secant < illinois && illinois < golden);
+    // The secant learner steps from where it stands: it never pours much
+    // beyond the target, where golden section's second roll-out jumps to
+    // the far end of the bracket.
+    let worst = |m| {
+        runs.iter()
+            .filter(|r| r.method == m)
+            .map(|r| r.worst_overpour)
+            .fold(0.0, f64::max)
+    };
+    let first = runs
+        .iter()
+        .filter_map(|r| r.records.first())
+        .map(|r| r.trial.error)
+        .fold(0.0, f64::max);
+    assert!(worst(Method::Secant) <= first, "{} {first}", worst(Method::Secant));
+    assert!(worst(Method::Golden) > 0.1);
 }
 
 #[test]
