@@ -105,7 +105,13 @@ fn golden(volumes: &[f64], precision: f64, seed: u64, out: &Path) -> Result<(), 
     let runs = primo_learn::experiment::golden(&skill, &cell, volumes, precision, seed)?;
     create_dir(out)?;
     write_golden(out, &runs, precision)?;
-    let names = ["golden", "illinois", "secant", "fixed-gain", "weighted-gain"];
+    let names = [
+        "golden",
+        "illinois",
+        "secant",
+        "fixed-gain",
+        "weighted-gain",
+    ];
     say(&format!(
         "volume {}   (roll-outs to |error| < {} ml)",
         names.map(|n| format!("{n:>14}")).join(""),
@@ -115,7 +121,9 @@ fn golden(volumes: &[f64], precision: f64, seed: u64, out: &Path) -> Result<(), 
         let cells: Vec<String> = row
             .iter()
             .map(|r| {
-                let n = r.rollouts_to_precision.map_or("-".to_string(), |n| n.to_string());
+                let n = r
+                    .rollouts_to_precision
+                    .map_or("-".to_string(), |n| n.to_string());
                 format!("{n:>14}")
             })
             .collect();

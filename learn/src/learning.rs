@@ -197,7 +197,10 @@ impl Settings {
             return bad("--max-rollouts 0: must be at least 1".into());
         }
         if !(self.gain.is_finite() && self.gain != 0.0) {
-            return bad(format!("--gain {}: must be a finite number other than 0", self.gain));
+            return bad(format!(
+                "--gain {}: must be a finite number other than 0",
+                self.gain
+            ));
         }
         for (flag, s) in [("s1", self.s1), ("s2", self.s2)] {
             if !(s.is_finite() && s >= 0.0) {
@@ -404,7 +407,10 @@ impl Learner {
 pub fn pour_setup(skill: &Skill, s: &Settings) -> Result<Setup, Error> {
     let bottle = [s.bottle as f32];
     let search = (&s.search[..1], &s.search[1..], &bottle[..]);
-    let learner = match s.method.search(search, s.precision as f32, s.max_rollouts, s.gain)? {
+    let learner = match s
+        .method
+        .search(search, s.precision as f32, s.max_rollouts, s.gain)?
+    {
         Some(learner) => learner,
         None => LearnerSetup::Power {
             config: PowerConfig::paper(&power_blocks(skill, s.s1, s.s2, QUERY_DECAY)?)

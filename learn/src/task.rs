@@ -787,7 +787,11 @@ fn learner(
     };
     let gain = match &l.gain {
         Some(v) if power => {
-            return Err(p.at(v.span(), "[learner] gain", "an error learner's setting; this task's method is PoWER"));
+            return Err(p.at(
+                v.span(),
+                "[learner] gain",
+                "an error learner's setting; this task's method is PoWER",
+            ));
         }
         Some(v) if !(v.get_ref().is_finite() && *v.get_ref() != 0.0) => {
             return Err(p.at(

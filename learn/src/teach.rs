@@ -22,6 +22,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::Error;
 use crate::evaluator::{Answer, Evaluator, Operator, Program, Prompt};
+use crate::learning::Algorithm;
 use crate::learning::{
     Entry, Record, Scored, best, check_examples, examples_crc, learn_logged, power_blocks,
     query_text, setup, wire_query,
@@ -29,7 +30,6 @@ use crate::learning::{
 use crate::output::{check_dir, create_dir, write_file};
 use crate::pour::{Failure, LearnerSpec, open_learner};
 use crate::runlog::{RunEvent, RunLog};
-use crate::learning::Algorithm;
 use crate::task::{Evaluate, RewardRule, Task};
 
 /// The log format's version of task runs.

@@ -180,8 +180,99 @@ pub fn check_rotation_vectors(file: &str, demo: &Demo) -> Result<(), Error> {
 /// A time in seconds to the microsecond, without trailing zeros: 9·0.1
 /// prints as 0.9, not as f32's 0.90000004 or a sum of steps' 0.9000000000000001.
 pub fn seconds(t: f64) -> String {
-    let t = format!("{t:.6}");
-    t.trim_end_matches('0').trim_end_matches('.').to_string()
+    let mut out = Vec::new();
+    push_seconds(&mut out, t);
+    String::from_utf8_lossy(&out).into_owned()
+}
+
+/// Appends [`seconds`]`(t)`.
+fn push_seconds(out: &mut Vec<u8>, t: f64) {
+    use std::io::Write as _;
+    let start = out.len();
+    let _ = write!(out, "{t:.6}");
+    if out[start..].contains(&b'.') {
+        while out.last() == Some(&b'0') {
+            out.pop();
+        }
+        if out.last() == Some(&b'.') {
+            out.pop();
+        }
+    }
+}
+
+/// Appends `v` as `Display` prints it (the shortest digits that read back
+/// as the same `f32`, laid out without an exponent), several times faster:
+/// the digits come from Żmij, the layout is `Display`'s. Where two
+/// shortest candidates are equally near (0.2 % of values), Żmij may pick
+/// the other: the same length, the same number read back. Trajectory files
+/// are mostly these numbers.
+pub fn push_f32(out: &mut Vec<u8>, v: f32) {
+    if !v.is_finite() {
+        out.extend_from_slice(v.to_string().as_bytes());
+        return;
+    }
+    let mut buffer = zmij::Buffer::new();
+    let text = buffer.format_finite(v).as_bytes();
+    let (negative, text) = match text.split_first() {
+        Some((b'-', rest)) => (true, rest),
+        _ => (false, text),
+    };
+    let (mantissa, exponent) = match text.iter().position(|c| *c == b'e') {
+        // Plain already (most numbers): `Display` has no `.0` on integers.
+        None => {
+            if negative {
+                out.push(b'-');
+            }
+            out.extend_from_slice(text.strip_suffix(b".0").unwrap_or(text));
+            return;
+        }
+        Some(e) => (
+            &text[..e],
+            std::str::from_utf8(&text[e + 1..])
+                .ok()
+                .and_then(|x| x.parse::<i32>().ok())
+                .unwrap_or(0),
+        ),
+    };
+    // The digits (at most 9 for an f32), and where the decimal point goes
+    // among them.
+    let point = mantissa
+        .iter()
+        .position(|c| *c == b'.')
+        .unwrap_or(mantissa.len());
+    let mut digits = [0u8; 16];
+    let mut len = 0;
+    for c in mantissa.iter().filter(|c| **c != b'.') {
+        if let Some(d) = digits.get_mut(len) {
+            *d = *c;
+            len += 1;
+        }
+    }
+    let leading = digits[..len].iter().take_while(|c| **c == b'0').count();
+    let mut point = point as i32 + exponent - leading as i32;
+    let mut digits = &digits[leading..len];
+    while let Some((b'0', rest)) = digits.split_last() {
+        digits = rest;
+    }
+    if negative {
+        out.push(b'-');
+    }
+    if digits.is_empty() {
+        out.push(b'0');
+    } else if point <= 0 {
+        out.extend_from_slice(b"0.");
+        out.extend(std::iter::repeat_n(b'0', point.unsigned_abs() as usize));
+        out.extend_from_slice(digits);
+    } else if point as usize >= digits.len() {
+        out.extend_from_slice(digits);
+        point -= digits.len() as i32;
+        out.extend(std::iter::repeat_n(b'0', point as usize));
+    } else {
+        let (int, frac) = digits.split_at(point as usize);
+        out.extend_from_slice(int);
+        out.push(b'.');
+        out.extend_from_slice(frac);
+    }
 }
 
 /// Writes a trajectory CSV: header `t,<names>` then one row per sample.
@@ -191,12 +282,16 @@ pub fn write_rows<V: IntoIterator<Item = f32>>(
     rows: impl Iterator<Item = (f32, V)>,
 ) -> std::io::Result<()> {
     writeln!(out, "t,{}", names.join(","))?;
+    let mut line = Vec::new();
     for (t, values) in rows {
-        write!(out, "{}", seconds(f64::from(t)))?;
+        line.clear();
+        push_seconds(&mut line, f64::from(t));
         for v in values {
-            write!(out, ",{v}")?;
+            line.push(b',');
+            push_f32(&mut line, v);
         }
-        writeln!(out)?;
+        line.push(b'\n');
+        out.write_all(&line)?;
     }
     Ok(())
 }
@@ -207,6 +302,50 @@ mod tests {
 
     fn msg(text: &str) -> String {
         parse_demo("d.csv", text).unwrap_err().to_string()
+    }
+
+    /// `Display`'s digits, but for exact ties between two shortest
+    /// candidates (2015.65625 → Żmij 2015.6562, `Display` 2015.6563): the
+    /// same length, the same number read back.
+    #[test]
+    fn push_f32_prints_as_display_does() {
+        let mut differ = 0;
+        let mut check = |v: f32| {
+            let mut out = Vec::new();
+            push_f32(&mut out, v);
+            let (fast, display) = (String::from_utf8(out).unwrap(), v.to_string());
+            if fast != display {
+                differ += 1;
+                assert_eq!(fast.len(), display.len());
+                assert_eq!(fast.parse::<f32>().unwrap().to_bits(), v.to_bits());
+            }
+        };
+        for v in [
+            0.0,
+            -0.0,
+            1.0,
+            -1.0,
+            0.1,
+            1e-7,
+            1.5e-45,
+            f32::MIN_POSITIVE,
+            f32::MAX,
+            f32::MIN,
+            1e20,
+            123456.79,
+            0.099999905,
+            f32::NAN,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+        ] {
+            check(v);
+        }
+        // Every 65,521st bit pattern: all exponents, signs and digit counts.
+        for bits in (0..=u32::MAX).step_by(65_521) {
+            check(f32::from_bits(bits));
+        }
+        // Measured: 128 of 65,553.
+        assert!(differ < 200, "{differ}");
     }
 
     #[test]

@@ -49,7 +49,11 @@ fn error_learning_reaches_2_ml_for_every_bottle_volume() {
         .filter_map(|r| r.records.first())
         .map(|r| r.trial.error)
         .fold(0.0, f64::max);
-    assert!(worst(Method::Secant) <= first, "{} {first}", worst(Method::Secant));
+    assert!(
+        worst(Method::Secant) <= first,
+        "{} {first}",
+        worst(Method::Secant)
+    );
     assert!(worst(Method::Golden) > 0.1);
 }
 
