@@ -5,12 +5,12 @@
 //! measure, score once.
 
 use std::net::UdpSocket;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use primo_fri::parse_robot;
 use primo_fri::session::SessionConfig;
 use primo_fri::udp::{Ended, PlayConfig, bind, play};
-use primo_mtsics::{Client, ClientConfig, ErrorKind};
+use primo_mtsics::{Client, ClientConfig};
 use primo_robot::{Gate, JointPath};
 use primo_sim::cell::{Cell, CellConfig};
 use primo_skill::{Plan, Skill};
@@ -222,6 +222,8 @@ impl Instruments {
             &spec.scale,
             ClientConfig {
                 baud: spec.baud,
+                // The liquid in the glass may still be moving.
+                settle: SETTLE_LIMIT,
                 ..ClientConfig::default()
             },
         )?;
@@ -249,19 +251,9 @@ impl Instruments {
         self.scale.serial()
     }
 
-    /// The stable weight, g, waiting up to [`SETTLE_LIMIT`] for it.
+    /// The stable weight, g (the client waits up to [`SETTLE_LIMIT`] for it).
     fn weigh(&mut self) -> Result<f64, Error> {
-        let started = Instant::now();
-        loop {
-            match self.scale.stable() {
-                Ok(w) => return Ok(w.grams()),
-                // Still settling (`S I`): the liquid is still moving.
-                Err(e)
-                    if matches!(e.kind, ErrorKind::NotExecutable { .. })
-                        && started.elapsed() < SETTLE_LIMIT => {}
-                Err(e) => return Err(e.into()),
-            }
-        }
+        Ok(self.scale.stable()?.grams())
     }
 }
 
