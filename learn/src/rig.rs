@@ -9,7 +9,7 @@ use std::time::Duration;
 
 use primo_fri::parse_robot;
 use primo_fri::session::SessionConfig;
-use primo_fri::udp::{Ended, PlayConfig, bind, play};
+use primo_fri::udp::{Ended, Event, PlayConfig, bind, play};
 use primo_mtsics::{Client, ClientConfig};
 use primo_robot::{Gate, JointPath};
 use primo_sim::cell::{Cell, CellConfig};
@@ -205,6 +205,8 @@ pub struct Instruments {
     scale: Client,
     play: PlayConfig,
     operator: Box<dyn Operator>,
+    /// The operator was told the FRI loop is not real-time (once a run).
+    warned_realtime: bool,
 }
 
 impl Instruments {
@@ -243,6 +245,7 @@ impl Instruments {
                 ..PlayConfig::default()
             },
             operator,
+            warned_realtime: false,
         })
     }
 
@@ -271,7 +274,21 @@ impl Rig for Instruments {
             self.operator.reset(rollout, self.bottle)?;
         }
         let before = self.weigh()?;
-        let played = play(&self.socket, path, &self.play)?;
+        let mut slow = None;
+        let played = play(&self.socket, path, &self.play, &mut |event| {
+            if let Event::Realtime(granted) = event
+                && !granted.is_full()
+            {
+                slow = Some(granted);
+            }
+        })?;
+        if let Some(granted) = slow.filter(|_| !self.warned_realtime) {
+            self.warned_realtime = true;
+            self.operator.warn(
+                rollout,
+                &format!("FRI loop: {granted}: answers may be late on a busy machine"),
+            );
+        }
         if played.ended != Ended::Completed {
             return Err(Error::RobotStopped(format!(
                 "roll-out {rollout} on the robot: {}; the cell may need a reset",
