@@ -231,8 +231,9 @@ impl Qemu {
     pub fn start(firmware: &Path) -> Result<Qemu, Error> {
         if !firmware.is_file() {
             return Err(Error::Coprocessor(format!(
-                "firmware {} not found: build it with `cargo build --release` in firmware/",
-                firmware.display()
+                "firmware {} not found: build it with `cd {} && cargo build --release`",
+                firmware.display(),
+                firmware_source().display()
             )));
         }
         let mut child = Command::new("qemu-system-arm")
