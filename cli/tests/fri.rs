@@ -512,6 +512,13 @@ fn power_exploration_that_crosses_a_limit_never_reaches_the_robot() {
     assert_nothing_sent(&report);
 }
 
+/// `primo robot play FILE --robot ROBOT EXTRA...`: status, stdout, stderr.
+fn primo_play(file: &std::path::Path, robot: &str, extra: &[&str]) -> (i32, String, String) {
+    let mut args = vec!["robot", "play", file.to_str().unwrap(), "--robot", robot];
+    args.extend_from_slice(extra);
+    primo(&args)
+}
+
 #[test]
 fn the_binaries_play_against_sim_krc() {
     let _serial = serial();
@@ -532,17 +539,11 @@ fn the_binaries_play_against_sim_krc() {
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
-    let (code, out, err) = primo(&[
-        "robot",
-        "play",
-        file.to_str().unwrap(),
-        "--robot",
+    let (code, out, err) = primo_play(
+        &file,
         &format!("fri:{addr}"),
-        "--start-timeout",
-        "20",
-        "--cycle-timeout",
-        "1",
-    ]);
+        &["--start-timeout", "20", "--cycle-timeout", "1"],
+    );
     let krc = krc.wait_with_output().unwrap();
     let krc_out = String::from_utf8_lossy(&krc.stdout);
     println!("{out}{err}\n{krc_out}");
@@ -627,15 +628,8 @@ fn joint_columns_as_robot_users_name_them_are_taken_in_order_only() {
         std::fs::write(&file, format!("t,{names}\n{body}")).unwrap();
         let (socket, addr) = client_socket();
         drop(socket);
-        let (code, out, err) = primo(&[
-            "robot",
-            "play",
-            file.to_str().unwrap(),
-            "--robot",
-            &format!("fri:{addr}"),
-            "--start-timeout",
-            "0.3",
-        ]);
+        let (code, out, err) =
+            primo_play(&file, &format!("fri:{addr}"), &["--start-timeout", "0.3"]);
         // Taken: it waited for a KRC that never came.
         assert_eq!(code, 1, "{names}: {out}{err}");
         assert!(out.contains("passed the limit checks"), "{out}");
@@ -648,13 +642,7 @@ fn joint_columns_as_robot_users_name_them_are_taken_in_order_only() {
     ] {
         let file = tmp("misnamed.csv");
         std::fs::write(&file, format!("t,{names}\n{body}")).unwrap();
-        let (code, out, err) = primo(&[
-            "robot",
-            "play",
-            file.to_str().unwrap(),
-            "--robot",
-            "fri:127.0.0.1",
-        ]);
+        let (code, out, err) = primo_play(&file, "fri:127.0.0.1", &[]);
         assert_eq!((code, out.as_str()), (2, ""), "{names}: {err}");
         assert!(
             err.contains(&format!(

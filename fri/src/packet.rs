@@ -922,26 +922,26 @@ mod tests {
             "command packet of 916 bytes, expected 376 \
              (starts 34 12 02 01 94 03 06 20 db 0f 49 40 00 00 00 00 ...)"
         );
-        let mut bad = good.clone();
+        let mut bad = good;
         bad[6] = 0x05;
         bad[7] = 0x10;
         assert_eq!(
             err(&bad),
             "measurement packet: datagramId at offset 6 is 0x1005, expected 0x2006"
         );
-        let mut bad = good.clone();
+        let mut bad = good;
         bad[4..6].copy_from_slice(&376u16.to_le_bytes());
         assert_eq!(
             err(&bad),
             "measurement packet: packetSize at offset 4 says 376 bytes, the datagram has 916"
         );
-        let mut bad = good.clone();
+        let mut bad = good;
         bad[228..232].copy_from_slice(&f32::NAN.to_le_bytes());
         assert_eq!(
             err(&bad),
             "measurement packet: msrJntPos[3] at offset 228 (bytes 00 00 c0 7f) is NaN, not a finite number"
         );
-        let mut bad = good.clone();
+        let mut bad = good;
         bad[144] = 7;
         assert_eq!(
             err(&bad),

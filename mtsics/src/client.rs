@@ -100,7 +100,7 @@ pub struct ScaleError {
     /// What happened.
     pub kind: ErrorKind,
     /// Noise skipped during the exchange, if any.
-    pub noise: Option<Noise>,
+    pub noise: Option<Box<Noise>>,
     /// The timeout in force.
     timeout: Duration,
 }
@@ -203,7 +203,7 @@ pub struct Client {
     power_on_lines: u32,
     noise_lines: u32,
     /// Noise of the exchange under way.
-    noise: Option<Noise>,
+    noise: Option<Box<Noise>>,
 }
 
 /// The pause before asking again after an `I`: a balance may answer `I`
@@ -404,7 +404,7 @@ impl Client {
                 Err(e) => {
                     self.noise_lines += 1;
                     let lines = self.noise.as_ref().map_or(0, |n| n.lines) + 1;
-                    self.noise = Some(Noise { lines, last: e });
+                    self.noise = Some(Box::new(Noise { lines, last: e }));
                     if let Some((at, response)) = parse_tail(&line) {
                         return Ok(Some((response, quote(line.get(at..).unwrap_or_default()))));
                     }
