@@ -106,3 +106,14 @@ impl From<primo_sim::Error> for CliError {
         }
     }
 }
+
+impl From<primo_mtsics::ScaleError> for CliError {
+    /// A path that is no serial port is a refused setting; the rest
+    /// happened while talking to the scale.
+    fn from(e: primo_mtsics::ScaleError) -> Self {
+        match e.kind {
+            primo_mtsics::ErrorKind::NotAPort(_) => Self::input(e.to_string()),
+            _ => Self::other(e.to_string()),
+        }
+    }
+}

@@ -32,7 +32,7 @@ pub struct LearnArgs {
     /// Seed of exploration.
     #[arg(long, default_value_t = 1)]
     seed: u64,
-    /// Roll-out budget (default: the task's [learner] max_rollouts).
+    /// Roll-out budget (default: `max_rollouts` in the task's `[learner]`).
     #[arg(long)]
     max_rollouts: Option<u32>,
     /// Replace a finished run in --out (an unfinished one is never

@@ -159,8 +159,9 @@ pub struct LearnerArgs {
     /// Cortex-M4F (qemu-system-arm) for the run.
     #[arg(long, value_name = "PORT|qemu")]
     coprocessor: Option<String>,
-    /// With --coprocessor qemu: the firmware ELF (default: the release
-    /// build in firmware/).
+    /// With --coprocessor qemu: the firmware ELF (default: $PRIMO_FIRMWARE,
+    /// else the release build of firmware/ under $CARGO_TARGET_DIR or
+    /// firmware/target, or beside primo).
     #[arg(long, requires = "coprocessor", value_name = "ELF")]
     firmware: Option<PathBuf>,
 }

@@ -8,9 +8,10 @@ use std::sync::atomic::AtomicBool;
 use std::time::Duration;
 
 use primo_fri::session::SessionConfig;
-use primo_fri::udp::{Ended, PlayConfig, PlayResult, bind, play};
+use primo_fri::udp::{Ended, Event, PlayConfig, PlayResult, bind, play};
 use primo_fri::{DEFAULT_PORT, parse_robot};
 use primo_mtsics::quote;
+use primo_robot::envelope::joint_index;
 use primo_robot::safety::check_joints;
 use primo_robot::{JOINTS, JointPath, Robot};
 use primo_sim::krc::{CellHandle, KrcConfig, SimKrc};
@@ -28,7 +29,8 @@ pub enum RobotCommand {
     /// run` writes) to the robot after the joint limit checks, and report
     /// the tracking error.
     Play {
-        /// Trajectory CSV: header `t,a1,...,a7`, t in seconds, angles in rad.
+        /// Trajectory CSV: header `t,a1,...,a7` (or `A1..A7`, `j1..j7`,
+        /// `joint_1..joint_7`), t in seconds, angles in rad.
         trajectory: PathBuf,
         /// `fri:ADDR[:PORT]`: the local UDP address to bind, where the KRC
         /// sends its packets (default port 49938).
@@ -52,6 +54,10 @@ pub enum RobotCommand {
         /// (weighing again), s.
         #[arg(long, default_value_t = 0.3)]
         settle: f64,
+        /// Run the FRI loop at normal priority: no real-time scheduling or
+        /// locked memory (to compare; a busy machine makes answers late).
+        #[arg(long)]
+        no_realtime: bool,
     },
     /// Be the KRC: send FRI measurements to 127.0.0.1:PORT every cycle,
     /// drive the simulated arm and pouring cell by the answers.
@@ -113,6 +119,7 @@ pub fn run(command: RobotCommand) -> Result<(), CliError> {
             approach_speed,
             weigh,
             settle,
+            no_realtime,
         } => {
             let cfg = PlayConfig {
                 session: SessionConfig {
@@ -122,6 +129,7 @@ pub fn run(command: RobotCommand) -> Result<(), CliError> {
                 },
                 cycle_timeout: seconds("--cycle-timeout", cycle_timeout)?,
                 start_timeout: seconds("--start-timeout", start_timeout)?,
+                realtime: !no_realtime,
                 ..PlayConfig::default()
             };
             robot_play(&trajectory, &robot, &cfg)
@@ -185,9 +193,16 @@ fn load_trajectory(path: &Path) -> Result<JointPath, CliError> {
     let text = std::fs::read_to_string(path)
         .map_err(|e| CliError::input(format!("{file}: cannot read: {e}")))?;
     let demo = parse_demo(&file, &text)?;
-    if demo.names != JOINT_NAMES {
+    let in_order = demo.names.len() == JOINTS
+        && demo
+            .names
+            .iter()
+            .enumerate()
+            .all(|(j, name)| joint_index(name) == Some(j));
+    if !in_order {
         return Err(CliError::input(format!(
-            "{file}:1: columns `t,{}`: a joint trajectory has the columns t,{} (radians)",
+            "{file}:1: columns `t,{}`: a joint trajectory has the columns t,{} (radians; \
+             or A1..A7, j1..j7, joint_1..joint_7)",
             demo.names.join(","),
             JOINT_NAMES.join(",")
         )));
@@ -215,7 +230,13 @@ fn robot_play(trajectory: &Path, robot: &str, cfg: &PlayConfig) -> Result<(), Cl
         path.times().len(),
         path.duration()
     ))?;
-    let result = play(&socket, &path, cfg)?;
+    let mut said = Ok(());
+    let result = play(&socket, &path, cfg, &mut |event| {
+        if said.is_ok() {
+            said = report(&event);
+        }
+    })?;
+    said?;
     print_result(&result)?;
     match result.ended {
         Ended::Completed => {
@@ -224,6 +245,29 @@ fn robot_play(trajectory: &Path, robot: &str, cfg: &PlayConfig) -> Result<(), Cl
         }
         ended => Err(CliError::other(format!("robot play: {ended}"))),
     }
+}
+
+/// One line for what the FRI loop is doing; on stderr if it is a warning.
+fn report(event: &Event) -> Result<(), CliError> {
+    let line = match event {
+        Event::Realtime(granted) if !granted.is_full() => {
+            eprintln!(
+                "primo robot play: warning: {granted}: answers may be late on a busy machine"
+            );
+            return Ok(());
+        }
+        Event::Realtime(granted) => format!("FRI loop: {granted}"),
+        Event::Krc(krc) => format!("KRC {krc} is sending; waiting for command mode"),
+        Event::Weighing { setpoints } => {
+            format!("commandable: holding still for {setpoints} cycles, weighing")
+        }
+        Event::Approaching { setpoints } => {
+            format!("approaching the start in {setpoints} cycles")
+        }
+        Event::Streaming { sent, planned } => format!("streaming: setpoint {sent} of {planned}"),
+        Event::Settling => "settling: holding the end, weighing".to_string(),
+    };
+    say(&format!("primo robot play: {line}"))
 }
 
 fn print_result(r: &PlayResult) -> Result<(), CliError> {

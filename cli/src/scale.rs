@@ -64,12 +64,17 @@ pub struct ReadArgs {
     /// Density of the liquid for `--unit ml`, g/ml (water: 0.998).
     #[arg(long, value_name = "G_PER_ML", default_value_t = Density::WATER.g_per_ml())]
     density: f64,
-    /// How long to wait for each answer, s.
+    /// How long the scale may stay silent (noise is no answer) before
+    /// primo gives up, the re-sends included, s.
     #[arg(long, value_name = "SECONDS", default_value_t = 10.0)]
     timeout: f64,
-    /// Retries after a timeout or a busy answer.
+    /// Re-sends of a command within --timeout while nothing answers.
     #[arg(long, default_value_t = 2)]
     retries: u32,
+    /// How long to keep asking while the scale answers that it is not
+    /// stable yet (`S I`), s.
+    #[arg(long, value_name = "SECONDS", default_value_t = 60.0)]
+    settle: f64,
 }
 
 /// What `primo scale read` prints in.
@@ -206,26 +211,31 @@ fn unescape(text: &[u8]) -> Result<Vec<u8>, String> {
     Ok(out)
 }
 
-fn read(args: &ReadArgs) -> Result<(), CliError> {
-    let timeout = Duration::try_from_secs_f64(args.timeout)
+/// A time limit in seconds: more than 0 and at most a day.
+fn limit(flag: &str, seconds: f64) -> Result<Duration, CliError> {
+    Duration::try_from_secs_f64(seconds)
         .ok()
-        .filter(|t| !t.is_zero() && t.as_secs() < 86_400)
+        .filter(|t| !t.is_zero() && t.as_secs_f64() <= 86_400.0)
         .ok_or_else(|| {
             CliError::input(format!(
-                "--timeout: {} s is not between 0 and a day",
-                args.timeout
+                "{flag}: {seconds} s must be more than 0 s and at most a day (86400 s)"
             ))
-        })?;
+        })
+}
+
+fn read(args: &ReadArgs) -> Result<(), CliError> {
+    let timeout = limit("--timeout", args.timeout)?;
+    let settle = limit("--settle", args.settle)?;
     let density =
         Density::new(args.density).map_err(|e| CliError::input(format!("--density: {e}")))?;
     let config = ClientConfig {
         baud: args.baud,
         timeout,
         retries: args.retries,
+        settle,
         ..ClientConfig::default()
     };
-    let mut scale = Client::open(&args.port, config).map_err(|e| CliError::other(e.to_string()))?;
-    let weight = scale.stable().map_err(|e| CliError::other(e.to_string()))?;
+    let weight = Client::open(&args.port, config)?.stable()?;
     let text = match args.unit {
         OutputUnit::G => weight.to(Unit::G).to_string(),
         OutputUnit::Mg => weight.to(Unit::Mg).to_string(),

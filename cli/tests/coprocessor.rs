@@ -4,6 +4,9 @@
 
 mod common;
 
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
 use common::{primo, tmp};
 
 #[test]
@@ -52,4 +55,87 @@ fn an_unreachable_coprocessor_is_a_clear_error() {
         stderr.contains("/nonexistent/primo-firmware not found"),
         "{stderr}"
     );
+}
+
+/// `primo pour --coprocessor qemu --rollouts 1` run as `exe`, with
+/// `CARGO_TARGET_DIR` set to `target` and nothing else pointing at the
+/// firmware: exit status, stdout, stderr.
+fn pour_with_target_dir(exe: &Path, target: &Path) -> (i32, String, String) {
+    let out = Command::new(exe)
+        .args(["pour", "--coprocessor", "qemu", "--out"])
+        .arg(tmp(&format!(
+            "copro-{}",
+            target.display().to_string().len()
+        )))
+        .env("CARGO_TARGET_DIR", target)
+        .env_remove("PRIMO_FIRMWARE")
+        .output()
+        .unwrap();
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into(),
+        String::from_utf8_lossy(&out.stderr).into(),
+    )
+}
+
+/// The firmware this test run uses: beside the tested binary's target
+/// directory (`<target>/debug/primo`).
+fn built_firmware() -> PathBuf {
+    let exe = Path::new(env!("CARGO_BIN_EXE_primo"));
+    exe.parent()
+        .and_then(Path::parent)
+        .unwrap()
+        .join("thumbv7em-none-eabihf/release/primo-firmware")
+}
+
+#[test]
+fn the_firmware_is_found_at_run_time_or_the_build_command_is_named() {
+    // Found under CARGO_TARGET_DIR, wherever that is.
+    let target = tmp("copro-target");
+    let release = target.join("thumbv7em-none-eabihf/release");
+    std::fs::create_dir_all(&release).unwrap();
+    let elf = release.join("primo-firmware");
+    std::fs::copy(built_firmware(), &elf).unwrap();
+    let (status, stdout, stderr) =
+        pour_with_target_dir(Path::new(env!("CARGO_BIN_EXE_primo")), &target);
+    assert_eq!(status, 0, "{stderr}");
+    assert!(
+        stdout.contains(&format!("learner: firmware {} on QEMU", elf.display())),
+        "{stdout}"
+    );
+
+    // A primo away from any build, the target directory empty: either the
+    // source tree's own build is found, or the message says where primo
+    // looked and what to run.
+    let alone = tmp("copro-alone");
+    std::fs::create_dir_all(&alone).unwrap();
+    let exe = alone.join("primo");
+    std::fs::copy(env!("CARGO_BIN_EXE_primo"), &exe).unwrap();
+    let empty = tmp("copro-empty");
+    std::fs::create_dir_all(&empty).unwrap();
+    let cli = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let firmware = cli.parent().unwrap().join("firmware");
+    let in_tree = firmware.join("target/thumbv7em-none-eabihf/release/primo-firmware");
+    let (status, stdout, stderr) = pour_with_target_dir(&exe, &empty);
+    if in_tree.is_file() {
+        assert_eq!(status, 0, "{stderr}");
+        assert!(stdout.contains("learner: firmware "), "{stdout}");
+    } else {
+        assert_eq!(status, 1, "{stdout}");
+        let looked = [
+            empty.join("thumbv7em-none-eabihf/release/primo-firmware"),
+            in_tree,
+            alone.join("primo-firmware"),
+        ];
+        for path in looked {
+            assert!(stderr.contains(&path.display().to_string()), "{stderr}");
+        }
+        assert!(
+            stderr.contains(&format!(
+                "build it with `cd {} && cargo build --release`",
+                firmware.display()
+            )),
+            "{stderr}"
+        );
+    }
 }

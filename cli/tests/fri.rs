@@ -22,7 +22,7 @@ use primo_core::power::{Power, PowerConfig};
 use primo_core::service::SAMPLER;
 use primo_fri::packet::{Measurement, Quality, State};
 use primo_fri::session::{SessionConfig, Stop};
-use primo_fri::udp::{Ended, PlayConfig, PlayResult, play};
+use primo_fri::udp::{Ended, Event, PlayConfig, PlayResult, play};
 use primo_learn::learning::{MAX_EXTENDED, power_blocks};
 use primo_learn::pouring::built_in_skill;
 use primo_learn::pouring::gate;
@@ -166,6 +166,50 @@ fn assert_tracked(result: &PlayResult, report: &KrcReport, path: &JointPath) {
     );
 }
 
+/// The events of a completed run: the loop's scheduling, the KRC, then
+/// weighing, approaching, streaming (progress rising, about once a
+/// second) and settling, each once and in that order.
+fn assert_events_follow_the_run(events: &[Event], result: &PlayResult) {
+    println!("{events:?}");
+    assert!(
+        matches!(events.first(), Some(Event::Realtime(_))),
+        "{events:?}"
+    );
+    assert_eq!(events.get(1), result.krc.map(Event::Krc).as_ref());
+    assert_eq!(
+        events.get(2),
+        Some(&Event::Weighing {
+            setpoints: result.weighing
+        })
+    );
+    assert_eq!(
+        events.get(3),
+        Some(&Event::Approaching {
+            setpoints: result.approach
+        })
+    );
+    assert_eq!(events.last(), Some(&Event::Settling));
+    let streaming: Vec<usize> = events[4..events.len() - 1]
+        .iter()
+        .map(|e| match e {
+            Event::Streaming { sent, planned } if *planned == result.planned => *sent,
+            other => panic!("{other:?} while streaming"),
+        })
+        .collect();
+    assert_eq!(
+        streaming.first(),
+        Some(&(result.weighing + result.approach + 1))
+    );
+    assert!(streaming.windows(2).all(|w| w[0] < w[1]), "{streaming:?}");
+    // One a second: the trajectory's seconds, give or take one.
+    let seconds = (result.planned - result.weighing - result.approach) as f64 * result.cycle;
+    assert!(
+        (streaming.len() as f64 - seconds).abs() <= 1.5,
+        "{} progress events over {seconds} s",
+        streaming.len()
+    );
+}
+
 #[test]
 fn a_pouring_movement_is_streamed_tracked_and_pours() {
     let _serial = serial();
@@ -183,12 +227,14 @@ fn a_pouring_movement_is_streamed_tracked_and_pours() {
     let mut cfg = krc_config(addr);
     cfg.cycle = Duration::from_millis(2);
     let krc = Krc::start(cfg);
-    let result = play(&socket, &path, &fast_config()).unwrap();
+    let mut events = Vec::new();
+    let result = play(&socket, &path, &fast_config(), &mut |e| events.push(e)).unwrap();
     let cell = krc.cell.clone();
     let report = krc.finish();
     println!("{result:?}");
     assert_tracked(&result, &report, &path);
     assert_eq!(result.gaps, 0);
+    assert_events_follow_the_run(&events, &result);
     // The handshake: monitor mode, the quality ramping up, then command
     // mode; the first commanded position was where the arm stood.
     let first_cmd = report
@@ -228,7 +274,7 @@ fn lost_packets_delay_but_do_not_spoil_the_run() {
     cfg.drop = 0.05;
     cfg.seed = 7;
     let krc = Krc::start(cfg);
-    let result = play(&socket, &path, &fast_config()).unwrap();
+    let result = play(&socket, &path, &fast_config(), &mut |_| {}).unwrap();
     let report = krc.finish();
     println!(
         "{result:?}\nKRC dropped {} of {}",
@@ -252,7 +298,7 @@ fn a_quality_drop_mid_run_holds_the_position() {
     let drop_at = 2.5;
     cfg.quality_drop_at = Some(Duration::from_secs_f64(drop_at));
     let krc = Krc::start(cfg);
-    let result = play(&socket, &path, &fast_config()).unwrap();
+    let result = play(&socket, &path, &fast_config(), &mut |_| {}).unwrap();
     let report = krc.finish();
     assert_eq!(result.ended, Ended::Stopped(Stop::Quality(Quality::Bad)));
     assert!(
@@ -291,7 +337,7 @@ fn a_robot_that_never_leaves_monitor_mode_is_never_moved() {
         start_timeout: Duration::from_secs(1),
         ..PlayConfig::default()
     };
-    let result = play(&socket, &swing(), &play_cfg).unwrap();
+    let result = play(&socket, &swing(), &play_cfg, &mut |_| {}).unwrap();
     let report = krc.finish();
     match &result.ended {
         Ended::NeverCommanded {
@@ -321,7 +367,7 @@ fn packets_that_stop_stop_the_client_after_its_timeout() {
     cfg.stop_after = Some(Duration::from_millis(2500));
     let krc = Krc::start(cfg);
     let started = std::time::Instant::now();
-    let result = play(&socket, &swing(), &fast_config()).unwrap();
+    let result = play(&socket, &swing(), &fast_config(), &mut |_| {}).unwrap();
     let report = krc.finish();
     match result.ended {
         Ended::Silent { after } => assert!(after >= Duration::from_secs(1), "{after:?}"),
@@ -345,7 +391,7 @@ fn malformed_datagrams_get_clear_errors_and_crash_nothing() {
     let krc = Krc::start(krc_config(addr));
     // Garbage to the KRC: counted, the run goes on.
     stranger.send_to(&[0u8; 376], krc.addr).unwrap();
-    let result = play(&socket, &swing(), &fast_config()).unwrap();
+    let result = play(&socket, &swing(), &fast_config(), &mut |_| {}).unwrap();
     let report = krc.finish();
     assert_eq!(result.ended, Ended::Completed);
     let from = stranger.local_addr().unwrap();
@@ -466,6 +512,13 @@ fn power_exploration_that_crosses_a_limit_never_reaches_the_robot() {
     assert_nothing_sent(&report);
 }
 
+/// `primo robot play FILE --robot ROBOT EXTRA...`: status, stdout, stderr.
+fn primo_play(file: &std::path::Path, robot: &str, extra: &[&str]) -> (i32, String, String) {
+    let mut args = vec!["robot", "play", file.to_str().unwrap(), "--robot", robot];
+    args.extend_from_slice(extra);
+    primo(&args)
+}
+
 #[test]
 fn the_binaries_play_against_sim_krc() {
     let _serial = serial();
@@ -486,17 +539,11 @@ fn the_binaries_play_against_sim_krc() {
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
-    let (code, out, err) = primo(&[
-        "robot",
-        "play",
-        file.to_str().unwrap(),
-        "--robot",
+    let (code, out, err) = primo_play(
+        &file,
         &format!("fri:{addr}"),
-        "--start-timeout",
-        "20",
-        "--cycle-timeout",
-        "1",
-    ]);
+        &["--start-timeout", "20", "--cycle-timeout", "1"],
+    );
     let krc = krc.wait_with_output().unwrap();
     let krc_out = String::from_utf8_lossy(&krc.stdout);
     println!("{out}{err}\n{krc_out}");
@@ -508,6 +555,34 @@ fn the_binaries_play_against_sim_krc() {
     assert!(
         out.contains("joint  max error [deg]  rms error [deg]"),
         "{out}"
+    );
+    // What it was doing, in order, each once but the progress.
+    let mut stages: Vec<&str> = out
+        .lines()
+        .filter_map(|l| l.strip_prefix("primo robot play: "))
+        .skip(1)
+        .map(|l| l.split([':', ' ']).next().unwrap())
+        .filter(|word| *word != "FRI")
+        .collect();
+    stages.dedup();
+    assert_eq!(
+        stages,
+        [
+            "KRC",
+            "commandable",
+            "approaching",
+            "streaming",
+            "settling",
+            "completed"
+        ],
+        "{out}"
+    );
+    // The loop's scheduling: said, or warned about.
+    assert!(
+        out.contains(
+            "primo robot play: FRI loop: real-time scheduling (SCHED_FIFO 80), memory locked"
+        ) || err.contains("primo robot play: warning: "),
+        "{out}{err}"
     );
     let a1 = out
         .lines()
@@ -540,6 +615,45 @@ fn the_binaries_play_against_sim_krc() {
 }
 
 #[test]
+fn joint_columns_as_robot_users_name_them_are_taken_in_order_only() {
+    let _serial = serial();
+    let swing = std::fs::read_to_string(write_csv("named.csv", &swing())).unwrap();
+    let body = swing.split_once('\n').unwrap().1;
+    for names in [
+        "A1,A2,A3,A4,A5,A6,A7",
+        "j1,j2,j3,j4,j5,j6,j7",
+        "joint_1,joint_2,joint_3,joint_4,joint_5,joint_6,joint_7",
+    ] {
+        let file = tmp(&format!("named-{}.csv", &names[..2]));
+        std::fs::write(&file, format!("t,{names}\n{body}")).unwrap();
+        let (socket, addr) = client_socket();
+        drop(socket);
+        let (code, out, err) =
+            primo_play(&file, &format!("fri:{addr}"), &["--start-timeout", "0.3"]);
+        // Taken: it waited for a KRC that never came.
+        assert_eq!(code, 1, "{names}: {out}{err}");
+        assert!(out.contains("passed the limit checks"), "{out}");
+        assert!(err.contains("no FRI packet from a KRC within"), "{err}");
+    }
+    for names in [
+        "a1,a2,a3,a4,a5,a7,a6",
+        "a1,a2,a3,a4,a5,a6,a8",
+        "J1,J2,J3,J4,J5,J6,J7",
+    ] {
+        let file = tmp("misnamed.csv");
+        std::fs::write(&file, format!("t,{names}\n{body}")).unwrap();
+        let (code, out, err) = primo_play(&file, "fri:127.0.0.1", &[]);
+        assert_eq!((code, out.as_str()), (2, ""), "{names}: {err}");
+        assert!(
+            err.contains(&format!(
+                "misnamed.csv:1: columns `t,{names}`: a joint trajectory"
+            )),
+            "{err}"
+        );
+    }
+}
+
+#[test]
 fn robot_commands_refuse_bad_input_with_one_line() {
     let xy = tmp("xy.csv");
     std::fs::write(&xy, "t,x,y\n0,1,2\n1,2,3\n2,3,4\n").unwrap();
@@ -549,7 +663,7 @@ fn robot_commands_refuse_bad_input_with_one_line() {
     let cases: &[(&[&str], &str)] = &[
         (
             &["robot", "play", xy, "--robot", "fri:127.0.0.1"],
-            "xy.csv:1: columns `t,x,y`: a joint trajectory has the columns t,a1,a2,a3,a4,a5,a6,a7 (radians)",
+            "xy.csv:1: columns `t,x,y`: a joint trajectory has the columns t,a1,a2,a3,a4,a5,a6,a7 (radians; or A1..A7, j1..j7, joint_1..joint_7)",
         ),
         (
             &["robot", "play", swing, "--robot", "udp:1.2.3.4"],
@@ -643,7 +757,7 @@ fn repeated_roll_outs_on_one_socket_each_complete_and_pour() {
     for pause in [0.0, 1.2, 1.8] {
         std::thread::sleep(Duration::from_secs_f64(pause));
         let started = Instant::now();
-        let result = play(&socket, &path, &fast_config()).unwrap();
+        let result = play(&socket, &path, &fast_config(), &mut |_| {}).unwrap();
         landed(&cell);
         let totals = cell.lock().totals();
         println!(
@@ -717,7 +831,7 @@ fn the_served_scale_and_the_force_estimate_weigh_the_pour() {
         },
         ..fast_config()
     };
-    let result = play(&socket, &path, &play_cfg).unwrap();
+    let result = play(&socket, &path, &play_cfg, &mut |_| {}).unwrap();
     assert_eq!(result.ended, Ended::Completed, "{result:?}");
     let weighed = scale.stable().unwrap().grams();
     let (totals, on_pan) = {
@@ -806,7 +920,7 @@ fn sim_krc_serves_its_scale_and_an_operator_resets_the_cell() {
         .to_string();
     let mut scale = Client::open(&pty, ClientConfig::default()).unwrap();
     let play_cfg = fast_config();
-    let poured = play(&socket, &path, &play_cfg).unwrap();
+    let poured = play(&socket, &path, &play_cfg, &mut |_| {}).unwrap();
     assert_eq!(poured.ended, Ended::Completed, "{poured:?}");
     let glass = scale.stable().unwrap().grams();
     assert!(glass > 5.0, "{glass} g");
@@ -824,7 +938,7 @@ fn sim_krc_serves_its_scale_and_an_operator_resets_the_cell() {
     let empty = scale.stable().unwrap().grams();
     assert!(empty.abs() <= 0.01, "{empty} g");
     // The bottle holds 0.4 l again.
-    let again = play(&socket, &path, &play_cfg).unwrap();
+    let again = play(&socket, &path, &play_cfg, &mut |_| {}).unwrap();
     assert_eq!(again.ended, Ended::Completed, "{again:?}");
     let [refilled, _] = again.load.unwrap();
     assert!(weighs(refilled, 0.4, again.load_samples[0]), "{refilled} N");

@@ -1,13 +1,18 @@
 //! MT-SICS end to end: the client against `primo scale serve` (the real
-//! binary) over a real pseudo-terminal, and `primo scale read`.
-use std::io::{BufRead, BufReader, Write};
+//! binary) over a real pseudo-terminal, and `primo scale read`; and both
+//! against a small balance emulator of the tests' own (noise, a balance
+//! settling, silence).
+use std::io::{BufRead, BufReader, Read, Write};
 use std::process::{Child, ChildStdin, Command, Stdio};
-use std::sync::{Mutex, mpsc};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex, mpsc};
+use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use primo_mtsics::{Client, ClientConfig, ErrorKind, Stability, Unit};
 use primo_sim::scale::ScaleModel;
 use primo_sim::scale_device::{Control, Device, DeviceConfig, LoadHandle, PtyServer};
+use serialport::{SerialPort, TTYPort};
 
 mod common;
 use common::{primo, primo_with_input};
@@ -134,78 +139,59 @@ fn zero_and_tare() {
 }
 
 #[test]
-fn garbage_gives_an_error_quoting_the_line_and_the_next_command_recovers() {
+fn noise_lines_are_skipped_and_an_answer_for_another_command_is_an_error() {
     let mut served = Served::start(&["--load", "20"]);
     let mut scale = served.client(15.0, 2);
-    let cases = [
-        (
-            r"garbage S S 12,5 g",
-            "received `S S 12,5 g`: not an MT-SICS response: field 3 `12,5` is not a decimal number",
-        ),
-        (
-            r"garbage S S 1.00",
-            "received `S S 1.00`: not an MT-SICS response: `S S` needs a value and a unit, found 1 field(s) after it",
-        ),
-        (
-            r"garbage S S 1.00 lb",
-            "field 4 `lb` is not a unit this client knows (g, mg, kg)",
-        ),
-        (
-            r"garbage \xff\xfeS",
-            "received `\\xff\\xfeS`: not an MT-SICS response: byte 1 is not text (not UTF-8)",
-        ),
-        (
-            r"garbage HELLO",
-            "received `HELLO`: not an MT-SICS response: field 1 `HELLO` is not an MT-SICS response",
-        ),
-        (r"garbage Z A", "received `Z A`: not an answer to `S`"),
-        (
-            "garbage ",
-            "received ``: not an MT-SICS response: empty line",
-        ),
+    let noise = [
+        r"garbage S S 12,5 g",
+        r"garbage S S 1.00",
+        r"garbage S S 1.00 lb",
+        r"garbage \xff\xfeS",
+        r"garbage HELLO",
+        "garbage ",
     ];
-    for (op, message) in cases {
+    for (i, op) in noise.into_iter().enumerate() {
         served.op(op);
-        let e = scale.stable().unwrap_err();
-        let text = e.to_string();
-        assert!(
-            matches!(e.kind, ErrorKind::Malformed(_) | ErrorKind::Unexpected(_)),
-            "{op}: {text}"
-        );
-        assert!(
-            text.starts_with(&format!("{}: sent `S`, ", served.path)),
-            "{text}"
-        );
-        assert!(text.contains(message), "{op}: {text}");
-        // The answer to the failed `S` is still on its way: dropped.
+        // The noise line is waiting before the answer to `S`: skipped.
         assert!(near(scale.stable().unwrap().grams(), 20.0), "after {op}");
-        assert!(
-            near(scale.immediate().unwrap().0.grams(), 20.0),
-            "after {op}"
-        );
+        assert_eq!(scale.noise_lines(), i as u32 + 1, "{op}");
     }
-    // An over-long line is cut and quoted.
     served.op(&format!("garbage {}", "A".repeat(300)));
-    let text = scale.stable().unwrap_err().to_string();
-    assert!(
-        text.contains("longer than any MT-SICS line (128)"),
-        "{text}"
+    assert!(near(scale.stable().unwrap().grams(), 20.0));
+    assert_eq!(scale.noise_lines(), 7);
+
+    // A valid line answering another command: refused, then resynced.
+    served.op("garbage Z A");
+    let e = scale.stable().unwrap_err();
+    assert!(matches!(e.kind, ErrorKind::Unexpected(_)), "{e}");
+    assert_eq!(
+        e.to_string(),
+        format!(
+            "{}: sent `S`, received `Z A`: not an answer to `S`",
+            served.path
+        )
     );
     assert!(near(scale.stable().unwrap().grams(), 20.0));
+    assert!(near(scale.immediate().unwrap().0.grams(), 20.0));
 }
 
 #[test]
-fn silence_times_out_after_the_retries_then_the_scale_is_back() {
+fn silence_times_out_within_the_timeout_then_the_scale_is_back() {
     let mut served = Served::start(&["--load", "10"]);
-    let mut scale = served.client(0.4, 2);
+    let mut scale = served.client(1.2, 2);
     served.op("silent 120");
     let started = Instant::now();
     let e = scale.stable().unwrap_err();
+    let took = started.elapsed();
     assert!(matches!(e.kind, ErrorKind::Timeout { attempts: 3 }), "{e}");
-    assert!(started.elapsed() >= Duration::from_millis(1200));
+    // Three sends spread over the timeout, not three timeouts.
+    assert!(
+        took >= Duration::from_millis(1200) && took < Duration::from_millis(2000),
+        "{took:?}"
+    );
     assert!(
         e.to_string().ends_with(
-            "sent `S` 3 time(s), no answer within 0.4 s each: is the scale on and connected, at the right baud rate?"
+            "sent `S` 3 time(s), no answer within 1.2 s: is the scale on and connected, at the right baud rate?"
         ),
         "{e}"
     );
@@ -249,19 +235,37 @@ fn overload_and_underload_are_typed_errors() {
 }
 
 #[test]
-fn a_scale_that_cannot_settle_is_retried_then_reported_busy() {
+fn a_scale_that_cannot_settle_is_asked_again_until_the_settling_time_is_over() {
     let mut served = Served::start(&["--stable-timeout", "0.3"]);
-    let mut scale = served.client(15.0, 2);
+    let config = ClientConfig {
+        timeout: Duration::from_secs(15),
+        settle: Duration::from_secs(2),
+        ..ClientConfig::default()
+    };
+    let mut scale = Client::open(&served.path, config).unwrap();
     served.op("load 80");
     // Each `S` gives up after 0.3 s; the display needs seconds.
+    let started = Instant::now();
     let e = scale.stable().unwrap_err();
+    let took = started.elapsed();
+    let ErrorKind::NotExecutable {
+        attempts,
+        line,
+        waited,
+    } = &e.kind
+    else {
+        panic!("{e}")
+    };
+    assert_eq!(line, "S I");
+    assert!(*attempts >= 4, "{e}");
     assert!(
-        matches!(&e.kind, ErrorKind::NotExecutable { attempts: 3, line } if line == "S I"),
+        *waited >= Duration::from_millis(1800) && took < Duration::from_secs(4),
         "{e}"
     );
     assert!(
-        e.to_string()
-            .contains("received `S I`: the scale is busy or could not settle, 3 time(s)"),
+        e.to_string().contains(&format!(
+            "received `S I`: the scale did not settle (or stayed busy): asked {attempts} time(s) over"
+        )),
         "{e}"
     );
 }
@@ -325,9 +329,18 @@ fn primo_scale_read_prints_one_stable_weight() {
     assert_eq!(code, 0, "{err}");
     assert!((number(&out, "ml") - 77.7 / 1.25).abs() <= 0.02, "{out}");
 
-    let (code, _, err) = read(&["--timeout=-1"]);
-    assert_eq!(code, 2, "{err}");
-    assert!(err.contains("--timeout"), "{err}");
+    for (flag, value) in [
+        ("--timeout", "-1"),
+        ("--timeout", "0"),
+        ("--settle", "90000"),
+    ] {
+        let (code, _, err) = read(&[&format!("{flag}={value}")]);
+        assert_eq!(code, 2, "{err}");
+        assert_eq!(
+            err.trim_end(),
+            format!("primo: {flag}: {value} s must be more than 0 s and at most a day (86400 s)")
+        );
+    }
     let (code, _, err) = primo(&["scale", "read", "--port", "/nonexistent/tty"]);
     assert_eq!(code, 1);
     assert!(err.contains("/nonexistent/tty: cannot open"), "{err}");
@@ -380,4 +393,234 @@ fn in_process_server_follows_a_shared_load() {
     assert_eq!(scale.power_on_lines(), skipped + 1);
     drop(scale);
     server.stop().unwrap();
+}
+
+/// A balance emulator written for these tests, apart from primo's
+/// simulated scale: on a pseudo-terminal pair, a thread answers each
+/// command line with the raw byte chunks its script gives (written one by
+/// one, so a partial line arrives on its own), until stopped.
+struct Emulator {
+    path: String,
+    stop: Arc<AtomicBool>,
+    thread: Option<JoinHandle<Vec<String>>>,
+    /// Kept open: without it the pair closes when the client does.
+    _slave: TTYPort,
+}
+
+type Script = Box<dyn FnMut(&str) -> Vec<Vec<u8>> + Send>;
+
+impl Emulator {
+    fn start(mut script: Script) -> Emulator {
+        let (mut master, slave) = {
+            let _one = PAIR.lock().unwrap();
+            TTYPort::pair().unwrap()
+        };
+        master.set_timeout(Duration::from_millis(20)).unwrap();
+        let path = slave.name().unwrap();
+        let stop = Arc::new(AtomicBool::new(false));
+        let stopped = stop.clone();
+        let thread = std::thread::spawn(move || {
+            let mut commands = Vec::new();
+            let mut pending = Vec::new();
+            let mut buf = [0u8; 256];
+            while !stopped.load(Ordering::Relaxed) {
+                let n = match master.read(&mut buf) {
+                    Ok(n) => n,
+                    // No data yet, or no client on the slave side.
+                    Err(_) => {
+                        std::thread::sleep(Duration::from_millis(5));
+                        continue;
+                    }
+                };
+                pending.extend_from_slice(&buf[..n]);
+                while let Some(end) = pending.iter().position(|&b| b == b'\n') {
+                    let line: Vec<u8> = pending.drain(..=end).collect();
+                    let command = String::from_utf8_lossy(&line).trim_end().to_string();
+                    for chunk in script(&command) {
+                        master.write_all(&chunk).unwrap();
+                        master.flush().unwrap();
+                        std::thread::sleep(Duration::from_millis(20));
+                    }
+                    commands.push(command);
+                }
+            }
+            commands
+        });
+        Emulator {
+            path,
+            stop,
+            thread: Some(thread),
+            _slave: slave,
+        }
+    }
+
+    /// Stops the emulator: the commands it received.
+    fn stop(mut self) -> Vec<String> {
+        self.stop.store(true, Ordering::Relaxed);
+        self.thread.take().unwrap().join().unwrap()
+    }
+}
+
+impl Drop for Emulator {
+    fn drop(&mut self) {
+        self.stop.store(true, Ordering::Relaxed);
+    }
+}
+
+const SERIAL: &[u8] = b"I4 A \"EMU-42\"\r\n";
+
+/// Line noise and a partial line before every answer.
+fn noisy(command: &str) -> Vec<Vec<u8>> {
+    let answer: &[u8] = match command {
+        "@" | "I4" => SERIAL,
+        "S" => b"S S     42.00 g\r\n",
+        _ => b"ES\r\n",
+    };
+    vec![
+        b"\xf0\x80\x00\xff\r\n".to_vec(),
+        b"S S   1".to_vec(),
+        b"\r\n".to_vec(),
+        b"\xfe\x7f".to_vec(),
+        answer.to_vec(),
+    ]
+}
+
+fn emulator_config(timeout: f64, settle: f64) -> ClientConfig {
+    ClientConfig {
+        timeout: Duration::from_secs_f64(timeout),
+        settle: Duration::from_secs_f64(settle),
+        ..ClientConfig::default()
+    }
+}
+
+#[test]
+fn line_noise_and_partial_lines_before_the_answers_are_skipped() {
+    let emulator = Emulator::start(Box::new(noisy));
+    let mut scale = Client::open(&emulator.path, emulator_config(5.0, 5.0)).unwrap();
+    assert_eq!(scale.serial(), "EMU-42");
+    // Two noise lines, the answer taken from the end of a third.
+    assert_eq!(scale.noise_lines(), 3);
+    let w = scale.stable().unwrap();
+    assert_eq!((w.value, w.unit, w.decimals), (42.0, Unit::G, 2));
+    assert_eq!(scale.noise_lines(), 6);
+    drop(scale);
+
+    let (code, out, err) = primo(&["scale", "read", "--port", &emulator.path]);
+    assert_eq!((code, out.as_str()), (0, "42.00 g\n"), "{err}");
+    let commands = emulator.stop();
+    assert_eq!(commands, ["@", "S", "@", "S"]);
+}
+
+#[test]
+fn noise_and_no_answer_says_what_was_skipped() {
+    // A wrong baud rate: every answer is garbled.
+    let emulator = Emulator::start(Box::new(|_: &str| vec![b"\xe1\x9c S\xb3\r\n".to_vec()]));
+    let started = Instant::now();
+    let e = Client::open(&emulator.path, emulator_config(1.0, 5.0)).unwrap_err();
+    assert!(started.elapsed() < Duration::from_millis(1500));
+    assert!(matches!(e.kind, ErrorKind::Timeout { attempts: 3 }), "{e}");
+    assert_eq!(e.noise.as_ref().map(|n| n.lines), Some(3), "{e}");
+    assert_eq!(
+        e.to_string(),
+        format!(
+            "{}: sent `@` 3 time(s), no MT-SICS answer within 1.0 s, only 3 line(s) of noise \
+             (the last `\\xe1\\x9c S\\xb3`: byte 1 is not text (not UTF-8)): is the baud rate \
+             right (8N1), and the cable?",
+            emulator.path
+        )
+    );
+}
+
+/// `S I` for the first five `S`, each after 0.4 s (a balance waiting for
+/// a stable reading), then the weight; `@` answered at once.
+fn settling() -> Script {
+    let mut asked = 0;
+    Box::new(move |command: &str| match command {
+        "@" | "I4" => vec![SERIAL.to_vec()],
+        "S" => {
+            asked += 1;
+            std::thread::sleep(Duration::from_millis(400));
+            if asked <= 5 {
+                vec![b"S I\r\n".to_vec()]
+            } else {
+                vec![b"S S    100.01 g\r\n".to_vec()]
+            }
+        }
+        _ => vec![b"ES\r\n".to_vec()],
+    })
+}
+
+#[test]
+fn a_settling_balance_is_asked_again_until_it_is_stable() {
+    let emulator = Emulator::start(settling());
+    let mut scale = Client::open(&emulator.path, ClientConfig::default()).unwrap();
+    let started = Instant::now();
+    let w = scale.stable().unwrap();
+    assert_eq!(w.value, 100.01);
+    assert!(started.elapsed() >= Duration::from_millis(2400));
+    drop(scale);
+    assert_eq!(emulator.stop().iter().filter(|c| *c == "S").count(), 6);
+
+    let emulator = Emulator::start(settling());
+    let (code, out, err) = primo(&["scale", "read", "--port", &emulator.path]);
+    assert_eq!((code, out.as_str()), (0, "100.01 g\n"), "{err}");
+
+    // Never stable: given up after --settle, saying what it saw.
+    let emulator = Emulator::start(Box::new(|command: &str| match command {
+        "@" => vec![SERIAL.to_vec()],
+        _ => vec![b"S I\r\n".to_vec()],
+    }));
+    let started = Instant::now();
+    let (code, _, err) = primo(&["scale", "read", "--port", &emulator.path, "--settle", "1.5"]);
+    let took = started.elapsed();
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        took >= Duration::from_millis(1400) && took < Duration::from_secs(4),
+        "{took:?}"
+    );
+    assert!(
+        err.starts_with(&format!(
+            "primo: {}: sent `S`, received `S I`: the scale did not settle (or stayed busy): asked ",
+            emulator.path
+        )),
+        "{err}"
+    );
+}
+
+#[test]
+fn a_silent_port_is_reported_within_ten_seconds_by_default() {
+    let emulator = Emulator::start(Box::new(|_: &str| Vec::new()));
+    let started = Instant::now();
+    let (code, _, err) = primo(&["scale", "read", "--port", &emulator.path]);
+    let took = started.elapsed();
+    assert_eq!(code, 1, "{err}");
+    assert!(took < Duration::from_secs(11), "{took:?}");
+    assert_eq!(
+        err.trim_end(),
+        format!(
+            "primo: {}: sent `@` 3 time(s), no answer within 10.0 s: is the scale on and \
+             connected, at the right baud rate?",
+            emulator.path
+        )
+    );
+    assert_eq!(emulator.stop(), ["@", "@", "@"]);
+}
+
+#[test]
+fn a_path_that_is_no_serial_port_is_refused() {
+    let file = common::tmp("not-a-port.txt");
+    std::fs::write(&file, "S S 1.00 g\r\n").unwrap();
+    let file = file.to_str().unwrap();
+    for (port, what) in [
+        ("/dev/null", "a device that is not a terminal"),
+        (file, "a regular file"),
+        ("/tmp", "a directory"),
+    ] {
+        let (code, out, err) = primo(&["scale", "read", "--port", port]);
+        assert_eq!((code, out.as_str()), (2, ""), "{err}");
+        assert_eq!(
+            err.trim_end(),
+            format!("primo: {port}: not a serial port: it is {what}")
+        );
+    }
 }

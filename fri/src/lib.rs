@@ -5,7 +5,8 @@
 //! - [`packet`]: the measurement and command datagrams, byte for byte.
 //! - [`session`]: primo's side, sans I/O: a session that streams a checked
 //!   joint trajectory ([`primo_robot::JointPath`]) with the tracking error.
-//! - [`udp`]: the UDP loop around a session.
+//! - [`udp`]: the UDP loop around a session, on a thread of its own.
+//! - [`realtime`]: real-time scheduling and locked memory for that thread.
 //!
 //! The simulated KRC is the simulator's (`primo-sim`).
 //!
@@ -25,6 +26,7 @@
 #![deny(missing_docs)]
 
 pub mod packet;
+pub mod realtime;
 pub mod session;
 pub mod udp;
 

@@ -546,27 +546,41 @@ impl<'a> Reader<'a> {
     }
 }
 
-/// Appends little-endian fields.
-#[derive(Default)]
-struct Writer(Vec<u8>);
+/// Writes a datagram's fields, little-endian, into `N` bytes on the stack
+/// (no allocation: the FRI loop encodes one every cycle).
+struct Writer<const N: usize> {
+    bytes: [u8; N],
+    at: usize,
+}
 
-impl Writer {
+impl<const N: usize> Writer<N> {
+    fn put(&mut self, field: &[u8]) {
+        // A datagram's fields fill exactly its N bytes.
+        if let Some(to) = self.bytes.get_mut(self.at..self.at + field.len()) {
+            to.copy_from_slice(field);
+        }
+        self.at += field.len();
+    }
+
     fn u16(&mut self, v: u16) {
-        self.0.extend_from_slice(&v.to_le_bytes());
+        self.put(&v.to_le_bytes());
     }
 
     fn u32(&mut self, v: u32) {
-        self.0.extend_from_slice(&v.to_le_bytes());
+        self.put(&v.to_le_bytes());
     }
 
     fn f32s(&mut self, v: &[f32]) {
         for x in v {
-            self.0.extend_from_slice(&x.to_le_bytes());
+            self.put(&x.to_le_bytes());
         }
     }
 
     fn start(head: &Header, krl: &KrlData) -> Self {
-        let mut w = Writer::default();
+        let mut w = Writer {
+            bytes: [0; N],
+            at: 0,
+        };
         for v in [
             head.send_seq_count,
             head.refl_seq_count,
@@ -577,7 +591,7 @@ impl Writer {
         }
         w.f32s(&krl.real_data);
         for v in krl.int_data {
-            w.0.extend_from_slice(&v.to_le_bytes());
+            w.put(&v.to_le_bytes());
         }
         w.u16(krl.bool_data);
         w.u16(krl.fill);
@@ -658,7 +672,7 @@ impl Measurement {
 
     /// The datagram (the header as it is: [`Measurement::default`] has
     /// the right size and id).
-    pub fn encode(&self) -> Vec<u8> {
+    pub fn encode(&self) -> [u8; MEASUREMENT_SIZE] {
         let mut w = Writer::start(&self.head, &self.krl);
         let i = &self.intf;
         w.f32s(&[i.timestamp]);
@@ -696,7 +710,7 @@ impl Measurement {
         ] {
             w.f32s(part);
         }
-        w.0
+        w.bytes
     }
 
     /// The position the robot is commanded to now: `cmdJntPos +
@@ -734,7 +748,7 @@ impl Command {
 
     /// The datagram (the header as it is: [`Command::default`] has the
     /// right size and id).
-    pub fn encode(&self) -> Vec<u8> {
+    pub fn encode(&self) -> [u8; COMMAND_SIZE] {
         let mut w = Writer::start(&self.head, &self.krl);
         let c = &self.cmd;
         w.u32(c.cmd_flags);
@@ -750,7 +764,7 @@ impl Command {
         ] {
             w.f32s(part);
         }
-        w.0
+        w.bytes
     }
 
     /// A joint position command answering `to`: `reflSeqCount` is its
@@ -908,26 +922,26 @@ mod tests {
             "command packet of 916 bytes, expected 376 \
              (starts 34 12 02 01 94 03 06 20 db 0f 49 40 00 00 00 00 ...)"
         );
-        let mut bad = good.clone();
+        let mut bad = good;
         bad[6] = 0x05;
         bad[7] = 0x10;
         assert_eq!(
             err(&bad),
             "measurement packet: datagramId at offset 6 is 0x1005, expected 0x2006"
         );
-        let mut bad = good.clone();
+        let mut bad = good;
         bad[4..6].copy_from_slice(&376u16.to_le_bytes());
         assert_eq!(
             err(&bad),
             "measurement packet: packetSize at offset 4 says 376 bytes, the datagram has 916"
         );
-        let mut bad = good.clone();
+        let mut bad = good;
         bad[228..232].copy_from_slice(&f32::NAN.to_le_bytes());
         assert_eq!(
             err(&bad),
             "measurement packet: msrJntPos[3] at offset 228 (bytes 00 00 c0 7f) is NaN, not a finite number"
         );
-        let mut bad = good.clone();
+        let mut bad = good;
         bad[144] = 7;
         assert_eq!(
             err(&bad),
@@ -964,7 +978,7 @@ mod tests {
             bytes[147] = 0;
             if let Ok(m) = Measurement::parse(&bytes) {
                 // What parses encodes back to the same bytes.
-                proptest::prop_assert_eq!(m.encode(), bytes);
+                proptest::prop_assert_eq!(m.encode().to_vec(), bytes);
             }
         }
     }

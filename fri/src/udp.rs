@@ -1,14 +1,22 @@
 //! The UDP adapter of a [`Session`]: [`play`] binds nothing itself, reads
 //! measurements from a socket, answers each with the session's command, and
 //! watches the time (silence, start and hold timeouts).
+//!
+//! The loop runs on a thread of its own, with real-time scheduling and
+//! locked memory where the OS allows them ([`crate::realtime`]); inside the
+//! cycle nothing allocates (but the message of a malformed datagram) and
+//! nothing blocks but the wait for the next datagram. What it does is
+//! reported as [`Event`]s to the caller's thread.
 
 use std::fmt;
 use std::net::{SocketAddr, UdpSocket};
+use std::sync::mpsc::{SyncSender, sync_channel};
 use std::time::{Duration, Instant};
 
 use primo_robot::JointPath;
 
 use crate::packet::{Measurement, Quality, State};
+use crate::realtime::{self, Realtime};
 use crate::session::{Phase, Session, SessionConfig, Stop, Tracking};
 
 /// A socket failed.
@@ -79,7 +87,44 @@ impl fmt::Display for Ended {
     }
 }
 
-/// Timeouts of [`play`].
+/// What a [`play`] run is doing, reported as it happens.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Event {
+    /// The loop's thread started with what the OS granted it; short of
+    /// [`Realtime::is_full`], a busy machine may make answers late.
+    Realtime(Realtime),
+    /// The first measurement came from the KRC (waiting for command mode).
+    Krc(SocketAddr),
+    /// The robot is commandable: holding still, weighing what it holds.
+    Weighing {
+        /// Setpoints of the standstill.
+        setpoints: usize,
+    },
+    /// Moving to the trajectory's start.
+    Approaching {
+        /// Setpoints of the approach.
+        setpoints: usize,
+    },
+    /// Streaming: at the trajectory's start, then about every
+    /// [`PROGRESS`] while streaming.
+    Streaming {
+        /// Setpoints sent so far (the standstill and approach included).
+        sent: usize,
+        /// Setpoints planned in all.
+        planned: usize,
+    },
+    /// Every setpoint sent: holding the end, weighing again.
+    Settling,
+}
+
+/// How often [`Event::Streaming`] reports progress.
+pub const PROGRESS: Duration = Duration::from_secs(1);
+
+/// Events that may wait for the caller's thread; more are dropped (only
+/// progress could be, and only if the caller stalls).
+const EVENTS: usize = 64;
+
+/// Timeouts of [`play`], and its thread's scheduling.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PlayConfig {
     /// How the session moves.
@@ -90,16 +135,20 @@ pub struct PlayConfig {
     pub start_timeout: Duration,
     /// How long to keep answering (holding) after a stop.
     pub hold: Duration,
+    /// Ask for real-time scheduling and locked memory ([`realtime::enter`]).
+    pub realtime: bool,
 }
 
 impl Default for PlayConfig {
-    /// 0.2 s cycle timeout, 60 s start timeout, hold 0.5 s after a stop.
+    /// 0.2 s cycle timeout, 60 s start timeout, hold 0.5 s after a stop,
+    /// real-time where allowed.
     fn default() -> Self {
         PlayConfig {
             session: SessionConfig::default(),
             cycle_timeout: Duration::from_millis(200),
             start_timeout: Duration::from_secs(60),
             hold: Duration::from_millis(500),
+            realtime: true,
         }
     }
 }
@@ -162,7 +211,8 @@ pub fn bind(addr: SocketAddr) -> Result<UdpSocket, SocketError> {
 
 /// Streams `path` to the KRC that sends to `socket`, answering every
 /// measurement to its sender, until the session is done, stops, or a
-/// timeout passes. Errors are socket failures only.
+/// timeout passes; `on_event` hears what it is doing, on the calling
+/// thread. Errors are socket failures only.
 ///
 /// One socket serves any number of runs: the measurements that queued up
 /// while nobody answered (between runs, the KRC sends on) are discarded
@@ -173,6 +223,77 @@ pub fn play(
     socket: &UdpSocket,
     path: &JointPath,
     cfg: &PlayConfig,
+    on_event: &mut dyn FnMut(Event),
+) -> Result<PlayResult, SocketError> {
+    let (events, heard) = sync_channel(EVENTS);
+    std::thread::scope(|scope| {
+        let fri = std::thread::Builder::new()
+            .name("fri".into())
+            .spawn_scoped(scope, move || {
+                let granted = cfg.realtime.then(realtime::enter);
+                if let Some(granted) = &granted {
+                    let _ = events.try_send(Event::Realtime(granted.clone()));
+                }
+                let result = cycle(socket, path, cfg, &events);
+                if let Some(granted) = &granted {
+                    realtime::leave(granted);
+                }
+                result
+            })?;
+        // Until the loop ends and drops its sender.
+        heard.iter().for_each(&mut *on_event);
+        fri.join()
+            .unwrap_or_else(|_| Err(std::io::Error::other("the FRI loop panicked").into()))
+    })
+}
+
+/// Where a streaming session is, for its events.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+enum Stage {
+    Waiting,
+    Weighing,
+    Approaching,
+    Streaming,
+    Settling,
+}
+
+impl Stage {
+    fn of(session: &Session) -> Stage {
+        let sent = session.sent();
+        match session.phase() {
+            Phase::Waiting => Stage::Waiting,
+            _ if sent <= session.weigh_len() => Stage::Weighing,
+            _ if sent <= session.weigh_len() + session.approach_len() => Stage::Approaching,
+            _ if sent < session.planned() => Stage::Streaming,
+            _ => Stage::Settling,
+        }
+    }
+
+    /// The event on entering this stage.
+    fn event(self, session: &Session) -> Option<Event> {
+        match self {
+            Stage::Waiting => None,
+            Stage::Weighing => Some(Event::Weighing {
+                setpoints: session.weigh_len(),
+            }),
+            Stage::Approaching => Some(Event::Approaching {
+                setpoints: session.approach_len(),
+            }),
+            Stage::Streaming => Some(Event::Streaming {
+                sent: session.sent(),
+                planned: session.planned(),
+            }),
+            Stage::Settling => Some(Event::Settling),
+        }
+    }
+}
+
+/// The FRI loop proper, on its own thread.
+fn cycle(
+    socket: &UdpSocket,
+    path: &JointPath,
+    cfg: &PlayConfig,
+    events: &SyncSender<Event>,
 ) -> Result<PlayResult, SocketError> {
     let poll = cfg.cycle_timeout.min(Duration::from_millis(50));
     socket.set_read_timeout(Some(poll.max(Duration::from_millis(1))))?;
@@ -199,9 +320,25 @@ pub fn play(
     let mut last_packet = started;
     let mut last_seen: Option<(u16, State, Quality)> = None;
     let mut stopped_at: Option<Instant> = None;
+    let mut stage = Stage::Waiting;
+    let mut progress_at = started;
     let mut buf = [0u8; 2048];
     let ended = loop {
         let now = Instant::now();
+        let next = Stage::of(&session);
+        if next > stage && !session.is_finished() {
+            stage = next;
+            progress_at = now;
+            if let Some(event) = stage.event(&session) {
+                let _ = events.try_send(event);
+            }
+        } else if stage == Stage::Streaming && now - progress_at >= PROGRESS {
+            progress_at = now;
+            let _ = events.try_send(Event::Streaming {
+                sent: session.sent(),
+                planned: session.planned(),
+            });
+        }
         match session.phase() {
             Phase::Done => break Ended::Completed,
             Phase::Stopped { why, .. } => {
@@ -242,6 +379,9 @@ pub fn play(
         };
         let command = session.answer(&m);
         socket.send_to(&command.encode(), from)?;
+        if result.krc.is_none() {
+            let _ = events.try_send(Event::Krc(from));
+        }
         result.krc = Some(from);
         result.answered += 1;
         if let Some((seq, _, _)) = last_seen {

@@ -170,6 +170,15 @@ impl Link {
     }
 }
 
+/// Where cargo puts the firmware's release ELF under a target directory.
+const FIRMWARE_ELF: &str = "thumbv7em-none-eabihf/release/primo-firmware";
+
+/// The firmware's sources, `firmware/` beside this crate.
+fn firmware_source() -> PathBuf {
+    let learn = Path::new(env!("CARGO_MANIFEST_DIR"));
+    learn.parent().unwrap_or(learn).join("firmware")
+}
+
 /// The firmware running in QEMU's `mps2-an386` (a Cortex-M4F) with UART0
 /// on a pseudo-terminal; QEMU is stopped when this is dropped.
 pub struct Qemu {
@@ -178,18 +187,53 @@ pub struct Qemu {
 }
 
 impl Qemu {
-    /// Where `cargo build --release` in `firmware/` puts the firmware.
-    pub fn default_firmware() -> PathBuf {
-        Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("../firmware/target/thumbv7em-none-eabihf/release/primo-firmware")
+    /// The firmware ELF, found at run time: `PRIMO_FIRMWARE` if set; else
+    /// the first that exists of the firmware's release build under
+    /// `CARGO_TARGET_DIR` (relative to `firmware/`, where cargo builds
+    /// it), under `firmware/target`, under the target directory this
+    /// executable was built in (`<target>/debug/primo`), and
+    /// `primo-firmware` beside the executable. Not found: an error naming
+    /// where it looked and the command that builds it. It is not built on
+    /// demand: that needs the Cortex-M4F target installed and takes a
+    /// minute, which a run should not start by surprise.
+    pub fn find_firmware() -> Result<PathBuf, Error> {
+        if let Some(path) = std::env::var_os("PRIMO_FIRMWARE") {
+            return Ok(PathBuf::from(path));
+        }
+        let source = firmware_source();
+        let exe = std::env::current_exe().ok();
+        let exe_dir = exe.as_deref().and_then(Path::parent);
+        let candidates: Vec<PathBuf> = [
+            std::env::var_os("CARGO_TARGET_DIR").map(|dir| source.join(dir).join(FIRMWARE_ELF)),
+            Some(source.join("target").join(FIRMWARE_ELF)),
+            exe_dir
+                .and_then(Path::parent)
+                .map(|target| target.join(FIRMWARE_ELF)),
+            exe_dir.map(|dir| dir.join("primo-firmware")),
+        ]
+        .into_iter()
+        .flatten()
+        .collect();
+        if let Some(found) = candidates.iter().find(|p| p.is_file()) {
+            return Ok(found.clone());
+        }
+        let looked: Vec<String> = candidates.iter().map(|p| p.display().to_string()).collect();
+        Err(Error::Coprocessor(format!(
+            "the coprocessor firmware is not built (looked at {}): build it with \
+             `cd {} && cargo build --release` (needs `rustup target add \
+             thumbv7em-none-eabihf`), or name it with --firmware or PRIMO_FIRMWARE",
+            looked.join(", "),
+            source.display()
+        )))
     }
 
     /// Boots `firmware` and waits for QEMU to name the pseudo-terminal.
     pub fn start(firmware: &Path) -> Result<Qemu, Error> {
         if !firmware.is_file() {
             return Err(Error::Coprocessor(format!(
-                "firmware {} not found: build it with `cargo build --release` in firmware/",
-                firmware.display()
+                "firmware {} not found: build it with `cd {} && cargo build --release`",
+                firmware.display(),
+                firmware_source().display()
             )));
         }
         let mut child = Command::new("qemu-system-arm")

@@ -509,7 +509,10 @@ pub(crate) fn open_learner(
     Ok(match spec.coprocessor.as_deref() {
         None => (None, Learner::local(), None),
         Some("qemu") => {
-            let elf = spec.firmware.clone().unwrap_or_else(Qemu::default_firmware);
+            let elf = match &spec.firmware {
+                Some(elf) => elf.clone(),
+                None => Qemu::find_firmware()?,
+            };
             let qemu = Qemu::start(&elf)?;
             let link = Link::open(qemu.pty())?;
             let what = format!(

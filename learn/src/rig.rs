@@ -5,12 +5,12 @@
 //! measure, score once.
 
 use std::net::UdpSocket;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use primo_fri::parse_robot;
 use primo_fri::session::SessionConfig;
-use primo_fri::udp::{Ended, PlayConfig, bind, play};
-use primo_mtsics::{Client, ClientConfig, ErrorKind};
+use primo_fri::udp::{Ended, Event, PlayConfig, bind, play};
+use primo_mtsics::{Client, ClientConfig};
 use primo_robot::{Gate, JointPath};
 use primo_sim::cell::{Cell, CellConfig};
 use primo_skill::{Plan, Skill};
@@ -205,6 +205,8 @@ pub struct Instruments {
     scale: Client,
     play: PlayConfig,
     operator: Box<dyn Operator>,
+    /// The operator was told the FRI loop is not real-time (once a run).
+    warned_realtime: bool,
 }
 
 impl Instruments {
@@ -222,6 +224,8 @@ impl Instruments {
             &spec.scale,
             ClientConfig {
                 baud: spec.baud,
+                // The liquid in the glass may still be moving.
+                settle: SETTLE_LIMIT,
                 ..ClientConfig::default()
             },
         )?;
@@ -241,6 +245,7 @@ impl Instruments {
                 ..PlayConfig::default()
             },
             operator,
+            warned_realtime: false,
         })
     }
 
@@ -249,19 +254,9 @@ impl Instruments {
         self.scale.serial()
     }
 
-    /// The stable weight, g, waiting up to [`SETTLE_LIMIT`] for it.
+    /// The stable weight, g (the client waits up to [`SETTLE_LIMIT`] for it).
     fn weigh(&mut self) -> Result<f64, Error> {
-        let started = Instant::now();
-        loop {
-            match self.scale.stable() {
-                Ok(w) => return Ok(w.grams()),
-                // Still settling (`S I`): the liquid is still moving.
-                Err(e)
-                    if matches!(e.kind, ErrorKind::NotExecutable { .. })
-                        && started.elapsed() < SETTLE_LIMIT => {}
-                Err(e) => return Err(e.into()),
-            }
-        }
+        Ok(self.scale.stable()?.grams())
     }
 }
 
@@ -279,7 +274,21 @@ impl Rig for Instruments {
             self.operator.reset(rollout, self.bottle)?;
         }
         let before = self.weigh()?;
-        let played = play(&self.socket, path, &self.play)?;
+        let mut slow = None;
+        let played = play(&self.socket, path, &self.play, &mut |event| {
+            if let Event::Realtime(granted) = event
+                && !granted.is_full()
+            {
+                slow = Some(granted);
+            }
+        })?;
+        if let Some(granted) = slow.filter(|_| !self.warned_realtime) {
+            self.warned_realtime = true;
+            self.operator.warn(
+                rollout,
+                &format!("FRI loop: {granted}: answers may be late on a busy machine"),
+            );
+        }
         if played.ended != Ended::Completed {
             return Err(Error::RobotStopped(format!(
                 "roll-out {rollout} on the robot: {}; the cell may need a reset",

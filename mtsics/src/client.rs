@@ -7,7 +7,7 @@ use std::time::{Duration, Instant};
 use serialport::{ClearBuffer, DataBits, FlowControl, Parity, SerialPort, StopBits};
 
 use crate::protocol::{
-    Lines, Reply, Response, ResponseError, Stability, Weight, parse_response, quote,
+    Lines, Reply, Response, ResponseError, Stability, Weight, parse_response, parse_tail, quote,
 };
 
 /// How to talk to the scale.
@@ -21,15 +21,21 @@ pub struct ClientConfig {
     pub parity: Parity,
     /// Stop bits (1).
     pub stop_bits: StopBits,
-    /// How long to wait for each answer. Longer than the scale's own wait
-    /// for a stable reading, so a slow `S` ends in `S I`, not a timeout.
+    /// How long a command may go unanswered, its re-sends included, before
+    /// the scale counts as silent. Lines of noise are no answer.
     pub timeout: Duration,
-    /// Retries after a timeout or an `I` (busy / could not settle) answer.
+    /// Re-sends within `timeout` when nothing answers (a command lost to
+    /// line noise), evenly spaced.
     pub retries: u32,
+    /// How long `S`, `Z` and `T` are asked again while the scale answers
+    /// `I` (still settling, or busy), from the first time they are sent.
+    pub settle: Duration,
 }
 
 impl Default for ClientConfig {
-    /// 9600 baud 8N1 (MT-SICS), 10 s per answer, 2 retries.
+    /// 9600 baud 8N1 (MT-SICS); silent after 10 s, re-sending twice within
+    /// them; a minute to settle (a lab balance in a draft shield settles in
+    /// seconds; a minute allows for a liquid still moving).
     fn default() -> Self {
         ClientConfig {
             baud: 9600,
@@ -38,6 +44,7 @@ impl Default for ClientConfig {
             stop_bits: StopBits::One,
             timeout: Duration::from_secs(10),
             retries: 2,
+            settle: Duration::from_secs(60),
         }
     }
 }
@@ -47,21 +54,23 @@ impl Default for ClientConfig {
 pub enum ErrorKind {
     /// Opening, reading or writing the port failed.
     Port(io::Error),
-    /// No answer within the timeout, on every attempt.
+    /// The path is no serial port: what it is instead.
+    NotAPort(&'static str),
+    /// No MT-SICS answer within the timeout.
     Timeout {
         /// Times the command was sent.
         attempts: u32,
     },
-    /// A line that is not MT-SICS.
-    Malformed(ResponseError),
     /// A valid line that does not answer the command sent.
     Unexpected(String),
-    /// `I` on every attempt: busy, or could not settle in time.
+    /// `I` until the settling time was over: busy, or could not settle.
     NotExecutable {
         /// Times the command was sent.
         attempts: u32,
         /// The last answer.
         line: String,
+        /// From the first send to the last answer.
+        waited: Duration,
     },
     /// `+`: the load is beyond the capacity (or the zero range).
     Overload(String),
@@ -69,6 +78,15 @@ pub enum ErrorKind {
     Underload(String),
     /// `ES`, `ET`, `EL` or `L`: the scale refused the command.
     Rejected(String),
+}
+
+/// Lines that are not MT-SICS, skipped while waiting for an answer.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Noise {
+    /// How many.
+    pub lines: u32,
+    /// The last one and what is wrong with it.
+    pub last: ResponseError,
 }
 
 /// An exchange with the scale that failed: the port, the command sent and
@@ -81,7 +99,9 @@ pub struct ScaleError {
     pub sent: String,
     /// What happened.
     pub kind: ErrorKind,
-    /// The per-attempt timeout in force.
+    /// Noise skipped during the exchange, if any.
+    pub noise: Option<Box<Noise>>,
+    /// The timeout in force.
     timeout: Duration,
 }
 
@@ -91,34 +111,54 @@ impl fmt::Display for ScaleError {
         let got = |f: &mut fmt::Formatter<'_>, line: &str, why: &str| {
             write!(f, "{port}: sent `{sent}`, received `{line}`: {why}")
         };
-        match &self.kind {
-            ErrorKind::Port(e) if sent.is_empty() => write!(f, "{port}: cannot open: {e}"),
-            ErrorKind::Port(e) => write!(f, "{port}: sent `{sent}`: {e}"),
-            ErrorKind::Timeout { attempts } => write!(
+        match (&self.kind, &self.noise) {
+            (ErrorKind::Port(e), _) if sent.is_empty() => write!(f, "{port}: cannot open: {e}"),
+            (ErrorKind::Port(e), _) => write!(f, "{port}: sent `{sent}`: {e}"),
+            (ErrorKind::NotAPort(what), _) => {
+                write!(f, "{port}: not a serial port: it is {what}")
+            }
+            (ErrorKind::Timeout { attempts }, None) => write!(
                 f,
-                "{port}: sent `{sent}` {attempts} time(s), no answer within {:.1} s each: is the scale on and connected, at the right baud rate?",
+                "{port}: sent `{sent}` {attempts} time(s), no answer within {:.1} s: is the \
+                 scale on and connected, at the right baud rate?",
                 self.timeout.as_secs_f64()
             ),
-            ErrorKind::Malformed(e) => write!(
+            (ErrorKind::Timeout { attempts }, Some(noise)) => write!(
                 f,
-                "{port}: sent `{sent}`, received `{}`: not an MT-SICS response: {}",
-                e.line, e.reason
+                "{port}: sent `{sent}` {attempts} time(s), no MT-SICS answer within {:.1} s, \
+                 only {} line(s) of noise (the last `{}`: {}): is the baud rate right (8N1), \
+                 and the cable?",
+                self.timeout.as_secs_f64(),
+                noise.lines,
+                noise.last.line,
+                noise.last.reason
             ),
-            ErrorKind::Unexpected(line) => got(f, line, &format!("not an answer to `{sent}`")),
-            ErrorKind::NotExecutable { attempts, line } => got(
+            (ErrorKind::Unexpected(line), _) => got(f, line, &format!("not an answer to `{sent}`")),
+            (
+                ErrorKind::NotExecutable {
+                    attempts,
+                    line,
+                    waited,
+                },
+                _,
+            ) => got(
                 f,
                 line,
-                &format!("the scale is busy or could not settle, {attempts} time(s)"),
+                &format!(
+                    "the scale did not settle (or stayed busy): asked {attempts} time(s) over \
+                     {:.1} s; is the load still moving, or the balance in a draft?",
+                    waited.as_secs_f64()
+                ),
             ),
-            ErrorKind::Overload(line) => {
+            (ErrorKind::Overload(line), _) => {
                 got(f, line, "overload: the load is beyond the scale's range")
             }
-            ErrorKind::Underload(line) => got(
+            (ErrorKind::Underload(line), _) => got(
                 f,
                 line,
                 "underload: the load is below the scale's zero range",
             ),
-            ErrorKind::Rejected(line) => {
+            (ErrorKind::Rejected(line), _) => {
                 let why = match line.as_str() {
                     "ES" => "syntax error: the scale does not know the command",
                     "ET" => "transmission error: the scale received garbled bytes",
@@ -127,6 +167,14 @@ impl fmt::Display for ScaleError {
                 };
                 got(f, line, why)
             }
+        }?;
+        match (&self.kind, &self.noise) {
+            (ErrorKind::Timeout { .. }, _) | (_, None) => Ok(()),
+            (_, Some(noise)) => write!(
+                f,
+                " ({} line(s) of noise skipped before it, the last `{}`)",
+                noise.lines, noise.last.line
+            ),
         }
     }
 }
@@ -135,13 +183,16 @@ impl std::error::Error for ScaleError {}
 
 /// A precision scale speaking MT-SICS on a serial port.
 ///
-/// Every command is sent up to 1 + `retries` times: again after a timeout
-/// or an `I` answer (busy, or no stable reading in the scale's own time).
-/// Lines the scale sends unprompted at power-on (`I4 A "<serial>"`) are
-/// skipped wherever they arrive. After a garbled or unexpected line the
-/// answer to the command may still be on its way, so the next command
-/// first resynchronizes: it asks `I4` and drops everything up to the
-/// answer (`I4`, unlike `@`, leaves the tare alone).
+/// A command is sent again, evenly within the timeout, while nothing
+/// answers, and again (after [`ASK_AGAIN`]) while the scale answers `I`,
+/// until the settling time is over. Lines that are not MT-SICS (line noise
+/// at connect and after power-on is normal on RS-232) are skipped and
+/// counted; a response at the end of a noisy line is taken. Lines the
+/// scale sends unprompted at power-on (`I4 A "<serial>"`) are skipped
+/// wherever they arrive. After a re-send or an unexpected line the answer
+/// to an earlier send may still be on its way, so the next command first
+/// resynchronizes: it asks `I4` and drops everything up to the answer
+/// (`I4`, unlike `@`, leaves the tare alone).
 pub struct Client {
     port: Box<dyn SerialPort>,
     name: String,
@@ -150,7 +201,18 @@ pub struct Client {
     serial: String,
     resync: bool,
     power_on_lines: u32,
+    noise_lines: u32,
+    /// Noise of the exchange under way.
+    noise: Option<Box<Noise>>,
 }
+
+/// The pause before asking again after an `I`: a balance may answer `I`
+/// at once, and asking at line speed would only flood it.
+pub const ASK_AGAIN: Duration = Duration::from_millis(100);
+
+/// Longest timeout or settling time the client accepts: a day (so that
+/// deadlines cannot overflow).
+const LONGEST: Duration = Duration::from_secs(86_400);
 
 impl fmt::Debug for Client {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -165,18 +227,23 @@ impl Client {
     /// Opens the scale on `path` (no flow control), drops whatever it sent
     /// before, and resets it with `@` (which also clears the tare).
     pub fn open(path: &str, config: ClientConfig) -> Result<Client, ScaleError> {
+        let failed = |kind| ScaleError {
+            port: path.to_string(),
+            sent: String::new(),
+            kind,
+            noise: None,
+            timeout: config.timeout,
+        };
         let port = serialport::new(path, config.baud)
             .data_bits(config.data_bits)
             .parity(config.parity)
             .stop_bits(config.stop_bits)
             .flow_control(FlowControl::None)
-            .timeout(config.timeout)
+            .timeout(config.timeout.min(LONGEST))
             .open()
-            .map_err(|e| ScaleError {
-                port: path.to_string(),
-                sent: String::new(),
-                kind: ErrorKind::Port(e.into()),
-                timeout: config.timeout,
+            .map_err(|e| match not_a_port(path) {
+                Some(what) => failed(ErrorKind::NotAPort(what)),
+                None => failed(ErrorKind::Port(e.into())),
             })?;
         let mut scale = Client {
             port,
@@ -186,6 +253,8 @@ impl Client {
             serial: String::new(),
             resync: false,
             power_on_lines: 0,
+            noise_lines: 0,
+            noise: None,
         };
         scale.reset()?;
         Ok(scale)
@@ -201,9 +270,15 @@ impl Client {
         self.power_on_lines
     }
 
+    /// How many lines that are not MT-SICS were skipped so far.
+    pub fn noise_lines(&self) -> u32 {
+        self.noise_lines
+    }
+
     /// `@`: drops pending input, cancels what the scale was doing, clears
     /// its tare; waits for its `I4 A "<serial>"`.
     pub fn reset(&mut self) -> Result<(), ScaleError> {
+        self.noise = None;
         self.port
             .clear(ClearBuffer::Input)
             .map_err(|e| self.error("@", ErrorKind::Port(e.into())))?;
@@ -213,7 +288,7 @@ impl Client {
         Ok(())
     }
 
-    /// `S`: the stable weight.
+    /// `S`: the stable weight, asked again while the scale is settling.
     pub fn stable(&mut self) -> Result<Weight, ScaleError> {
         match self.transact("S", Reply::Weight)? {
             (Response::Weight(w, Stability::Stable), _) => Ok(w),
@@ -253,17 +328,12 @@ impl Client {
         }
     }
 
-    /// When the answer to a command sent now is late (the timeout capped
-    /// at a day, so the sum cannot overflow).
-    fn deadline(&self) -> Instant {
-        Instant::now() + self.config.timeout.min(Duration::from_secs(86_400))
-    }
-
     fn error(&self, sent: &str, kind: ErrorKind) -> ScaleError {
         ScaleError {
             port: self.name.clone(),
             sent: sent.to_string(),
             kind,
+            noise: self.noise.clone(),
             timeout: self.config.timeout,
         }
     }
@@ -279,6 +349,14 @@ impl Client {
             .write_all(format!("{command}\r\n").as_bytes())
             .and_then(|()| self.port.flush())
             .map_err(|e| self.error(command, ErrorKind::Port(e)))
+    }
+
+    /// When send `attempt` (from 0) of a command first sent at `first`
+    /// has waited long enough: the timeout split evenly among the sends.
+    fn deadline(&self, first: Instant, attempt: u32) -> Instant {
+        let sends = self.config.retries.saturating_add(1);
+        let share = self.config.timeout.min(LONGEST) / sends;
+        first + share * attempt.saturating_add(1)
     }
 
     /// The next line before `deadline`, `None` at the deadline.
@@ -313,54 +391,71 @@ impl Client {
         }
     }
 
+    /// The next MT-SICS response before `deadline`: lines of noise skipped
+    /// and counted (a response ending one taken), `None` at the deadline.
+    fn read_response(
+        &mut self,
+        sent: &str,
+        deadline: Instant,
+    ) -> Result<Option<(Response, String)>, ScaleError> {
+        while let Some(line) = self.read_line(sent, deadline)? {
+            match parse_response(&line) {
+                Ok(response) => return Ok(Some((response, quote(&line)))),
+                Err(e) => {
+                    self.noise_lines += 1;
+                    let lines = self.noise.as_ref().map_or(0, |n| n.lines) + 1;
+                    self.noise = Some(Box::new(Noise { lines, last: e }));
+                    if let Some((at, response)) = parse_tail(&line) {
+                        return Ok(Some((response, quote(line.get(at..).unwrap_or_default()))));
+                    }
+                }
+            }
+        }
+        Ok(None)
+    }
+
     /// Sends `command` (`@` or `I4`) and drops every line up to an
     /// `I4 A` answer; its serial number.
     fn until_serial(&mut self, command: &str) -> Result<String, ScaleError> {
-        let mut attempts = 0;
-        loop {
-            attempts += 1;
+        let first = Instant::now();
+        for attempt in 0..=self.config.retries {
             self.send(command)?;
-            let deadline = self.deadline();
-            while let Some(line) = self.read_line(command, deadline)? {
-                if let Ok(Response::Serial(serial)) = parse_response(&line) {
+            let deadline = self.deadline(first, attempt);
+            while let Some((response, _)) = self.read_response(command, deadline)? {
+                if let Response::Serial(serial) = response {
                     return Ok(serial);
                 }
             }
-            if attempts > self.config.retries {
-                self.resync = true;
-                return Err(self.error(command, ErrorKind::Timeout { attempts }));
-            }
         }
+        self.resync = true;
+        let attempts = self.config.retries.saturating_add(1);
+        Err(self.error(command, ErrorKind::Timeout { attempts }))
     }
 
-    /// Sends `command` until it gets an answer other than `I` (at most
-    /// 1 + retries times) and sorts out the answers every command shares:
-    /// `+`, `-`, `L`, `ES`, `ET`, `EL`, and answers to other commands.
-    /// Returns the answer and its line.
+    /// Sends `command` until it gets an answer other than `I` and sorts out
+    /// the answers every command shares: `+`, `-`, `L`, `ES`, `ET`, `EL`,
+    /// and answers to other commands. Returns the answer and its line.
     fn transact(&mut self, command: &str, reply: Reply) -> Result<(Response, String), ScaleError> {
+        self.noise = None;
         if self.resync {
             self.until_serial("I4")?;
             self.resync = false;
         }
-        let mut attempts = 0;
+        let asked = Instant::now();
+        let mut attempts = 0u32;
         loop {
-            attempts += 1;
-            self.send(command)?;
-            let Some((response, line)) = self.answer(command)? else {
-                // The late answer may still come: whatever this exchange
-                // ends in, the next command first resyncs.
-                self.resync = true;
-                if attempts > self.config.retries {
-                    return Err(self.error(command, ErrorKind::Timeout { attempts }));
-                }
-                continue;
-            };
+            let (response, line) = self.ask(command, &mut attempts)?;
             let kind = match response {
                 Response::NotExecutable(r) if r == reply => {
-                    if attempts > self.config.retries {
-                        ErrorKind::NotExecutable { attempts, line }
-                    } else {
+                    let waited = asked.elapsed();
+                    if waited + ASK_AGAIN < self.config.settle.min(LONGEST) {
+                        std::thread::sleep(ASK_AGAIN);
                         continue;
+                    }
+                    ErrorKind::NotExecutable {
+                        attempts,
+                        line,
+                        waited,
                     }
                 }
                 Response::Overload(r) if r == reply => ErrorKind::Overload(line),
@@ -379,19 +474,63 @@ impl Client {
         }
     }
 
-    /// The answer to `command`, skipping power-on lines; `None` on timeout.
-    fn answer(&mut self, command: &str) -> Result<Option<(Response, String)>, ScaleError> {
-        let deadline = self.deadline();
-        while let Some(line) = self.read_line(command, deadline)? {
-            match parse_response(&line) {
-                Ok(Response::Serial(_)) => self.power_on_lines += 1,
-                Ok(response) => return Ok(Some((response, quote(&line)))),
-                Err(e) => {
-                    self.resync = true;
-                    return Err(self.error(command, ErrorKind::Malformed(e)));
+    /// Sends `command` (again within the timeout while nothing answers)
+    /// until a response other than a power-on line comes; counts the sends
+    /// in `attempts`.
+    fn ask(&mut self, command: &str, attempts: &mut u32) -> Result<(Response, String), ScaleError> {
+        let first = Instant::now();
+        for attempt in 0..=self.config.retries {
+            if attempt > 0 {
+                // The late answer may still come: whatever this exchange
+                // ends in, the next command first resyncs.
+                self.resync = true;
+            }
+            self.send(command)?;
+            *attempts += 1;
+            let deadline = self.deadline(first, attempt);
+            while let Some((response, line)) = self.read_response(command, deadline)? {
+                match response {
+                    Response::Serial(_) => self.power_on_lines += 1,
+                    response => return Ok((response, line)),
                 }
             }
         }
-        Ok(None)
+        self.resync = true;
+        let attempts = *attempts;
+        Err(self.error(command, ErrorKind::Timeout { attempts }))
     }
+}
+
+/// What `path` is, if it is no serial port: asked once opening it as one
+/// failed.
+#[cfg(unix)]
+fn not_a_port(path: &str) -> Option<&'static str> {
+    use std::io::IsTerminal;
+    use std::os::unix::fs::{FileTypeExt, OpenOptionsExt};
+    let kind = std::fs::metadata(path).ok()?.file_type();
+    if kind.is_char_device() {
+        // Non-blocking: a terminal without carrier would block the open.
+        let file = std::fs::OpenOptions::new()
+            .read(true)
+            .custom_flags(libc::O_NONBLOCK | libc::O_NOCTTY)
+            .open(path)
+            .ok()?;
+        return (!file.is_terminal()).then_some("a device that is not a terminal");
+    }
+    Some(if kind.is_file() {
+        "a regular file"
+    } else if kind.is_dir() {
+        "a directory"
+    } else if kind.is_fifo() {
+        "a named pipe"
+    } else if kind.is_socket() {
+        "a socket"
+    } else {
+        "not a character device"
+    })
+}
+
+#[cfg(not(unix))]
+fn not_a_port(_: &str) -> Option<&'static str> {
+    None
 }

@@ -5,8 +5,9 @@
 //! - [`parse_response`] turns any line into a typed [`Response`] or an
 //!   error quoting it; [`Response`]'s `Display` writes the line back.
 //! - [`Client`]: the client (`@`, `S`, `SI`, `Z`, `T`, `TAC`) on a serial
-//!   port, with timeouts, retries, and skipping of power-on lines (feature
-//!   `serial`, on by default).
+//!   port, with timeouts, re-sends, waiting for a stable reading, and
+//!   skipping of line noise and power-on lines (feature `serial`, on by
+//!   default).
 //!
 #![deny(missing_docs)]
 
@@ -15,8 +16,8 @@ mod client;
 mod protocol;
 
 #[cfg(feature = "serial")]
-pub use client::{Client, ClientConfig, ErrorKind, ScaleError};
+pub use client::{ASK_AGAIN, Client, ClientConfig, ErrorKind, Noise, ScaleError};
 pub use protocol::{
     Density, Lines, MAX_LINE, Reply, Response, ResponseError, Stability, Unit, Weight,
-    parse_response, parse_value, quote,
+    parse_response, parse_tail, parse_value, quote,
 };

@@ -413,6 +413,26 @@ pub fn parse_response(line: &[u8]) -> Result<Response, ResponseError> {
 }
 
 /// The line without one trailing CR LF, LF or CR.
+/// The response that ends a line whose start is noise (the tail of a
+/// broken line, bytes garbled at power-on): the longest tail that parses,
+/// starting at a word boundary (never after a letter), and where it starts.
+/// `None` if no tail is a response.
+///
+/// ```
+/// use primo_mtsics::{parse_tail, Response};
+/// let (at, r) = parse_tail(b"\xff\x00S S 1S S      5.00 g\r\n").unwrap();
+/// assert_eq!((at, r.to_string()), (7, "S S       5.00 g".to_string()));
+/// assert!(parse_tail(b"YES").is_none());
+/// ```
+pub fn parse_tail(line: &[u8]) -> Option<(usize, Response)> {
+    let line = strip_terminator(line);
+    (1..line.len()).find_map(|at| {
+        let after_letter = line.get(at - 1).is_some_and(u8::is_ascii_alphabetic);
+        let tail = line.get(at..).filter(|_| !after_letter)?;
+        parse_response(tail).ok().map(|r| (at, r))
+    })
+}
+
 fn strip_terminator(line: &[u8]) -> &[u8] {
     let line = line.strip_suffix(b"\n").unwrap_or(line);
     line.strip_suffix(b"\r").unwrap_or(line)

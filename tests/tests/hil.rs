@@ -152,7 +152,7 @@ fn coprocessor(qemu: &Qemu) -> Learner {
 
 #[test]
 fn golden_section_on_the_mcu_gives_the_host_only_roll_outs() {
-    let qemu = Qemu::start(&Qemu::default_firmware()).unwrap();
+    let qemu = Qemu::start(&Qemu::find_firmware().unwrap()).unwrap();
     let host = run(
         Method::Golden,
         Space::Cartesian,
@@ -174,7 +174,7 @@ fn golden_section_on_the_mcu_gives_the_host_only_roll_outs() {
 #[test]
 fn power_on_the_mcu_gives_the_host_only_roll_outs() {
     // 219 parameters: 7 joints × 30 kernels + goals + τ + q̂; 3 updates.
-    let qemu = Qemu::start(&Qemu::default_firmware()).unwrap();
+    let qemu = Qemu::start(&Qemu::find_firmware().unwrap()).unwrap();
     let host = run(Method::Power, Space::Joint, 30, 12, &mut Learner::local());
     let mcu = run(Method::Power, Space::Joint, 30, 12, &mut coprocessor(&qemu));
     assert_eq!(host.len(), 12);
@@ -183,7 +183,7 @@ fn power_on_the_mcu_gives_the_host_only_roll_outs() {
 
 #[test]
 fn a_lossy_line_changes_nothing_but_the_time() {
-    let qemu = Qemu::start(&Qemu::default_firmware()).unwrap();
+    let qemu = Qemu::start(&Qemu::find_firmware().unwrap()).unwrap();
     let relay = Relay::start(qemu.pty(), 0.01, 5);
     let mut link = Learner::Remote(Link::open(&relay.path).unwrap());
     let host = run(Method::Power, Space::Joint, 10, 8, &mut Learner::local());
