@@ -78,14 +78,10 @@ fn pour_with_target_dir(exe: &Path, target: &Path) -> (i32, String, String) {
     )
 }
 
-/// The firmware this test run uses: beside the tested binary's target
-/// directory (`<target>/debug/primo`).
+/// The firmware this test run uses: where primo finds it (test.sh builds
+/// it first, in firmware/target or under CARGO_TARGET_DIR).
 fn built_firmware() -> PathBuf {
-    let exe = Path::new(env!("CARGO_BIN_EXE_primo"));
-    exe.parent()
-        .and_then(Path::parent)
-        .unwrap()
-        .join("thumbv7em-none-eabihf/release/primo-firmware")
+    primo_learn::coprocessor::Qemu::find_firmware().unwrap()
 }
 
 #[test]
