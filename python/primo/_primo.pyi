@@ -146,7 +146,15 @@ class Generalizer:
     def names(self) -> list[str]: ...
     def __len__(self) -> int: ...
 
-class _ScalarSearch:
+class _ErrorLearner:
+    @property
+    def status(self) -> Status: ...
+    @property
+    def done(self) -> bool: ...
+    @property
+    def rollouts(self) -> int: ...
+
+class _ScalarSearch(_ErrorLearner):
     def __init__(
         self, low: float, high: float, desired: float, precision: float = 0.002, max_rollouts: int = 30
     ) -> None: ...
@@ -154,12 +162,6 @@ class _ScalarSearch:
         """The query to roll out next, or None once finished."""
     def tell(self, error: float) -> Status:
         """The asked query's error; > 0 means the query must grow."""
-    @property
-    def status(self) -> Status: ...
-    @property
-    def done(self) -> bool: ...
-    @property
-    def rollouts(self) -> int: ...
     @property
     def best(self) -> Optional[tuple[float, float]]:
         """``(query, error)`` with the smallest |error| so far."""
@@ -172,7 +174,7 @@ class GoldenSection(_ScalarSearch):
 class Illinois(_ScalarSearch):
     """Bracketed error learning using the error's magnitude (Illinois)."""
 
-class Secant:
+class Secant(_ErrorLearner):
     """The paper's eq. 10, ``q ← q + K ε``, on a query of 1 to 4 values,
     the gain ``K`` learned by Broyden updates."""
 
@@ -187,12 +189,6 @@ class Secant:
     def ask(self) -> Optional[Array]: ...
     def tell(self, error: ArrayLike) -> Status:
         """The error vector ``desired − measured`` of the asked query."""
-    @property
-    def status(self) -> Status: ...
-    @property
-    def done(self) -> bool: ...
-    @property
-    def rollouts(self) -> int: ...
     @property
     def dim(self) -> int: ...
     @property
