@@ -1,6 +1,6 @@
 //! The learning loop: the paper's learners (golden-section error learning,
 //! its magnitude-using sibling Illinois, extended PoWER) driving roll-outs of
-//! a [`Skill`] on a [`Rig`]. The learners are the core's ask/tell state
+//! a [`Skill`] on a [`Rig`](crate::rig::Rig). The learners are the core's ask/tell state
 //! machines behind the wire protocol's [`Service`], in this process or on a
 //! coprocessor ([`Learner`]).
 //!
