@@ -30,6 +30,23 @@ log=$(mktemp)
   ./footprint.sh
 ) 2>&1 | tee "$log"
 cargo test --workspace --locked 2>&1 | tee -a "$log"
+# The Python package (python/, its own build): lints, then `pip install
+# ./python` into a virtual environment under target/ (maturin builds the
+# abi3 wheel; its Rust build is kept in target/python for the next run),
+# its tests against the primo binary built above, and the docstring
+# examples of the installed package.
+(
+  cd python
+  cargo fmt --check
+  cargo clippy --all-targets --locked -- -D warnings
+)
+venv=target/python-venv
+[ -x "$venv/bin/pytest" ] || python3 -m venv "$venv"
+"$venv/bin/pip" install -q --disable-pip-version-check -r python/requirements-test.txt
+PATH="$PWD/$venv/bin:$PATH" CARGO_TARGET_DIR="$PWD/target/python" \
+  "$venv/bin/pip" install -q --disable-pip-version-check --no-build-isolation ./python
+PRIMO_BIN="$PWD/target/debug/primo" "$venv/bin/pytest" -q -p no:cacheprovider python/tests \
+  --doctest-modules --pyargs primo 2>&1 | tee -a "$log"
 # Fuzzing (fuzz/README.md): every target for 30 s from its committed seeds,
 # in a scratch corpus; any crash fails (its input lands in fuzz/artifacts/).
 cargo +nightly --version >/dev/null 2>&1 || rustup toolchain install nightly --profile minimal
@@ -51,5 +68,8 @@ cargo fuzz --version >/dev/null 2>&1 || cargo install cargo-fuzz --locked
     rm -rf "$corpus" "$corpus.log"
   done
 )
-# One closing tally over every test binary and the doc tests.
-awk '/^test result:/ { p += $4; f += $6 } END { printf "all tests: %d passed, %d failed\n", p, f }' "$log"
+# One closing tally over every test binary, the doc tests and pytest.
+awk '/^test result:/ { p += $4; f += $6 }
+     /^[0-9]+ (passed|failed)/ { for (i = 1; i < NF; i++) {
+       if ($(i + 1) ~ /^passed/) p += $i; if ($(i + 1) ~ /^failed/) f += $i } }
+     END { printf "all tests: %d passed, %d failed\n", p, f }' "$log"

@@ -4,7 +4,7 @@ use std::path::{Path, PathBuf};
 
 use primo_skill::MAX_KERNELS;
 use primo_skill::csv::{parse_demo, write_rows};
-use primo_skill::dmpfile::{self, DmpFile, Fitted, RhythmicFile};
+use primo_skill::dmpfile::{self, DmpFile, Fitted, MAX_ROWS, RhythmicFile};
 
 use crate::error::CliError;
 use crate::output::{check_out_file, emit, read};
@@ -68,9 +68,6 @@ pub enum DmpCommand {
         out: Option<PathBuf>,
     },
 }
-
-/// The most rows `primo dmp run` writes (10,000 s at 1 kHz).
-pub const MAX_ROWS: usize = 10_000_000;
 
 /// Runs a `primo dmp` command.
 pub fn run(command: DmpCommand) -> Result<(), CliError> {

@@ -4,10 +4,9 @@
 use std::io::{BufRead, Write};
 use std::path::PathBuf;
 
-use primo_learn::learning::{QUERY_DECAY, check_target, power_blocks};
-use primo_learn::rig::Simulated;
+use primo_learn::learning::check_target;
+use primo_learn::objective::{LAYOUT, Objective, Start};
 use primo_learn::trial::Trial;
-use primo_skill::Skill;
 
 use crate::args::{Glass, Space};
 use crate::error::CliError;
@@ -44,71 +43,31 @@ pub struct RolloutArgs {
     seed: u64,
 }
 
-/// Parses a roll-out vector: a JSON array of `len` finite numbers.
-fn parse_params(what: &str, text: &str, len: usize) -> Result<Vec<f32>, String> {
+/// Parses a roll-out vector: a JSON array of numbers, checked against
+/// the objective's layout.
+fn parse_params(o: &Objective, what: &str, text: &str) -> Result<Vec<f32>, String> {
     let values: Vec<f64> = serde_json::from_str(text)
         .map_err(|e| format!("{what}: not a JSON array of numbers: {e}"))?;
-    if values.len() != len {
-        return Err(format!(
-            "{what}: {} values, the layout needs {len} (weights, goals, τ, q̂)",
-            values.len()
-        ));
-    }
-    values
-        .iter()
-        .enumerate()
-        .map(|(i, v)| {
-            let x = *v as f32;
-            if x.is_finite() {
-                Ok(x)
-            } else {
-                Err(format!("{what}: value {} is out of f32 range", i + 1))
-            }
-        })
-        .collect()
+    o.vector(&values).map_err(|e| format!("{what}: {e}"))
 }
 
-/// The cell and the skill, for one roll-out after another.
-struct Objective {
-    space: primo_skill::Space,
-    skill: Skill,
-    rig: Simulated,
-    base: Vec<f32>,
-    bottle: f64,
-    target: f64,
-}
-
-impl Objective {
-    /// One roll-out of the vector `x = [θ, q̂]`: Δθ = θ − G(bottle); the
-    /// scale's noise from `seed`.
-    fn roll_out(&self, x: &[f32], seed: u64) -> Result<(serde_json::Value, Trial), String> {
-        let (theta, query) = x.split_at(self.base.len());
-        let query = query.first().copied().unwrap_or(self.bottle as f32);
-        let delta: Vec<f32> = theta.iter().zip(&self.base).map(|(t, b)| t - b).collect();
-        let trial = match self.skill.checked(
-            primo_learn::rig::Rig::gate(&self.rig),
-            primo_learn::rig::Rig::dt(&self.rig),
-            &[query],
-            &delta,
-        ) {
-            Ok((plan, path)) => Trial::scored(
-                self.target,
-                self.rig
-                    .execute_seeded(&plan, &path, seed)
-                    .map_err(|e| e.to_string())?,
-            ),
-            Err(why) => Trial::rejected(self.target, why.to_string()),
-        };
-        let answer = serde_json::json!({
-            "poured": trial.poured,
-            "spilled": trial.spilled,
-            "error": trial.error,
-            "reward": trial.reward,
-            "safe": trial.rejected.is_none(),
-            "rejected": trial.rejected,
-        });
-        Ok((answer, trial))
-    }
+/// One roll-out as a JSON answer, and the trial.
+fn roll_out(
+    o: &Objective,
+    x: &[f32],
+    seed: u64,
+    record: bool,
+) -> Result<(serde_json::Value, Trial), String> {
+    let trial = o.roll_out(x, seed, record).map_err(|e| e.to_string())?;
+    let answer = serde_json::json!({
+        "poured": trial.poured,
+        "spilled": trial.spilled,
+        "error": trial.error,
+        "reward": trial.reward,
+        "safe": trial.rejected.is_none(),
+        "rejected": trial.rejected,
+    });
+    Ok((answer, trial))
 }
 
 /// Runs `primo rollout`.
@@ -118,37 +77,26 @@ pub fn run(args: &RolloutArgs) -> Result<(), CliError> {
         check_out_file("--series", series)?;
     }
     let spec = args.skill.spec(Space::Joint, Glass::Normal)?;
-    let (cell, skill) = spec.build()?;
-    let rig =
-        Simulated::new(cell, args.bottle, args.seed)?.recording(usize::from(args.series.is_some()));
-    let base = skill.generalize(&[args.bottle as f32])?;
-    let len = base.len() + 1;
-    let objective = Objective {
-        space: spec.space,
-        skill,
-        rig,
-        base,
-        bottle: args.bottle,
-        target: args.target,
-    };
+    let objective = Objective::new(&spec, args.bottle, args.target)?;
     if args.print_start {
         return print_start(&objective);
     }
     if args.serve {
-        return serve(&objective, args.seed, len);
+        return serve(&objective, args.seed);
     }
     let path = args
         .params
         .as_deref()
         .ok_or_else(|| CliError::input("give --params FILE, --serve or --print-start"))?;
-    let x =
-        parse_params(&path.display().to_string(), &read(path)?, len).map_err(CliError::input)?;
-    let (answer, trial) = objective.roll_out(&x, args.seed).map_err(CliError::input)?;
+    let x = parse_params(&objective, &path.display().to_string(), &read(path)?)
+        .map_err(CliError::input)?;
+    let (answer, trial) =
+        roll_out(&objective, &x, args.seed, args.series.is_some()).map_err(CliError::input)?;
     crate::output::say(&answer.to_string())?;
     match &args.series {
         Some(file) => Ok(primo_learn::series::write_csv(
             file,
-            objective.space,
+            objective.space(),
             trial.series.as_ref(),
         )?),
         None => Ok(()),
@@ -156,28 +104,20 @@ pub fn run(args: &RolloutArgs) -> Result<(), CliError> {
 }
 
 fn print_start(o: &Objective) -> Result<(), CliError> {
-    let blocks = power_blocks(&o.skill, 0.2, 0.05, QUERY_DECAY)?;
-    // Blocks are [q̂, weights, goals, τ]; the vector puts q̂ last.
-    let mut std: Vec<f32> = blocks
-        .iter()
-        .flat_map(|b| std::iter::repeat_n(b.variance.sqrt(), b.len))
-        .collect();
-    std.rotate_left(1);
-    let mut start = o.base.clone();
-    start.push(o.bottle as f32);
+    let Start { start, std } = o.start()?;
     let out = serde_json::json!({
-        "layout": "weights (dof x kernels, row by row), goals (dof), tau (s), query (l)",
-        "space": o.space,
-        "dof": o.skill.dof(),
-        "kernels": o.skill.kernels(),
-        "bottle": o.bottle,
+        "layout": LAYOUT,
+        "space": o.space(),
+        "dof": o.skill().dof(),
+        "kernels": o.skill().kernels(),
+        "bottle": o.bottle(),
         "start": start,
         "std": std,
     });
     crate::output::say(&out.to_string())
 }
 
-fn serve(o: &Objective, seed: u64, len: usize) -> Result<(), CliError> {
+fn serve(o: &Objective, seed: u64) -> Result<(), CliError> {
     let stdin = std::io::stdin();
     let mut stdout = std::io::stdout();
     for (i, line) in stdin.lock().lines().enumerate() {
@@ -186,11 +126,8 @@ fn serve(o: &Objective, seed: u64, len: usize) -> Result<(), CliError> {
             continue;
         }
         let what = format!("stdin line {}", i + 1);
-        let answer = parse_params(&what, &line, len)
-            .and_then(|x| {
-                o.roll_out(&x, seed.wrapping_add(i as u64))
-                    .map(|(answer, _)| answer)
-            })
+        let answer = parse_params(o, &what, &line)
+            .and_then(|x| roll_out(o, &x, seed.wrapping_add(i as u64), false).map(|(a, _)| a))
             .unwrap_or_else(|e| serde_json::json!({ "error": e }));
         writeln!(stdout, "{answer}")
             .and_then(|()| stdout.flush())

@@ -6,6 +6,8 @@
 //!   coprocessor), and its settings.
 //! - [`rig`]: where roll-outs happen (the simulated cell, the real
 //!   instruments) and the one path every roll-out takes.
+//! - [`objective`]: the simulated cell as an objective for any optimizer
+//!   (`primo rollout`, the Python package).
 //! - [`trial`]: what a roll-out measured, and its score.
 //! - [`pouring`]: the built-in pouring task: its gate, its demonstrations.
 //! - [`pour`]: a `primo pour` run: its header, log, resumption, reports.
@@ -25,6 +27,7 @@ mod error;
 pub mod evaluator;
 pub mod experiment;
 pub mod learning;
+pub mod objective;
 pub mod output;
 pub mod plot;
 pub mod pour;

@@ -32,6 +32,24 @@ use crate::output::write_file;
 /// The columns after the commanded coordinates.
 pub const MEASURED: &str = "tilt_rad,mouth_x_m,mouth_y_m,mouth_z_m,flow_l_per_s,bottle_l,in_flight_l,glass_l,spilled_l,scale_g,stable";
 
+/// The values of [`MEASURED`] in a sample, `stable` as 1 or 0.
+pub fn measured(s: &Sample) -> [f64; 11] {
+    let v = &s.totals;
+    [
+        s.tilt,
+        s.mouth[0],
+        s.mouth[1],
+        s.mouth[2],
+        s.flow,
+        v.bottle,
+        v.in_flight,
+        v.glass,
+        v.spilled,
+        s.scale,
+        f64::from(u8::from(s.stable)),
+    ]
+}
+
 /// A roll-out's time series.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Series {
@@ -88,24 +106,13 @@ impl Series {
             for v in command {
                 let _ = write!(out, ",{}", *v as f32);
             }
-            let v = &s.totals;
-            let measured = [
-                s.tilt,
-                s.mouth[0],
-                s.mouth[1],
-                s.mouth[2],
-                s.flow,
-                v.bottle,
-                v.in_flight,
-                v.glass,
-                v.spilled,
-            ];
-            for m in measured {
+            let m = measured(s);
+            for v in &m[..9] {
                 // + 0.0 turns an empty sum's -0 into 0.
-                let _ = write!(out, ",{}", m + 0.0);
+                let _ = write!(out, ",{}", v + 0.0);
             }
             // The display's digits (198.98, not 198.98000000000002).
-            let scale = s.scale as f32 + 0.0;
+            let scale = m[9] as f32 + 0.0;
             let _ = writeln!(out, ",{scale},{}", u8::from(s.stable));
         }
         out

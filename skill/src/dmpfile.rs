@@ -33,6 +33,10 @@ use serde::{Deserialize, Serialize};
 use crate::csv::Demo;
 use crate::{Error, HOST_MAX_DOF, HostDmp, MAX_KERNELS};
 
+/// The most samples a caller should ask a run for (10,000 s at 1 kHz):
+/// `primo dmp run` and the Python package refuse more.
+pub const MAX_ROWS: usize = 10_000_000;
+
 /// The `format` field's value.
 pub const FORMAT: &str = "primo-dmp";
 /// The version this primo writes; it reads this one and version 1.
@@ -414,6 +418,23 @@ impl DmpFile {
         start: Option<&[f32]>,
         goal: Option<&[f32]>,
     ) -> Result<impl Iterator<Item = (f32, Vec<f32>)> + '_, Error> {
+        let prepared = self.prepare(tau, start, goal)?;
+        let steps = self
+            .dmp
+            .trajectory(&prepared.execution, dt)
+            .map_err(|e| Error::Movement(e.to_string()))?;
+        Ok(steps.map(move |s| (s.time, prepared.columns(&s.position))))
+    }
+
+    /// The execution for `tau`, `start` and `goal` (as in
+    /// [`DmpFile::run`]), with what turns the DMP's coordinates back into
+    /// the columns: for a caller that steps the DMP itself.
+    pub fn prepare(
+        &self,
+        tau: Option<f32>,
+        start: Option<&[f32]>,
+        goal: Option<&[f32]>,
+    ) -> Result<Prepared, Error> {
         let mut exec = self.dmp.execution();
         if let Some(tau) = tau {
             exec.tau = tau;
@@ -452,12 +473,12 @@ impl DmpFile {
                 }
             }
         }
-        let steps = self
-            .dmp
-            .trajectory(&exec, dt)
-            .map_err(|e| Error::Movement(e.to_string()))?;
-        let width = self.names.len();
-        Ok(steps.map(move |s| (s.time, columns(&s.position, &layout, &goals, width))))
+        Ok(Prepared {
+            execution: exec,
+            goals,
+            layout,
+            width: self.names.len(),
+        })
     }
 
     fn check_len(&self, flag: &str, values: &[f32]) -> Result<(), Error> {
@@ -472,24 +493,44 @@ impl DmpFile {
     }
 }
 
-/// DMP coordinates → `width` column values, orientations relative to
-/// `goals`.
-fn columns(dmp: &[f32], layout: &[Slot], goals: &[Quaternion], width: usize) -> Vec<f32> {
-    let mut out = Vec::with_capacity(width);
-    for s in layout {
-        match s.kind {
-            Column::Scalar => out.push(dmp.get(s.dof).copied().unwrap_or(0.0)),
-            Column::Quaternion => {
-                let goal = goals
-                    .get(s.orientation)
-                    .copied()
-                    .unwrap_or(Quaternion::IDENTITY);
-                let e = dmp.get(s.dof..s.dof + 3).unwrap_or(&[0.0; 3]);
-                out.extend(from_log(e, &goal).to_array());
+/// An execution of a [`DmpFile`]'s DMP, and the way back from its
+/// coordinates to the file's columns.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Prepared {
+    /// Start, goal and `τ` in the DMP's coordinates.
+    pub execution: primo_core::dmp::Execution<HOST_MAX_DOF>,
+    goals: Vec<Quaternion>,
+    layout: Vec<Slot>,
+    width: usize,
+}
+
+impl Prepared {
+    /// DMP coordinates → one value per column, orientations relative to
+    /// their goals.
+    pub fn columns(&self, dmp: &[f32]) -> Vec<f32> {
+        let mut out = Vec::with_capacity(self.width);
+        for s in &self.layout {
+            match s.kind {
+                Column::Scalar => out.push(dmp.get(s.dof).copied().unwrap_or(0.0)),
+                Column::Quaternion => {
+                    let goal = self
+                        .goals
+                        .get(s.orientation)
+                        .copied()
+                        .unwrap_or(Quaternion::IDENTITY);
+                    let e = dmp.get(s.dof..s.dof + 3).unwrap_or(&[0.0; 3]);
+                    out.extend(from_log(e, &goal).to_array());
+                }
             }
         }
+        out
     }
-    out
+
+    /// Whether every column is one DoF (no orientation): the DMP's
+    /// velocities are the columns' then.
+    pub fn is_plain(&self) -> bool {
+        self.layout.iter().all(|s| s.kind == Column::Scalar)
+    }
 }
 
 /// Four values as a unit quaternion (`flag` and `column` name it in errors).

@@ -112,37 +112,23 @@ impl Skill {
     /// Fits one DMP per demonstration `(q_i, demo_i)`, all with the same
     /// amplitude scaling (decided on the first: interpolating weights only
     /// makes sense when every example scales them alike), and generalizes
-    /// over the queries. Every demonstration has the first one's columns,
-    /// by name and in order, and every query its dimension (1 to
-    /// [`MAX_QUERY`]).
+    /// over the queries ([`Skill::from_dmps`]). Every demonstration has the
+    /// first one's columns, by name and in order.
     pub fn fit(
         examples: &[(&[f32], &Demo)],
         kernels: usize,
         method: Method,
     ) -> Result<Skill, Error> {
-        let (first_query, first) = examples.first().ok_or_else(|| {
+        let (_, first) = examples.first().ok_or_else(|| {
             Error::Demonstrations("a skill needs at least one demonstration".into())
         })?;
         let names = first.names.clone();
         let dof = names.len();
-        let query_dim = first_query.len();
-        if !(1..=MAX_QUERY).contains(&query_dim) {
-            return Err(Error::Demonstrations(format!(
-                "a query has 1 to {MAX_QUERY} values, demonstration 1's has {query_dim}"
-            )));
-        }
         let mut options = FitOptions::default();
         let mut dmps = Vec::new();
         for (i, (q, demo)) in examples.iter().enumerate() {
             same_columns(&names, &demo.names)
                 .map_err(|why| Error::Demonstrations(format!("demonstration {}: {why}", i + 1)))?;
-            if q.len() != query_dim {
-                return Err(Error::Demonstrations(format!(
-                    "demonstration {}: its query has {} values, demonstration 1's has {query_dim}",
-                    i + 1,
-                    q.len()
-                )));
-            }
             let dmp = HostDmp::fit(&demo.times, &demo.positions, dof, kernels, &options).map_err(
                 |e| Error::Demonstrations(format!("demonstration {} (q = {q:?}): {e}", i + 1)),
             )?;
@@ -154,13 +140,56 @@ impl Skill {
             }
             dmps.push((*q, dmp));
         }
-        let template = dmps
+        Skill::from_dmps(names, &dmps, method)
+    }
+
+    /// Generalizes over fitted DMPs `(q_i, dmp_i)` with columns `names`:
+    /// every query of the first one's dimension (1 to [`MAX_QUERY`]), every
+    /// DMP of the first one's DoF, kernels, gains and amplitude scaling.
+    pub fn from_dmps(
+        names: Vec<String>,
+        dmps: &[(&[f32], HostDmp)],
+        method: Method,
+    ) -> Result<Skill, Error> {
+        let (first_query, template) = dmps
             .first()
-            .map(|(_, d)| d.clone())
             .ok_or_else(|| Error::Demonstrations("no demonstration".into()))?;
+        let query_dim = first_query.len();
+        if !(1..=MAX_QUERY).contains(&query_dim) {
+            return Err(Error::Demonstrations(format!(
+                "a query has 1 to {MAX_QUERY} values, demonstration 1's has {query_dim}"
+            )));
+        }
+        if names.len() != template.dof() {
+            return Err(Error::Demonstrations(format!(
+                "{} column names for a DMP of {} DoF",
+                names.len(),
+                template.dof()
+            )));
+        }
         let mut generalizer = Box::new(Gen::new(query_dim, template.param_len(), method));
         let mut theta = vec![0.0; template.param_len()];
-        for (q, dmp) in &dmps {
+        for (i, (q, dmp)) in dmps.iter().enumerate() {
+            if q.len() != query_dim {
+                return Err(Error::Demonstrations(format!(
+                    "demonstration {}: its query has {} values, demonstration 1's has {query_dim}",
+                    i + 1,
+                    q.len()
+                )));
+            }
+            if (dmp.dof(), dmp.kernels(), dmp.shape())
+                != (template.dof(), template.kernels(), template.shape())
+            {
+                return Err(Error::Demonstrations(format!(
+                    "demonstration {}: its DMP has {} DoF and {} kernels, demonstration 1's {} \
+                     and {}, and both must have the same gains and amplitude scaling",
+                    i + 1,
+                    dmp.dof(),
+                    dmp.kernels(),
+                    template.dof(),
+                    template.kernels()
+                )));
+            }
             dmp.params(&mut theta)
                 .map_err(|e| Error::Demonstrations(e.to_string()))?;
             generalizer
@@ -178,7 +207,7 @@ impl Skill {
                 .iter()
                 .map(|(_, d)| d.start_position().to_vec())
                 .collect(),
-            template,
+            template: template.clone(),
             generalizer,
         })
     }

@@ -1,0 +1,271 @@
+"""Type stubs of the compiled module ``primo._primo`` (see ``primo``)."""
+
+from os import PathLike
+from typing import Any, Literal, Optional, Sequence, Union, overload
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+
+Array = npt.NDArray[np.float64]
+ArrayLike = npt.ArrayLike
+Status = Literal["running", "converged", "budget_exhausted", "bracket_collapsed", "stalled"]
+Path = Union[str, PathLike[str]]
+
+class Dmp:
+    """A fitted DMP with its column names: discrete (columns ``<p>qw,
+    <p>qx, <p>qy, <p>qz`` are one orientation, a quaternion DMP) or
+    rhythmic. The JSON DMP file of ``primo dmp fit`` / ``run``."""
+
+    @staticmethod
+    def fit(
+        t: ArrayLike, y: ArrayLike, names: Optional[Sequence[str]] = None, kernels: int = 30
+    ) -> Dmp:
+        """Fits ``y`` (n × columns, or n) sampled at times ``t`` (n, strictly
+        increasing): least squares on the positions, ``kernels`` (2–128) per DoF."""
+    @staticmethod
+    def fit_rhythmic(
+        t: ArrayLike,
+        y: ArrayLike,
+        names: Optional[Sequence[str]] = None,
+        kernels: int = 25,
+        period: Optional[float] = None,
+    ) -> Dmp:
+        """Fits one period (``period`` s from the first sample, or all of it)."""
+    @staticmethod
+    def from_json(text: str) -> Dmp:
+        """Reads the DMP file format (versions 1 and 2)."""
+    @staticmethod
+    def load(path: Path) -> Dmp:
+        """Reads a DMP file written by ``primo dmp fit`` or ``Dmp.save``."""
+    def to_json(self) -> str:
+        """The DMP file's text."""
+    def save(self, path: Path) -> None:
+        """Writes the DMP file (atomically)."""
+    @property
+    def names(self) -> list[str]: ...
+    @property
+    def rhythmic(self) -> bool: ...
+    @property
+    def kernels(self) -> int: ...
+    @property
+    def dof(self) -> int:
+        """DMP DoFs (an orientation counts 3)."""
+    @property
+    def orientations(self) -> list[list[str]]: ...
+    @property
+    def tau(self) -> float:
+        """The demonstrated duration, s (discrete)."""
+    @property
+    def period(self) -> float:
+        """The demonstrated period, s (rhythmic)."""
+    @property
+    def start(self) -> Array:
+        """The demonstrated start, per column (discrete)."""
+    @property
+    def goal(self) -> Array:
+        """The goal, per column (discrete)."""
+    @property
+    def params(self) -> Array:
+        """θ = [weights row by row, goals, τ] of the DMP's DoFs (discrete)."""
+    @params.setter
+    def params(self, theta: ArrayLike) -> None: ...
+    @overload
+    def run(
+        self,
+        dt: float = 0.001,
+        tau: Optional[float] = None,
+        start: Optional[ArrayLike] = None,
+        goal: Optional[ArrayLike] = None,
+        velocities: Literal[False] = False,
+    ) -> tuple[Array, Array]: ...
+    @overload
+    def run(
+        self,
+        dt: float = 0.001,
+        tau: Optional[float] = None,
+        start: Optional[ArrayLike] = None,
+        goal: Optional[ArrayLike] = None,
+        *,
+        velocities: Literal[True],
+    ) -> tuple[Array, Array, Array]: ...
+    @overload
+    def run(
+        self,
+        dt: float = 0.001,
+        *,
+        duration: Optional[float] = None,
+        frequency: Optional[float] = None,
+        amplitude: Optional[ArrayLike] = None,
+        anchor: Optional[ArrayLike] = None,
+    ) -> tuple[Array, Array]: ...
+    def stepper(
+        self,
+        tau: Optional[float] = None,
+        start: Optional[ArrayLike] = None,
+        goal: Optional[ArrayLike] = None,
+    ) -> DmpRun:
+        """A step-by-step execution (discrete)."""
+    def __reduce__(self) -> Any: ...
+
+class DmpRun:
+    """A discrete DMP executed one control step at a time."""
+
+    def step(self, dt: float) -> Array:
+        """Advances by ``dt`` s; the new position, per column."""
+    @property
+    def position(self) -> Array: ...
+    @property
+    def velocity(self) -> Array: ...
+    @property
+    def time(self) -> float: ...
+    @property
+    def phase(self) -> float: ...
+    def set_goal(self, goal: ArrayLike) -> None:
+        """A new goal from the next step on (no orientation columns)."""
+
+class Generalizer:
+    """``G(q)`` over examples ``(query, dmp)``: LWR or GPR on the DMPs'
+    parameter vectors, the start generalized alike."""
+
+    def __init__(
+        self,
+        examples: Sequence[tuple[Union[float, ArrayLike], Dmp]],
+        method: Literal["lwr", "gpr"] = "lwr",
+        bandwidth: Optional[float] = None,
+        noise: float = 0.0,
+    ) -> None: ...
+    def generalize(self, q: Union[float, ArrayLike]) -> Dmp:
+        """The DMP for query ``q``."""
+    def params(self, q: Union[float, ArrayLike]) -> Array:
+        """``G(q)``, the parameter vector."""
+    @property
+    def query_dim(self) -> int: ...
+    @property
+    def names(self) -> list[str]: ...
+    def __len__(self) -> int: ...
+
+class _ErrorLearner:
+    @property
+    def status(self) -> Status: ...
+    @property
+    def done(self) -> bool: ...
+    @property
+    def rollouts(self) -> int: ...
+
+class _ScalarSearch(_ErrorLearner):
+    def __init__(
+        self, low: float, high: float, desired: float, precision: float = 0.002, max_rollouts: int = 30
+    ) -> None: ...
+    def ask(self) -> Optional[float]:
+        """The query to roll out next, or None once finished."""
+    def tell(self, error: float) -> Status:
+        """The asked query's error; > 0 means the query must grow."""
+    @property
+    def best(self) -> Optional[tuple[float, float]]:
+        """``(query, error)`` with the smallest |error| so far."""
+    @property
+    def bracket(self) -> tuple[float, float]: ...
+
+class GoldenSection(_ScalarSearch):
+    """The paper's error learning: golden-section search on the query."""
+
+class Illinois(_ScalarSearch):
+    """Bracketed error learning using the error's magnitude (Illinois)."""
+
+class Secant(_ErrorLearner):
+    """The paper's eq. 10, ``q ← q + K ε``, on a query of 1 to 4 values,
+    the gain ``K`` learned by Broyden updates."""
+
+    def __init__(
+        self,
+        low: ArrayLike,
+        high: ArrayLike,
+        desired: ArrayLike,
+        precision: float = 0.002,
+        max_rollouts: int = 30,
+    ) -> None: ...
+    def ask(self) -> Optional[Array]: ...
+    def tell(self, error: ArrayLike) -> Status:
+        """The error vector ``desired − measured`` of the asked query."""
+    @property
+    def dim(self) -> int: ...
+    @property
+    def best(self) -> Optional[tuple[Array, Array]]: ...
+    @property
+    def gain(self) -> Array: ...
+
+class Power:
+    """PoWER with per-block exploration ``(len, variance, decay)`` and an
+    importance sampler of the best ``sampler`` roll-outs."""
+
+    def __init__(
+        self,
+        initial: ArrayLike,
+        blocks: Sequence[tuple[int, float, float]],
+        rollouts_per_update: int = 3,
+        roll_out_mean: bool = True,
+        sampler: int = 3,
+        seed: int = 0,
+    ) -> None: ...
+    def ask(self) -> Array:
+        """The parameters to roll out next (the same until told)."""
+    def tell(self, reward: float) -> bool:
+        """The asked roll-out's reward (finite, >= 0); True after an update."""
+    @property
+    def mean(self) -> Array: ...
+    @property
+    def updates(self) -> int: ...
+    @property
+    def rollouts(self) -> int: ...
+    @property
+    def variances(self) -> Array: ...
+    @property
+    def next_is_mean(self) -> bool: ...
+    @property
+    def best(self) -> Optional[tuple[Array, float]]: ...
+    @property
+    def sampler(self) -> list[tuple[Array, float]]: ...
+
+class Cell:
+    """The simulated pouring cell as an objective (``primo rollout``)."""
+
+    def __init__(
+        self,
+        glass: Literal["normal", "small"] = "normal",
+        space: Literal["joint", "cartesian"] = "joint",
+        bottle: float = 0.5,
+        target: float = 0.2,
+        kernels: int = 30,
+        seed: int = 1,
+        demos: Optional[Sequence[tuple[Path, float]]] = None,
+    ) -> None: ...
+    @property
+    def size(self) -> int: ...
+    def __len__(self) -> int: ...
+    @property
+    def glass(self) -> str: ...
+    @property
+    def space(self) -> str: ...
+    @property
+    def bottle(self) -> float: ...
+    @property
+    def target(self) -> float: ...
+    @property
+    def kernels(self) -> int: ...
+    @property
+    def seed(self) -> int: ...
+    @property
+    def names(self) -> list[str]: ...
+    def start(self) -> dict[str, Any]:
+        """``primo rollout --print-start``: layout, space, glass, bottle,
+        target, dof, kernels, start and std."""
+    def rollout(
+        self, theta: ArrayLike, seed: Optional[int] = None, series: bool = False
+    ) -> dict[str, Any]:
+        """poured, spilled, error, reward, safe, reason (and series)."""
+    def rollout_many(
+        self, thetas: ArrayLike, seeds: Optional[Sequence[int]] = None
+    ) -> list[dict[str, Any]]:
+        """Every row on all cores, the GIL released."""

@@ -1,0 +1,80 @@
+//! NumPy arrays in and out. Any array-like of numbers is accepted and
+//! converted to float64 by NumPy; the libraries compute in f32, so every
+//! value must be finite in f32 (checked here, with the value's place in
+//! the message).
+
+use numpy::{
+    AllowTypeChange, PyArray1, PyArray2, PyArrayLikeDyn, PyArrayMethods, PyUntypedArrayMethods,
+};
+use pyo3::prelude::*;
+
+use crate::errors::invalid;
+
+/// An array-like converted to float64, of any shape.
+pub type Array<'py> = PyArrayLikeDyn<'py, f64, AllowTypeChange>;
+
+/// `v` as a finite f32; `what` and `at` name it.
+fn single(what: &str, at: &str, v: f64) -> PyResult<f32> {
+    let x = v as f32;
+    if x.is_finite() {
+        Ok(x)
+    } else if v.is_finite() {
+        Err(invalid(format!("{what}{at}: {v} is out of f32 range")))
+    } else {
+        Err(invalid(format!("{what}{at}: {v} is not a finite number")))
+    }
+}
+
+/// A 1-D array (a scalar when `scalar_ok`) as finite f32 values.
+pub fn vector(what: &str, a: &Array<'_>, scalar_ok: bool) -> PyResult<Vec<f32>> {
+    match a.ndim() {
+        1 => {}
+        0 if scalar_ok => {}
+        n => {
+            return Err(invalid(format!(
+                "{what}: expected a 1-D array, got {n} dimensions (shape {:?})",
+                a.shape()
+            )));
+        }
+    }
+    a.as_array()
+        .iter()
+        .enumerate()
+        .map(|(i, v)| single(what, &format!("[{i}]"), *v))
+        .collect()
+}
+
+/// A 2-D array as `(rows, columns, row-major finite f32 values)`.
+pub fn matrix(what: &str, a: &Array<'_>) -> PyResult<(usize, usize, Vec<f32>)> {
+    let shape = a.shape().to_vec();
+    let [rows, cols] = shape[..] else {
+        return Err(invalid(format!(
+            "{what}: expected a 2-D array, got {} dimensions (shape {shape:?})",
+            shape.len()
+        )));
+    };
+    let values = a
+        .as_array()
+        .indexed_iter()
+        .map(|(ix, v)| {
+            let (r, c) = (ix[0], ix[1]);
+            single(what, &format!("[{r}, {c}]"), *v)
+        })
+        .collect::<PyResult<Vec<f32>>>()?;
+    Ok((rows, cols, values))
+}
+
+/// f32 values as a float64 array.
+pub fn out<'py>(py: Python<'py>, values: &[f32]) -> Bound<'py, PyArray1<f64>> {
+    PyArray1::from_iter(py, values.iter().map(|v| f64::from(*v)))
+}
+
+/// Row-major f32 values as a `rows × cols` float64 array.
+pub fn out2<'py>(
+    py: Python<'py>,
+    values: &[f32],
+    cols: usize,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let rows = values.len().checked_div(cols).unwrap_or(0);
+    PyArray1::from_iter(py, values.iter().map(|v| f64::from(*v))).reshape([rows, cols])
+}

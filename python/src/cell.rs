@@ -1,0 +1,331 @@
+//! `Cell`: the simulated pouring cell as an objective, the one
+//! `primo rollout` uses (`primo_learn::objective`): a vector `[weights,
+//! goals, τ, q̂]` in, what the cell measured out. Many roll-outs run on
+//! every core with the GIL released.
+
+use numpy::PyUntypedArrayMethods;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyTuple};
+
+use primo_learn::experiment::parallel;
+use primo_learn::objective::{LAYOUT, Objective};
+use primo_learn::pour::{DemoFile, SkillSpec};
+use primo_learn::series::{MEASURED, Series, measured};
+use primo_learn::trial::Trial;
+use primo_sim::cell::GlassKind;
+use primo_skill::Space;
+
+use crate::arrays::{Array, out};
+use crate::errors::{invalid, learn};
+
+/// The simulated pouring cell as an objective, as `primo rollout`: a
+/// vector `[weights (dof × kernels, row by row), goals, τ, q̂]` is
+/// executed as `G(q̂) + θ − G(bottle)`; `start()` gives the generalized
+/// start and PoWER's exploration std. `rollout_many` runs rows on every
+/// core with the GIL released.
+///
+/// >>> import primo
+/// >>> cell = primo.Cell(glass="small", kernels=10, bottle=0.5, target=0.2)
+/// >>> start = cell.start()
+/// >>> len(start["start"]) == len(cell) == 7 * 10 + 7 + 1 + 1
+/// True
+/// >>> result = cell.rollout(start["start"])
+/// >>> sorted(result), result["safe"]
+/// (['error', 'poured', 'reason', 'reward', 'safe', 'spilled'], True)
+#[pyclass(module = "primo._primo", frozen)]
+pub struct Cell {
+    objective: Objective,
+    glass: String,
+    space: String,
+    kernels: usize,
+    seed: u64,
+    demos: Vec<(std::path::PathBuf, f32)>,
+}
+
+fn glass_kind(name: &str) -> PyResult<GlassKind> {
+    match name {
+        "normal" => Ok(GlassKind::Normal),
+        "small" => Ok(GlassKind::Small),
+        other => Err(invalid(format!(
+            "glass: `{other}`, expected \"normal\" or \"small\""
+        ))),
+    }
+}
+
+fn space_kind(name: &str) -> PyResult<Space> {
+    match name {
+        "joint" => Ok(Space::Joint),
+        "cartesian" => Ok(Space::Cartesian),
+        other => Err(invalid(format!(
+            "space: `{other}`, expected \"joint\" or \"cartesian\""
+        ))),
+    }
+}
+
+/// The time series as a dict of columns: `t`, the commanded coordinates,
+/// then what the cell measured (the columns of `primo rollout --series`).
+fn series_dict<'py>(py: Python<'py>, s: &Series) -> PyResult<Bound<'py, PyDict>> {
+    let dict = PyDict::new(py);
+    let t: Vec<f64> = s.samples.iter().map(|x| x.t).collect();
+    dict.set_item("t", numpy::PyArray1::from_vec(py, t))?;
+    let names = s.space.names();
+    let dof = names.len();
+    for (j, name) in names.iter().enumerate() {
+        let column: Vec<f64> = s.commands.iter().skip(j).step_by(dof).copied().collect();
+        dict.set_item(*name, numpy::PyArray1::from_vec(py, column))?;
+    }
+    let rows: Vec<[f64; 11]> = s.samples.iter().map(measured).collect();
+    for (j, name) in MEASURED.split(',').enumerate() {
+        let column: Vec<f64> = rows.iter().map(|r| r[j]).collect();
+        dict.set_item(name, numpy::PyArray1::from_vec(py, column))?;
+    }
+    Ok(dict)
+}
+
+/// A trial as the dict Python sees.
+fn trial_dict<'py>(py: Python<'py>, trial: &Trial) -> PyResult<Bound<'py, PyDict>> {
+    let dict = PyDict::new(py);
+    dict.set_item("poured", trial.poured)?;
+    dict.set_item("spilled", trial.spilled)?;
+    dict.set_item("error", trial.error)?;
+    dict.set_item("reward", trial.reward)?;
+    dict.set_item("safe", trial.rejected.is_none())?;
+    dict.set_item("reason", trial.rejected.as_deref())?;
+    if let Some(s) = &trial.series {
+        dict.set_item("series", series_dict(py, s)?)?;
+    }
+    Ok(dict)
+}
+
+impl Cell {
+    /// One row of numbers as the objective's vector (`what` names it).
+    fn vector(&self, what: &str, values: &[f64]) -> PyResult<Vec<f32>> {
+        self.objective
+            .vector(values)
+            .map_err(|e| invalid(format!("{what}: {e}")))
+    }
+}
+
+/// A seed from Python: any integer that fits 64 bits.
+fn seed_of(what: &str, seed: &Bound<'_, PyAny>) -> PyResult<u64> {
+    seed.extract::<u64>()
+        .map_err(|_| invalid(format!("{what}: a seed is an integer in 0..2**64")))
+}
+
+#[pymethods]
+impl Cell {
+    #[new]
+    #[pyo3(signature = (glass="normal", space="joint", bottle=0.5, target=0.2, kernels=30, seed=1, demos=None))]
+    fn new(
+        glass: &str,
+        space: &str,
+        bottle: f64,
+        target: f64,
+        kernels: usize,
+        seed: u64,
+        demos: Option<Vec<(std::path::PathBuf, f64)>>,
+    ) -> PyResult<Cell> {
+        let demos: Vec<(std::path::PathBuf, f32)> = demos
+            .unwrap_or_default()
+            .into_iter()
+            .map(|(f, v)| (f, v as f32))
+            .collect();
+        let files = demos
+            .iter()
+            .map(|(file, volume)| {
+                Ok(DemoFile {
+                    file: std::path::absolute(file).map_err(|e| crate::errors::io(file, e))?,
+                    volume: *volume,
+                })
+            })
+            .collect::<PyResult<Vec<_>>>()?;
+        let spec = SkillSpec {
+            space: space_kind(space)?,
+            glass: glass_kind(glass)?,
+            kernels,
+            demos: files,
+        };
+        if !bottle.is_finite() {
+            return Err(invalid(format!(
+                "bottle: {bottle} is not a volume in litres"
+            )));
+        }
+        let objective = Objective::new(&spec, bottle, target).map_err(learn)?;
+        Ok(Cell {
+            objective,
+            glass: glass.to_string(),
+            space: space.to_string(),
+            kernels,
+            seed,
+            demos,
+        })
+    }
+
+    #[getter]
+    fn size(&self) -> usize {
+        self.objective.len()
+    }
+
+    fn __len__(&self) -> usize {
+        self.objective.len()
+    }
+
+    #[getter]
+    fn glass(&self) -> &str {
+        &self.glass
+    }
+
+    #[getter]
+    fn space(&self) -> &str {
+        &self.space
+    }
+
+    #[getter]
+    fn bottle(&self) -> f64 {
+        self.objective.bottle()
+    }
+
+    #[getter]
+    fn target(&self) -> f64 {
+        self.objective.target()
+    }
+
+    #[getter]
+    fn kernels(&self) -> usize {
+        self.kernels
+    }
+
+    #[getter]
+    fn seed(&self) -> u64 {
+        self.seed
+    }
+
+    #[getter]
+    fn names(&self) -> Vec<&'static str> {
+        self.objective.space().names().to_vec()
+    }
+
+    /// What `primo rollout --print-start` prints, and the cell it is for.
+    fn start<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let s = self.objective.start().map_err(learn)?;
+        let dict = PyDict::new(py);
+        dict.set_item("layout", LAYOUT)?;
+        dict.set_item("space", &self.space)?;
+        dict.set_item("glass", &self.glass)?;
+        dict.set_item("bottle", self.objective.bottle())?;
+        dict.set_item("target", self.objective.target())?;
+        dict.set_item("dof", self.objective.skill().dof())?;
+        dict.set_item("kernels", self.objective.skill().kernels())?;
+        dict.set_item("start", out(py, &s.start))?;
+        dict.set_item("std", out(py, &s.std))?;
+        Ok(dict)
+    }
+
+    /// One roll-out of `theta`, the scale's noise from `seed` (default:
+    /// the cell's); `series=True` adds the time series.
+    #[pyo3(signature = (theta, seed=None, series=false))]
+    fn rollout<'py>(
+        &self,
+        py: Python<'py>,
+        theta: Array<'_>,
+        seed: Option<Bound<'py, PyAny>>,
+        series: bool,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        if theta.ndim() != 1 {
+            return Err(invalid(format!(
+                "theta: expected a 1-D array of {} values, got shape {:?}",
+                self.objective.len(),
+                theta.shape()
+            )));
+        }
+        let values: Vec<f64> = theta.as_array().iter().copied().collect();
+        let x = self.vector("theta", &values)?;
+        let seed = match seed {
+            Some(s) => seed_of("seed", &s)?,
+            None => self.seed,
+        };
+        let objective = &self.objective;
+        let trial = py
+            .detach(|| objective.roll_out(&x, seed, series))
+            .map_err(learn)?;
+        trial_dict(py, &trial)
+    }
+
+    /// Roll-outs of every row of `thetas` on all cores, the GIL released;
+    /// row `i`'s noise from `seeds[i]` (default: the cell's seed + i, as
+    /// `primo rollout --serve` numbers its lines).
+    #[pyo3(signature = (thetas, seeds=None))]
+    fn rollout_many<'py>(
+        &self,
+        py: Python<'py>,
+        thetas: Array<'_>,
+        seeds: Option<Vec<Bound<'py, PyAny>>>,
+    ) -> PyResult<Vec<Bound<'py, PyDict>>> {
+        let shape = thetas.shape().to_vec();
+        let [rows, _] = shape[..] else {
+            return Err(invalid(format!(
+                "thetas: expected a 2-D array (one vector per row), got shape {shape:?}"
+            )));
+        };
+        let xs = thetas
+            .as_array()
+            .outer_iter()
+            .enumerate()
+            .map(|(r, row)| {
+                let row: Vec<f64> = row.iter().copied().collect();
+                self.vector(&format!("thetas[{r}]"), &row)
+            })
+            .collect::<PyResult<Vec<_>>>()?;
+        let seeds: Vec<u64> = match seeds {
+            None => (0..rows as u64)
+                .map(|i| self.seed.wrapping_add(i))
+                .collect(),
+            Some(s) if s.len() == rows => s
+                .iter()
+                .enumerate()
+                .map(|(i, s)| seed_of(&format!("seeds[{i}]"), s))
+                .collect::<PyResult<_>>()?,
+            Some(s) => {
+                return Err(invalid(format!("seeds: {} seeds for {rows} rows", s.len())));
+            }
+        };
+        let objective = &self.objective;
+        let trials = py.detach(|| parallel(rows, |i| objective.roll_out(&xs[i], seeds[i], false)));
+        trials
+            .into_iter()
+            .map(|t| trial_dict(py, &t.map_err(learn)?))
+            .collect()
+    }
+
+    fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyTuple>> {
+        let py = slf.py();
+        let c = slf.get();
+        let demos: Vec<(std::path::PathBuf, f64)> = c
+            .demos
+            .iter()
+            .map(|(f, v)| (f.clone(), f64::from(*v)))
+            .collect();
+        let args = (
+            c.glass.clone(),
+            c.space.clone(),
+            c.objective.bottle(),
+            c.objective.target(),
+            c.kernels,
+            c.seed,
+            demos,
+        );
+        (py.get_type::<Cell>(), args).into_pyobject(py)
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Cell(glass={:?}, space={:?}, bottle={}, target={}, kernels={}, seed={})",
+            self.glass,
+            self.space,
+            self.objective.bottle(),
+            self.objective.target(),
+            self.kernels,
+            self.seed
+        )
+    }
+}

@@ -1,0 +1,487 @@
+//! `Dmp`: a fitted DMP with its column names, discrete (with orientation
+//! columns, if any) or rhythmic: the DMP file of `primo dmp`
+//! (`primo_skill::dmpfile`), so a Python DMP and a file are one thing.
+
+use numpy::{PyArray1, PyUntypedArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::PyTuple;
+
+use primo_skill::HostDmp;
+use primo_skill::csv::Demo;
+use primo_skill::dmpfile::{self, DmpFile, Fitted, MAX_ROWS, Prepared, RhythmicFile};
+
+use crate::arrays::{Array, matrix, out, out2, vector};
+use crate::errors::{core, invalid, io, skill};
+
+/// A fitted DMP with its column names: discrete (four columns
+/// `<p>qw,<p>qx,<p>qy,<p>qz` are one orientation, a quaternion DMP) or
+/// rhythmic; its JSON is the DMP file of `primo dmp fit` and `run`.
+/// Computed in float32 (the fit's normal equations in float64).
+///
+/// >>> import numpy as np, primo
+/// >>> t = np.linspace(0.0, 1.0, 101)
+/// >>> dmp = primo.Dmp.fit(t, t * t * (3 - 2 * t), names=["x"], kernels=20)
+/// >>> times, x, v = dmp.run(dt=0.01, goal=[2.0], tau=2.0, velocities=True)
+/// >>> round(float(times[-1]), 6), round(float(x[-1, 0]), 2), x.shape
+/// (2.0, 2.0, (201, 1))
+/// >>> run = dmp.stepper()
+/// >>> bool((run.step(0.01) == dmp.run(dt=0.01)[1][1]).all())
+/// True
+/// >>> dmp.params.shape  # [weights, goal, tau]
+/// (22,)
+#[pyclass(module = "primo._primo", from_py_object)]
+#[derive(Clone)]
+pub struct Dmp {
+    pub(crate) fitted: Fitted,
+}
+
+/// A discrete DMP executed one control step at a time (`Dmp.stepper()`);
+/// it gives the same samples as `Dmp.run`, bit for bit.
+#[pyclass(module = "primo._primo")]
+pub struct DmpRun {
+    dmp: HostDmp,
+    run: primo_core::dmp::Run<{ primo_skill::HOST_MAX_DOF }>,
+    prepared: Prepared,
+}
+
+/// A recording as a demonstration: `t` (n), `y` (n × columns, or n for
+/// one column) and the column names (default `y0, y1, …`).
+fn demo(t: &Array<'_>, y: &Array<'_>, names: Option<Vec<String>>) -> PyResult<Demo> {
+    let times = vector("t", t, false)?;
+    let (rows, cols, positions) = match y.shape().len() {
+        1 => {
+            let v = vector("y", y, false)?;
+            (v.len(), 1, v)
+        }
+        _ => matrix("y", y)?,
+    };
+    if rows != times.len() {
+        return Err(invalid(format!(
+            "y has {rows} rows, t has {} samples: one row per sample",
+            times.len()
+        )));
+    }
+    if cols == 0 {
+        return Err(invalid("y has no column"));
+    }
+    let names = names.unwrap_or_else(|| (0..cols).map(|i| format!("y{i}")).collect());
+    if names.len() != cols {
+        return Err(invalid(format!(
+            "{} names for {cols} columns of y",
+            names.len()
+        )));
+    }
+    for (i, n) in names.iter().enumerate() {
+        if n.is_empty() || names[..i].contains(n) {
+            return Err(invalid(format!(
+                "names: `{n}` is empty or repeated; one distinct name per column"
+            )));
+        }
+    }
+    Ok(Demo {
+        names,
+        times,
+        positions,
+    })
+}
+
+/// An optional finite number of seconds above 0 (`what` names it).
+fn positive(what: &str, v: Option<f64>) -> PyResult<Option<f32>> {
+    match v {
+        Some(x) if !(x.is_finite() && x > 0.0 && (x as f32) > 0.0) => Err(invalid(format!(
+            "{what}: {x} must be a positive, finite number"
+        ))),
+        v => Ok(v.map(|x| x as f32)),
+    }
+}
+
+/// At most [`MAX_ROWS`] samples for `duration` at step `dt`.
+fn check_rows(dt: f32, duration: f32) -> PyResult<()> {
+    if duration / dt > MAX_ROWS as f32 {
+        return Err(invalid(format!(
+            "dt {dt} over {duration} s would make {:.0} samples, at most {MAX_ROWS}",
+            duration / dt
+        )));
+    }
+    Ok(())
+}
+
+/// An optional array of one value per column (`what` names it).
+fn per_column(what: &str, a: Option<Array<'_>>, names: &[String]) -> PyResult<Option<Vec<f32>>> {
+    let Some(a) = a else { return Ok(None) };
+    let v = vector(what, &a, false)?;
+    if v.len() != names.len() {
+        return Err(invalid(format!(
+            "{what}: {} values, expected one per column ({})",
+            v.len(),
+            names.join(",")
+        )));
+    }
+    Ok(Some(v))
+}
+
+impl Dmp {
+    fn discrete(&self, what: &str) -> PyResult<&DmpFile> {
+        match &self.fitted {
+            Fitted::Discrete(d) => Ok(d),
+            Fitted::Rhythmic(_) => Err(invalid(format!(
+                "{what}: not for a rhythmic DMP (a discrete one's)"
+            ))),
+        }
+    }
+
+    fn names_ref(&self) -> &[String] {
+        match &self.fitted {
+            Fitted::Discrete(d) => &d.names,
+            Fitted::Rhythmic(r) => &r.names,
+        }
+    }
+
+    pub(crate) fn from_file(file: DmpFile) -> Dmp {
+        Dmp {
+            fitted: Fitted::Discrete(file),
+        }
+    }
+
+    fn json(&self) -> PyResult<String> {
+        match &self.fitted {
+            Fitted::Discrete(d) => d.to_json(),
+            Fitted::Rhythmic(r) => r.to_json(),
+        }
+        .map_err(|e| invalid(format!("cannot serialize the DMP: {e}")))
+    }
+}
+
+#[pymethods]
+impl Dmp {
+    #[staticmethod]
+    #[pyo3(signature = (t, y, names=None, kernels=30))]
+    fn fit(
+        t: Array<'_>,
+        y: Array<'_>,
+        names: Option<Vec<String>>,
+        kernels: usize,
+    ) -> PyResult<Dmp> {
+        let demo = demo(&t, &y, names)?;
+        Ok(Dmp::from_file(
+            DmpFile::fit("the demonstration", &demo, kernels).map_err(skill)?,
+        ))
+    }
+
+    #[staticmethod]
+    #[pyo3(signature = (t, y, names=None, kernels=25, period=None))]
+    fn fit_rhythmic(
+        t: Array<'_>,
+        y: Array<'_>,
+        names: Option<Vec<String>>,
+        kernels: usize,
+        period: Option<f64>,
+    ) -> PyResult<Dmp> {
+        let demo = demo(&t, &y, names)?;
+        let period = positive("period", period)?;
+        let file = RhythmicFile::fit("the demonstration", &demo, kernels, period).map_err(skill)?;
+        Ok(Dmp {
+            fitted: Fitted::Rhythmic(file),
+        })
+    }
+
+    #[staticmethod]
+    fn from_json(text: &str) -> PyResult<Dmp> {
+        let fitted = dmpfile::parse("the DMP's JSON", text).map_err(skill)?;
+        Ok(Dmp { fitted })
+    }
+
+    #[staticmethod]
+    fn load(path: std::path::PathBuf) -> PyResult<Dmp> {
+        let text = std::fs::read_to_string(&path).map_err(|e| io(&path, e))?;
+        let fitted = dmpfile::parse(&path.display().to_string(), &text).map_err(skill)?;
+        Ok(Dmp { fitted })
+    }
+
+    fn to_json(&self) -> PyResult<String> {
+        self.json()
+    }
+
+    fn save(&self, path: std::path::PathBuf) -> PyResult<()> {
+        let text = format!("{}\n", self.json()?);
+        primo_learn::output::write_file(&path, text.as_bytes()).map_err(crate::errors::learn)
+    }
+
+    #[getter]
+    fn names(&self) -> Vec<String> {
+        self.names_ref().to_vec()
+    }
+
+    #[getter]
+    fn rhythmic(&self) -> bool {
+        matches!(self.fitted, Fitted::Rhythmic(_))
+    }
+
+    #[getter]
+    fn kernels(&self) -> usize {
+        match &self.fitted {
+            Fitted::Discrete(d) => d.dmp.kernels(),
+            Fitted::Rhythmic(r) => r.rhythmic.kernels(),
+        }
+    }
+
+    #[getter]
+    fn dof(&self) -> usize {
+        match &self.fitted {
+            Fitted::Discrete(d) => d.dmp.dof(),
+            Fitted::Rhythmic(r) => r.rhythmic.dof(),
+        }
+    }
+
+    #[getter]
+    fn orientations(&self) -> Vec<Vec<String>> {
+        match &self.fitted {
+            Fitted::Discrete(d) => d.orientations.iter().map(|o| o.columns.to_vec()).collect(),
+            Fitted::Rhythmic(_) => Vec::new(),
+        }
+    }
+
+    #[getter]
+    fn tau(&self) -> PyResult<f64> {
+        Ok(f64::from(self.discrete("tau")?.dmp.tau()))
+    }
+
+    #[getter]
+    fn period(&self) -> PyResult<f64> {
+        match &self.fitted {
+            Fitted::Rhythmic(r) => Ok(f64::from(r.rhythmic.period())),
+            Fitted::Discrete(_) => Err(invalid("period: not for a discrete DMP")),
+        }
+    }
+
+    /// The demonstrated start, per column.
+    #[getter]
+    fn start<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let d = self.discrete("start")?;
+        let prepared = d.prepare(None, None, None).map_err(skill)?;
+        Ok(out(py, &prepared.columns(&prepared.execution.start)))
+    }
+
+    /// The goal, per column.
+    #[getter]
+    fn goal<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let d = self.discrete("goal")?;
+        let prepared = d.prepare(None, None, None).map_err(skill)?;
+        Ok(out(py, &prepared.columns(&prepared.execution.goal)))
+    }
+
+    #[getter]
+    fn params<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let d = self.discrete("params")?;
+        let mut theta = vec![0.0; d.dmp.param_len()];
+        d.dmp.params(&mut theta).map_err(core)?;
+        Ok(out(py, &theta))
+    }
+
+    #[setter]
+    fn set_params(&mut self, theta: Array<'_>) -> PyResult<()> {
+        let theta = vector("params", &theta, false)?;
+        match &mut self.fitted {
+            Fitted::Discrete(d) => d.dmp.set_params(&theta).map_err(core),
+            Fitted::Rhythmic(_) => Err(invalid("params: not for a rhythmic DMP")),
+        }
+    }
+
+    #[allow(clippy::too_many_arguments)] // the keyword arguments of `primo dmp run`
+    #[pyo3(signature = (dt=0.001, tau=None, start=None, goal=None, velocities=false,
+                        duration=None, frequency=None, amplitude=None, anchor=None))]
+    fn run<'py>(
+        &self,
+        py: Python<'py>,
+        dt: f64,
+        tau: Option<f64>,
+        start: Option<Array<'_>>,
+        goal: Option<Array<'_>>,
+        velocities: bool,
+        duration: Option<f64>,
+        frequency: Option<f64>,
+        amplitude: Option<Array<'_>>,
+        anchor: Option<Array<'_>>,
+    ) -> PyResult<Bound<'py, PyTuple>> {
+        let dt = positive("dt", Some(dt))?.unwrap_or(0.001);
+        let names = self.names_ref();
+        let width = names.len();
+        match &self.fitted {
+            Fitted::Discrete(d) => {
+                if duration.is_some()
+                    || frequency.is_some()
+                    || amplitude.is_some()
+                    || anchor.is_some()
+                {
+                    return Err(invalid(
+                        "duration, frequency, amplitude, anchor: for a rhythmic DMP only",
+                    ));
+                }
+                let tau = positive("tau", tau)?;
+                let start = per_column("start", start, names)?;
+                let goal = per_column("goal", goal, names)?;
+                check_rows(dt, tau.unwrap_or(d.dmp.tau()))?;
+                let prepared = d
+                    .prepare(tau, start.as_deref(), goal.as_deref())
+                    .map_err(skill)?;
+                if velocities && !prepared.is_plain() {
+                    return Err(invalid(
+                        "velocities: given for DMPs without orientation columns only",
+                    ));
+                }
+                let (mut t, mut y, mut v) = (Vec::new(), Vec::new(), Vec::new());
+                let steps = d.dmp.trajectory(&prepared.execution, dt).map_err(core)?;
+                let dof = d.dmp.dof();
+                for s in steps {
+                    t.push(s.time);
+                    y.extend(prepared.columns(&s.position));
+                    if velocities {
+                        v.extend_from_slice(&s.velocity[..dof]);
+                    }
+                }
+                let mut items = vec![out(py, &t).into_any(), out2(py, &y, width)?.into_any()];
+                if velocities {
+                    items.push(out2(py, &v, width)?.into_any());
+                }
+                PyTuple::new(py, items)
+            }
+            Fitted::Rhythmic(r) => {
+                if tau.is_some() || start.is_some() || goal.is_some() || velocities {
+                    return Err(invalid(
+                        "tau, start, goal, velocities: for a discrete DMP only",
+                    ));
+                }
+                let duration = match duration {
+                    None => 3.0 * r.rhythmic.period(),
+                    Some(x) if x.is_finite() && x >= 0.0 => x as f32,
+                    Some(x) => {
+                        return Err(invalid(format!(
+                            "duration: {x} must be a finite number of seconds >= 0"
+                        )));
+                    }
+                };
+                check_rows(dt, duration)?;
+                let frequency = positive("frequency", frequency)?;
+                let amplitude = per_column("amplitude", amplitude, names)?;
+                let anchor = per_column("anchor", anchor, names)?;
+                let (mut t, mut y) = (Vec::new(), Vec::new());
+                for (time, row) in r
+                    .run(
+                        dt,
+                        duration,
+                        frequency,
+                        amplitude.as_deref(),
+                        anchor.as_deref(),
+                    )
+                    .map_err(skill)?
+                {
+                    t.push(time);
+                    y.extend(row);
+                }
+                PyTuple::new(
+                    py,
+                    [out(py, &t).into_any(), out2(py, &y, width)?.into_any()],
+                )
+            }
+        }
+    }
+
+    #[pyo3(signature = (tau=None, start=None, goal=None))]
+    fn stepper(
+        &self,
+        tau: Option<f64>,
+        start: Option<Array<'_>>,
+        goal: Option<Array<'_>>,
+    ) -> PyResult<DmpRun> {
+        let d = self.discrete("stepper")?;
+        let tau = positive("tau", tau)?;
+        let start = per_column("start", start, &d.names)?;
+        let goal = per_column("goal", goal, &d.names)?;
+        let prepared = d
+            .prepare(tau, start.as_deref(), goal.as_deref())
+            .map_err(skill)?;
+        let run = d.dmp.start(&prepared.execution).map_err(core)?;
+        Ok(DmpRun {
+            dmp: d.dmp.clone(),
+            run,
+            prepared,
+        })
+    }
+
+    fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyTuple>> {
+        let py = slf.py();
+        let from_json = py.get_type::<Dmp>().getattr("from_json")?;
+        let json = slf.borrow().json()?;
+        PyTuple::new(py, [from_json, PyTuple::new(py, [json])?.into_any()])
+    }
+
+    fn __eq__(&self, other: &Bound<'_, PyAny>) -> bool {
+        other
+            .cast::<Dmp>()
+            .is_ok_and(|o| o.borrow().fitted == self.fitted)
+    }
+
+    fn __copy__(&self) -> Dmp {
+        self.clone()
+    }
+
+    fn __deepcopy__(&self, _memo: &Bound<'_, PyAny>) -> Dmp {
+        self.clone()
+    }
+
+    fn __repr__(&self) -> String {
+        let kind = if self.rhythmic() { "rhythmic, " } else { "" };
+        format!(
+            "Dmp({kind}columns={:?}, kernels={})",
+            self.names_ref(),
+            self.kernels()
+        )
+    }
+}
+
+#[pymethods]
+impl DmpRun {
+    /// Advances by `dt` seconds and returns the position, per column.
+    fn step<'py>(&mut self, py: Python<'py>, dt: f64) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let dt = positive("dt", Some(dt))?.unwrap_or(0.001);
+        self.run.step(&self.dmp, dt).map_err(core)?;
+        Ok(out(py, &self.prepared.columns(self.run.position())))
+    }
+
+    #[getter]
+    fn position<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        out(py, &self.prepared.columns(self.run.position()))
+    }
+
+    #[getter]
+    fn velocity<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        if !self.prepared.is_plain() {
+            return Err(invalid(
+                "velocity: given for DMPs without orientation columns only",
+            ));
+        }
+        let s = self.run.sample();
+        Ok(out(py, &s.velocity[..self.dmp.dof()]))
+    }
+
+    #[getter]
+    fn time(&self) -> f64 {
+        f64::from(self.run.time())
+    }
+
+    #[getter]
+    fn phase(&self) -> f64 {
+        f64::from(self.run.phase())
+    }
+
+    /// A new goal from the next step on (DMPs without orientation columns).
+    fn set_goal(&mut self, goal: Array<'_>) -> PyResult<()> {
+        if !self.prepared.is_plain() {
+            return Err(invalid(
+                "set_goal: for DMPs without orientation columns only",
+            ));
+        }
+        let goal = vector("goal", &goal, false)?;
+        self.run.set_goal(&self.dmp, &goal).map_err(core)
+    }
+}

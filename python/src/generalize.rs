@@ -1,0 +1,168 @@
+//! `Generalizer`: DMPs at task queries, `G(q)` → a DMP for a new query
+//! (`primo_skill::Skill::from_dmps`: LWR or GPR over the parameter
+//! vectors, the start generalized with the same coefficients).
+
+use pyo3::prelude::*;
+use pyo3::types::PyTuple;
+
+use primo_core::generalize::Method;
+use primo_skill::dmpfile::{DmpFile, FORMAT, Fitted, VERSION};
+use primo_skill::{HostDmp, Skill};
+
+use crate::arrays::{Array, out, vector};
+use crate::dmp::Dmp;
+use crate::errors::{core, invalid, skill};
+
+/// `G(q)` over examples `(query, dmp)` (a query is a float or 1 to 4
+/// values): LWR (`method="lwr"`, `bandwidth`) or GPR (`"gpr"`,
+/// `bandwidth` as length scale, `noise`) on the DMPs' parameter vectors,
+/// the start generalized with the same coefficients. With two examples
+/// both are the straight line through them.
+///
+/// >>> import numpy as np, primo
+/// >>> t = np.linspace(0.0, 1.0, 101)
+/// >>> low = primo.Dmp.fit(t, 0.2 * t, names=["x"])
+/// >>> high = primo.Dmp.fit(t, 1.0 * t, names=["x"])
+/// >>> g = primo.Generalizer([(0.2, low), (1.0, high)])
+/// >>> round(float(g.generalize(0.6).goal[0]), 4)
+/// 0.6
+#[pyclass(module = "primo._primo")]
+pub struct Generalizer {
+    skill: Skill,
+    /// The examples and settings, for pickling.
+    examples: Vec<(Vec<f32>, Dmp)>,
+    method: String,
+    bandwidth: Option<f64>,
+    noise: f64,
+}
+
+/// The regression `method` ("lwr" or "gpr") with its bandwidth (LWR) or
+/// length scale (GPR) and noise (GPR).
+fn method(name: &str, bandwidth: Option<f64>, noise: f64) -> PyResult<Method> {
+    let bandwidth = match bandwidth {
+        Some(b) if !(b.is_finite() && b > 0.0 && (b as f32) > 0.0) => {
+            return Err(invalid(format!(
+                "bandwidth: {b} must be a positive, finite number"
+            )));
+        }
+        b => b.map(|b| b as f32),
+    };
+    if !(noise.is_finite() && noise >= 0.0) {
+        return Err(invalid(format!(
+            "noise: {noise} must be a finite number >= 0"
+        )));
+    }
+    match name {
+        "lwr" => Ok(Method::Lwr { bandwidth }),
+        "gpr" => Ok(Method::Gpr {
+            length_scale: bandwidth,
+            noise: noise as f32,
+        }),
+        other => Err(invalid(format!(
+            "method: `{other}`, expected \"lwr\" or \"gpr\""
+        ))),
+    }
+}
+
+#[pymethods]
+impl Generalizer {
+    #[new]
+    #[pyo3(signature = (examples, method="lwr", bandwidth=None, noise=0.0))]
+    fn new(
+        examples: Vec<(Array<'_>, Dmp)>,
+        method: &str,
+        bandwidth: Option<f64>,
+        noise: f64,
+    ) -> PyResult<Generalizer> {
+        let regression = self::method(method, bandwidth, noise)?;
+        let mut kept = Vec::new();
+        for (i, (q, dmp)) in examples.iter().enumerate() {
+            let query = vector(&format!("examples[{i}] query"), q, true)?;
+            match &dmp.fitted {
+                Fitted::Discrete(f) if f.orientations.is_empty() => {}
+                _ => {
+                    return Err(invalid(format!(
+                        "examples[{i}]: generalization takes discrete DMPs without orientation \
+                         columns"
+                    )));
+                }
+            }
+            kept.push((query, dmp.clone()));
+        }
+        let Some((
+            _,
+            Dmp {
+                fitted: Fitted::Discrete(first),
+            },
+        )) = kept.first()
+        else {
+            return Err(invalid("examples: give at least one (query, dmp) pair"));
+        };
+        let names = first.names.clone();
+        let mut dmps: Vec<(&[f32], HostDmp)> = Vec::new();
+        for (i, (q, dmp)) in kept.iter().enumerate() {
+            if let Fitted::Discrete(f) = &dmp.fitted {
+                if f.names != names {
+                    return Err(invalid(format!(
+                        "examples[{i}]: columns {:?}, the first example's are {names:?}",
+                        f.names
+                    )));
+                }
+                dmps.push((q, f.dmp.clone()));
+            }
+        }
+        let skill = Skill::from_dmps(names, &dmps, regression).map_err(skill)?;
+        Ok(Generalizer {
+            skill,
+            examples: kept,
+            method: method.to_string(),
+            bandwidth,
+            noise,
+        })
+    }
+
+    /// The DMP for query `q`.
+    fn generalize(&self, q: Array<'_>) -> PyResult<Dmp> {
+        let query = vector("q", &q, true)?;
+        let (dmp, exec) = self.skill.movement(&query, &[]).map_err(skill)?;
+        let mut theta = vec![0.0; dmp.param_len()];
+        dmp.params(&mut theta).map_err(core)?;
+        let dmp = HostDmp::from_shape(&dmp.shape(), dmp.dof(), dmp.kernels(), &exec.start, &theta)
+            .map_err(core)?;
+        Ok(Dmp::from_file(DmpFile {
+            format: FORMAT.into(),
+            version: VERSION,
+            names: self.skill.names().to_vec(),
+            orientations: Vec::new(),
+            dmp,
+        }))
+    }
+
+    /// `G(q)`, the parameter vector.
+    fn params<'py>(&self, py: Python<'py>, q: Array<'_>) -> PyResult<Bound<'py, PyAny>> {
+        let query = vector("q", &q, true)?;
+        Ok(out(py, &self.skill.generalize(&query).map_err(skill)?).into_any())
+    }
+
+    #[getter]
+    fn query_dim(&self) -> usize {
+        self.skill.query_dim()
+    }
+
+    #[getter]
+    fn names(&self) -> Vec<String> {
+        self.skill.names().to_vec()
+    }
+
+    fn __len__(&self) -> usize {
+        self.examples.len()
+    }
+
+    fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyTuple>> {
+        let py = slf.py();
+        let this = slf.borrow();
+        let examples: Vec<(Vec<f32>, Dmp)> = this.examples.clone();
+        let args = (examples, this.method.clone(), this.bandwidth, this.noise);
+        (py.get_type::<Generalizer>(), args).into_pyobject(py)
+    }
+}

@@ -1,0 +1,466 @@
+//! The core's ask/tell learners: golden section and Illinois (a scalar
+//! query), secant (a query of 1 to 4 values), PoWER. Each keeps its
+//! settings and what it was told, so it pickles as those and is rebuilt
+//! by replaying them: the core's learners are deterministic, so the copy
+//! is the original, bit for bit.
+
+use heapless::Vec as HVec;
+use pyo3::IntoPyObjectExt;
+use pyo3::prelude::*;
+use pyo3::types::PyTuple;
+
+use primo_core::golden::{ErrorLearner, SearchConfig, Status};
+use primo_core::power::{Block, PowerConfig};
+use primo_core::secant::SecantConfig;
+use primo_learn::learning::MAX_EXTENDED;
+use primo_skill::MAX_QUERY;
+
+use crate::arrays::{Array, out, out2, vector};
+use crate::errors::{core, invalid};
+
+/// Largest importance sampler a Python PoWER learner holds.
+const MAX_SAMPLER: usize = 10;
+
+/// A status as Python names it.
+fn status(s: Status) -> &'static str {
+    match s {
+        Status::Running => "running",
+        Status::Converged => "converged",
+        Status::BudgetExhausted => "budget_exhausted",
+        Status::BracketCollapsed => "bracket_collapsed",
+        Status::Stalled => "stalled",
+    }
+}
+
+/// A finite f32 from a Python float (`what` names it).
+fn scalar(what: &str, v: f64) -> PyResult<f32> {
+    let x = v as f32;
+    if x.is_finite() {
+        Ok(x)
+    } else {
+        Err(invalid(format!("{what}: {v} is not a finite f32 number")))
+    }
+}
+
+/// `(callable, args, state)` for `__reduce__`.
+fn reduce<'py, A, S>(slf: &Bound<'py, PyAny>, args: A, state: S) -> PyResult<Bound<'py, PyTuple>>
+where
+    A: IntoPyObject<'py>,
+    S: IntoPyObject<'py>,
+{
+    let py = slf.py();
+    let args = args.into_bound_py_any(py)?;
+    let state = state.into_bound_py_any(py)?;
+    PyTuple::new(py, [slf.get_type().into_any(), args, state])
+}
+
+/// Golden section and Illinois: the same settings and interface.
+macro_rules! scalar_learner {
+    ($name:ident, $core:ty, $doc:literal) => {
+        #[doc = $doc]
+        #[pyclass(module = "primo._primo")]
+        pub struct $name {
+            learner: $core,
+            cfg: SearchConfig,
+            told: Vec<f64>,
+        }
+
+        #[pymethods]
+        impl $name {
+            #[new]
+            #[pyo3(signature = (low, high, desired, precision=0.002, max_rollouts=30))]
+            fn new(
+                low: f64,
+                high: f64,
+                desired: f64,
+                precision: f64,
+                max_rollouts: u32,
+            ) -> PyResult<Self> {
+                let cfg = SearchConfig {
+                    low: scalar("low", low)?,
+                    high: scalar("high", high)?,
+                    desired: scalar("desired", desired)?,
+                    precision: scalar("precision", precision)?,
+                    max_rollouts,
+                };
+                Ok(Self {
+                    learner: <$core>::new(cfg).map_err(core)?,
+                    cfg,
+                    told: Vec::new(),
+                })
+            }
+
+            /// The query to roll out next, or None once finished.
+            fn ask(&self) -> Option<f64> {
+                self.learner.ask().map(f64::from)
+            }
+
+            /// The error of the asked query (> 0: the query must grow).
+            fn tell(&mut self, error: f64) -> PyResult<&'static str> {
+                let s = self.learner.tell(scalar("error", error)?).map_err(core)?;
+                self.told.push(error);
+                Ok(status(s))
+            }
+
+            #[getter]
+            fn status(&self) -> &'static str {
+                status(self.learner.status())
+            }
+
+            #[getter]
+            fn done(&self) -> bool {
+                self.learner.status() != Status::Running
+            }
+
+            #[getter]
+            fn rollouts(&self) -> u32 {
+                self.learner.rollouts()
+            }
+
+            /// `(query, error)` of the smallest |error| so far.
+            #[getter]
+            fn best(&self) -> Option<(f64, f64)> {
+                self.learner
+                    .best()
+                    .map(|b| (f64::from(b.query), f64::from(b.error)))
+            }
+
+            #[getter]
+            fn bracket(&self) -> (f64, f64) {
+                let (l, h) = self.learner.bracket();
+                (f64::from(l), f64::from(h))
+            }
+
+            fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyTuple>> {
+                let this = slf.borrow();
+                let c = this.cfg;
+                let args = (c.low, c.high, c.desired, c.precision, c.max_rollouts);
+                reduce(slf.as_any(), args, this.told.clone())
+            }
+
+            fn __setstate__(&mut self, told: Vec<f64>) -> PyResult<()> {
+                for e in told {
+                    self.tell(e)?;
+                }
+                Ok(())
+            }
+        }
+    };
+}
+
+scalar_learner!(
+    GoldenSection,
+    primo_core::golden::GoldenSection,
+    "The paper's error learning: golden-section search on a scalar query
+within `[low, high]`, from `desired`, until |error| < `precision`.
+`tell(error)` takes the error of the asked query (> 0: the query must
+grow); only its sign is used.
+
+>>> import primo
+>>> learner = primo.GoldenSection(0.0, 2.0, desired=0.5, precision=1e-3)
+>>> while (q := learner.ask()) is not None:
+...     _ = learner.tell(0.5 - q * q)
+>>> learner.status, round(learner.best[0], 3)
+('converged', 0.707)"
+);
+scalar_learner!(
+    Illinois,
+    primo_core::illinois::Illinois,
+    "Bracketed error learning that also uses the error's magnitude (secant
+steps, then Illinois regula falsi); golden section's settings and interface.
+
+>>> import primo
+>>> learner = primo.Illinois(0.0, 2.0, desired=0.5, precision=1e-3)
+>>> while (q := learner.ask()) is not None:
+...     _ = learner.tell(0.5 - q * q)
+>>> learner.status, learner.rollouts <= 6
+('converged', True)"
+);
+
+/// The paper's eq. 10, `q ← q + K ε`, on a query of 1 to 4 values in the
+/// box `[low, high]`; the gain `K` starts at `I` and is learned by Broyden
+/// updates. `tell` takes `ε = desired − measured`.
+///
+/// >>> import numpy as np, primo
+/// >>> a = np.array([[2.5, 0.5], [-0.4, 0.7]])
+/// >>> learner = primo.Secant([-2, -2], [2, 2], desired=[0.5, 0.3], precision=1e-4)
+/// >>> while (q := learner.ask()) is not None:
+/// ...     _ = learner.tell(np.array([0.5, 0.3]) - a @ q)
+/// >>> learner.status, learner.rollouts <= 6
+/// ('converged', True)
+#[pyclass(module = "primo._primo")]
+pub struct Secant {
+    learner: primo_core::secant::Secant<MAX_QUERY>,
+    args: (Vec<f32>, Vec<f32>, Vec<f32>, f32, u32),
+    told: Vec<Vec<f32>>,
+}
+
+/// A query-sized vector (`what` names it).
+fn query_vector(what: &str, a: &Array<'_>) -> PyResult<HVec<f32, MAX_QUERY>> {
+    let v = vector(what, a, true)?;
+    HVec::from_slice(&v).map_err(|_| {
+        invalid(format!(
+            "{what}: {} values, a query has 1 to {MAX_QUERY}",
+            v.len()
+        ))
+    })
+}
+
+#[pymethods]
+impl Secant {
+    #[new]
+    #[pyo3(signature = (low, high, desired, precision=0.002, max_rollouts=30))]
+    fn new(
+        low: Array<'_>,
+        high: Array<'_>,
+        desired: Array<'_>,
+        precision: f64,
+        max_rollouts: u32,
+    ) -> PyResult<Secant> {
+        let cfg = SecantConfig {
+            low: query_vector("low", &low)?,
+            high: query_vector("high", &high)?,
+            desired: query_vector("desired", &desired)?,
+            precision: scalar("precision", precision)?,
+            max_rollouts,
+        };
+        let args = (
+            cfg.low.to_vec(),
+            cfg.high.to_vec(),
+            cfg.desired.to_vec(),
+            cfg.precision,
+            max_rollouts,
+        );
+        Ok(Secant {
+            learner: primo_core::secant::Secant::new(cfg).map_err(core)?,
+            args,
+            told: Vec::new(),
+        })
+    }
+
+    fn ask<'py>(&self, py: Python<'py>) -> Option<Bound<'py, PyAny>> {
+        self.learner.ask().map(|q| out(py, q).into_any())
+    }
+
+    /// The error vector of the asked query, `desired − measured`.
+    fn tell(&mut self, error: Array<'_>) -> PyResult<&'static str> {
+        let e = vector("error", &error, true)?;
+        if e.len() != self.learner.dim() {
+            return Err(invalid(format!(
+                "error: {} values, the query has {}",
+                e.len(),
+                self.learner.dim()
+            )));
+        }
+        let s = self.learner.tell(&e).map_err(core)?;
+        self.told.push(e);
+        Ok(status(s))
+    }
+
+    #[getter]
+    fn status(&self) -> &'static str {
+        status(self.learner.status())
+    }
+
+    #[getter]
+    fn done(&self) -> bool {
+        self.learner.status() != Status::Running
+    }
+
+    #[getter]
+    fn rollouts(&self) -> u32 {
+        self.learner.rollouts()
+    }
+
+    #[getter]
+    fn dim(&self) -> usize {
+        self.learner.dim()
+    }
+
+    /// `(query, error)` of the smallest max |error_i| so far.
+    #[getter]
+    fn best<'py>(&self, py: Python<'py>) -> Option<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
+        self.learner
+            .best()
+            .map(|b| (out(py, b.query).into_any(), out(py, b.error).into_any()))
+    }
+
+    /// The learned gain `K` (dim × dim).
+    #[getter]
+    fn gain<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let rows: Vec<f32> = self.learner.gain().flatten().copied().collect();
+        Ok(out2(py, &rows, self.learner.dim())?.into_any())
+    }
+
+    fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyTuple>> {
+        let this = slf.borrow();
+        reduce(slf.as_any(), this.args.clone(), this.told.clone())
+    }
+
+    fn __setstate__(&mut self, told: Vec<Vec<f64>>) -> PyResult<()> {
+        for e in told {
+            let e: Vec<f32> = e.iter().map(|v| *v as f32).collect();
+            self.learner.tell(&e).map_err(core)?;
+            self.told.push(e);
+        }
+        Ok(())
+    }
+}
+
+/// The core's PoWER at the host's capacity: a DMP's parameters and the
+/// query.
+type CorePower = primo_core::power::Power<MAX_EXTENDED, MAX_SAMPLER>;
+
+/// PoWER's constructor arguments: initial, blocks `(len, variance,
+/// decay)`, roll-outs per update, roll out the mean, sampler, seed.
+type PowerArgs = (Vec<f32>, Vec<(usize, f32, f32)>, u16, bool, usize, u64);
+
+/// PoWER (Kober & Peters) as in the paper: contiguous `blocks` of
+/// `(len, variance, decay)`, the mean rolled out once per update
+/// (`roll_out_mean`), `rollouts_per_update` explorations, an importance
+/// sampler of the best `sampler` roll-outs; deterministic per `seed`.
+/// At most 2066 parameters (a 16-DoF, 128-kernel DMP and its query).
+///
+/// >>> import numpy as np, primo
+/// >>> power = primo.Power([1.0, -1.0], blocks=[(2, 0.04, 1.0)], seed=42)
+/// >>> for _ in range(200):
+/// ...     theta = power.ask()
+/// ...     _ = power.tell(1.0 / (1.0 + float(theta @ theta)))
+/// >>> power.updates, bool(np.abs(power.mean).max() < 0.3)
+/// (50, True)
+#[pyclass(module = "primo._primo")]
+pub struct Power {
+    learner: Box<CorePower>,
+    args: PowerArgs,
+    /// Rewards told, and whether a roll-out was asked after them.
+    told: (Vec<f32>, bool),
+}
+
+#[pymethods]
+impl Power {
+    #[new]
+    #[pyo3(signature = (initial, blocks, rollouts_per_update=3, roll_out_mean=true, sampler=3, seed=0))]
+    fn new(
+        initial: Array<'_>,
+        blocks: Vec<(usize, f64, f64)>,
+        rollouts_per_update: u16,
+        roll_out_mean: bool,
+        sampler: usize,
+        seed: u64,
+    ) -> PyResult<Power> {
+        let initial = vector("initial", &initial, false)?;
+        let list = blocks
+            .iter()
+            .enumerate()
+            .map(|(i, (len, variance, decay))| {
+                Ok(Block {
+                    len: *len,
+                    variance: scalar(&format!("blocks[{i}] variance"), *variance)?,
+                    decay: scalar(&format!("blocks[{i}] decay"), *decay)?,
+                })
+            })
+            .collect::<PyResult<Vec<Block>>>()?;
+        let cfg = PowerConfig {
+            blocks: HVec::from_slice(&list).map_err(|_| {
+                invalid(format!(
+                    "blocks: {} blocks, at most {}",
+                    list.len(),
+                    primo_core::power::MAX_BLOCKS
+                ))
+            })?,
+            rollouts_per_update,
+            roll_out_mean,
+            sampler,
+        };
+        let mut learner = Box::new(CorePower::idle());
+        learner.reset(&initial, cfg, seed).map_err(core)?;
+        let blocks = list.iter().map(|b| (b.len, b.variance, b.decay)).collect();
+        Ok(Power {
+            learner,
+            args: (
+                initial,
+                blocks,
+                rollouts_per_update,
+                roll_out_mean,
+                sampler,
+                seed,
+            ),
+            told: (Vec::new(), false),
+        })
+    }
+
+    /// The parameters to roll out next (the same until told).
+    fn ask<'py>(&mut self, py: Python<'py>) -> Bound<'py, PyAny> {
+        self.told.1 = true;
+        out(py, self.learner.ask()).into_any()
+    }
+
+    /// The reward (finite, >= 0) of the asked roll-out; True when it
+    /// completed an update.
+    fn tell(&mut self, reward: f64) -> PyResult<bool> {
+        let r = scalar("reward", reward)?;
+        let updated = self.learner.tell(r).map_err(core)?;
+        self.told.0.push(r);
+        self.told.1 = false;
+        Ok(updated)
+    }
+
+    #[getter]
+    fn mean<'py>(&self, py: Python<'py>) -> Bound<'py, PyAny> {
+        out(py, self.learner.mean()).into_any()
+    }
+
+    #[getter]
+    fn updates(&self) -> u32 {
+        self.learner.updates()
+    }
+
+    #[getter]
+    fn rollouts(&self) -> usize {
+        self.told.0.len()
+    }
+
+    #[getter]
+    fn variances<'py>(&self, py: Python<'py>) -> Bound<'py, PyAny> {
+        out(py, self.learner.variances()).into_any()
+    }
+
+    #[getter]
+    fn next_is_mean(&self) -> bool {
+        self.learner.next_is_mean()
+    }
+
+    /// `(parameters, reward)` of the best roll-out so far.
+    #[getter]
+    fn best<'py>(&self, py: Python<'py>) -> Option<(Bound<'py, PyAny>, f64)> {
+        self.learner
+            .best()
+            .map(|b| (out(py, b.params).into_any(), f64::from(b.reward)))
+    }
+
+    /// The importance sampler, best first: `(parameters, reward)` pairs.
+    #[getter]
+    fn sampler<'py>(&self, py: Python<'py>) -> Vec<(Bound<'py, PyAny>, f64)> {
+        self.learner
+            .sampler()
+            .map(|(p, r)| (out(py, p).into_any(), f64::from(r)))
+            .collect()
+    }
+
+    fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyTuple>> {
+        let this = slf.borrow();
+        reduce(slf.as_any(), this.args.clone(), this.told.clone())
+    }
+
+    fn __setstate__(&mut self, told: (Vec<f64>, bool)) -> PyResult<()> {
+        for r in told.0 {
+            self.learner.ask();
+            self.tell(r)?;
+        }
+        if told.1 {
+            self.learner.ask();
+            self.told.1 = true;
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,31 @@
+//! The native module behind the `primo` Python package (`primo._primo`):
+//! primo's DMPs, generalization, learners and the simulated pouring cell,
+//! with NumPy arrays in and out. The typed Python layer and its docs are
+//! in `primo/`; this crate only converts and checks.
+//!
+//! Every input is checked before it reaches the libraries and every error
+//! they report becomes a Python exception (`errors`): no input makes a
+//! Rust panic reach the interpreter.
+
+use pyo3::prelude::*;
+
+mod arrays;
+mod cell;
+mod dmp;
+mod errors;
+mod generalize;
+mod learners;
+
+#[pymodule]
+fn _primo(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add_class::<dmp::Dmp>()?;
+    m.add_class::<dmp::DmpRun>()?;
+    m.add_class::<generalize::Generalizer>()?;
+    m.add_class::<learners::GoldenSection>()?;
+    m.add_class::<learners::Illinois>()?;
+    m.add_class::<learners::Secant>()?;
+    m.add_class::<learners::Power>()?;
+    m.add_class::<cell::Cell>()?;
+    Ok(())
+}

@@ -1,0 +1,103 @@
+"""The pouring cell: the same numbers as `primo rollout`, in parallel."""
+
+import json
+import pickle
+import subprocess
+
+import numpy as np
+import pytest
+
+import primo
+
+SETTINGS = {"glass": "small", "kernels": 10, "bottle": 0.6, "target": 0.2, "seed": 7}
+FLAGS = ["--glass", "small", "--kernels", "10", "--bottle", "0.6", "--target", "0.2", "--seed", "7"]
+
+
+@pytest.fixture(scope="module")
+def cell():
+    return primo.Cell(**SETTINGS)
+
+
+def test_start_is_print_start(cell, run_primo):
+    cli = json.loads(run_primo("rollout", "--print-start", *FLAGS))
+    ours = cell.start()
+    for key in ["layout", "space", "dof", "kernels", "bottle"]:
+        assert ours[key] == cli[key], key
+    assert (ours["glass"], ours["target"]) == ("small", 0.2)
+    np.testing.assert_array_equal(ours["start"], np.array(cli["start"], dtype=np.float32))
+    np.testing.assert_array_equal(ours["std"], np.array(cli["std"], dtype=np.float32))
+    assert len(cell) == cell.size == 7 * 10 + 7 + 1 + 1
+
+
+def test_rollout_is_the_command_lines(cell, run_primo, tmp_path):
+    start = cell.start()
+    rng = np.random.default_rng(1)
+    theta = start["start"] + 0.3 * start["std"] * rng.standard_normal(len(cell))
+    theta = theta.astype(np.float32).astype(np.float64)
+    (tmp_path / "theta.json").write_text(json.dumps(theta.tolist()))
+    cli = json.loads(
+        run_primo("rollout", "--params", str(tmp_path / "theta.json"), "--series",
+                  str(tmp_path / "series.csv"), *FLAGS)
+    )
+    ours = cell.rollout(theta, series=True)
+    for key in ["poured", "spilled", "error", "reward", "safe"]:
+        assert ours[key] == cli[key], key
+    assert ours["reason"] == cli["rejected"]
+    csv = np.loadtxt(tmp_path / "series.csv", delimiter=",", skiprows=1)
+    header = (tmp_path / "series.csv").read_text().splitlines()[0].split(",")
+    assert list(ours["series"]) == header
+    for j, name in enumerate(header):
+        if name not in ("t", "scale_g") and name not in cell.names:
+            np.testing.assert_array_equal(ours["series"][name], csv[:, j], err_msg=name)
+    np.testing.assert_allclose(ours["series"]["t"], csv[:, 0], atol=1e-6)
+
+
+def test_rollout_many_is_a_loop_of_rollout(cell, primo_bin):
+    start = cell.start()
+    rng = np.random.default_rng(2)
+    thetas = start["start"] + 0.5 * start["std"] * rng.standard_normal((5, len(cell)))
+    thetas[4, 0] = 1e6  # a huge weight: a rejected, unsafe movement
+    many = cell.rollout_many(thetas)
+    assert many == [cell.rollout(t, seed=cell.seed + i) for i, t in enumerate(thetas)]
+    assert many[4]["safe"] is False and many[4]["reward"] == 0.0 and "limit" in many[4]["reason"]
+    assert cell.rollout_many(thetas[:2], seeds=[3, 4]) == [
+        cell.rollout(thetas[0], seed=3), cell.rollout(thetas[1], seed=4)
+    ]
+    # `primo rollout --serve` numbers its lines' seeds the same way.
+    lines = "\n".join(json.dumps(t.tolist()) for t in thetas[:3]) + "\n"
+    done = subprocess.run([str(primo_bin), "rollout", "--serve", *FLAGS], input=lines,
+                          capture_output=True, text=True, check=True)
+    served = [json.loads(line) for line in done.stdout.splitlines()]
+    assert [s["poured"] for s in served] == [m["poured"] for m in many[:3]]
+
+
+def test_pickles_as_its_settings(cell):
+    copy = pickle.loads(pickle.dumps(cell))
+    assert repr(copy) == repr(cell)
+    theta = cell.start()["start"]
+    assert copy.rollout(theta) == cell.rollout(theta)
+
+
+def test_bad_input_is_a_value_error(cell):
+    n = len(cell)
+    for call, message in [
+        (lambda: cell.rollout([1.0, 2.0]), f"theta: 2 values, the layout needs {n}"),
+        (lambda: cell.rollout(np.full(n, np.nan)), "theta: value 1 is NaN"),
+        (lambda: cell.rollout(np.full(n, 1e300)), "out of f32 range"),
+        (lambda: cell.rollout(np.zeros((2, n))), "1-D array"),
+        (lambda: cell.rollout_many(np.zeros(n)), "2-D array"),
+        (lambda: cell.rollout_many(np.zeros((2, n)), seeds=[1]), "1 seeds for 2 rows"),
+        (lambda: cell.rollout_many(np.zeros((0, n + 1))), None),
+        (lambda: cell.rollout(np.zeros(n), seed=-1), "seed"),
+        (lambda: primo.Cell(glass="huge"), "glass"),
+        (lambda: primo.Cell(bottle=0.1, target=0.2), "--target 0.2"),
+        (lambda: primo.Cell(kernels=1), "--kernels 1"),
+        (lambda: primo.Cell(bottle=float("nan")), "bottle"),
+    ]:
+        if message is None:
+            assert call() == []
+            continue
+        with pytest.raises(ValueError, match=message):
+            call()
+    # A zero vector is a movement the gate refuses, not an error.
+    assert cell.rollout(np.zeros(n))["safe"] is False

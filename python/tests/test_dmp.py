@@ -1,0 +1,145 @@
+"""DMPs: the same fit and run as `primo dmp`, files, pickling, errors."""
+
+import io
+import json
+import pickle
+
+import numpy as np
+import pytest
+
+import primo
+from conftest import ROOT
+
+REACH = ROOT / "examples" / "reach.csv"
+
+
+def reach():
+    data = np.loadtxt(REACH, delimiter=",", skiprows=1)
+    return data[:, 0], data[:, 1:]
+
+
+def test_fit_and_run_equal_the_command_line(run_primo, tmp_path):
+    t, y = reach()
+    dmp = primo.Dmp.fit(t, y, names=["x", "z"], kernels=30)
+    cli = json.loads(run_primo("dmp", "fit", "--demo", str(REACH), "--kernels", "30"))
+    ours = json.loads(dmp.to_json())
+    assert ours["names"] == cli["names"] == ["x", "z"]
+    for key in ["tau", "alpha", "width", "start", "goal", "scaled"]:
+        assert ours["dmp"][key] == cli["dmp"][key], key
+    np.testing.assert_allclose(ours["dmp"]["weights"], cli["dmp"]["weights"], rtol=1e-4, atol=1e-6)
+
+    (tmp_path / "dmp.json").write_text(json.dumps(cli))
+    csv = run_primo("dmp", "run", str(tmp_path / "dmp.json"), "--dt", "0.01", "--goal", "0.5,0.2")
+    expected = np.loadtxt(io.StringIO(csv), delimiter=",", skiprows=1)
+    times, positions = primo.Dmp.load(tmp_path / "dmp.json").run(dt=0.01, goal=[0.5, 0.2])
+    # The command line prints times to the microsecond.
+    np.testing.assert_allclose(times, expected[:, 0], atol=1e-6)
+    np.testing.assert_array_equal(positions.astype(np.float32), expected[:, 1:].astype(np.float32))
+    # The demonstration is reproduced (README: 6.2e-6 on this kind of movement).
+    _, replay = dmp.run(dt=0.001)
+    assert np.abs(replay - y).max() < 1e-4
+
+
+def test_step_by_step_equals_the_whole_run():
+    t, y = reach()
+    dmp = primo.Dmp.fit(t, y, kernels=20)
+    times, positions, velocities = dmp.run(dt=0.002, velocities=True)
+    run = dmp.stepper()
+    rows = [run.position] + [run.step(0.002) for _ in range(len(times) - 1)]
+    np.testing.assert_array_equal(np.array(rows), positions)
+    assert velocities.shape == positions.shape
+    assert abs(run.time - times[-1]) < 1e-6 and run.phase == pytest.approx(1.0, abs=1e-5)
+
+
+def test_new_start_goal_and_tau():
+    t, y = reach()
+    dmp = primo.Dmp.fit(t, y, kernels=30)
+    times, positions = dmp.run(dt=0.01, tau=2.0, start=[0.1, 0.1], goal=[1.0, 0.1])
+    assert times[-1] == pytest.approx(2.0)
+    np.testing.assert_allclose(positions[0], [0.1, 0.1], atol=1e-7)
+    np.testing.assert_allclose(positions[-1], [1.0, 0.1], atol=2e-3)
+
+
+def test_parameters_files_and_pickles(tmp_path):
+    t, y = reach()
+    dmp = primo.Dmp.fit(t, y, kernels=10)
+    theta = dmp.params
+    assert theta.shape == (2 * 10 + 2 + 1,) and theta[-1] == pytest.approx(1.0)
+    theta[-1] = 2.0
+    dmp.params = theta
+    assert dmp.tau == 2.0
+    dmp.save(tmp_path / "d.json")
+    loaded = primo.Dmp.load(tmp_path / "d.json")
+    assert loaded == dmp and pickle.loads(pickle.dumps(dmp)) == dmp
+    np.testing.assert_array_equal(loaded.run(dt=0.01)[1], dmp.run(dt=0.01)[1])
+
+
+def test_orientation_columns_are_a_quaternion_dmp():
+    t = np.linspace(0.0, 1.0, 201)
+    s = t * t * (3 - 2 * t)
+    angle = np.radians(170) + np.radians(20) * s  # through 180°
+    q = np.stack([np.cos(angle / 2), 0 * t, 0 * t, np.sin(angle / 2)], axis=1)
+    dmp = primo.Dmp.fit(t, np.column_stack([s, q]), names=["x", "qw", "qx", "qy", "qz"])
+    assert dmp.orientations == [["qw", "qx", "qy", "qz"]] and dmp.dof == 4
+    _, rows = dmp.run(dt=0.005)
+    np.testing.assert_allclose(np.linalg.norm(rows[:, 1:], axis=1), 1.0, atol=1e-6)
+    ends = np.abs(rows[-1, 1:] @ q[-1])
+    assert ends == pytest.approx(1.0, abs=1e-6)
+    with pytest.raises(ValueError, match="velocities"):
+        dmp.run(velocities=True)
+
+
+def test_rhythmic():
+    t = np.linspace(0.0, 0.8, 161)
+    y = np.column_stack([np.sin(2 * np.pi * t / 0.8), 0.2 * np.cos(4 * np.pi * t / 0.8)])
+    dmp = primo.Dmp.fit_rhythmic(t, y, names=["a", "b"], kernels=25)
+    assert dmp.rhythmic and dmp.period == pytest.approx(0.8)
+    times, rows = dmp.run(dt=0.01, duration=1.6, frequency=2.5, amplitude=[2.0, 1.0])
+    assert times[-1] == pytest.approx(1.6) and rows.shape == (161, 2)
+    assert primo.Dmp.from_json(dmp.to_json()) == dmp
+    with pytest.raises(ValueError, match="discrete"):
+        dmp.run(tau=1.0)
+
+
+@pytest.mark.parametrize(
+    "t, y, kwargs, message",
+    [
+        ([0, 1, 2], [[0, 1, 2]], {}, "y has 1 rows, t has 3 samples"),
+        ([0, 1, np.nan], [0, 1, 2], {}, r"t\[2\]: NaN is not a finite number"),
+        ([0, 1, 2], [0, np.inf, 2], {}, r"y\[1\]: inf is not a finite number"),
+        ([0, 1, 1], [0, 1, 2], {}, "strictly increasing"),
+        ([], [], {}, "at least 3 samples"),
+        ([0, 1, 2], [0, 1, 2], {"kernels": 1}, "outside 2..=128"),
+        ([0, 1, 2], [[0, 1], [1, 2], [2, 3]], {"names": ["x"]}, "1 names for 2 columns"),
+        ([0, 1, 2], [[0, 1], [1, 2], [2, 3]], {"names": ["x", "x"]}, "repeated"),
+        ([[0, 1, 2]], [0, 1, 2], {}, "expected a 1-D array"),
+        ([0, 1, 2], np.zeros((3, 2, 2)), {}, "expected a 2-D array"),
+        ([0, 1, 2], [1e40, 0, 0], {}, "out of f32 range"),
+    ],
+)
+def test_bad_input_is_a_value_error(t, y, kwargs, message):
+    with pytest.raises(ValueError, match=message):
+        primo.Dmp.fit(t, y, **kwargs)
+
+
+def test_bad_run_arguments_are_value_errors():
+    t, y = reach()
+    dmp = primo.Dmp.fit(t, y, kernels=10)
+    for kwargs, message in [
+        ({"dt": 0.0}, "dt: 0 must be a positive"),
+        ({"dt": np.nan}, "dt: NaN"),
+        ({"dt": 1e-9}, "at most"),
+        ({"tau": -1.0}, "tau"),
+        ({"goal": [1.0]}, "goal: 1 values, expected one per column"),
+        ({"start": [np.nan, 0.0]}, "not a finite number"),
+        ({"goal": [1e7, 0.0]}, "MAX_ABS_POSITION"),
+        ({"frequency": 1.0}, "rhythmic DMP only"),
+    ]:
+        with pytest.raises(ValueError, match=message):
+            dmp.run(**kwargs)
+    with pytest.raises(ValueError, match="parameter vector"):
+        dmp.params = [1.0, 2.0]
+    with pytest.raises(ValueError, match="primo-dmp"):
+        primo.Dmp.from_json('{"format": "other", "version": 2}')
+    with pytest.raises(OSError, match="missing.json"):
+        primo.Dmp.load("missing.json")

@@ -1,0 +1,106 @@
+"""The learners: convergence, determinism, pickling mid-run, errors."""
+
+import pickle
+
+import numpy as np
+import pytest
+
+import primo
+
+
+@pytest.mark.parametrize("cls, most", [(primo.GoldenSection, 12), (primo.Illinois, 6)])
+def test_scalar_learners_converge(cls, most):
+    learner = cls(0.0, 2.0, 0.5, precision=1e-3, max_rollouts=40)
+    while (q := learner.ask()) is not None:
+        learner.tell(0.5 - q * q)
+    assert learner.status == "converged" and learner.done
+    query, error = learner.best
+    assert abs(query - 0.5**0.5) < 1e-3 and abs(error) < 1e-3
+    assert learner.rollouts <= most
+
+
+@pytest.mark.parametrize("cls", [primo.GoldenSection, primo.Illinois])
+def test_scalar_learners_pickle_mid_run(cls):
+    learner = cls(0.1, 1.5, 0.5, precision=1e-4, max_rollouts=30)
+    for _ in range(3):
+        learner.tell(0.3 - 0.5 * learner.ask())
+    copy = pickle.loads(pickle.dumps(learner))
+    assert copy.ask() == learner.ask() and copy.bracket == learner.bracket
+    assert copy.rollouts == 3 and copy.best == learner.best
+
+
+def test_scalar_learner_errors():
+    with pytest.raises(ValueError):
+        primo.GoldenSection(1.0, 0.0, 0.5)
+    learner = primo.GoldenSection(0.0, 1.0, 0.5)
+    with pytest.raises(ValueError, match="not a finite"):
+        learner.tell(float("nan"))
+    assert learner.rollouts == 0
+
+
+def test_secant_converges_where_a_fixed_gain_diverges():
+    a = np.array([[2.5, 0.5], [-0.4, 0.7]])
+    b = np.array([0.1, -0.05])
+    desired = np.array([0.5, 0.3])
+    learner = primo.Secant([-2, -2], [2, 2], desired, precision=1e-4, max_rollouts=20)
+    while (q := learner.ask()) is not None:
+        learner.tell(desired - (a @ q + b))
+    assert learner.status == "converged" and learner.rollouts <= 6
+    query, error = learner.best
+    assert np.abs(error).max() < 1e-4 and learner.gain.shape == (2, 2)
+    copy = pickle.loads(pickle.dumps(learner))
+    np.testing.assert_array_equal(copy.best[0], query)
+    np.testing.assert_array_equal(copy.gain, learner.gain)
+    with pytest.raises(ValueError, match="1 to 4"):
+        primo.Secant(np.zeros(5), np.ones(5), np.full(5, 0.5))
+    fresh = primo.Secant([-2, -2], [2, 2], desired)
+    with pytest.raises(ValueError, match="3 values, the query has 2"):
+        fresh.tell([1.0, 2.0, 3.0])
+
+
+def power_run(seed, rollouts):
+    optimum = np.array([0.7, -0.4, 0.2, 1.1])
+    learner = primo.Power(np.zeros(4), [(4, 0.05, 0.98)], seed=seed)
+    for _ in range(rollouts):
+        theta = learner.ask()
+        learner.tell(float(np.exp(-4 * np.sum((theta - optimum) ** 2))))
+    return learner, optimum
+
+
+def test_power_converges_and_is_deterministic_per_seed():
+    learner, optimum = power_run(9, 400)
+    assert learner.updates == 100 and learner.rollouts == 400
+    assert np.exp(-4 * np.sum((learner.mean - optimum) ** 2)) > 0.97
+    again, _ = power_run(9, 400)
+    np.testing.assert_array_equal(again.mean, learner.mean)
+    other, _ = power_run(10, 400)
+    assert not np.array_equal(other.mean, learner.mean)
+    params, reward = learner.best
+    assert reward == max(r for _, r in learner.sampler) and params.shape == (4,)
+    assert learner.variances[0] == pytest.approx(0.05 * 0.98**100, rel=1e-4)
+
+
+def test_power_pickles_mid_update_and_while_asked():
+    learner, _ = power_run(3, 7)
+    asked = learner.ask()
+    copy = pickle.loads(pickle.dumps(learner))
+    np.testing.assert_array_equal(copy.ask(), asked)
+    for a in (learner, copy):
+        a.tell(0.5)
+    np.testing.assert_array_equal(copy.ask(), learner.ask())
+    np.testing.assert_array_equal(copy.mean, learner.mean)
+
+
+def test_power_errors():
+    with pytest.raises(ValueError, match="sum of block lengths"):
+        primo.Power(np.zeros(3), [(2, 0.1, 1.0)])
+    with pytest.raises(ValueError, match="decay"):
+        primo.Power(np.zeros(2), [(2, 0.1, 0.0)])
+    learner = primo.Power(np.zeros(2), [(2, 0.1, 1.0)])
+    with pytest.raises(ValueError, match="without a preceding ask"):
+        learner.tell(1.0)
+    learner.ask()
+    with pytest.raises(ValueError, match=">= 0"):
+        learner.tell(-1.0)
+    with pytest.raises(ValueError, match="capacity"):
+        primo.Power(np.zeros(5000), [(5000, 0.1, 1.0)])
