@@ -16,13 +16,15 @@ use crate::error::CliError;
 /// The cell and skill options shared by the learning commands.
 #[derive(Debug, Clone, clap::Args)]
 pub struct SkillArgs {
-    /// Coordinates the movement is learned in.
+    /// Coordinates the movement is learned in [default: cartesian for
+    /// error learning, joint for PoWER and `primo rollout`].
     #[arg(long, value_enum)]
     pub space: Option<Space>,
     /// Kernels per DoF of the DMPs.
     #[arg(long, default_value_t = 30)]
     pub kernels: usize,
-    /// The glass on the scale.
+    /// The glass on the scale [default: normal for `primo pour`, small
+    /// for `primo rollout`, as `primo experiment power`].
     #[arg(long, value_enum)]
     pub glass: Option<Glass>,
     /// Demonstrations `FILE=VOLUME` (repeat; CSV in the space's columns).

@@ -18,12 +18,17 @@ use crate::pour::SkillArgs;
 pub struct RolloutArgs {
     /// JSON array `[weights (dof×kernels, row by row), goals (dof), τ,
     /// q̂]`: θ is absolute; the movement executed is θ + G(q̂) − G(bottle).
+    /// `--print-start`'s output is accepted too (its `start`).
     #[arg(long, conflicts_with_all = ["serve", "print_start"])]
     params: Option<PathBuf>,
-    /// Answer JSON-array lines on stdin with one JSON line each.
+    /// Answer every line on stdin with one JSON line: a roll-out for a
+    /// JSON array (line n with seed `--seed` + n − 1), `{"invalid": why}`
+    /// for anything else (a blank line, not UTF-8, not an array of the
+    /// layout's length); the server goes on until stdin ends.
     #[arg(long, conflicts_with = "print_start")]
     serve: bool,
-    /// Print the generalized start vector and PoWER's exploration std.
+    /// Print the cell (glass, bottle, target, space), the layout, the
+    /// generalized start vector and PoWER's exploration std.
     #[arg(long)]
     print_start: bool,
     /// With --params: write the roll-out's time series (every 2 ms control
@@ -43,11 +48,26 @@ pub struct RolloutArgs {
     seed: u64,
 }
 
-/// Parses a roll-out vector: a JSON array of numbers, checked against
-/// the objective's layout.
+/// Parses a roll-out vector: a JSON array of numbers (or `--print-start`'s
+/// object, its `start`), checked against the objective's layout.
 fn parse_params(o: &Objective, what: &str, text: &str) -> Result<Vec<f32>, String> {
-    let values: Vec<f64> = serde_json::from_str(text)
-        .map_err(|e| format!("{what}: not a JSON array of numbers: {e}"))?;
+    let parsed = serde_json::from_str::<serde_json::Value>(text).and_then(|v| {
+        let start = v.get("start").cloned();
+        serde_json::from_value::<Vec<f64>>(start.unwrap_or(v))
+    });
+    let values = match parsed {
+        Ok(v) => v,
+        Err(_) if text.trim().is_empty() => {
+            return Err(format!("{what}: blank: expected a JSON array of numbers"));
+        }
+        Err(e) => {
+            let start: String = text.trim().chars().take(40).collect();
+            return Err(format!(
+                "{what}: `{start}` is not a JSON array of numbers (nor --print-start's \
+                 output): {e}"
+            ));
+        }
+    };
     o.vector(&values).map_err(|e| format!("{what}: {e}"))
 }
 
@@ -76,10 +96,10 @@ pub fn run(args: &RolloutArgs) -> Result<(), CliError> {
     if let Some(series) = &args.series {
         check_out_file("--series", series)?;
     }
-    let spec = args.skill.spec(Space::Joint, Glass::Normal)?;
+    let spec = args.skill.spec(Space::Joint, Glass::Small)?;
     let objective = Objective::new(&spec, args.bottle, args.target)?;
     if args.print_start {
-        return print_start(&objective);
+        return print_start(&objective, spec.glass);
     }
     if args.serve {
         return serve(&objective, args.seed);
@@ -103,9 +123,11 @@ pub fn run(args: &RolloutArgs) -> Result<(), CliError> {
     }
 }
 
-fn print_start(o: &Objective) -> Result<(), CliError> {
+fn print_start(o: &Objective, glass: primo_sim::cell::GlassKind) -> Result<(), CliError> {
     let Start { start, std } = o.start()?;
     let out = serde_json::json!({
+        "glass": glass,
+        "target": o.target(),
         "layout": LAYOUT,
         "space": o.space(),
         "dof": o.skill().dof(),
@@ -118,17 +140,23 @@ fn print_start(o: &Objective) -> Result<(), CliError> {
 }
 
 fn serve(o: &Objective, seed: u64) -> Result<(), CliError> {
-    let stdin = std::io::stdin();
+    let mut stdin = std::io::stdin().lock();
     let mut stdout = std::io::stdout();
-    for (i, line) in stdin.lock().lines().enumerate() {
-        let line = line.map_err(|e| CliError::other(format!("stdin: {e}")))?;
-        if line.trim().is_empty() {
-            continue;
+    let mut line = Vec::new();
+    for i in 0u64.. {
+        line.clear();
+        let read = stdin
+            .read_until(b'\n', &mut line)
+            .map_err(|e| CliError::other(format!("stdin: {e}")))?;
+        if read == 0 {
+            return Ok(());
         }
         let what = format!("stdin line {}", i + 1);
-        let answer = parse_params(o, &what, &line)
-            .and_then(|x| roll_out(o, &x, seed.wrapping_add(i as u64), false).map(|(a, _)| a))
-            .unwrap_or_else(|e| serde_json::json!({ "error": e }));
+        let answer = std::str::from_utf8(&line)
+            .map_err(|e| format!("{what}: not UTF-8 text ({e})"))
+            .and_then(|text| parse_params(o, &what, text))
+            .and_then(|x| roll_out(o, &x, seed.wrapping_add(i), false).map(|(a, _)| a))
+            .unwrap_or_else(|why| serde_json::json!({ "invalid": why }));
         writeln!(stdout, "{answer}")
             .and_then(|()| stdout.flush())
             .map_err(CliError::stdout)?;

@@ -77,38 +77,49 @@ fn rollout_prints_the_start_and_serves_json_lines() {
     assert_eq!(one["safe"], true);
     assert!(one["spilled"].as_f64().unwrap() > 0.03, "{one}");
 
-    // Serve: one answer per line, bad lines answered with an error.
+    // --print-start's own output is a --params file.
+    let printed = tmp("start.json");
+    std::fs::write(&printed, serde_json::to_string(&start).unwrap()).unwrap();
+    let (code, again, err) = primo(&["rollout", "--params", printed.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(again, out, "the same cell by default as experiment power");
+
+    // Serve: one answer per line, whatever the line; bad lines answered
+    // with `invalid` (never the volume error's key), and the server goes on.
     let mut far = x.clone();
     far[0] = serde_json::json!(1e6); // a huge weight: an unsafe movement
-    let input = format!(
-        "{}\nnot json\n[1, 2]\n{}\n",
+    let mut input = format!(
+        "{}\nnot json\n[1, 2]\n\n",
         serde_json::to_string(x).unwrap(),
-        serde_json::to_string(&far).unwrap()
-    );
-    let (code, out, err) = primo_with_input(
-        &["rollout", "--serve", "--glass", "small"],
-        input.as_bytes(),
-    );
+    )
+    .into_bytes();
+    input.extend_from_slice(b"\xff\xfe[\n");
+    input.extend(format!("{}\n", serde_json::to_string(&far).unwrap()).bytes());
+    let (code, out, err) = primo_with_input(&["rollout", "--serve", "--glass", "small"], &input);
     assert_eq!(code, 0, "{err}");
     let lines: Vec<serde_json::Value> = out
         .lines()
         .map(|l| serde_json::from_str(l).unwrap())
         .collect();
-    assert_eq!(lines.len(), 4);
+    assert_eq!(lines.len(), 6, "{out}");
     assert_eq!(lines[0]["poured"], one["poured"]);
-    assert!(lines[1]["error"].as_str().unwrap().contains("stdin line 2"));
+    assert!(lines[0]["error"].is_number(), "{}", lines[0]);
+    for (line, says) in [
+        (1, "stdin line 2: `not json` is not a JSON array"),
+        (2, "stdin line 3: 2 values, the layout needs 219"),
+        (3, "stdin line 4: blank"),
+        (4, "stdin line 5: not UTF-8"),
+    ] {
+        let why = lines[line]["invalid"].as_str().unwrap_or_default();
+        assert!(why.contains(says), "{}", lines[line]);
+        assert!(lines[line].get("error").is_none(), "{}", lines[line]);
+    }
+    assert_eq!(lines[5]["safe"], false);
+    assert_eq!(lines[5]["reward"], 0.0);
     assert!(
-        lines[2]["error"]
-            .as_str()
-            .unwrap()
-            .contains("2 values, the layout needs 219")
-    );
-    assert_eq!(lines[3]["safe"], false);
-    assert_eq!(lines[3]["reward"], 0.0);
-    assert!(
-        lines[3]["rejected"].as_str().unwrap().contains("limit"),
+        lines[5]["rejected"].as_str().unwrap().contains("limit"),
         "{}",
-        lines[3]
+        lines[5]
     );
 }
 

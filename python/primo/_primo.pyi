@@ -233,7 +233,7 @@ class Cell:
 
     def __init__(
         self,
-        glass: Literal["normal", "small"] = "normal",
+        glass: Literal["normal", "small"] = "small",
         space: Literal["joint", "cartesian"] = "joint",
         bottle: float = 0.5,
         target: float = 0.2,

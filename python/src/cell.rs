@@ -115,7 +115,7 @@ fn seed_of(what: &str, seed: &Bound<'_, PyAny>) -> PyResult<u64> {
 #[pymethods]
 impl Cell {
     #[new]
-    #[pyo3(signature = (glass="normal", space="joint", bottle=0.5, target=0.2, kernels=30, seed=1, demos=None))]
+    #[pyo3(signature = (glass="small", space="joint", bottle=0.5, target=0.2, kernels=30, seed=1, demos=None))]
     fn new(
         glass: &str,
         space: &str,
