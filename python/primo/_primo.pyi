@@ -176,7 +176,9 @@ class Illinois(_ScalarSearch):
 
 class Secant(_ErrorLearner):
     """The paper's eq. 10, ``q ← q + K ε``, on a query of 1 to 4 values,
-    the gain ``K`` learned by Broyden updates."""
+    ``K`` starting at ``gain · I``: learned by Broyden updates
+    (``rule="broyden"``), or fixed (``"fixed"``: eq. 10; ``"weighted"``:
+    eq. 11)."""
 
     def __init__(
         self,
@@ -185,6 +187,8 @@ class Secant(_ErrorLearner):
         desired: ArrayLike,
         precision: float = 0.002,
         max_rollouts: int = 30,
+        gain: float = 1.0,
+        rule: Literal["broyden", "fixed", "weighted"] = "broyden",
     ) -> None: ...
     def ask(self) -> Optional[Array]: ...
     def tell(self, error: ArrayLike) -> Status:

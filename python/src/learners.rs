@@ -11,7 +11,7 @@ use pyo3::types::PyTuple;
 
 use primo_core::golden::{ErrorLearner, SearchConfig, Status};
 use primo_core::power::{Block, PowerConfig};
-use primo_core::secant::SecantConfig;
+use primo_core::secant::{Rule, SecantConfig};
 use primo_learn::learning::MAX_EXTENDED;
 use primo_skill::MAX_QUERY;
 
@@ -178,8 +178,10 @@ steps, then Illinois regula falsi); golden section's settings and interface.
 );
 
 /// The paper's eq. 10, `q ← q + K ε`, on a query of 1 to 4 values in the
-/// box `[low, high]`; the gain `K` starts at `I` and is learned by Broyden
-/// updates. `tell` takes `ε = desired − measured`.
+/// box `[low, high]`; the gain `K` starts at `gain · I` and is learned by
+/// Broyden updates (`rule="broyden"`), or stays fixed (`"fixed"`: eq. 10;
+/// `"weighted"`: eq. 11, steps weighted by `e^{−εᵀε}`). `tell` takes
+/// `ε = desired − measured`.
 ///
 /// >>> import numpy as np, primo
 /// >>> a = np.array([[2.5, 0.5], [-0.4, 0.7]])
@@ -191,8 +193,20 @@ steps, then Illinois regula falsi); golden section's settings and interface.
 #[pyclass(module = "primo._primo")]
 pub struct Secant {
     learner: primo_core::secant::Secant<MAX_QUERY>,
-    args: (Vec<f32>, Vec<f32>, Vec<f32>, f32, u32),
+    args: (Vec<f32>, Vec<f32>, Vec<f32>, f32, u32, f32, String),
     told: Vec<Vec<f32>>,
+}
+
+/// A secant update rule by name.
+fn rule(name: &str) -> PyResult<Rule> {
+    match name {
+        "broyden" => Ok(Rule::Broyden),
+        "fixed" => Ok(Rule::Fixed),
+        "weighted" => Ok(Rule::Weighted),
+        other => Err(invalid(format!(
+            "rule: `{other}`, expected \"broyden\", \"fixed\" or \"weighted\""
+        ))),
+    }
 }
 
 /// A query-sized vector (`what` names it).
@@ -209,13 +223,16 @@ fn query_vector(what: &str, a: &Array<'_>) -> PyResult<HVec<f32, MAX_QUERY>> {
 #[pymethods]
 impl Secant {
     #[new]
-    #[pyo3(signature = (low, high, desired, precision=0.002, max_rollouts=30))]
+    #[pyo3(signature = (low, high, desired, precision=0.002, max_rollouts=30, gain=1.0, rule="broyden"))]
+    #[allow(clippy::too_many_arguments)]
     fn new(
         low: Array<'_>,
         high: Array<'_>,
         desired: Array<'_>,
         precision: f64,
         max_rollouts: u32,
+        gain: f64,
+        rule: &str,
     ) -> PyResult<Secant> {
         let cfg = SecantConfig {
             low: query_vector("low", &low)?,
@@ -223,6 +240,8 @@ impl Secant {
             desired: query_vector("desired", &desired)?,
             precision: scalar("precision", precision)?,
             max_rollouts,
+            gain: scalar("gain", gain)?,
+            rule: self::rule(rule)?,
         };
         let args = (
             cfg.low.to_vec(),
@@ -230,6 +249,8 @@ impl Secant {
             cfg.desired.to_vec(),
             cfg.precision,
             max_rollouts,
+            cfg.gain,
+            rule.to_string(),
         );
         Ok(Secant {
             learner: primo_core::secant::Secant::new(cfg).map_err(core)?,

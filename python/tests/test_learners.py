@@ -56,6 +56,19 @@ def test_secant_converges_where_a_fixed_gain_diverges():
     fresh = primo.Secant([-2, -2], [2, 2], desired)
     with pytest.raises(ValueError, match="3 values, the query has 2"):
         fresh.tell([1.0, 2.0, 3.0])
+    # The paper's eq. 10 with K = I fixed: I − A has an eigenvalue −1.38.
+    fixed = primo.Secant([-2, -2], [2, 2], desired, precision=1e-4, max_rollouts=20, rule="fixed")
+    while (q := fixed.ask()) is not None:
+        fixed.tell(desired - (a @ q + b))
+    assert fixed.status != "converged"
+    np.testing.assert_array_equal(fixed.gain, np.eye(2))
+    weighted = primo.Secant([-2], [2], [0.2], gain=2.0, rule="weighted")
+    weighted.tell([0.4])
+    assert abs(weighted.ask()[0] - (0.2 + 2.0 * 0.4 * np.exp(-0.16))) < 1e-6
+    again = pickle.loads(pickle.dumps(weighted))
+    assert again.ask()[0] == weighted.ask()[0]
+    with pytest.raises(ValueError, match="rule"):
+        primo.Secant([-2], [2], [0.2], rule="newton")
 
 
 def power_run(seed, rollouts):
