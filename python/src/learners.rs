@@ -11,7 +11,7 @@ use pyo3::types::PyTuple;
 
 use primo_core::golden::{ErrorLearner, SearchConfig, Status};
 use primo_core::power::{Block, PowerConfig};
-use primo_core::secant::SecantConfig;
+use primo_core::secant::{Rule, SecantConfig};
 use primo_learn::learning::MAX_EXTENDED;
 use primo_skill::MAX_QUERY;
 
@@ -223,6 +223,8 @@ impl Secant {
             desired: query_vector("desired", &desired)?,
             precision: scalar("precision", precision)?,
             max_rollouts,
+            gain: 1.0,
+            rule: Rule::Broyden,
         };
         let args = (
             cfg.low.to_vec(),
