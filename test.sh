@@ -33,8 +33,9 @@ cargo test --workspace --locked 2>&1 | tee -a "$log"
 # The Python package (python/, its own build): lints, then `pip install
 # ./python` into a virtual environment under target/ (maturin builds the
 # abi3 wheel; its Rust build is kept in target/python for the next run),
-# its tests against the primo binary built above, and the docstring
-# examples of the installed package.
+# its tests against the primo binary built above (the experiment sweeps'
+# among them, on a local Ray: requirements-test.txt installs it), and the
+# docstring examples of the installed package.
 (
   cd python
   cargo fmt --check

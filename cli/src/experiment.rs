@@ -2,18 +2,15 @@
 
 use std::path::{Path, PathBuf};
 
-use primo_learn::experiment::{PowerComparison, THRESHOLDS};
+use primo_learn::experiment::{THRESHOLDS, golden_settings, golden_skill, power_skill};
 use primo_learn::learning::{Algorithm, ERROR_LEARNERS};
 use primo_learn::output::{check_dir, create_dir};
-use primo_learn::pouring::built_in_skill;
-use primo_learn::report::{PowerSummary, median_rollouts, write_golden, write_power};
+use primo_learn::report::{PowerSetup, median_rollouts, write_golden, write_power_experiment};
 use primo_learn::stats::Estimate;
-use primo_sim::cell::{CellConfig, GlassKind};
 
-use crate::args::{Glass, Space};
+use crate::args::Glass;
 use crate::error::CliError;
 use crate::output::say;
-use crate::pour::SkillArgs;
 
 /// `primo experiment …`.
 #[derive(Debug, clap::Subcommand)]
@@ -88,20 +85,11 @@ fn golden(volumes: &[f64], precision: f64, seed: u64, out: &Path) -> Result<(), 
             "--precision {precision}: must be a positive volume in litres"
         )));
     }
-    let cell = CellConfig::standard(GlassKind::Normal);
-    let capacity = cell.bottle_litres();
+    let (cell, skill) = golden_skill()?;
     for v in volumes {
-        let mut s = primo_learn::learning::Settings::paper(Algorithm::Golden, *v, 0.2, seed);
-        s.precision = precision;
-        s.validate()
+        golden_settings(&cell, *v, Algorithm::Golden, precision, seed)
             .map_err(|e| CliError::input(format!("--volumes {v}: {e}")))?;
-        if *v > capacity {
-            return Err(CliError::input(format!(
-                "--volumes {v}: the cell's bottle holds {capacity:.3} l"
-            )));
-        }
     }
-    let skill = built_in_skill(&cell, primo_skill::Space::Cartesian, 30)?;
     let runs = primo_learn::experiment::golden(&skill, &cell, volumes, precision, seed)?;
     create_dir(out)?;
     write_golden(out, &runs, precision)?;
@@ -167,29 +155,20 @@ fn power(
         return Err(CliError::input("--runs and --updates must be at least 1"));
     }
     check_dir("--out", out)?;
-    let args = SkillArgs {
-        space: Some(Space::Joint),
-        kernels,
-        glass: Some(glass),
-        demos: Vec::new(),
-    };
-    let (cell, skill) = args.spec(Space::Joint, glass)?.build()?;
-    let [extended, ordinary] = primo_learn::experiment::power(&skill, &cell, runs, updates, seed)?;
-    let comparison = PowerComparison::of(&extended.runs, &ordinary.runs, updates * 4 + 1);
-    let summary = PowerSummary {
-        runs,
+    let (cell, skill) = power_skill(glass.into(), kernels)?;
+    let curves = primo_learn::experiment::power(&skill, &cell, runs, updates, seed)?;
+    let parameters = skill.param_len() + 1;
+    let seconds = started.elapsed().as_secs_f64();
+    create_dir(out)?;
+    let setup = PowerSetup {
         updates,
         kernels,
-        parameters: skill.param_len() + 1,
+        parameters,
         glass: glass.into(),
-        comparison: &comparison,
-        extended: &extended,
-        ordinary: &ordinary,
-        seconds: started.elapsed().as_secs_f64(),
     };
-    create_dir(out)?;
-    write_power(out, &summary)?;
-    for (name, c) in [("extended", &extended), ("ordinary", &ordinary)] {
+    let comparison = write_power_experiment(out, setup, &curves, seconds)?;
+    let [extended, ordinary] = &curves;
+    for (name, c) in [("extended", extended), ("ordinary", ordinary)] {
         say(&format!(
             "{name:>8}: start |error| {:.1} ml spilled {:.1} ml -> final |error| {:.2} ± {:.2} ml, spilled {:.2} ± {:.2} ml, reward {:.3}; {:.0} % of roll-outs reward 0, {} rejected",
             c.error.mean.first().copied().unwrap_or(f64::NAN) * 1e3,
@@ -233,8 +212,8 @@ fn power(
         e(&comparison.ordinary.regret, 1.0, 1),
         e(&comparison.error_ratio, 1.0, 2),
         e(&comparison.spill_ratio, 1.0, 2),
-        summary.parameters,
-        summary.seconds,
+        parameters,
+        seconds,
         out.display()
     ))
 }

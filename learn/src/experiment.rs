@@ -6,18 +6,23 @@
 //!   space, many seeded runs, mean ± std per update.
 //!
 //! Runs are independent and seeded, and spread over all cores; the results
-//! do not depend on how many cores there are.
+//! do not depend on how many cores there are. One seeded run of each is
+//! one function ([`golden_run`], [`power_run`]): the command line's
+//! parallel loops and the Python package's sweeps (local processes or
+//! Ray) call the same.
 
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::Error;
 use crate::learning::{Algorithm, ERROR_LEARNERS, Learner, Record, Settings, learn};
+use crate::pour::SkillSpec;
+use crate::pouring::built_in_skill;
 use crate::stats::{Estimate, bootstrap, mean, median};
-use primo_sim::cell::CellConfig;
-use primo_skill::Skill;
+use primo_sim::cell::{CellConfig, GlassKind};
+use primo_skill::{Skill, Space};
 
 /// Runs `job(0..n)` on all cores; results in index order.
 pub fn parallel<T: Send>(n: usize, job: impl Fn(usize) -> T + Sync) -> Vec<T> {
@@ -67,8 +72,78 @@ pub struct SearchRun {
     pub records: Vec<Record>,
 }
 
+impl SearchRun {
+    /// The figures of a run's roll-outs, to `precision` (l).
+    pub fn of(volume: f64, method: Algorithm, precision: f64, records: Vec<Record>) -> SearchRun {
+        SearchRun {
+            volume,
+            method,
+            rollouts_to_precision: records
+                .iter()
+                .find(|r| r.trial.error.abs() < precision)
+                .map(|r| r.rollout),
+            worst_overpour: records.iter().map(|r| r.trial.error).fold(0.0, f64::max),
+            records,
+        }
+    }
+}
+
+/// The golden experiment's cell and skill: the normal glass, Cartesian
+/// space, 30 kernels per DoF, fitted to the built-in demonstrations.
+pub fn golden_skill() -> Result<(CellConfig, Skill), Error> {
+    let cell = CellConfig::standard(GlassKind::Normal);
+    let skill = built_in_skill(&cell, Space::Cartesian, 30)?;
+    Ok((cell, skill))
+}
+
+/// The settings of one golden-experiment run, checked: the paper's for
+/// the error learner `method` pouring 0.2 l from `volume` l in `cell`,
+/// to `precision` (l), the scale's noise from `seed`. The message of a
+/// refused volume does not name it (callers do).
+pub fn golden_settings(
+    cell: &CellConfig,
+    volume: f64,
+    method: Algorithm,
+    precision: f64,
+    seed: u64,
+) -> Result<Settings, Error> {
+    if !ERROR_LEARNERS.contains(&method) {
+        return Err(Error::Invalid(format!(
+            "{}: not an error learner",
+            method.name()
+        )));
+    }
+    let mut s = Settings::paper(method, volume, 0.2, seed);
+    s.precision = precision;
+    s.validate()?;
+    let capacity = cell.bottle_litres();
+    if volume > capacity {
+        return Err(Error::Invalid(format!(
+            "the cell's bottle holds {capacity:.3} l"
+        )));
+    }
+    Ok(s)
+}
+
+/// One seeded run of the golden experiment (Fig. 3): `method` learns to
+/// pour 0.2 l from `volume` l ([`golden_settings`]) on the skill of
+/// [`golden_skill`]. [`golden`] runs it for every volume and learner.
+pub fn golden_run(
+    skill: &Skill,
+    cell: &CellConfig,
+    volume: f64,
+    method: Algorithm,
+    precision: f64,
+    seed: u64,
+) -> Result<SearchRun, Error> {
+    let s = golden_settings(cell, volume, method, precision, seed)?;
+    let records = learn(skill, cell, &s, &mut Learner::local(), |_| {})?;
+    Ok(SearchRun::of(volume, method, precision, records))
+}
+
 /// Fig. 3: every error learner ([`ERROR_LEARNERS`]: golden section,
-/// Illinois, secant, and the paper's fixed-gain rules) for every volume.
+/// Illinois, secant, and the paper's fixed-gain rules) for every volume,
+/// volume by volume.
 pub fn golden(
     skill: &Skill,
     cell: &CellConfig,
@@ -82,19 +157,7 @@ pub fn golden(
         .collect();
     parallel(jobs.len(), |i| {
         let (volume, method) = jobs[i];
-        let mut s = Settings::paper(method, volume, 0.2, seed);
-        s.precision = precision;
-        let records = learn(skill, cell, &s, &mut Learner::local(), |_| {})?;
-        Ok(SearchRun {
-            volume,
-            method,
-            rollouts_to_precision: records
-                .iter()
-                .find(|r| r.trial.error.abs() < precision)
-                .map(|r| r.rollout),
-            worst_overpour: records.iter().map(|r| r.trial.error).fold(0.0, f64::max),
-            records,
-        })
+        golden_run(skill, cell, volume, method, precision, seed)
     })
     .into_iter()
     .collect()
@@ -178,7 +241,8 @@ pub struct PowerRun {
 }
 
 impl PowerRun {
-    fn of(seed: u64, records: &[Record]) -> PowerRun {
+    /// The figures of the run of `seed` from its roll-outs ([`power_run`]).
+    pub fn of(seed: u64, records: &[Record]) -> PowerRun {
         let reached = |level: f64| {
             records
                 .iter()
@@ -290,39 +354,95 @@ impl PowerComparison {
     }
 }
 
-/// Figs. 5 and 6: `runs` seeded runs of extended (s1 = 0.2) and ordinary
-/// (s1 = 0) PoWER from the same generalized start, `updates` updates of 4
-/// roll-outs each, then one more roll-out of the final mean.
-pub fn power(
+/// The power experiment's two PoWER variants.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Variant {
+    /// Extended PoWER over `[q̂, Δθ]` (s1 = 0.2).
+    Extended,
+    /// Ordinary PoWER over Δθ (s1 = 0).
+    Ordinary,
+}
+
+impl Variant {
+    /// Both, in the order the experiment reports them.
+    pub const BOTH: [Variant; 2] = [Variant::Extended, Variant::Ordinary];
+
+    /// The query's exploration scale s1.
+    pub fn s1(self) -> f32 {
+        match self {
+            Variant::Extended => 0.2,
+            Variant::Ordinary => 0.0,
+        }
+    }
+
+    /// Its name in files: `extended`, `ordinary`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Variant::Extended => "extended",
+            Variant::Ordinary => "ordinary",
+        }
+    }
+}
+
+/// Roll-outs per PoWER update in the power experiment.
+pub const PER_UPDATE: u32 = 4;
+
+/// The roll-outs of a power-experiment run of `updates` updates: 4 per
+/// update, then the final mean's.
+pub fn power_budget(updates: u32) -> Result<u32, Error> {
+    updates
+        .checked_mul(PER_UPDATE)
+        .and_then(|n| n.checked_add(1))
+        .filter(|_| updates > 0)
+        .ok_or_else(|| {
+            Error::Invalid(format!(
+                "--updates {updates}: must be at least 1 and at most {}",
+                (u32::MAX - 1) / PER_UPDATE
+            ))
+        })
+}
+
+/// The power experiment's cell and skill: joint space, `kernels` per
+/// joint, fitted to the built-in demonstrations, `glass` on the scale.
+pub fn power_skill(glass: GlassKind, kernels: usize) -> Result<(CellConfig, Skill), Error> {
+    SkillSpec {
+        space: Space::Joint,
+        glass,
+        kernels,
+        demos: Vec::new(),
+    }
+    .build()
+}
+
+/// One seeded run of the power experiment (Figs. 5 and 6): `variant`
+/// PoWER from the generalized start for a 0.5 l bottle, pouring 0.2 l,
+/// `updates` updates of 4 roll-outs each, then one more roll-out of the
+/// final mean ([`power_budget`]); every roll-out, in order. [`power`]
+/// runs it for both variants and every seed.
+pub fn power_run(
     skill: &Skill,
     cell: &CellConfig,
-    runs: usize,
+    variant: Variant,
     updates: u32,
     seed: u64,
-) -> Result<[PowerCurves; 2], Error> {
-    let per_update = 4;
-    let jobs: Vec<(f32, u64)> = [0.2f32, 0.0]
-        .iter()
-        .flat_map(|s1| (0..runs as u64).map(move |r| (*s1, seed.wrapping_add(r))))
-        .collect();
-    let results = parallel(jobs.len(), |i| {
-        let (s1, seed) = jobs[i];
-        let mut s = Settings::paper(Algorithm::Power, 0.5, 0.2, seed);
-        s.s1 = s1;
-        s.max_rollouts = updates * per_update + 1;
-        learn(skill, cell, &s, &mut Learner::local(), |_| {})
-    })
-    .into_iter()
-    .collect::<Result<Vec<_>, Error>>()?;
-    let mut out: [PowerCurves; 2] = Default::default();
-    for (k, curves) in out.iter_mut().enumerate() {
+) -> Result<Vec<Record>, Error> {
+    let mut s = Settings::paper(Algorithm::Power, 0.5, 0.2, seed);
+    s.s1 = variant.s1();
+    s.max_rollouts = power_budget(updates)?;
+    learn(skill, cell, &s, &mut Learner::local(), |_| {})
+}
+
+impl PowerCurves {
+    /// The curves of one variant's runs, each its seed and roll-outs
+    /// ([`power_run`]), in the order given.
+    pub fn of(runs: &[(u64, Vec<Record>)]) -> PowerCurves {
+        let mut curves = PowerCurves::default();
         let mut error = Vec::new();
         let mut spilled = Vec::new();
         let mut reward = Vec::new();
-        for (r, records) in results[k * runs..(k + 1) * runs].iter().enumerate() {
-            curves
-                .runs
-                .push(PowerRun::of(seed.wrapping_add(r as u64), records));
+        for (seed, records) in runs {
+            curves.runs.push(PowerRun::of(*seed, records));
             let means: Vec<&Record> = records.iter().filter(|r| r.mean).collect();
             error.push(means.iter().map(|r| r.trial.error.abs()).collect());
             spilled.push(means.iter().map(|r| r.trial.spilled).collect());
@@ -337,6 +457,67 @@ pub fn power(
         curves.error = Curve::of(&error);
         curves.spilled = Curve::of(&spilled);
         curves.reward = Curve::of(&reward);
+        curves
     }
-    Ok(out)
+}
+
+/// Figs. 5 and 6: `runs` seeded runs (seeds `seed`, `seed + 1`, …) of
+/// extended (s1 = 0.2) and ordinary (s1 = 0) PoWER ([`power_run`]) from
+/// the same generalized start, `updates` updates of 4 roll-outs each,
+/// then one more roll-out of the final mean.
+pub fn power(
+    skill: &Skill,
+    cell: &CellConfig,
+    runs: usize,
+    updates: u32,
+    seed: u64,
+) -> Result<[PowerCurves; 2], Error> {
+    let jobs: Vec<(Variant, u64)> = Variant::BOTH
+        .iter()
+        .flat_map(|v| (0..runs as u64).map(move |r| (*v, seed.wrapping_add(r))))
+        .collect();
+    let results = parallel(jobs.len(), |i| {
+        let (variant, seed) = jobs[i];
+        Ok((seed, power_run(skill, cell, variant, updates, seed)?))
+    })
+    .into_iter()
+    .collect::<Result<Vec<_>, Error>>()?;
+    let (extended, ordinary) = results.split_at(runs.min(results.len()));
+    Ok([PowerCurves::of(extended), PowerCurves::of(ordinary)])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn one_seeded_run_is_the_experiments_run_of_that_seed() {
+        let (cell, skill) = power_skill(GlassKind::Small, 4).unwrap();
+        let [extended, ordinary] = power(&skill, &cell, 2, 1, 7).unwrap();
+        for (variant, curves) in Variant::BOTH.iter().zip([extended, ordinary]) {
+            let alone = power_run(&skill, &cell, *variant, 1, 8).unwrap();
+            assert_eq!(alone.len(), 5);
+            assert_eq!(curves.runs[1], PowerRun::of(8, &alone));
+        }
+        let (cell, skill) = golden_skill().unwrap();
+        let runs = golden(&skill, &cell, &[0.5], 0.002, 3).unwrap();
+        let alone = golden_run(&skill, &cell, 0.5, Algorithm::Secant, 0.002, 3).unwrap();
+        assert_eq!(runs[2].records, alone.records);
+    }
+
+    #[test]
+    fn settings_out_of_range_are_refused() {
+        assert_eq!(power_budget(100).unwrap(), 401);
+        for updates in [0, u32::MAX / 2] {
+            assert!(matches!(power_budget(updates), Err(Error::Invalid(_))));
+        }
+        let cell = CellConfig::standard(GlassKind::Normal);
+        for (volume, method) in [(0.5, Algorithm::Power), (1.2, Algorithm::Golden)] {
+            let refused = golden_settings(&cell, volume, method, 0.002, 1);
+            assert!(
+                matches!(refused, Err(Error::Invalid(_))),
+                "{volume} {method:?}"
+            );
+        }
+    }
 }

@@ -7,7 +7,7 @@ use std::path::Path;
 use serde::Serialize;
 
 use crate::Error;
-use crate::experiment::{PowerComparison, PowerCurves, SearchRun, THRESHOLDS};
+use crate::experiment::{PowerComparison, PowerCurves, SearchRun, THRESHOLDS, power_budget};
 use crate::learning::{Algorithm, ERROR_LEARNERS, Record, Settings};
 use crate::output::write_file;
 use crate::plot::{Line, Panel, render_png};
@@ -391,6 +391,47 @@ pub struct PowerSummary<'a> {
     pub comparison: &'a PowerComparison,
     /// Wall-clock time, s.
     pub seconds: f64,
+}
+
+/// The settings of a power experiment, for its summary.
+#[derive(Debug, Clone, Copy)]
+pub struct PowerSetup {
+    /// Updates per run.
+    pub updates: u32,
+    /// DMP kernels per joint.
+    pub kernels: usize,
+    /// Learned parameters `[q̂, Δθ]`.
+    pub parameters: usize,
+    /// The glass.
+    pub glass: primo_sim::cell::GlassKind,
+}
+
+/// Writes what `primo experiment power` writes ([`write_power`]) for the
+/// curves of both variants' runs (the same seeds, in order), compared
+/// seed by seed; `seconds` of wall-clock time. Returns the comparison.
+pub fn write_power_experiment(
+    dir: &Path,
+    setup: PowerSetup,
+    [extended, ordinary]: &[PowerCurves; 2],
+    seconds: f64,
+) -> Result<PowerComparison, Error> {
+    let comparison =
+        PowerComparison::of(&extended.runs, &ordinary.runs, power_budget(setup.updates)?);
+    write_power(
+        dir,
+        &PowerSummary {
+            runs: extended.runs.len().max(ordinary.runs.len()),
+            updates: setup.updates,
+            kernels: setup.kernels,
+            parameters: setup.parameters,
+            glass: setup.glass,
+            extended,
+            ordinary,
+            comparison: &comparison,
+            seconds,
+        },
+    )?;
+    Ok(comparison)
 }
 
 /// A curve's points and its ± spread.

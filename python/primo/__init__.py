@@ -21,8 +21,11 @@ equations in float64), so values must be finite in float32.
 True
 
 ``primo.env`` has the Gymnasium environment (``primo/Pouring-v0``,
-registered on import when Gymnasium is installed) and ``primo.sweep``
-the paper's experiments and user sweeps on local processes or Ray.
+registered on import when Gymnasium is installed), ``primo.experiments``
+one seeded run of each of the paper's experiments (``primo experiment``'s
+own), and ``primo.sweep`` (``import primo.sweep``) sweeps of them
+(methods × settings × seeds) on local processes or Ray, written as
+``primo experiment`` writes them.
 """
 
 from primo._primo import (
@@ -67,3 +70,5 @@ def _register_env() -> None:
 
 
 _register_env()
+
+from primo import experiments  # noqa: E402  (after the native module)

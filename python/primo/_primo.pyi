@@ -1,7 +1,7 @@
 """Type stubs of the compiled module ``primo._primo`` (see ``primo``)."""
 
 from os import PathLike
-from typing import Any, Literal, Optional, Sequence, Union, overload
+from typing import Any, Literal, Mapping, Optional, Sequence, TypedDict, Union, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -273,3 +273,69 @@ class Cell:
         self, thetas: ArrayLike, seeds: Optional[Sequence[int]] = None
     ) -> list[dict[str, Any]]:
         """Every row on all cores, the GIL released."""
+
+Method = Literal["golden", "illinois", "secant", "fixed-gain", "weighted-gain"]
+Variant = Literal["extended", "ordinary"]
+
+class Rollouts(TypedDict):
+    """A run's roll-outs as columns (``rollouts.csv``'s)."""
+
+    rollout: npt.NDArray[np.int64]
+    update: npt.NDArray[np.int64]
+    mean: npt.NDArray[np.bool_]
+    query: Array
+    poured: Array
+    spilled: Array
+    error: Array
+    reward: Array
+    rejected: list[Optional[str]]
+
+class GoldenRun(TypedDict):
+    """One run of the golden experiment (``summary.json``'s ``runs``)."""
+
+    volume: float
+    method: Method
+    seed: int
+    precision: float
+    rollouts_to_precision: Optional[int]
+    worst_overpour: float
+    rollouts: Rollouts
+
+class PowerRun(TypedDict):
+    """One run of the power experiment (a row of ``power_runs.csv``)."""
+
+    variant: Variant
+    seed: int
+    kernels: int
+    updates: int
+    glass: Literal["normal", "small"]
+    parameters: int
+    rollouts_to: dict[float, Optional[int]]
+    updates_to: dict[float, Optional[int]]
+    regret: float
+    final_error: float
+    final_spilled: float
+    final_reward: float
+    rollouts: Rollouts
+
+def golden_run(
+    volume: float, method: Method = "golden", seed: Optional[int] = None, precision: float = 0.002
+) -> GoldenRun:
+    """One seeded run of the golden experiment, as ``primo experiment
+    golden --volumes VOLUME --seed SEED`` runs it (seed 1 by default)."""
+
+def power_run(
+    seed: Optional[int] = None,
+    variant: Variant = "extended",
+    kernels: int = 30,
+    updates: int = 100,
+    glass: Literal["normal", "small"] = "small",
+) -> PowerRun:
+    """One seeded run of the power experiment, as ``primo experiment power
+    --seed SEED --runs 1`` runs it for ``variant`` (seed 1 by default)."""
+
+def write_golden(out: Path, runs: Sequence[Mapping[str, Any]]) -> None:
+    """``primo experiment golden``'s files for runs of one precision and seed."""
+
+def write_power(out: Path, runs: Sequence[Mapping[str, Any]], seconds: float = 0.0) -> None:
+    """``primo experiment power``'s files for runs of one setting."""

@@ -42,7 +42,7 @@ pub struct Cell {
     demos: Vec<(std::path::PathBuf, f32)>,
 }
 
-fn glass_kind(name: &str) -> PyResult<GlassKind> {
+pub(crate) fn glass_kind(name: &str) -> PyResult<GlassKind> {
     match name {
         "normal" => Ok(GlassKind::Normal),
         "small" => Ok(GlassKind::Small),
@@ -107,7 +107,7 @@ impl Cell {
 }
 
 /// A seed from Python: any integer that fits 64 bits.
-fn seed_of(what: &str, seed: &Bound<'_, PyAny>) -> PyResult<u64> {
+pub(crate) fn seed_of(what: &str, seed: &Bound<'_, PyAny>) -> PyResult<u64> {
     seed.extract::<u64>()
         .map_err(|_| invalid(format!("{what}: a seed is an integer in 0..2**64")))
 }

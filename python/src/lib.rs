@@ -1,5 +1,6 @@
 //! The native module behind the `primo` Python package (`primo._primo`):
-//! primo's DMPs, generalization, learners and the simulated pouring cell,
+//! primo's DMPs, generalization, learners, the simulated pouring cell and
+//! one seeded run of each of the paper's experiments,
 //! with NumPy arrays in and out. The typed Python layer and its docs are
 //! in `primo/`; this crate only converts and checks.
 //!
@@ -13,6 +14,7 @@ mod arrays;
 mod cell;
 mod dmp;
 mod errors;
+mod experiments;
 mod generalize;
 mod learners;
 
@@ -27,5 +29,9 @@ fn _primo(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<learners::Secant>()?;
     m.add_class::<learners::Power>()?;
     m.add_class::<cell::Cell>()?;
+    m.add_function(wrap_pyfunction!(experiments::golden_run, m)?)?;
+    m.add_function(wrap_pyfunction!(experiments::power_run, m)?)?;
+    m.add_function(wrap_pyfunction!(experiments::write_golden, m)?)?;
+    m.add_function(wrap_pyfunction!(experiments::write_power, m)?)?;
     Ok(())
 }

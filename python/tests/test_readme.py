@@ -1,0 +1,19 @@
+"""The README's Python example runs as pasted."""
+
+import re
+
+from conftest import ROOT
+
+
+def test_the_readmes_python_example_runs(tmp_path, monkeypatch):
+    readme = (ROOT / "README.md").read_text()
+    section = readme[readme.index("\n## Python\n"):]
+    code = re.search(r"```python\n(.*?)```", section, re.S).group(1)
+    monkeypatch.chdir(tmp_path)
+    scope: dict = {}
+    exec(compile(code, "README.md (Python)", "exec"), scope)
+    assert scope["learner"].status == "converged"
+    q, error = scope["learner"].best
+    assert abs(q - 0.2) < 0.01 and abs(error) < 0.002
+    assert len(scope["cell"].rollout_many(scope["thetas"][:2])) == 2
+    assert (tmp_path / "reach.json").exists()
