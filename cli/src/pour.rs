@@ -87,6 +87,11 @@ pub struct PourArgs {
     /// Error learning stops at |error| below this, l.
     #[arg(long, default_value_t = 0.002)]
     precision: f64,
+    /// Error learning's query bounds LOW,HIGH, l: the queries it may try
+    /// (golden section and Illinois try the ends early: bound them by
+    /// what the demonstrations support and the glass holds).
+    #[arg(long, value_name = "LOW,HIGH", default_value = "0.1,1.5", value_parser = bounds)]
+    search: [f32; 2],
     /// The error learners' gain K in l per l of error (the first for
     /// secant, the only one for fixed-gain and weighted-gain).
     #[arg(long, default_value_t = 1.0, allow_hyphen_values = true)]
@@ -104,7 +109,8 @@ pub struct PourArgs {
     /// instrument): its settings come from the log, and no roll-out is
     /// lost or repeated.
     #[arg(long, value_name = "DIR", conflicts_with_all = [
-        "bottle", "target", "method", "seed", "max_rollouts", "precision", "gain", "out", "force",
+        "bottle", "target", "method", "seed", "max_rollouts", "precision", "gain", "search", "out",
+        "force",
         "space", "kernels", "glass", "demos",
     ])]
     resume: Option<PathBuf>,
@@ -178,6 +184,15 @@ impl LearnerArgs {
     }
 }
 
+/// `LOW,HIGH` as two numbers.
+fn bounds(text: &str) -> Result<[f32; 2], String> {
+    let parsed: Option<Vec<f32>> = text.split(',').map(|v| v.trim().parse().ok()).collect();
+    match parsed.as_deref() {
+        Some(&[low, high]) => Ok([low, high]),
+        _ => Err(format!("`{text}`: expected two volumes LOW,HIGH in litres")),
+    }
+}
+
 /// Runs `primo pour`.
 pub fn run(args: &PourArgs) -> Result<(), CliError> {
     let instruments = args.cell.instruments();
@@ -195,6 +210,7 @@ pub fn run(args: &PourArgs) -> Result<(), CliError> {
                 Settings::paper(args.method.into(), args.bottle, args.target, args.seed);
             settings.precision = args.precision;
             settings.gain = args.gain;
+            settings.search = args.search;
             if let Some(n) = args.max_rollouts {
                 settings.max_rollouts = n;
             }

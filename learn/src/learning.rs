@@ -170,6 +170,11 @@ impl Settings {
     pub fn validate(&self) -> Result<(), Error> {
         let bad = |m: String| Err(Error::Invalid(m));
         let [low, high] = self.search;
+        if !(low.is_finite() && high.is_finite() && 0.0 < low && low < high) {
+            return bad(format!(
+                "--search {low},{high}: must be two volumes in litres, 0 < low < high"
+            ));
+        }
         if !(self.bottle.is_finite() && self.bottle > 0.0) {
             return bad(format!(
                 "--bottle {}: must be a positive volume in litres",
