@@ -54,6 +54,21 @@ fn bad_pour_settings_are_refused_before_any_output() {
         "--max-rollouts",
     );
     refused(&["pour", "--kernels", "1", "--out", o], &out, "--kernels");
+    refused(
+        &["pour", "--search", "1.0,0.3", "--out", o],
+        &out,
+        "--search",
+    );
+    refused(
+        &["pour", "--search", "0.6,1.0", "--out", o],
+        &out,
+        "--bottle",
+    );
+    refused(
+        &["pour", "--gain", "0", "--method", "fixed-gain", "--out", o],
+        &out,
+        "--gain",
+    );
     let demo = tmp("refused-demo.csv");
     let (status, _, stderr) = primo(&["demo", "synth", "--out", demo.to_str().unwrap()]);
     assert_eq!(status, 0, "{stderr}");
