@@ -81,7 +81,7 @@ fn pour_with_target_dir(exe: &Path, target: &Path) -> (i32, String, String) {
 /// The firmware this test run uses: where primo finds it (test.sh builds
 /// it first, in firmware/target or under CARGO_TARGET_DIR).
 fn built_firmware() -> PathBuf {
-    primo_learn::coprocessor::Qemu::find_firmware().unwrap()
+    primo_learn::coprocessor::Qemu::find(primo_learn::coprocessor::Image::Coprocessor).unwrap()
 }
 
 #[test]

@@ -1,9 +1,11 @@
-//! The CMSDK APB UART (UART0 of the MPS2 boards), polled, without a HAL.
+//! The CMSDK APB UARTs of the MPS2 boards, polled, without a HAL.
 
 use core::ptr::{read_volatile, write_volatile};
 
-/// UART0's registers on the MPS2 AN386.
+/// UART0's and UART1's registers on the MPS2 AN386 (QEMU's first and
+/// second `-serial`).
 const UART0: usize = 0x4000_4000;
+const UART1: usize = 0x4000_5000;
 const DATA: usize = 0x00;
 const STATE: usize = 0x04;
 const CTRL: usize = 0x08;
@@ -15,7 +17,7 @@ const RX_ENABLE: u32 = 1 << 1;
 /// System clock of the board.
 const CLOCK_HZ: u32 = 25_000_000;
 
-/// UART0, enabled for both directions.
+/// A UART, enabled for both directions.
 pub struct Uart {
     base: usize,
 }
@@ -24,7 +26,16 @@ impl Uart {
     /// Enables UART0 at `baud` (the divider is clamped to the hardware's
     /// minimum of 16; QEMU ignores the rate).
     pub fn uart0(baud: u32) -> Self {
-        let uart = Uart { base: UART0 };
+        Self::enable(UART0, baud)
+    }
+
+    /// Enables UART1 at `baud`, as [`Uart::uart0`].
+    pub fn uart1(baud: u32) -> Self {
+        Self::enable(UART1, baud)
+    }
+
+    fn enable(base: usize, baud: u32) -> Self {
+        let uart = Uart { base };
         uart.write(BAUDDIV, (CLOCK_HZ / baud.max(1)).max(16));
         uart.write(CTRL, TX_ENABLE | RX_ENABLE);
         uart
@@ -43,8 +54,16 @@ impl Uart {
 
     /// Waits for a byte and returns it.
     pub fn read_byte(&self) -> u8 {
-        while self.read(STATE) & RX_FULL == 0 {}
-        self.read(DATA) as u8
+        loop {
+            if let Some(b) = self.try_read_byte() {
+                return b;
+            }
+        }
+    }
+
+    /// The byte received, if one is waiting.
+    pub fn try_read_byte(&self) -> Option<u8> {
+        (self.read(STATE) & RX_FULL != 0).then(|| self.read(DATA) as u8)
     }
 
     /// Sends `bytes`, waiting while the transmitter is full.
