@@ -8,7 +8,8 @@ use crate::uart::Uart;
 
 /// A 24-bit load-cell ADC, polled.
 pub trait LoadCell {
-    /// The next conversion's counts, if one is ready.
+    /// The next conversion's counts, if one is ready; `None` means
+    /// nothing more is waiting.
     fn sample(&mut self) -> Option<i32>;
 }
 
@@ -27,11 +28,20 @@ impl UartCell {
             reader: SampleReader::new(),
         }
     }
+
+    /// Its UART, to sleep on.
+    pub fn uart(&self) -> &Uart {
+        &self.uart
+    }
 }
 
 impl LoadCell for UartCell {
     fn sample(&mut self) -> Option<i32> {
-        let byte = self.uart.try_read_byte()?;
-        self.reader.push(byte)
+        loop {
+            let byte = self.uart.try_read_byte()?;
+            if let Some(counts) = self.reader.push(byte) {
+                return Some(counts);
+            }
+        }
     }
 }

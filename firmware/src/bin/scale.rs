@@ -1,6 +1,7 @@
 //! The load-cell scale, which also serves the learner: frames in on UART0
 //! go to the scale or to the learner service, under one sequence; the
 //! load cell's counts come in on UART1; streamed readings go out on UART0.
+//! Between bytes the core sleeps.
 #![no_std]
 #![no_main]
 
@@ -10,7 +11,7 @@ use primo_core::service::Coprocessor as Service;
 use primo_core::wire::{self, FrameReader, MAX_FRAME};
 use primo_firmware::load_cell::{LoadCell, UartCell};
 use primo_firmware::settings;
-use primo_firmware::uart::Uart;
+use primo_firmware::uart::{self, Uart};
 
 #[entry]
 fn main() -> ! {
@@ -20,24 +21,37 @@ fn main() -> ! {
     static mut READER: FrameReader = FrameReader::new();
     let host = Uart::uart0(115_200);
     let mut cell = UartCell::new(Uart::uart1(115_200));
+    host.wake_on_receive();
+    cell.uart().wake_on_receive();
     if let Some(kept) = settings::load() {
         SCALE.restore(kept);
     }
     let mut out = [0u8; MAX_FRAME];
     loop {
-        if let Some(raw) = host.try_read_byte().and_then(|b| READER.push(b)) {
+        host.rearm();
+        cell.uart().rearm();
+        let mut idle = true;
+        while let Some(byte) = host.try_read_byte() {
+            idle = false;
+            let Some(raw) = READER.push(byte) else {
+                continue;
+            };
             host.write_all(SERVICE.handle_with(raw, &mut out, Some(SCALE)));
             if let Some(changed) = SCALE.take_changed() {
                 settings::store(changed);
             }
         }
-        if let Some(counts) = cell.sample() {
+        while let Some(counts) = cell.sample() {
+            idle = false;
             SCALE.push(counts);
             if let Some(reading) = SCALE.streamed()
                 && let Ok(frame) = wire::encode(STREAM, &reading, &mut out)
             {
                 host.write_all(frame);
             }
+        }
+        if idle {
+            uart::sleep();
         }
     }
 }
