@@ -50,7 +50,10 @@ fn main() -> ! {
         s.restore(kept);
         settle(&mut s, 520_000); // 510 g gross, 110 g tared
         let r = weigh(&mut s);
-        check("the reading after the reset", r.map(|r| (r.digits, r.net)) == Some((40_000, true)));
+        check(
+            "the reading after the reset",
+            r.map(|r| (r.digits, r.net)) == Some((40_000, true)),
+        );
         hprintln!("scale: settings survived the reset, 400.00 g net");
         exit(true);
     }

@@ -386,12 +386,10 @@ pub fn pour(
                 scale_serial: &rig.scale_serial(),
             })
             .map_err(fail)?;
-            if on_scale {
-                if let Some(link) = rig.scale_link() {
-                    let what = format!("learner: on the scale, {}", link.name());
-                    event(Event::Run(RunEvent::Learner(what))).map_err(fail)?;
-                    learner = Learner::Remote(link);
-                }
+            if on_scale && let Some(link) = rig.scale_link() {
+                let what = format!("learner: on the scale, {}", link.name());
+                event(Event::Run(RunEvent::Learner(what))).map_err(fail)?;
+                learner = Learner::Remote(link);
             }
             Box::new(rig)
         }

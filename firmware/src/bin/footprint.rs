@@ -230,7 +230,12 @@ fn scale_costs(service: &mut Service, scale: &mut Scale, syst: &mut SYST) -> (u6
         let raw = bytes.split_last().map_or(&[][..], |(_, r)| r);
         service.handle_with(Ok(raw), &mut out, Some(scale)).len()
     };
-    frame(service, scale, 1, &Request::Scale(ScaleRequest::Stream { every: 1 }));
+    frame(
+        service,
+        scale,
+        1,
+        &Request::Scale(ScaleRequest::Stream { every: 1 }),
+    );
     let mut sent = 0;
     let (mut read_ticks, mut weigh_ticks) = (0, 0);
     let stack = primo_firmware::stack_used_by(|| {
