@@ -40,13 +40,8 @@ pub enum ScaleCommand {
 #[derive(Debug, Args)]
 pub struct ServeArgs {
     /// Load on the pan from the start (already settled), g.
-    #[arg(
-        long,
-        value_name = "GRAMS",
-        default_value_t = 0.0,
-        allow_hyphen_values = true
-    )]
-    load: f64,
+    #[command(flatten)]
+    load: LoadArg,
     /// Seed of the scale's noise.
     #[arg(long, default_value_t = 1)]
     seed: u64,
@@ -54,6 +49,32 @@ pub struct ServeArgs {
     /// answer `I`, s.
     #[arg(long, value_name = "SECONDS", default_value_t = 8.0)]
     stable_timeout: f64,
+}
+
+/// A load on a simulated pan.
+#[derive(Debug, Args)]
+pub struct LoadArg {
+    /// The load on the pan, g.
+    #[arg(
+        long,
+        value_name = "GRAMS",
+        default_value_t = 0.0,
+        allow_hyphen_values = true
+    )]
+    load: f64,
+}
+
+impl LoadArg {
+    /// The load as a shared handle, if it is a weight.
+    fn handle(&self) -> Result<LoadHandle, CliError> {
+        if !self.load.is_finite() {
+            return Err(CliError::input(format!(
+                "--load: {} is not a weight in grams",
+                self.load
+            )));
+        }
+        Ok(LoadHandle::new(self.load))
+    }
 }
 
 /// `primo scale read` options.
@@ -66,14 +87,9 @@ pub struct ReadArgs {
     /// a simulated load cell holding --load.
     #[arg(long, value_name = "PATH|postcard:PORT|qemu[:LOAD_CELL]")]
     port: String,
-    /// With `--port qemu`: the load on the simulated cell, g.
-    #[arg(
-        long,
-        value_name = "GRAMS",
-        default_value_t = 0.0,
-        allow_hyphen_values = true
-    )]
-    load: f64,
+    /// With `--port qemu`: the load on the simulated cell.
+    #[command(flatten)]
+    load: LoadArg,
     /// primo's scale: print this many readings as it streams them (every
     /// 8th sample, stable or not), then how fast they came.
     #[arg(long, value_name = "N")]
@@ -121,13 +137,7 @@ pub fn run(command: ScaleCommand) -> Result<(), CliError> {
 }
 
 fn serve(args: &ServeArgs) -> Result<(), CliError> {
-    if !args.load.is_finite() {
-        return Err(CliError::input(format!(
-            "--load: {} is not a weight in grams",
-            args.load
-        )));
-    }
-    let load = LoadHandle::new(args.load);
+    let load = args.load.handle()?;
     let model = ScaleModel::default();
     let config = DeviceConfig {
         stable_timeout: args.stable_timeout,
@@ -249,8 +259,11 @@ fn primo_read(mut scale: PrimoScale, args: &ReadArgs, density: Density) -> Resul
     let readings = scale.stream(8, count)?;
     let took = start.elapsed().as_secs_f64();
     for r in &readings {
-        let mark = if r.stable { "" } else { " (moving)" };
-        say(&format!("{}{mark}", shown(r, args.unit, density)))?;
+        match r {
+            Ok(r) if r.stable => say(&shown(r, args.unit, density))?,
+            Ok(r) => say(&format!("{} (moving)", shown(r, args.unit, density)))?,
+            Err(fault) => say(&fault.to_string())?,
+        }
     }
     say(&format!(
         "{count} readings in {took:.2} s: {:.1} samples/s",
@@ -292,19 +305,13 @@ fn read(args: &ReadArgs) -> Result<(), CliError> {
     let density =
         Density::new(args.density).map_err(|e| CliError::input(format!("--density: {e}")))?;
     if args.port == "qemu" {
-        if !args.load.is_finite() {
-            return Err(CliError::input(format!(
-                "--load: {} is not a weight in grams",
-                args.load
-            )));
-        }
         // Kept until the reading is printed.
-        let cell = LoadCellServer::start(LoadCellModel::default(), 1, LoadHandle::new(args.load))
+        let cell = LoadCellServer::start(LoadCellModel::default(), 1, args.load.handle()?)
             .map_err(|e| CliError::other(format!("cannot serve the load cell: {e}")))?;
         let scale = PrimoScale::boot(&Qemu::find(Image::Scale)?, cell.path(), settle)?;
         return primo_read(scale, args, density);
     }
-    let port = match ScaleSpec::parse(&args.port)? {
+    let port = match ScaleSpec::parse("--port", &args.port)? {
         ScaleSpec::Postcard(port) => {
             return primo_read(PrimoScale::open(&port, settle)?, args, density);
         }

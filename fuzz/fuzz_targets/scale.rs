@@ -109,7 +109,11 @@ fuzz_target!(|data: &[u8]| {
                     request,
                     ScaleRequest::Zero | ScaleRequest::Tare | ScaleRequest::Calibrate(_)
                 );
-                assert_eq!(changed.is_some(), setting && reply == Reply::Ok, "{request:?}");
+                assert_eq!(
+                    changed.is_some(),
+                    setting && reply == Reply::Ok,
+                    "{request:?}"
+                );
                 if let Some(settings) = changed {
                     page_round_trip(&settings);
                 }

@@ -522,9 +522,10 @@ fn report(
 /// `--coprocessor scale` needs primo's scale on a real cell.
 fn on_primo_scale(cell: &CellSpec) -> Result<(), Error> {
     let primo = match cell {
-        CellSpec::Instruments(spec) => {
-            !matches!(ScaleSpec::parse(&spec.scale)?, ScaleSpec::MtSics(_))
-        }
+        CellSpec::Instruments(spec) => !matches!(
+            ScaleSpec::parse("--scale", &spec.scale)?,
+            ScaleSpec::MtSics(_)
+        ),
         CellSpec::Simulated => false,
     };
     if primo {

@@ -166,7 +166,7 @@ impl InstrumentsSpec {
             return Err(Error::Invalid("--baud 0: must be a positive rate".into()));
         }
         parse_robot(&self.robot)?;
-        ScaleSpec::parse(&self.scale)?;
+        ScaleSpec::parse("--scale", &self.scale)?;
         Ok(())
     }
 }
@@ -225,7 +225,11 @@ impl Instruments {
         spec.validate()?;
         let socket = bind(parse_robot(&spec.robot)?)?;
         // The liquid in the glass may still be moving: SETTLE_LIMIT.
-        let scale = Weigher::open(&ScaleSpec::parse(&spec.scale)?, spec.baud, SETTLE_LIMIT)?;
+        let scale = Weigher::open(
+            &ScaleSpec::parse("--scale", &spec.scale)?,
+            spec.baud,
+            SETTLE_LIMIT,
+        )?;
         Ok(Instruments {
             spec,
             gate: crate::pouring::gate(cell),

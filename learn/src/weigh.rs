@@ -9,7 +9,7 @@ use std::path::Path;
 use std::time::{Duration, Instant};
 
 use primo_core::scale::{CalibrationPoint, Identity, Reading, ScaleReply, ScaleRequest, Unit};
-use primo_core::wire::{FaultKind, Reply, Request};
+use primo_core::wire::{Fault, FaultKind, Reply, Request};
 use primo_mtsics::{Client, ClientConfig};
 use primo_sim::load_cell::LoadCellModel;
 
@@ -28,11 +28,12 @@ pub enum ScaleSpec {
 }
 
 impl ScaleSpec {
-    /// `postcard:PORT`, `qemu:LOAD_CELL`, or an MT-SICS scale's port.
-    pub fn parse(text: &str) -> Result<ScaleSpec, Error> {
+    /// `postcard:PORT`, `qemu:LOAD_CELL`, or an MT-SICS scale's port, as
+    /// option `flag` gave it.
+    pub fn parse(flag: &str, text: &str) -> Result<ScaleSpec, Error> {
         let named = |rest: &str, what: &str| {
             if rest.is_empty() {
-                Err(Error::Invalid(format!("--scale {text}: {what}")))
+                Err(Error::Invalid(format!("{flag} {text}: {what}")))
             } else {
                 Ok(rest.to_string())
             }
@@ -44,11 +45,10 @@ impl ScaleSpec {
                 "name the load cell's port (`primo robot sim-krc --load-cell` prints it)",
             )?),
             _ if text == "qemu" => {
-                return Err(Error::Invalid(
-                    "--scale qemu: name the load cell's port, qemu:PATH (`primo robot sim-krc \
+                return Err(Error::Invalid(format!(
+                    "{flag} qemu: name the load cell's port, qemu:PATH (`primo robot sim-krc \
                      --load-cell` prints it)"
-                        .into(),
-                ));
+                )));
             }
             _ => ScaleSpec::MtSics(named(text, "name the serial port")?),
         })
@@ -190,9 +190,13 @@ impl PrimoScale {
     }
 
     /// `count` readings streamed every `every` samples (then the stream
-    /// stops), each waited for up to a second; a streamed fault is an
-    /// error.
-    pub fn stream(&mut self, every: u16, count: usize) -> Result<Vec<Reading>, Error> {
+    /// stops), each waited for up to a second: a reading, or the fault
+    /// the scale streamed instead (not settled, overload, …).
+    pub fn stream(
+        &mut self,
+        every: u16,
+        count: usize,
+    ) -> Result<Vec<Result<Reading, Fault>>, Error> {
         self.call(&ScaleRequest::Stream { every })?;
         let mut readings = Vec::with_capacity(count);
         while readings.len() < count {
@@ -202,7 +206,8 @@ impl PrimoScale {
             }
             for reply in got {
                 match reply {
-                    Reply::Scale(ScaleReply::Reading(r)) => readings.push(r),
+                    Reply::Scale(ScaleReply::Reading(r)) => readings.push(Ok(r)),
+                    Reply::Error(fault) => readings.push(Err(fault)),
                     other => return Err(self.unexpected("stream", &other)),
                 }
             }
@@ -245,8 +250,9 @@ impl PrimoScale {
     fn fault(&self, request: &ScaleRequest, reply: Reply) -> Result<Reply, Error> {
         match reply {
             Reply::Error(fault) => Err(Error::Instrument(format!(
-                "scale {}: {request:?}: {fault}",
-                self.link.name()
+                "scale {}: {}: {fault}",
+                self.link.name(),
+                name(request)
             ))),
             reply => Ok(reply),
         }
@@ -257,5 +263,17 @@ impl PrimoScale {
             "scale {}: unexpected answer to {what}: {reply:?}",
             self.link.name()
         ))
+    }
+}
+
+/// What `request` asks, in a word.
+fn name(request: &ScaleRequest) -> &'static str {
+    match request {
+        ScaleRequest::Identify => "identify",
+        ScaleRequest::Weigh { .. } => "weigh",
+        ScaleRequest::Stream { .. } => "stream",
+        ScaleRequest::Zero => "zero",
+        ScaleRequest::Tare => "tare",
+        ScaleRequest::Calibrate(_) => "calibrate",
     }
 }

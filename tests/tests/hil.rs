@@ -49,6 +49,11 @@ fn run(
     learn(&skill, &cell, &s, learner, |_| {}).unwrap()
 }
 
+/// The paper's golden-section search on the built-in pour.
+fn golden(learner: &mut Learner) -> Vec<Record> {
+    run(Method::Golden, Space::Cartesian, 30, 30, learner)
+}
+
 fn coprocessor(qemu: &Qemu) -> Learner {
     Learner::Remote(Link::open(qemu.pty()).unwrap())
 }
@@ -56,20 +61,8 @@ fn coprocessor(qemu: &Qemu) -> Learner {
 #[test]
 fn golden_section_on_the_mcu_gives_the_host_only_roll_outs() {
     let qemu = Qemu::start(&Qemu::find(Image::Coprocessor).unwrap()).unwrap();
-    let host = run(
-        Method::Golden,
-        Space::Cartesian,
-        30,
-        30,
-        &mut Learner::local(),
-    );
-    let mcu = run(
-        Method::Golden,
-        Space::Cartesian,
-        30,
-        30,
-        &mut coprocessor(&qemu),
-    );
+    let host = golden(&mut Learner::local());
+    let mcu = golden(&mut coprocessor(&qemu));
     assert!(host.len() >= 3);
     assert_eq!(bits(&mcu), bits(&host));
 }
@@ -92,14 +85,8 @@ fn a_lossy_line_changes_nothing_but_the_time() {
     let host = run(Method::Power, Space::Joint, 10, 8, &mut Learner::local());
     let mcu = run(Method::Power, Space::Joint, 10, 8, &mut link);
     assert_eq!(bits(&mcu), bits(&host));
-    let golden_host = run(
-        Method::Golden,
-        Space::Cartesian,
-        30,
-        30,
-        &mut Learner::local(),
-    );
-    let golden_mcu = run(Method::Golden, Space::Cartesian, 30, 30, &mut link);
+    let golden_host = golden(&mut Learner::local());
+    let golden_mcu = golden(&mut link);
     assert_eq!(bits(&golden_mcu), bits(&golden_host));
     let Learner::Remote(link) = link else {
         unreachable!()
@@ -167,7 +154,11 @@ fn the_scale_in_qemu_calibrates_weighs_tares_and_streams() {
     let readings = scale.stream(8, 40).unwrap();
     let rate = 40.0 * 8.0 / start.elapsed().as_secs_f64();
     println!("streamed 40 readings, every 8th sample: {rate:.1} samples/s");
-    assert!(readings.windows(2).all(|w| w[1].sample == w[0].sample + 8));
+    let samples: Vec<u32> = readings
+        .iter()
+        .map(|r| r.as_ref().unwrap().sample)
+        .collect();
+    assert!(samples.windows(2).all(|w| w[1] == w[0] + 8), "{samples:?}");
     assert!(rate > 40.0, "{rate}");
     put(&load, 5000.0);
     let err = scale.weigh(false, Unit::G).unwrap_err().to_string();
@@ -182,20 +173,8 @@ fn the_learner_on_the_scale_through_a_lossy_line_gives_the_host_only_roll_outs()
     let mut scale = PrimoScale::open(&relay.path, Duration::from_secs(20)).unwrap();
     let g = grams(&mut scale);
     assert!((g - 250.0).abs() <= 0.02, "{g}");
-    let host = run(
-        Method::Golden,
-        Space::Cartesian,
-        30,
-        30,
-        &mut Learner::local(),
-    );
-    let on_scale = run(
-        Method::Golden,
-        Space::Cartesian,
-        30,
-        30,
-        &mut Learner::Remote(scale.link()),
-    );
+    let host = golden(&mut Learner::local());
+    let on_scale = golden(&mut Learner::Remote(scale.link()));
     assert_eq!(bits(&on_scale), bits(&host));
     put(&load, 300.0);
     let g = grams(&mut scale);
