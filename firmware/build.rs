@@ -1,5 +1,8 @@
-//! Puts `memory.x` where the linker finds it, and computes on the host the
-//! bits the on-target numerics test must reproduce.
+//! Puts each image's memory layout where its linker finds it (`link.x`
+//! includes `memory.x`: the coprocessor's and the tests' from
+//! `memory/coprocessor.x`, the scale's and the footprint probe's from
+//! `memory/scale.x`), and computes
+//! on the host the bits the on-target numerics test must reproduce.
 use std::{env, fs, path::PathBuf};
 
 mod checks {
@@ -8,15 +11,29 @@ mod checks {
 
 fn main() {
     let out = PathBuf::from(env::var_os("OUT_DIR").expect("cargo sets OUT_DIR"));
-    fs::copy("memory.x", out.join("memory.x")).expect("memory.x is readable");
-    println!("cargo:rustc-link-search={}", out.display());
+    for image in ["coprocessor", "scale"] {
+        let dir = out.join(image);
+        fs::create_dir_all(&dir).expect("OUT_DIR is writable");
+        fs::copy(format!("memory/{image}.x"), dir.join("memory.x")).expect("memory/ is readable");
+        println!("cargo:rerun-if-changed=memory/{image}.x");
+    }
+    let (coprocessor, scale) = (out.join("coprocessor"), out.join("scale"));
+    println!(
+        "cargo:rustc-link-arg-bin=primo-firmware=-L{}",
+        coprocessor.display()
+    );
+    // The probe carries the measuring code besides the images' own: it
+    // takes the larger part's room.
+    for bin in ["primo-scale", "footprint"] {
+        println!("cargo:rustc-link-arg-bin={bin}=-L{}", scale.display());
+    }
+    println!("cargo:rustc-link-arg-tests=-L{}", coprocessor.display());
     for (file, digest) in [
         ("expected.rs", checks::digest()),
         ("expected_orientation.rs", checks::orientation_digest()),
     ] {
         fs::write(out.join(file), format!("{digest:#018x}")).expect("OUT_DIR is writable");
     }
-    println!("cargo:rerun-if-changed=memory.x");
     println!("cargo:rerun-if-changed=checks/numerics.rs");
     println!("cargo:rerun-if-changed=../core/src");
 }

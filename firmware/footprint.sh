@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# The coprocessor's footprint: flash and RAM of the release firmware, and
-# what the footprint probe measures on the emulated Cortex-M4F (instructions
-# per DMP step and per PoWER update, the service's stack depth).
+# The firmware's footprint: flash and RAM of the release images (the
+# coprocessor and the scale), and what the footprint probe measures on the
+# emulated Cortex-M4F (instructions per DMP step, per PoWER update and per
+# scale reading; the service's and the scale's stack depth).
 set -euo pipefail
 cd "$(dirname "$0")"
 cargo build --release --locked -q
@@ -9,11 +10,14 @@ cargo build --release --locked -q
 target=$(cargo metadata --format-version 1 --no-deps --locked |
   sed -n 's/.*"target_directory":"\([^"]*\)".*/\1/p')
 release=$target/thumbv7em-none-eabihf/release
-elf=$release/primo-firmware
-size -A "$elf" | awk '
-  $1 == ".vector_table" || $1 == ".text" || $1 == ".rodata" || $1 == ".data" { flash += $2 }
-  $1 == ".data" || $1 == ".bss" || $1 == ".uninit" { ram += $2 }
-  END { printf "flash: %d bytes (%.1f KiB of 64)\nstatics: %d bytes (%.1f KiB of 32, the rest is stack)\n", flash, flash / 1024, ram, ram / 1024 }'
+for image in "primo-firmware 64 32" "primo-scale 126 32"; do
+  set -- $image
+  size -A "$release/$1" | awk -v name="$1" -v flash_kib="$2" -v ram_kib="$3" '
+    $1 == ".vector_table" || $1 == ".text" || $1 == ".rodata" || $1 == ".data" { flash += $2 }
+    $1 == ".data" || $1 == ".bss" || $1 == ".uninit" { ram += $2 }
+    END { printf "%s flash: %d bytes (%.1f KiB of %d)\n%s statics: %d bytes (%.1f KiB of %d, the rest is stack)\n",
+      name, flash, flash / 1024, flash_kib, name, ram, ram / 1024, ram_kib }'
+done
 qemu-system-arm -cpu cortex-m4 -machine mps2-an386 -nographic \
   -semihosting-config enable=on,target=native -icount shift=0 \
   -kernel "$release/footprint"

@@ -127,10 +127,18 @@ pub struct CellArgs {
     /// UDP address the KRC sends its FRI packets to (default port 49938).
     #[arg(long, requires = "scale", value_name = "fri:ADDR[:PORT]")]
     robot: Option<String>,
-    /// With --robot: the MT-SICS scale's serial port.
-    #[arg(long, requires = "robot", value_name = "PORT")]
+    /// With --robot: the scale. An MT-SICS scale's serial port;
+    /// `postcard:PORT`, primo's scale on a serial port; or
+    /// `qemu:LOAD_CELL`, primo's scale firmware booted on an emulated
+    /// Cortex-M4F, its ADC line on LOAD_CELL (`primo robot sim-krc
+    /// --load-cell` prints it).
+    #[arg(
+        long,
+        requires = "robot",
+        value_name = "PORT|postcard:PORT|qemu:LOAD_CELL"
+    )]
     scale: Option<String>,
-    /// The scale's baud rate.
+    /// An MT-SICS scale's baud rate.
     #[arg(long, requires = "robot", default_value_t = 9600)]
     baud: u32,
     /// The liquid's density, g/ml (the scale weighs, the learner wants
@@ -163,9 +171,10 @@ impl CellArgs {
 #[derive(Debug, Clone, clap::Args)]
 pub struct LearnerArgs {
     /// Run the learner on a coprocessor: a serial port (e.g.
-    /// /dev/ttyACM0), or `qemu` to boot the firmware on an emulated
-    /// Cortex-M4F (qemu-system-arm) for the run.
-    #[arg(long, value_name = "PORT|qemu")]
+    /// /dev/ttyACM0), `qemu` to boot the firmware on an emulated
+    /// Cortex-M4F (qemu-system-arm) for the run, or `scale` for primo's
+    /// scale of --scale (postcard:PORT or qemu:LOAD_CELL) over its line.
+    #[arg(long, value_name = "PORT|qemu|scale")]
     coprocessor: Option<String>,
     /// With --coprocessor qemu: the firmware ELF (default: $PRIMO_FIRMWARE,
     /// else the release build of firmware/ under $CARGO_TARGET_DIR or

@@ -105,6 +105,12 @@ pub enum RobotCommand {
         /// (its path printed as `primo robot sim-krc: scale served on PATH`).
         #[arg(long)]
         scale: bool,
+        /// Serve the cell's scale as a bare load cell, the raw counts for
+        /// primo's scale firmware, on a new pseudo-terminal (its path
+        /// printed as `primo robot sim-krc: load cell served on PATH`; take
+        /// it with `--scale qemu:PATH`).
+        #[arg(long)]
+        load_cell: bool,
     },
 }
 
@@ -147,6 +153,7 @@ pub fn run(command: RobotCommand) -> Result<(), CliError> {
             stop_after,
             once,
             scale,
+            load_cell,
         } => {
             let mut cfg = KrcConfig::new(SocketAddr::from(([127, 0, 0, 1], port)));
             cfg.cycle = Duration::from_millis(cycle_ms);
@@ -165,7 +172,7 @@ pub fn run(command: RobotCommand) -> Result<(), CliError> {
             cfg.monitor_only = monitor_only;
             cfg.stop_after = stop_after.map(|s| seconds("--stop-after", s)).transpose()?;
             cfg.once = once;
-            sim_krc(cfg, scale)
+            sim_krc(cfg, scale, load_cell)
         }
     }
 }
@@ -314,7 +321,7 @@ fn print_result(r: &PlayResult) -> Result<(), CliError> {
     Ok(())
 }
 
-fn sim_krc(cfg: KrcConfig, scale: bool) -> Result<(), CliError> {
+fn sim_krc(cfg: KrcConfig, scale: bool, load_cell: bool) -> Result<(), CliError> {
     let krc = SimKrc::new(cfg)?;
     let cell = krc.cell();
     // Kept until the KRC stops: the scale is served as long as the cell.
@@ -322,6 +329,17 @@ fn sim_krc(cfg: KrcConfig, scale: bool) -> Result<(), CliError> {
         let server = krc.serve_scale()?;
         say(&format!(
             "primo robot sim-krc: scale served on {}",
+            server.path()
+        ))?;
+        Some(server)
+    } else {
+        None
+    };
+    // Likewise; it stops when dropped.
+    let _load_cell = if load_cell {
+        let server = krc.serve_load_cell()?;
+        say(&format!(
+            "primo robot sim-krc: load cell served on {}",
             server.path()
         ))?;
         Some(server)

@@ -1,11 +1,16 @@
-//! `primo scale`: serve the simulated scale over MT-SICS, read a scale.
+//! `primo scale`: serve the simulated scale over MT-SICS, read a scale
+//! (MT-SICS, or primo's load-cell scale over the wire protocol).
 
 use std::io::BufRead;
 use std::time::Duration;
 
 use clap::{Args, Subcommand, ValueEnum};
 
+use primo_core::scale::{Reading, Unit as ScaleUnit};
+use primo_learn::coprocessor::{Image, Qemu};
+use primo_learn::weigh::{PrimoScale, ScaleSpec};
 use primo_mtsics::{Client, ClientConfig, Density, Unit, quote};
+use primo_sim::load_cell::{LoadCellModel, LoadCellServer};
 use primo_sim::scale::ScaleModel;
 use primo_sim::scale_device::{Control, Device, DeviceConfig, LoadHandle, PtyServer};
 
@@ -24,7 +29,10 @@ pub enum ScaleCommand {
     /// escapes), `silent <seconds>` answers nothing for a while (0 ends
     /// it), `power-on` sends the power-on line. Serves until stdin closes.
     Serve(ServeArgs),
-    /// Read one stable weight from an MT-SICS scale and print it.
+    /// Read one stable weight from a scale and print it: an MT-SICS scale,
+    /// or primo's load-cell scale (`postcard:PORT`, or its firmware in
+    /// QEMU: `qemu` on a simulated load cell holding --load, `qemu:PATH`
+    /// on a load cell's line).
     Read(ReadArgs),
 }
 
@@ -32,13 +40,8 @@ pub enum ScaleCommand {
 #[derive(Debug, Args)]
 pub struct ServeArgs {
     /// Load on the pan from the start (already settled), g.
-    #[arg(
-        long,
-        value_name = "GRAMS",
-        default_value_t = 0.0,
-        allow_hyphen_values = true
-    )]
-    load: f64,
+    #[command(flatten)]
+    load: LoadArg,
     /// Seed of the scale's noise.
     #[arg(long, default_value_t = 1)]
     seed: u64,
@@ -48,13 +51,49 @@ pub struct ServeArgs {
     stable_timeout: f64,
 }
 
+/// A load on a simulated pan.
+#[derive(Debug, Args)]
+pub struct LoadArg {
+    /// The load on the pan, g.
+    #[arg(
+        long,
+        value_name = "GRAMS",
+        default_value_t = 0.0,
+        allow_hyphen_values = true
+    )]
+    load: f64,
+}
+
+impl LoadArg {
+    /// The load as a shared handle, if it is a weight.
+    fn handle(&self) -> Result<LoadHandle, CliError> {
+        if !self.load.is_finite() {
+            return Err(CliError::input(format!(
+                "--load: {} is not a weight in grams",
+                self.load
+            )));
+        }
+        Ok(LoadHandle::new(self.load))
+    }
+}
+
 /// `primo scale read` options.
 #[derive(Debug, Args)]
 pub struct ReadArgs {
-    /// Serial port of the scale (e.g. /dev/ttyUSB0, or the path `primo
-    /// scale serve` printed).
-    #[arg(long, value_name = "PATH")]
+    /// The scale: an MT-SICS scale's serial port (e.g. /dev/ttyUSB0, or
+    /// the path `primo scale serve` printed); `postcard:PORT`, primo's
+    /// scale; `qemu:LOAD_CELL`, its firmware booted in QEMU on a load
+    /// cell's line (`primo robot sim-krc --load-cell`); `qemu`, the same on
+    /// a simulated load cell holding --load.
+    #[arg(long, value_name = "PATH|postcard:PORT|qemu[:LOAD_CELL]")]
     port: String,
+    /// With `--port qemu`: the load on the simulated cell.
+    #[command(flatten)]
+    load: LoadArg,
+    /// primo's scale: print this many readings as it streams them (every
+    /// 8th sample, stable or not), then how fast they came.
+    #[arg(long, value_name = "N")]
+    stream: Option<usize>,
     /// Baud rate (8N1, no handshake).
     #[arg(long, default_value_t = 9600)]
     baud: u32,
@@ -98,13 +137,7 @@ pub fn run(command: ScaleCommand) -> Result<(), CliError> {
 }
 
 fn serve(args: &ServeArgs) -> Result<(), CliError> {
-    if !args.load.is_finite() {
-        return Err(CliError::input(format!(
-            "--load: {} is not a weight in grams",
-            args.load
-        )));
-    }
-    let load = LoadHandle::new(args.load);
+    let load = args.load.handle()?;
     let model = ScaleModel::default();
     let config = DeviceConfig {
         stable_timeout: args.stable_timeout,
@@ -211,6 +244,49 @@ fn unescape(text: &[u8]) -> Result<Vec<u8>, String> {
     Ok(out)
 }
 
+/// Reads primo's scale: one stable weight in --unit, or --stream readings.
+fn primo_read(mut scale: PrimoScale, args: &ReadArgs, density: Density) -> Result<(), CliError> {
+    let Some(count) = args.stream else {
+        let unit = match args.unit {
+            OutputUnit::Mg => ScaleUnit::Mg,
+            OutputUnit::Kg => ScaleUnit::Kg,
+            OutputUnit::G | OutputUnit::Ml => ScaleUnit::G,
+        };
+        let r = scale.weigh(true, unit)?;
+        return say(&shown(&r, args.unit, density));
+    };
+    let start = std::time::Instant::now();
+    let readings = scale.stream(8, count)?;
+    let took = start.elapsed().as_secs_f64();
+    for r in &readings {
+        match r {
+            Ok(r) if r.stable => say(&shown(r, args.unit, density))?,
+            Ok(r) => say(&format!("{} (moving)", shown(r, args.unit, density)))?,
+            Err(fault) => say(&fault.to_string())?,
+        }
+    }
+    say(&format!(
+        "{count} readings in {took:.2} s: {:.1} samples/s",
+        (8 * count) as f64 / took
+    ))
+}
+
+/// A reading as the scale shows it, or as a volume.
+fn shown(r: &Reading, unit: OutputUnit, density: Density) -> String {
+    let decimals = usize::try_from(-i32::from(r.exponent)).unwrap_or(0);
+    match unit {
+        OutputUnit::Ml => format!("{:.*} ml", decimals, r.grams() / density.g_per_ml()),
+        _ => {
+            let name = match r.unit {
+                ScaleUnit::G => "g",
+                ScaleUnit::Mg => "mg",
+                ScaleUnit::Kg => "kg",
+            };
+            format!("{:.*} {name}", decimals, r.value())
+        }
+    }
+}
+
 /// A time limit in seconds: more than 0 and at most a day.
 fn limit(flag: &str, seconds: f64) -> Result<Duration, CliError> {
     Duration::try_from_secs_f64(seconds)
@@ -228,6 +304,28 @@ fn read(args: &ReadArgs) -> Result<(), CliError> {
     let settle = limit("--settle", args.settle)?;
     let density =
         Density::new(args.density).map_err(|e| CliError::input(format!("--density: {e}")))?;
+    if args.port == "qemu" {
+        // Kept until the reading is printed.
+        let cell = LoadCellServer::start(LoadCellModel::default(), 1, args.load.handle()?)
+            .map_err(|e| CliError::other(format!("cannot serve the load cell: {e}")))?;
+        let scale = PrimoScale::boot(&Qemu::find(Image::Scale)?, cell.path(), settle)?;
+        return primo_read(scale, args, density);
+    }
+    let port = match ScaleSpec::parse("--port", &args.port)? {
+        ScaleSpec::Postcard(port) => {
+            return primo_read(PrimoScale::open(&port, settle)?, args, density);
+        }
+        ScaleSpec::Qemu(cell) => {
+            let scale = PrimoScale::boot(&Qemu::find(Image::Scale)?, &cell, settle)?;
+            return primo_read(scale, args, density);
+        }
+        ScaleSpec::MtSics(port) => port,
+    };
+    if args.stream.is_some() {
+        return Err(CliError::input(
+            "--stream: primo's scale streams (postcard:PORT or qemu), an MT-SICS one does not",
+        ));
+    }
     let config = ClientConfig {
         baud: args.baud,
         timeout,
@@ -235,7 +333,7 @@ fn read(args: &ReadArgs) -> Result<(), CliError> {
         settle,
         ..ClientConfig::default()
     };
-    let weight = Client::open(&args.port, config)?.stable()?;
+    let weight = Client::open(&port, config)?.stable()?;
     let text = match args.unit {
         OutputUnit::G => weight.to(Unit::G).to_string(),
         OutputUnit::Mg => weight.to(Unit::Mg).to_string(),

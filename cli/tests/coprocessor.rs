@@ -1,6 +1,7 @@
-//! `primo pour --coprocessor`: the learner on the firmware in QEMU
-//! (mps2-an386, a Cortex-M4F), reached through a pseudo-terminal like a
-//! USB-serial adapter, and clear errors when it cannot be reached.
+//! `primo pour --coprocessor` and `primo scale read`: the learner and the
+//! scale on their firmware in QEMU (mps2-an386, a Cortex-M4F), reached
+//! through a pseudo-terminal like a USB-serial adapter, and clear errors
+//! when they cannot be reached.
 
 mod common;
 
@@ -81,7 +82,7 @@ fn pour_with_target_dir(exe: &Path, target: &Path) -> (i32, String, String) {
 /// The firmware this test run uses: where primo finds it (test.sh builds
 /// it first, in firmware/target or under CARGO_TARGET_DIR).
 fn built_firmware() -> PathBuf {
-    primo_learn::coprocessor::Qemu::find_firmware().unwrap()
+    primo_learn::coprocessor::Qemu::find(primo_learn::coprocessor::Image::Coprocessor).unwrap()
 }
 
 #[test]
@@ -134,4 +135,45 @@ fn the_firmware_is_found_at_run_time_or_the_build_command_is_named() {
             "{stderr}"
         );
     }
+}
+
+#[test]
+fn primo_scale_read_boots_the_scale_on_a_simulated_load_cell() {
+    let (status, stdout, stderr) = primo(&["scale", "read", "--port", "qemu", "--load", "250"]);
+    assert_eq!(status, 0, "{stderr}");
+    let grams: f64 = stdout.trim().strip_suffix(" g").unwrap().parse().unwrap();
+    assert!((grams - 250.0).abs() <= 0.011, "{stdout}");
+    let (status, _, stderr) = primo(&["scale", "read", "--port", "qemu", "--load", "9000"]);
+    assert_eq!(status, 1);
+    assert!(stderr.contains(": weigh: overload"), "{stderr}");
+}
+
+#[test]
+fn primo_scale_settings_are_checked_before_anything_starts() {
+    let (status, _, stderr) = primo(&["scale", "read", "--port", "qemu:"]);
+    assert_eq!(status, 2);
+    assert!(
+        stderr.contains("--port qemu:: name the load cell's port"),
+        "{stderr}"
+    );
+    let (status, _, stderr) = primo(&["pour", "--robot", "fri:127.0.0.1", "--scale", "qemu"]);
+    assert_eq!(status, 2);
+    assert!(
+        stderr.contains("--scale qemu: name the load cell's port, qemu:PATH"),
+        "{stderr}"
+    );
+    let out = tmp("on-scale-without-a-scale");
+    let (status, _, stderr) = primo(&[
+        "pour",
+        "--coprocessor",
+        "scale",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(status, 2);
+    assert!(
+        stderr.contains("--coprocessor scale: the learner runs on primo's scale"),
+        "{stderr}"
+    );
+    assert!(!out.exists());
 }

@@ -1,7 +1,9 @@
 //! `primo pour` on instruments, end to end: the learner drives
 //! `primo robot sim-krc` (the simulated arm and cell behind real FRI over
-//! UDP) and reads the cell's scale over MT-SICS on a pseudo-terminal; the
-//! operator's resets go through both programs' stdin as a person's would.
+//! UDP) and reads the cell's scale over MT-SICS on a pseudo-terminal, or
+//! primo's scale firmware in QEMU weighing the cell's load cell (and
+//! running the learner); the operator's resets go through both programs'
+//! stdin as a person's would.
 mod common;
 use std::io::{BufRead, BufReader, Write};
 use std::process::{Child, ChildStdin, Command, Stdio};
@@ -90,6 +92,12 @@ fn free_udp_port() -> u16 {
 /// `primo robot sim-krc --scale` with a 0.5 l bottle at 4 ms cycles and
 /// `extra` flags: the program, `--robot` and `--scale` to reach it.
 fn cell(extra: &[&str]) -> (Program, String, String) {
+    served(extra, "--scale", "scale served on ")
+}
+
+/// `primo robot sim-krc` serving the scale with `flag`, announced as
+/// `served`: the program, `--robot` and what it serves.
+fn served(extra: &[&str], flag: &str, served: &str) -> (Program, String, String) {
     let port = free_udp_port().to_string();
     let mut args = vec![
         "robot",
@@ -98,47 +106,47 @@ fn cell(extra: &[&str]) -> (Program, String, String) {
         &port,
         "--cycle-ms",
         "4",
-        "--scale",
+        flag,
         "--bottle",
         "0.5",
     ];
     args.extend_from_slice(extra);
     let mut krc = Program::spawn(&args);
-    let served = krc.expect("scale served on ", Duration::from_secs(30));
-    let scale = served
-        .rsplit("served on ")
-        .next()
-        .unwrap()
-        .trim()
-        .to_string();
+    let line = krc.expect(served, Duration::from_secs(30));
+    let scale = line.rsplit("served on ").next().unwrap().trim().to_string();
     (krc, format!("fri:127.0.0.1:{port}"), scale)
 }
 
-#[test]
-fn pour_learns_on_the_simulated_krc_and_scale_to_the_simulations_precision() {
-    let (mut krc, robot, scale) = cell(&[]);
-    let out = tmp("instruments");
-    let mut pour = Program::spawn(&[
+/// Pours on `krc` with `args` added, the operator resetting the cell
+/// before every roll-out: the run must converge to 2 ml. Returns the
+/// output directory and the transcript.
+fn pour_converges(
+    krc: &mut Program,
+    args: &[&str],
+    name: &str,
+) -> (std::path::PathBuf, Vec<String>) {
+    let out = tmp(name);
+    let mut argv = vec![
         "pour",
-        "--robot",
-        &robot,
-        "--scale",
-        &scale,
         "--confirm",
         "--bottle",
         "0.5",
         "--out",
         out.to_str().unwrap(),
-    ]);
+    ];
+    argv.extend_from_slice(args);
+    let mut pour = Program::spawn(&argv);
     let mut resets = 0;
     let verdict = loop {
         let line = pour
             .next(Duration::from_secs(180))
             .unwrap_or_else(|| panic!("pour stopped; saw:\n{}", pour.seen.join("\n")));
         if line.contains(": reset the cell") {
-            // The operator: refill and empty on the cell, then Enter.
+            // The operator: refill and empty on the cell, then, a second
+            // later, Enter (a scale shows a new load after its filter).
             krc.send("reset");
             krc.expect("cell reset", Duration::from_secs(30));
+            std::thread::sleep(Duration::from_secs(1));
             pour.send("");
             resets += 1;
         } else if line.starts_with("primo pour: converged")
@@ -159,6 +167,21 @@ fn pour_learns_on_the_simulated_krc_and_scale_to_the_simulations_precision() {
         .filter(|l| l.starts_with("roll-out") && l.contains("poured"))
         .count();
     assert_eq!(resets, rollouts, "{transcript}");
+    (out, std::mem::take(&mut pour.seen))
+}
+
+#[test]
+fn pour_learns_on_the_simulated_krc_and_scale_to_the_simulations_precision() {
+    let (mut krc, robot, scale) = cell(&[]);
+    let (out, seen) = pour_converges(
+        &mut krc,
+        &["--robot", &robot, "--scale", &scale],
+        "instruments",
+    );
+    let rollouts = seen
+        .iter()
+        .filter(|l| l.starts_with("roll-out") && l.contains("poured"))
+        .count();
 
     // Every roll-out's readings are in the log: the poured volume is the
     // scale's increase, and the bottle's loss (from the force at the
@@ -191,6 +214,50 @@ fn pour_learns_on_the_simulated_krc_and_scale_to_the_simulations_precision() {
     let (code, stdout, err) = primo(&["pour", "--bottle", "0.5", "--out", sim.to_str().unwrap()]);
     assert_eq!(code, 0, "{err}");
     assert!(stdout.contains("converged to |error| < 2 ml"), "{stdout}");
+}
+
+#[test]
+fn pour_learns_on_primo_scale_in_qemu_with_the_learner_on_the_scale() {
+    let (mut krc, robot, load_cell) = served(&[], "--load-cell", "load cell served on ");
+    let scale = format!("qemu:{load_cell}");
+    let args = [
+        "--robot",
+        &robot,
+        "--scale",
+        &scale,
+        "--coprocessor",
+        "scale",
+    ];
+    let (out, seen) = pour_converges(&mut krc, &args, "primo-scale");
+    let transcript = seen.join("\n");
+    assert!(transcript.contains("learner: on the scale"), "{transcript}");
+    // The in-process run on the simulated cell: golden section goes by the
+    // error's sign, so the same queries, and the scale weighs the same
+    // volumes to its noise.
+    let sim = tmp("primo-scale-in-process");
+    let (code, stdout, err) = primo(&["pour", "--bottle", "0.5", "--out", sim.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    let rows = |dir: &std::path::Path| -> Vec<(String, f64)> {
+        std::fs::read_to_string(dir.join("rollouts.csv"))
+            .unwrap()
+            .lines()
+            .skip(1)
+            .map(|l| {
+                let f: Vec<&str> = l.split(',').collect();
+                (f[3].to_string(), f[4].parse().unwrap())
+            })
+            .collect()
+    };
+    let (on_scale, in_process) = (rows(&out), rows(&sim));
+    println!("on the scale: {on_scale:?}\nin process: {in_process:?}");
+    assert_eq!(on_scale.len(), in_process.len(), "{transcript}\n{stdout}");
+    for ((q, poured), (q_sim, poured_sim)) in on_scale.iter().zip(&in_process) {
+        assert_eq!(q, q_sim);
+        assert!(
+            (poured - poured_sim).abs() < 1e-4,
+            "{poured} l, in process {poured_sim} l"
+        );
+    }
 }
 
 #[test]

@@ -69,6 +69,7 @@ pub mod power;
 pub mod quaternion;
 pub mod rhythmic;
 pub mod rng;
+pub mod scale;
 pub mod secant;
 pub mod service;
 pub mod wire;

@@ -57,6 +57,7 @@ use crate::generalize::{Generalizer, Method as Regression};
 use crate::golden::{ErrorLearner, GoldenSection, Status as SearchStatus};
 use crate::illinois::Illinois;
 use crate::power::Power;
+use crate::scale::Scale;
 use crate::secant::Secant;
 use crate::wire::{
     self, CHUNK, Capacities, DmpStart, Fault, FaultKind, FrameError, LearnerSetup, MAX_DOF,
@@ -231,12 +232,28 @@ impl<const P: usize, const E: usize, const K: usize> Service<P, E, K> {
         raw: Result<&[u8], FrameError>,
         out: &'a mut [u8; MAX_FRAME],
     ) -> &'a [u8] {
-        let len = self.reply_len(raw, out);
+        self.handle_with(raw, out, None)
+    }
+
+    /// [`Service::handle`] on a device that is also a scale: its requests
+    /// go to `scale`, under the same sequence numbers.
+    pub fn handle_with<'a>(
+        &mut self,
+        raw: Result<&[u8], FrameError>,
+        out: &'a mut [u8; MAX_FRAME],
+        scale: Option<&mut Scale>,
+    ) -> &'a [u8] {
+        let len = self.reply_len(raw, out, scale);
         out.get(..len).unwrap_or(&[])
     }
 
-    /// [`Service::handle`], returning the reply's length in `out`.
-    fn reply_len(&mut self, raw: Result<&[u8], FrameError>, out: &mut [u8; MAX_FRAME]) -> usize {
+    /// [`Service::handle_with`], returning the reply's length in `out`.
+    fn reply_len(
+        &mut self,
+        raw: Result<&[u8], FrameError>,
+        out: &mut [u8; MAX_FRAME],
+        scale: Option<&mut Scale>,
+    ) -> usize {
         let len = |r: Result<&[u8], FrameError>| r.map_or(0, <[u8]>::len);
         let frame = match raw.and_then(wire::decode::<Request>) {
             Ok(frame) => frame,
@@ -252,7 +269,10 @@ impl<const P: usize, const E: usize, const K: usize> Service<P, E, K> {
             dst.copy_from_slice(bytes);
             return bytes.len();
         }
-        let reply = self.respond(&frame.body);
+        let reply = match (&frame.body, scale) {
+            (Request::Scale(request), Some(scale)) => scale.respond(request),
+            (request, _) => self.respond(request),
+        };
         let n = match wire::encode(frame.seq, &reply, out) {
             Ok(bytes) => bytes.len(),
             // Every reply fits a frame (tested); should one not, say so.
@@ -295,6 +315,7 @@ impl<const P: usize, const E: usize, const K: usize> Service<P, E, K> {
             Request::Status => self.status(),
             Request::DmpStart(start) => self.dmp_start(start).unwrap_or_else(fault),
             Request::DmpNext => self.dmp_next(),
+            Request::Scale(_) => bad_state("no scale on this device"),
         }
     }
 

@@ -1,8 +1,12 @@
-//! The coprocessor's wire protocol, shared by the host and the firmware so
-//! the two ends cannot drift apart.
+//! The wire protocol of primo's devices (the learning coprocessor and the
+//! load-cell scale), shared by the host and the firmware so the two ends
+//! cannot drift apart.
 //!
 //! **Messages** are serde types encoded with postcard: the host sends
-//! [`Request`]s, the coprocessor answers each with exactly one [`Reply`].
+//! [`Request`]s, the device answers each with exactly one [`Reply`]. A
+//! scale's requests and replies ([`crate::scale`]) travel inside
+//! [`Request::Scale`] and [`Reply::Scale`]; a scale that streams sends
+//! replies numbered [`crate::scale::STREAM`] unasked.
 //! Vectors longer than a frame (training examples, a roll-out's `Δθ`) travel
 //! in [`CHUNK`]-value pieces, so that every frame stays small: on a line that
 //! corrupts 1 % of its bytes a 40-byte frame still arrives intact two times
@@ -48,10 +52,12 @@ use crate::dmp::Shape;
 use crate::generalize::Method as Regression;
 use crate::golden::{SearchConfig, Status as SearchStatus};
 use crate::power::PowerConfig;
+use crate::scale::{ScaleReply, ScaleRequest};
 use crate::secant::SecantConfig;
 
 /// Protocol version; a coprocessor speaking another one refuses to work.
-pub const VERSION: u16 = 2;
+/// 3: the scale's messages.
+pub const VERSION: u16 = 3;
 /// Largest frame on the line, in bytes, the 0x00 delimiter included.
 pub const MAX_FRAME: usize = 160;
 /// Values per chunk of a long vector.
@@ -119,6 +125,9 @@ pub enum Request {
     DmpStart(DmpStart),
     /// The next setpoint of the movement.
     DmpNext,
+    /// A request to the scale (a device that is none answers
+    /// [`FaultKind::BadState`]).
+    Scale(ScaleRequest),
 }
 
 /// A learning run's settings.
@@ -220,6 +229,8 @@ pub enum Reply {
     },
     /// The request failed and changed nothing.
     Error(Fault),
+    /// The scale's answer.
+    Scale(ScaleReply),
 }
 
 /// What fits in the coprocessor.
@@ -290,6 +301,14 @@ pub enum FaultKind {
     BadFrame,
     /// The values were rejected (not finite, out of range, …).
     Invalid,
+    /// The scale's load is beyond its capacity (or its zero range).
+    Overload,
+    /// The scale's load is below its zero range.
+    Underload,
+    /// The scale's reading is not stable yet: ask again.
+    NotSettled,
+    /// The scale has no calibration.
+    Uncalibrated,
 }
 
 impl Fault {
@@ -312,6 +331,10 @@ impl fmt::Display for Fault {
             FaultKind::BadState => "bad state",
             FaultKind::BadFrame => "bad frame",
             FaultKind::Invalid => "invalid",
+            FaultKind::Overload => "overload",
+            FaultKind::Underload => "underload",
+            FaultKind::NotSettled => "not settled",
+            FaultKind::Uncalibrated => "uncalibrated",
         };
         write!(f, "{kind}: {}", self.detail)
     }
@@ -552,6 +575,9 @@ mod tests {
                 start: Vec::from_slice(&[1.0; MAX_DOF]).unwrap(),
                 dt: 0.001,
             }),
+            Request::Scale(crate::scale::ScaleRequest::Calibrate(
+                crate::scale::CalibrationPoint::High { grams: f32::MAX },
+            )),
         ];
         for m in &messages {
             encode(u32::MAX, m, &mut buf).unwrap();
@@ -581,6 +607,22 @@ mod tests {
                 position: Vec::from_slice(&[1.0; MAX_DOF]).unwrap(),
                 done: true,
             },
+            Reply::Scale(ScaleReply::Identity(crate::scale::Identity {
+                model: String::try_from("é".repeat(8).as_str()).unwrap(),
+                serial: u32::MAX,
+                capacity: f32::MAX,
+                decimals: u8::MAX,
+                rate: u16::MAX,
+                calibrated: true,
+            })),
+            Reply::Scale(ScaleReply::Reading(crate::scale::Reading {
+                digits: i32::MIN,
+                exponent: i8::MIN,
+                unit: crate::scale::Unit::Mg,
+                stable: true,
+                net: true,
+                sample: u32::MAX,
+            })),
         ];
         for m in &replies {
             encode(u32::MAX, m, &mut buf).unwrap();

@@ -1,8 +1,11 @@
-//! primo's learning coprocessor on a Cortex-M4F (the MPS2 AN386 board under
-//! QEMU): the UART driver, a stack-depth probe, and the panic handler
-//! shared by the firmware, its footprint probe and its on-target tests.
+//! primo's firmware on a Cortex-M4F (the MPS2 AN386 board under QEMU): the
+//! learning coprocessor and the load-cell scale. Here: the UART driver, the
+//! load cell's ADC, the scale's settings page, a stack-depth probe, and the
+//! panic handler shared by the images, their footprint probes and the
+//! on-target tests.
 //!
-//! The learning itself is [`primo_core::service::Service`], unchanged.
+//! The learning itself is [`primo_core::service::Service`], the scale
+//! [`primo_core::scale::Scale`], unchanged.
 #![no_std]
 #![deny(missing_docs)]
 #![deny(
@@ -15,6 +18,8 @@
     clippy::unimplemented
 )]
 
+pub mod load_cell;
+pub mod settings;
 pub mod uart;
 
 use core::panic::PanicInfo;

@@ -1,19 +1,25 @@
-//! The host's end of the learning coprocessor: a [`Link`] that speaks the
-//! wire protocol ([`primo_core::wire`]) over a serial port, and [`Qemu`],
-//! which boots the firmware on an emulated Cortex-M4F and exposes its UART
-//! as a pseudo-terminal.
+//! The host's end of primo's devices (the learning coprocessor, the
+//! load-cell scale): a [`Link`] that speaks the wire protocol
+//! ([`primo_core::wire`]) over a serial port, and [`Qemu`], which boots a
+//! firmware image on an emulated Cortex-M4F and exposes its UART as a
+//! pseudo-terminal.
 //!
 //! Every request is retransmitted with the same sequence number until its
-//! reply arrives: on a timeout, on a corrupted frame from the coprocessor,
-//! or when the coprocessor reports that it could not read ours. The
-//! coprocessor answers a repeated sequence number with the same reply and
-//! no second state change, so a retransmission is always safe.
+//! reply arrives: on a timeout, on a corrupted frame from the device, or
+//! when the device reports that it could not read ours. The device answers
+//! a repeated sequence number with the same reply and no second state
+//! change, so a retransmission is always safe. A [`Link`] is a shared
+//! handle: the scale's client and the learner on the scale use one line.
 
+use std::collections::VecDeque;
 use std::io::{self, BufRead, BufReader, Read};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
+use std::sync::atomic::{AtomicU32, Ordering};
+use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::{Duration, Instant};
 
+use primo_core::scale::STREAM;
 use primo_core::service::UNREAD;
 use primo_core::wire::{self, FaultKind, FrameReader, MAX_FRAME, Reply, Request};
 use serialport::SerialPort;
@@ -38,19 +44,28 @@ pub struct LinkStats {
     pub stale: u64,
 }
 
-/// A connection to the coprocessor.
-pub struct Link {
+/// Streamed replies kept until read; older ones are dropped.
+const STREAMED: usize = 1024;
+
+/// A connection to a device; clones share it.
+#[derive(Clone)]
+pub struct Link(Arc<Mutex<Line>>);
+
+/// The line behind a [`Link`].
+struct Line {
     port: Box<dyn SerialPort>,
     name: String,
     reader: FrameReader,
     seq: u32,
     timeout: Duration,
     stats: LinkStats,
+    /// Replies the device sent unasked ([`STREAM`]), oldest first.
+    streamed: VecDeque<Reply>,
 }
 
 impl Link {
     /// Opens the serial port at `path` (115200 8N1; a pseudo-terminal
-    /// ignores the rate) and greets the coprocessor: it must speak
+    /// ignores the rate) and greets the device: it must speak
     /// [`wire::VERSION`].
     pub fn open(path: &str) -> Result<Link, Error> {
         let port = serialport::new(path, 115_200)
@@ -62,18 +77,54 @@ impl Link {
         let seq = std::time::SystemTime::now()
             .duration_since(std::time::UNIX_EPOCH)
             .map_or(1, |d| d.subsec_nanos() | 1);
-        let mut link = Link {
+        let link = Link(Arc::new(Mutex::new(Line {
             port,
             name: path.to_string(),
             reader: FrameReader::new(),
             seq,
             timeout: REPLY_TIMEOUT,
             stats: LinkStats::default(),
-        };
-        link.hello()?;
+            streamed: VecDeque::new(),
+        })));
+        link.line().hello()?;
         Ok(link)
     }
 
+    fn line(&self) -> MutexGuard<'_, Line> {
+        // A panic while holding the line leaves it consistent: every
+        // request either completed or will be sent again.
+        self.0.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    /// The port's name.
+    pub fn name(&self) -> String {
+        self.line().name.clone()
+    }
+
+    /// What went wrong on the line so far.
+    pub fn stats(&self) -> LinkStats {
+        self.line().stats
+    }
+
+    /// Sends `request` and returns its reply, retransmitting as needed.
+    /// Errors: the port fails, or no intact reply after [`ATTEMPTS`] sends.
+    pub fn call(&mut self, request: &Request) -> Result<Reply, Error> {
+        self.line().call(request)
+    }
+
+    /// The replies the device streamed, oldest first, waiting up to
+    /// `within` for the first; intact ones only.
+    pub fn streamed(&mut self, within: Duration) -> Result<Vec<Reply>, Error> {
+        let mut line = self.line();
+        let deadline = Instant::now() + within;
+        while line.streamed.is_empty() && Instant::now() < deadline {
+            line.receive(None)?;
+        }
+        Ok(line.streamed.drain(..).collect())
+    }
+}
+
+impl Line {
     fn hello(&mut self) -> Result<(), Error> {
         let hello = Request::Hello {
             version: wire::VERSION,
@@ -91,16 +142,9 @@ impl Link {
         }
     }
 
-    /// What went wrong on the line so far.
-    pub fn stats(&self) -> LinkStats {
-        self.stats
-    }
-
-    /// Sends `request` and returns its reply, retransmitting as needed.
-    /// Errors: the port fails, or no intact reply after [`ATTEMPTS`] sends.
-    pub fn call(&mut self, request: &Request) -> Result<Reply, Error> {
+    fn call(&mut self, request: &Request) -> Result<Reply, Error> {
         self.seq = self.seq.wrapping_add(1);
-        if self.seq == UNREAD {
+        if self.seq == UNREAD || self.seq == STREAM {
             self.seq = 1;
         }
         let mut buf = [0u8; MAX_FRAME];
@@ -122,7 +166,7 @@ impl Link {
                 .map_err(|e| {
                     Error::Coprocessor(format!("coprocessor {}: write: {e}", self.name))
                 })?;
-            if let Some(reply) = self.await_reply()? {
+            if let Some(reply) = self.receive(Some(self.seq))? {
                 self.stats.requests += 1;
                 return Ok(reply);
             }
@@ -133,9 +177,10 @@ impl Link {
         )))
     }
 
-    /// The reply to the current sequence number, or `None` when it is time
-    /// to send the request again.
-    fn await_reply(&mut self) -> Result<Option<Reply>, Error> {
+    /// The reply to `seq`, or `None` when it is time to send the request
+    /// again; streamed replies are kept on the way. With no `seq`, reads
+    /// for one reply timeout.
+    fn receive(&mut self, seq: Option<u32>) -> Result<Option<Reply>, Error> {
         let deadline = Instant::now() + self.timeout;
         let mut bytes = [0u8; 256];
         while Instant::now() < deadline {
@@ -154,14 +199,22 @@ impl Link {
                     continue;
                 };
                 match raw.and_then(wire::decode::<Reply>) {
-                    Ok(f) if f.seq == self.seq => return Ok(Some(f.body)),
+                    Ok(f) if Some(f.seq) == seq => return Ok(Some(f.body)),
+                    Ok(f) if f.seq == STREAM => {
+                        if self.streamed.len() == STREAMED {
+                            self.streamed.pop_front();
+                        }
+                        self.streamed.push_back(f.body);
+                    }
                     // It could not read our frame: send it again now.
                     Ok(f) if f.seq == UNREAD => return Ok(None),
                     Ok(_) => self.stats.stale += 1,
-                    // Our reply was damaged on the way: ask again now.
+                    // A damaged frame, maybe our reply: ask again now.
                     Err(_) => {
                         self.stats.bad_frames += 1;
-                        return Ok(None);
+                        if seq.is_some() {
+                            return Ok(None);
+                        }
                     }
                 }
             }
@@ -170,8 +223,31 @@ impl Link {
     }
 }
 
-/// Where cargo puts the firmware's release ELF under a target directory.
-const FIRMWARE_ELF: &str = "thumbv7em-none-eabihf/release/primo-firmware";
+/// Where cargo puts the firmware's release ELFs under a target directory.
+const RELEASE: &str = "thumbv7em-none-eabihf/release";
+
+/// A firmware image.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Image {
+    /// The learning coprocessor, `primo-firmware` (`$PRIMO_FIRMWARE`).
+    Coprocessor,
+    /// The load-cell scale, which serves the learner too, `primo-scale`
+    /// (`$PRIMO_SCALE_FIRMWARE`).
+    Scale,
+}
+
+impl Image {
+    /// Its ELF's name, and the environment variable that names it.
+    fn names(self) -> (&'static str, &'static str) {
+        match self {
+            Image::Coprocessor => ("primo-firmware", "PRIMO_FIRMWARE"),
+            Image::Scale => ("primo-scale", "PRIMO_SCALE_FIRMWARE"),
+        }
+    }
+}
+
+/// Where the scale image keeps its settings (`firmware/src/settings.rs`).
+const SETTINGS_PAGE: u32 = 0x0001_F800;
 
 /// The firmware's sources, `firmware/` beside this crate.
 fn firmware_source() -> PathBuf {
@@ -179,37 +255,41 @@ fn firmware_source() -> PathBuf {
     learn.parent().unwrap_or(learn).join("firmware")
 }
 
-/// The firmware running in QEMU's `mps2-an386` (a Cortex-M4F) with UART0
-/// on a pseudo-terminal; QEMU is stopped when this is dropped.
+/// A firmware image running in QEMU's `mps2-an386` (a Cortex-M4F) with
+/// UART0 on a pseudo-terminal; QEMU is stopped when this is dropped.
 pub struct Qemu {
     child: Child,
     pty: String,
+    /// The scale's settings page loaded at boot, removed with QEMU.
+    page: Option<PathBuf>,
 }
 
 impl Qemu {
-    /// The firmware ELF, found at run time: `PRIMO_FIRMWARE` if set; else
-    /// the first that exists of the firmware's release build under
-    /// `CARGO_TARGET_DIR` (relative to `firmware/`, where cargo builds
-    /// it), under `firmware/target`, under the target directory this
-    /// executable was built in (`<target>/debug/primo`), and
-    /// `primo-firmware` beside the executable. Not found: an error naming
-    /// where it looked and the command that builds it. It is not built on
-    /// demand: that needs the Cortex-M4F target installed and takes a
-    /// minute, which a run should not start by surprise.
-    pub fn find_firmware() -> Result<PathBuf, Error> {
-        if let Some(path) = std::env::var_os("PRIMO_FIRMWARE") {
+    /// The ELF of `image`, found at run time: its environment variable
+    /// if set; else the first that exists of the firmware's release build
+    /// under `CARGO_TARGET_DIR` (relative to `firmware/`, where cargo
+    /// builds it), under `firmware/target`, under the target directory
+    /// this executable was built in (`<target>/debug/primo`), and the ELF
+    /// beside the executable. Not found: an error naming where it looked
+    /// and the command that builds it. It is not built on demand: that
+    /// needs the Cortex-M4F target installed and takes a minute, which a
+    /// run should not start by surprise.
+    pub fn find(image: Image) -> Result<PathBuf, Error> {
+        let (name, variable) = image.names();
+        if let Some(path) = std::env::var_os(variable) {
             return Ok(PathBuf::from(path));
         }
+        let elf = Path::new(RELEASE).join(name);
         let source = firmware_source();
         let exe = std::env::current_exe().ok();
         let exe_dir = exe.as_deref().and_then(Path::parent);
         let candidates: Vec<PathBuf> = [
-            std::env::var_os("CARGO_TARGET_DIR").map(|dir| source.join(dir).join(FIRMWARE_ELF)),
-            Some(source.join("target").join(FIRMWARE_ELF)),
+            std::env::var_os("CARGO_TARGET_DIR").map(|dir| source.join(dir).join(&elf)),
+            Some(source.join("target").join(&elf)),
             exe_dir
                 .and_then(Path::parent)
-                .map(|target| target.join(FIRMWARE_ELF)),
-            exe_dir.map(|dir| dir.join("primo-firmware")),
+                .map(|target| target.join(&elf)),
+            exe_dir.map(|dir| dir.join(name)),
         ]
         .into_iter()
         .flatten()
@@ -219,16 +299,60 @@ impl Qemu {
         }
         let looked: Vec<String> = candidates.iter().map(|p| p.display().to_string()).collect();
         Err(Error::Coprocessor(format!(
-            "the coprocessor firmware is not built (looked at {}): build it with \
+            "the firmware {name} is not built (looked at {}): build it with \
              `cd {} && cargo build --release` (needs `rustup target add \
-             thumbv7em-none-eabihf`), or name it with --firmware or PRIMO_FIRMWARE",
+             thumbv7em-none-eabihf`), or name it with --firmware or {variable}",
             looked.join(", "),
             source.display()
         )))
     }
 
-    /// Boots `firmware` and waits for QEMU to name the pseudo-terminal.
+    /// Boots the coprocessor `firmware` and waits for QEMU to name the
+    /// pseudo-terminal.
     pub fn start(firmware: &Path) -> Result<Qemu, Error> {
+        Self::boot(firmware, &[])
+    }
+
+    /// Boots the scale `firmware` with its load cell's ADC line (UART1) on
+    /// the serial device `load_cell` (a pseudo-terminal the simulated cell
+    /// sends counts on) and its settings page holding `settings`, as a
+    /// factory programs it (QEMU's flash does not outlive QEMU).
+    pub fn start_scale(
+        firmware: &Path,
+        load_cell: &str,
+        settings: &primo_core::scale::Settings,
+    ) -> Result<Qemu, Error> {
+        let mut buf = [0u8; MAX_FRAME];
+        let frame = wire::encode(0, settings, &mut buf)
+            .map_err(|e| Error::Coprocessor(format!("the scale's settings page: {e}")))?;
+        // One file per boot of this process.
+        static BOOTS: AtomicU32 = AtomicU32::new(0);
+        let page = std::env::temp_dir().join(format!(
+            "primo-scale-page-{}-{}.bin",
+            std::process::id(),
+            BOOTS.fetch_add(1, Ordering::Relaxed)
+        ));
+        std::fs::write(&page, frame).map_err(Error::io(&page))?;
+        let loader = format!(
+            "loader,file={},addr={SETTINGS_PAGE:#x},force-raw=on",
+            page.display()
+        );
+        let booted = Self::boot(firmware, &["-serial", load_cell, "-device", &loader]);
+        match booted {
+            Ok(mut qemu) => {
+                qemu.page = Some(page);
+                Ok(qemu)
+            }
+            Err(e) => {
+                let _ = std::fs::remove_file(&page);
+                Err(e)
+            }
+        }
+    }
+
+    /// Boots `firmware` with UART0 on a new pseudo-terminal and `extra`
+    /// arguments.
+    fn boot(firmware: &Path, extra: &[&str]) -> Result<Qemu, Error> {
         if !firmware.is_file() {
             return Err(Error::Coprocessor(format!(
                 "firmware {} not found: build it with `cd {} && cargo build --release`",
@@ -239,6 +363,7 @@ impl Qemu {
         let mut child = Command::new("qemu-system-arm")
             .args(["-cpu", "cortex-m4", "-machine", "mps2-an386", "-nographic"])
             .args(["-monitor", "none", "-serial", "pty"])
+            .args(extra)
             .args(["-semihosting-config", "enable=on,target=native"])
             .arg("-kernel")
             .arg(firmware)
@@ -280,7 +405,11 @@ impl Qemu {
         };
         // Keep draining QEMU's stdout (semihosting output) so it never blocks.
         std::thread::spawn(move || lines.for_each(drop));
-        Ok(Qemu { child, pty })
+        Ok(Qemu {
+            child,
+            pty,
+            page: None,
+        })
     }
 
     /// The pseudo-terminal of the firmware's UART0.
@@ -293,5 +422,8 @@ impl Drop for Qemu {
     fn drop(&mut self) {
         let _ = self.child.kill();
         let _ = self.child.wait();
+        if let Some(page) = &self.page {
+            let _ = std::fs::remove_file(page);
+        }
     }
 }

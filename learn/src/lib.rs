@@ -12,8 +12,9 @@
 //! - [`pouring`]: the built-in pouring task: its gate, its demonstrations.
 //! - [`pour`]: a `primo pour` run: its header, log, resumption, reports.
 //! - [`runlog`]: the durable log of a learning run, and its recovery.
-//! - [`coprocessor`]: the learning coprocessor over a serial port, and the
-//!   firmware booted in QEMU.
+//! - [`coprocessor`]: primo's devices (the learning coprocessor, the
+//!   load-cell scale) over a serial port, and their firmware booted in QEMU.
+//! - [`weigh`]: the scales a real cell weighs with: MT-SICS, or primo's.
 //! - [`experiment`]: the paper's experiments, runs spread over all cores.
 //! - [`report`]: roll-out tables, summaries and charts.
 //! - [`series`]: a roll-out's time series and its CSV.
@@ -40,5 +41,6 @@ pub mod stats;
 pub mod task;
 pub mod teach;
 pub mod trial;
+pub mod weigh;
 
 pub use error::Error;

@@ -18,7 +18,7 @@ use primo_skill::{MAX_KERNELS, Skill, Space};
 use serde::{Deserialize, Serialize};
 
 use crate::Error;
-use crate::coprocessor::{Link, Qemu};
+use crate::coprocessor::{Image, Link, Qemu};
 use crate::learning::{
     Algorithm, Entry, Learner, Record, Settings, best, check_examples, examples_crc, learn_logged,
     pour_setup,
@@ -29,6 +29,7 @@ use crate::report::{PourSummary, RolloutSummary};
 use crate::rig::{Instruments, InstrumentsSpec, Operator, Rig, Simulated, roll_out};
 use crate::runlog::{RunEvent, RunLog};
 use crate::trial::Measured;
+use crate::weigh::ScaleSpec;
 
 /// The log format's version.
 pub const VERSION: u32 = 2;
@@ -140,10 +141,15 @@ pub struct Header {
     pub examples: u32,
 }
 
+/// The coprocessor that is the cell's scale: the learner runs on primo's
+/// scale, over the scale's own line.
+pub const ON_SCALE: &str = "scale";
+
 /// Where the learner runs.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct LearnerSpec {
-    /// A coprocessor's serial port, or `qemu`; in this process if `None`.
+    /// A coprocessor's serial port, `qemu`, or [`ON_SCALE`]; in this
+    /// process if `None`.
     pub coprocessor: Option<String>,
     /// With `qemu`: the firmware ELF.
     pub firmware: Option<PathBuf>,
@@ -299,6 +305,10 @@ pub fn pour(
 ) -> Result<(), Failure> {
     let started = Instant::now();
     start.validate()?;
+    let on_scale = learner.coprocessor.as_deref() == Some(ON_SCALE);
+    if on_scale && let Start::New { cell, .. } = &start {
+        on_primo_scale(cell)?;
+    }
     // QEMU (when asked for) lives until the run ends.
     let (_qemu, mut learner, connected) = open_learner(learner)?;
     if let Some(what) = connected {
@@ -351,6 +361,9 @@ pub fn pour(
         error: Box::new(error),
         resumable: Some(dir.clone()),
     };
+    if on_scale && !ended {
+        on_primo_scale(&header.cell).map_err(fail)?;
+    }
     let s = header.settings;
     let (cell, skill) = header.skill.build().map_err(fail)?;
     check_examples(&skill, header.examples, &dir).map_err(fail)?;
@@ -370,12 +383,18 @@ pub fn pour(
             let rig = Instruments::open(spec.clone(), &cell, s.bottle, operator).map_err(fail)?;
             event(Event::Cell {
                 spec,
-                scale_serial: rig.scale_serial(),
+                scale_serial: &rig.scale_serial(),
             })
             .map_err(fail)?;
+            if on_scale && let Some(link) = rig.scale_link() {
+                let what = format!("learner: on the scale, {}", link.name());
+                event(Event::Run(RunEvent::Learner(what))).map_err(fail)?;
+                learner = Learner::Remote(link);
+            }
             Box::new(rig)
         }
     };
+
     let setup = pour_setup(&skill, &s).map_err(fail)?;
     let run = learn_logged(
         &skill,
@@ -500,18 +519,39 @@ fn report(
     })
 }
 
+/// `--coprocessor scale` needs primo's scale on a real cell.
+fn on_primo_scale(cell: &CellSpec) -> Result<(), Error> {
+    let primo = match cell {
+        CellSpec::Instruments(spec) => !matches!(
+            ScaleSpec::parse("--scale", &spec.scale)?,
+            ScaleSpec::MtSics(_)
+        ),
+        CellSpec::Simulated => false,
+    };
+    if primo {
+        Ok(())
+    } else {
+        Err(Error::Invalid(
+            "--coprocessor scale: the learner runs on primo's scale, --scale postcard:PORT or \
+             qemu:LOAD_CELL (with --robot)"
+                .into(),
+        ))
+    }
+}
+
 /// Connects the learner of `spec`: in this process, on a coprocessor, or
 /// on the firmware booted in QEMU (returned: it lives until the run ends);
-/// with where it is, unless in this process.
+/// with where it is, unless in this process. On the scale, the learner is
+/// in this process until the scale's line takes it over.
 pub(crate) fn open_learner(
     spec: &LearnerSpec,
 ) -> Result<(Option<Qemu>, Learner, Option<String>), Error> {
     Ok(match spec.coprocessor.as_deref() {
-        None => (None, Learner::local(), None),
+        None | Some(ON_SCALE) => (None, Learner::local(), None),
         Some("qemu") => {
             let elf = match &spec.firmware {
                 Some(elf) => elf.clone(),
-                None => Qemu::find_firmware()?,
+                None => Qemu::find(Image::Coprocessor)?,
             };
             let qemu = Qemu::start(&elf)?;
             let link = Link::open(qemu.pty())?;

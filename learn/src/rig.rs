@@ -10,15 +10,16 @@ use std::time::Duration;
 use primo_fri::parse_robot;
 use primo_fri::session::SessionConfig;
 use primo_fri::udp::{Ended, Event, PlayConfig, bind, play};
-use primo_mtsics::{Client, ClientConfig};
 use primo_robot::{Gate, JointPath};
 use primo_sim::cell::{Cell, CellConfig};
 use primo_skill::{Plan, Skill};
 use serde::{Deserialize, Serialize};
 
 use crate::Error;
+use crate::coprocessor::Link;
 use crate::series::Series;
 use crate::trial::{Measured, Readings, Trial};
+use crate::weigh::{ScaleSpec, Weigher};
 
 /// Standard gravity, m/s².
 const G: f64 = 9.80665;
@@ -141,9 +142,10 @@ impl Rig for Simulated {
 pub struct InstrumentsSpec {
     /// `fri:ADDR[:PORT]`: the local UDP address the KRC sends to.
     pub robot: String,
-    /// The MT-SICS scale's serial port.
+    /// The scale: an MT-SICS scale's serial port, or primo's scale
+    /// (`postcard:PORT`, `qemu:LOAD_CELL`; see [`ScaleSpec`]).
     pub scale: String,
-    /// Its baud rate.
+    /// An MT-SICS scale's baud rate.
     pub baud: u32,
     /// The liquid's density, g/ml.
     pub density: f64,
@@ -164,6 +166,7 @@ impl InstrumentsSpec {
             return Err(Error::Invalid("--baud 0: must be a positive rate".into()));
         }
         parse_robot(&self.robot)?;
+        ScaleSpec::parse("--scale", &self.scale)?;
         Ok(())
     }
 }
@@ -187,7 +190,8 @@ const HOLD: f64 = 1.0;
 /// How long to wait for a stable scale reading before giving up.
 const SETTLE_LIMIT: Duration = Duration::from_secs(120);
 
-/// A real pouring cell: a KUKA LWR4 over FRI and an MT-SICS scale.
+/// A real pouring cell: a KUKA LWR4 over FRI and a scale (MT-SICS, or
+/// primo's).
 ///
 /// A roll-out: the operator resets the cell if asked to confirm; the
 /// scale's stable weight is read; the checked joint path is streamed over
@@ -202,7 +206,7 @@ pub struct Instruments {
     dt: f64,
     bottle: f64,
     socket: UdpSocket,
-    scale: Client,
+    scale: Weigher,
     play: PlayConfig,
     operator: Box<dyn Operator>,
     /// The operator was told the FRI loop is not real-time (once a run).
@@ -220,14 +224,11 @@ impl Instruments {
     ) -> Result<Instruments, Error> {
         spec.validate()?;
         let socket = bind(parse_robot(&spec.robot)?)?;
-        let scale = Client::open(
-            &spec.scale,
-            ClientConfig {
-                baud: spec.baud,
-                // The liquid in the glass may still be moving.
-                settle: SETTLE_LIMIT,
-                ..ClientConfig::default()
-            },
+        // The liquid in the glass may still be moving: SETTLE_LIMIT.
+        let scale = Weigher::open(
+            &ScaleSpec::parse("--scale", &spec.scale)?,
+            spec.baud,
+            SETTLE_LIMIT,
         )?;
         Ok(Instruments {
             spec,
@@ -250,13 +251,18 @@ impl Instruments {
     }
 
     /// The scale's serial number.
-    pub fn scale_serial(&self) -> &str {
+    pub fn scale_serial(&self) -> String {
         self.scale.serial()
     }
 
-    /// The stable weight, g (the client waits up to [`SETTLE_LIMIT`] for it).
+    /// The line to primo's scale, which can run the learner too.
+    pub fn scale_link(&self) -> Option<Link> {
+        self.scale.link()
+    }
+
+    /// The stable weight, g (waited for up to [`SETTLE_LIMIT`]).
     fn weigh(&mut self) -> Result<f64, Error> {
-        Ok(self.scale.stable()?.grams())
+        self.scale.stable_grams()
     }
 }
 

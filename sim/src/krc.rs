@@ -37,7 +37,8 @@
 //! modelled: the estimate is meant to be read while the arm stands still.
 //!
 //! [`SimKrc::serve_scale`] serves the cell's scale over MT-SICS, weighing
-//! what lands on the cell's pan.
+//! what lands on the cell's pan; [`SimKrc::serve_load_cell`] serves it as
+//! a bare load cell's raw counts, for the scale firmware.
 
 use crate::Error;
 use std::collections::VecDeque;
@@ -56,6 +57,7 @@ use primo_robot::{Arm, JOINTS, Pose};
 
 use crate::bottle::G;
 use crate::cell::{Cell, CellConfig, GlassKind, MAX_DT};
+use crate::load_cell::{LoadCellModel, LoadCellServer};
 use crate::scale_device::{Device, DeviceConfig, LoadSource, PtyServer};
 
 /// Cycles the communication statistics and the quality are computed over.
@@ -392,6 +394,21 @@ impl SimKrc {
         )?;
         PtyServer::start(device)
             .map_err(|e| Error::Io(format!("cannot serve the scale on a pseudo-terminal: {e}")))
+    }
+
+    /// Serves the cell's scale as a bare load cell ([`LoadCellServer`],
+    /// not thread-safe to start): raw counts of the pan's load on a new
+    /// pseudo-terminal, the noise from the KRC's seed.
+    pub fn serve_load_cell(&self) -> Result<LoadCellServer, Error> {
+        let model = LoadCellModel {
+            scale: self.cell_cfg.scale,
+            ..LoadCellModel::default()
+        };
+        LoadCellServer::start(model, self.cfg.seed, self.cell()).map_err(|e| {
+            Error::Io(format!(
+                "cannot serve the load cell on a pseudo-terminal: {e}"
+            ))
+        })
     }
 
     /// The KRC's own UDP address.

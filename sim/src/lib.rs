@@ -12,6 +12,8 @@
 //!   cell, with fault injection for the tests.
 //! - [`scale_device`]: the cell's scale speaking MT-SICS, sans I/O, and
 //!   served on a pseudo-terminal.
+//! - [`load_cell`]: the cell's scale as a bare load cell: raw ADC counts
+//!   for the scale firmware, sent on a pseudo-terminal.
 #![deny(missing_docs)]
 
 pub mod bottle;
@@ -19,6 +21,7 @@ pub mod cell;
 mod error;
 pub mod expert;
 pub mod krc;
+pub mod load_cell;
 pub mod scale;
 pub mod scale_device;
 pub mod stream;

@@ -85,6 +85,13 @@ pub struct Reading {
     pub overload: bool,
 }
 
+/// `value` after `dt` seconds of a first-order lag of time constant `tau`
+/// toward `load`: the pan's and the liquid's settling, which the scale and
+/// the bare load cell share.
+pub(crate) fn lag(value: f64, load: f64, dt: f64, tau: f64) -> f64 {
+    value + (load - value) * -(-dt / tau).exp_m1()
+}
+
 /// The simulated scale.
 #[derive(Debug, Clone)]
 pub struct Scale {
@@ -117,7 +124,7 @@ impl Scale {
     /// Advances by `dt` seconds under `load` grams.
     pub fn step(&mut self, dt: f64, load: f64) {
         let m = self.model;
-        self.filtered += (load - self.filtered) * -(-dt / m.lag).exp_m1();
+        self.filtered = lag(self.filtered, load, dt, m.lag);
         self.time += dt;
         while self.time >= self.next_update {
             let noisy = self.filtered + m.noise * f64::from(self.normal.sample(&mut self.rng));

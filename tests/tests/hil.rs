@@ -2,120 +2,23 @@
 //! release firmware in QEMU's mps2-an386), reached over a pseudo-terminal,
 //! drives the simulated cell. The roll-outs must be bit for bit those of the
 //! host-only run with the same seed, also through a line that drops and
-//! corrupts bytes.
+//! corrupts bytes; on the coprocessor, and on the scale firmware, which
+//! weighs the simulated load cell's counts besides.
+mod relay;
 
-use std::io::{Read, Write};
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
-use std::sync::{Arc, Mutex};
-use std::thread::JoinHandle;
-use std::time::Duration;
+use std::sync::atomic::Ordering;
+use std::time::{Duration, Instant};
 
-use primo_core::rng::Xoshiro128PlusPlus;
-use primo_learn::coprocessor::{Link, Qemu};
+use primo_core::scale::{CalibrationPoint, ScaleRequest, Settings as ScaleSettings, Unit};
+use primo_learn::coprocessor::{Image, Link, Qemu};
 use primo_learn::learning::{Algorithm as Method, Learner, Record, Settings, learn};
 use primo_learn::pouring::built_in_skill;
+use primo_learn::weigh::PrimoScale;
 use primo_sim::cell::{CellConfig, GlassKind};
+use primo_sim::load_cell::{LoadCellModel, LoadCellServer};
+use primo_sim::scale_device::LoadHandle;
 use primo_skill::Space;
-use rand_core::{Rng, SeedableRng};
-use serialport::{SerialPort, TTYPort};
-
-/// `TTYPort::pair` is not thread-safe.
-static PTY: Mutex<()> = Mutex::new(());
-
-/// Bytes the relay dropped and corrupted, both directions.
-#[derive(Default)]
-struct Damage {
-    dropped: AtomicU64,
-    corrupted: AtomicU64,
-    passed: AtomicU64,
-}
-
-/// A line between the host and the coprocessor's pty that drops `rate / 2`
-/// and corrupts `rate / 2` of the bytes in each direction.
-struct Relay {
-    path: String,
-    /// The end the host opens by `path`; held so the pty stays up.
-    _port: TTYPort,
-    damage: Arc<Damage>,
-    stop: Arc<AtomicBool>,
-    threads: Vec<JoinHandle<()>>,
-}
-
-impl Relay {
-    fn start(device: &str, rate: f64, seed: u64) -> Relay {
-        let (host_side, port) = {
-            let _guard = PTY.lock().unwrap_or_else(|e| e.into_inner());
-            TTYPort::pair().unwrap()
-        };
-        let path = port.name().unwrap();
-        let device: Box<dyn SerialPort> = serialport::new(device, 115_200)
-            .timeout(Duration::from_millis(10))
-            .open()
-            .unwrap();
-        let (damage, stop) = (
-            Arc::new(Damage::default()),
-            Arc::new(AtomicBool::new(false)),
-        );
-        let mut host_side = host_side;
-        host_side.set_timeout(Duration::from_millis(10)).unwrap();
-        let pipes: [(Box<dyn SerialPort>, Box<dyn SerialPort>); 2] = [
-            (
-                Box::new(host_side.try_clone_native().unwrap()),
-                device.try_clone().unwrap(),
-            ),
-            (device, Box::new(host_side)),
-        ];
-        let threads = pipes
-            .into_iter()
-            .enumerate()
-            .map(|(i, (mut from, mut to))| {
-                let (damage, stop) = (damage.clone(), stop.clone());
-                let mut rng = Xoshiro128PlusPlus::seed_from_u64(seed + i as u64);
-                std::thread::spawn(move || {
-                    let mut buf = [0u8; 256];
-                    while !stop.load(Ordering::Relaxed) {
-                        let n = match from.read(&mut buf) {
-                            Ok(n) => n,
-                            Err(_) => continue,
-                        };
-                        let mut out = Vec::with_capacity(n);
-                        for &b in &buf[..n] {
-                            let u = rng.next_u32() as f64 / u32::MAX as f64;
-                            if u < rate / 2.0 {
-                                damage.dropped.fetch_add(1, Ordering::Relaxed);
-                            } else if u < rate {
-                                damage.corrupted.fetch_add(1, Ordering::Relaxed);
-                                out.push(b ^ (1 + (rng.next_u32() % 255) as u8));
-                            } else {
-                                damage.passed.fetch_add(1, Ordering::Relaxed);
-                                out.push(b);
-                            }
-                        }
-                        if to.write_all(&out).is_err() {
-                            return;
-                        }
-                    }
-                })
-            })
-            .collect();
-        Relay {
-            path,
-            _port: port,
-            damage,
-            stop,
-            threads,
-        }
-    }
-}
-
-impl Drop for Relay {
-    fn drop(&mut self) {
-        self.stop.store(true, Ordering::Relaxed);
-        for t in self.threads.drain(..) {
-            let _ = t.join();
-        }
-    }
-}
+use relay::{PTY, Relay};
 
 /// Parameters, query and reward bits of every roll-out.
 fn bits(records: &[Record]) -> Vec<(u32, u32, u64, u64)> {
@@ -146,27 +49,20 @@ fn run(
     learn(&skill, &cell, &s, learner, |_| {}).unwrap()
 }
 
+/// The paper's golden-section search on the built-in pour.
+fn golden(learner: &mut Learner) -> Vec<Record> {
+    run(Method::Golden, Space::Cartesian, 30, 30, learner)
+}
+
 fn coprocessor(qemu: &Qemu) -> Learner {
     Learner::Remote(Link::open(qemu.pty()).unwrap())
 }
 
 #[test]
 fn golden_section_on_the_mcu_gives_the_host_only_roll_outs() {
-    let qemu = Qemu::start(&Qemu::find_firmware().unwrap()).unwrap();
-    let host = run(
-        Method::Golden,
-        Space::Cartesian,
-        30,
-        30,
-        &mut Learner::local(),
-    );
-    let mcu = run(
-        Method::Golden,
-        Space::Cartesian,
-        30,
-        30,
-        &mut coprocessor(&qemu),
-    );
+    let qemu = Qemu::start(&Qemu::find(Image::Coprocessor).unwrap()).unwrap();
+    let host = golden(&mut Learner::local());
+    let mcu = golden(&mut coprocessor(&qemu));
     assert!(host.len() >= 3);
     assert_eq!(bits(&mcu), bits(&host));
 }
@@ -174,7 +70,7 @@ fn golden_section_on_the_mcu_gives_the_host_only_roll_outs() {
 #[test]
 fn power_on_the_mcu_gives_the_host_only_roll_outs() {
     // 219 parameters: 7 joints × 30 kernels + goals + τ + q̂; 3 updates.
-    let qemu = Qemu::start(&Qemu::find_firmware().unwrap()).unwrap();
+    let qemu = Qemu::start(&Qemu::find(Image::Coprocessor).unwrap()).unwrap();
     let host = run(Method::Power, Space::Joint, 30, 12, &mut Learner::local());
     let mcu = run(Method::Power, Space::Joint, 30, 12, &mut coprocessor(&qemu));
     assert_eq!(host.len(), 12);
@@ -183,20 +79,14 @@ fn power_on_the_mcu_gives_the_host_only_roll_outs() {
 
 #[test]
 fn a_lossy_line_changes_nothing_but_the_time() {
-    let qemu = Qemu::start(&Qemu::find_firmware().unwrap()).unwrap();
+    let qemu = Qemu::start(&Qemu::find(Image::Coprocessor).unwrap()).unwrap();
     let relay = Relay::start(qemu.pty(), 0.01, 5);
     let mut link = Learner::Remote(Link::open(&relay.path).unwrap());
     let host = run(Method::Power, Space::Joint, 10, 8, &mut Learner::local());
     let mcu = run(Method::Power, Space::Joint, 10, 8, &mut link);
     assert_eq!(bits(&mcu), bits(&host));
-    let golden_host = run(
-        Method::Golden,
-        Space::Cartesian,
-        30,
-        30,
-        &mut Learner::local(),
-    );
-    let golden_mcu = run(Method::Golden, Space::Cartesian, 30, 30, &mut link);
+    let golden_host = golden(&mut Learner::local());
+    let golden_mcu = golden(&mut link);
     assert_eq!(bits(&golden_mcu), bits(&golden_host));
     let Learner::Remote(link) = link else {
         unreachable!()
@@ -211,5 +101,90 @@ fn a_lossy_line_changes_nothing_but_the_time() {
         d.passed.load(Ordering::Relaxed)
     );
     assert!(dropped > 0 && corrupted > 0, "the line was not lossy");
+    assert!(stats.retransmissions > 0);
+}
+
+/// The scale firmware in QEMU on a simulated load cell under `load`, its
+/// settings page holding `page`.
+fn scale_on(load: &LoadHandle, page: &ScaleSettings) -> (LoadCellServer, Qemu) {
+    let cell = {
+        let _guard = PTY.lock().unwrap_or_else(|e| e.into_inner());
+        LoadCellServer::start(LoadCellModel::default(), 9, load.clone()).unwrap()
+    };
+    let qemu = Qemu::start_scale(&Qemu::find(Image::Scale).unwrap(), cell.path(), page).unwrap();
+    (cell, qemu)
+}
+
+/// Puts `grams` on the pan and waits until the display has moved away
+/// from the last stable reading (the pan's lag is 0.5 s).
+fn put(load: &LoadHandle, grams: f64) {
+    load.set(grams);
+    std::thread::sleep(Duration::from_secs(1));
+}
+
+fn grams(scale: &mut PrimoScale) -> f64 {
+    scale.weigh(true, Unit::G).unwrap().grams()
+}
+
+#[test]
+fn the_scale_in_qemu_calibrates_weighs_tares_and_streams() {
+    let load = LoadHandle::new(0.0);
+    let (_cell, qemu) = scale_on(&load, &ScaleSettings::default());
+    let mut scale = PrimoScale::open(qemu.pty(), Duration::from_secs(20)).unwrap();
+    assert!(!scale.identity().calibrated);
+    let err = scale.weigh(false, Unit::G).unwrap_err().to_string();
+    assert!(err.contains("uncalibrated"), "{err}");
+    // Two points: the empty pan, then a 500 g reference.
+    scale
+        .calibrate(CalibrationPoint::Low { grams: 0.0 })
+        .unwrap();
+    put(&load, 500.0);
+    scale
+        .calibrate(CalibrationPoint::High { grams: 500.0 })
+        .unwrap();
+    put(&load, 123.45);
+    let g = grams(&mut scale);
+    assert!((g - 123.45).abs() <= 0.02, "{g}");
+    scale.set(&ScaleRequest::Tare).unwrap();
+    put(&load, 173.45);
+    let net = scale.weigh(true, Unit::G).unwrap();
+    assert!(net.net && (net.grams() - 50.0).abs() <= 0.02, "{net:?}");
+    // Streamed readings come at the ADC's rate.
+    let start = Instant::now();
+    let readings = scale.stream(8, 40).unwrap();
+    let rate = 40.0 * 8.0 / start.elapsed().as_secs_f64();
+    println!("streamed 40 readings, every 8th sample: {rate:.1} samples/s");
+    let samples: Vec<u32> = readings
+        .iter()
+        .map(|r| r.as_ref().unwrap().sample)
+        .collect();
+    assert!(samples.windows(2).all(|w| w[1] == w[0] + 8), "{samples:?}");
+    assert!(rate > 40.0, "{rate}");
+    put(&load, 5000.0);
+    let err = scale.weigh(false, Unit::G).unwrap_err().to_string();
+    assert!(err.contains("overload"), "{err}");
+}
+
+#[test]
+fn the_learner_on_the_scale_through_a_lossy_line_gives_the_host_only_roll_outs() {
+    let load = LoadHandle::new(250.0);
+    let (_cell, qemu) = scale_on(&load, &LoadCellModel::default().factory_settings());
+    let relay = Relay::start(qemu.pty(), 0.01, 11);
+    let mut scale = PrimoScale::open(&relay.path, Duration::from_secs(20)).unwrap();
+    let g = grams(&mut scale);
+    assert!((g - 250.0).abs() <= 0.02, "{g}");
+    let host = golden(&mut Learner::local());
+    let on_scale = golden(&mut Learner::Remote(scale.link()));
+    assert_eq!(bits(&on_scale), bits(&host));
+    put(&load, 300.0);
+    let g = grams(&mut scale);
+    assert!((g - 300.0).abs() <= 0.02, "{g}");
+    let (d, stats) = (&relay.damage, scale.link().stats());
+    println!(
+        "relay: {} bytes passed, {} dropped, {} corrupted; link: {stats:?}",
+        d.passed.load(Ordering::Relaxed),
+        d.dropped.load(Ordering::Relaxed),
+        d.corrupted.load(Ordering::Relaxed)
+    );
     assert!(stats.retransmissions > 0);
 }

@@ -1,9 +1,10 @@
-//! Measures the coprocessor's costs on the target, under QEMU with
+//! Measures the firmware's costs on the target, under QEMU with
 //! `-icount shift=0` (virtual time counts instructions; SysTick is
 //! calibrated against a loop of known length): instructions per 7×30 DMP
 //! step, per 3×30 orientation DMP step and per 219-parameter PoWER update,
-//! and the stack the service needs for a whole PoWER run, frames and all,
-//! as the firmware runs it.
+//! the stack the service needs for a whole PoWER run, frames and all, as
+//! the firmware runs it; and the scale's instructions per ADC reading and
+//! per weighing request, and its stack.
 #![no_std]
 #![no_main]
 
@@ -16,6 +17,9 @@ use primo_core::generalize::Method;
 use primo_core::orientation::OrientationDmp;
 use primo_core::power::{Block, PowerConfig};
 use primo_core::quaternion::Quaternion;
+use primo_core::scale::{
+    Calibration, STREAM, Scale, ScaleConfig, ScaleRequest, Settings as ScaleSettings, Unit,
+};
 use primo_core::service::{Coprocessor as Service, THETA};
 use primo_core::wire::{
     self, CHUNK, DmpStart, FrameReader, LearnerSetup, MAX_DOF, MAX_FRAME, Outcome, Query, Reply,
@@ -204,9 +208,64 @@ fn power_run(service: &mut Service, syst: &mut SYST, dmp: &Dmp<MAX_DOF, KERNELS>
     update_ticks
 }
 
+/// The scale calibrated at 1000 counts per gram, streaming every
+/// reading: instruments per reading (a sample filtered, displayed, checked
+/// for stability and streamed as a frame) and per stable weighing through
+/// the service, and the stack of both.
+fn scale_costs(service: &mut Service, scale: &mut Scale, syst: &mut SYST) -> (u64, u64, usize) {
+    scale.restore(ScaleSettings {
+        calibration: Some(Calibration {
+            counts_low: 10_000,
+            grams_low: 0.0,
+            gain: 1e-3,
+        }),
+        ..ScaleSettings::default()
+    });
+    let mut out = [0u8; MAX_FRAME];
+    let mut frame = |service: &mut Service, scale: &mut Scale, seq: u32, request: &Request| {
+        let mut buf = [0u8; MAX_FRAME];
+        let Ok(bytes) = wire::encode(seq, request, &mut buf) else {
+            fail("scale encode")
+        };
+        let raw = bytes.split_last().map_or(&[][..], |(_, r)| r);
+        service.handle_with(Ok(raw), &mut out, Some(scale)).len()
+    };
+    frame(
+        service,
+        scale,
+        1,
+        &Request::Scale(ScaleRequest::Stream { every: 1 }),
+    );
+    let mut sent = 0;
+    let (mut read_ticks, mut weigh_ticks) = (0, 0);
+    let stack = primo_firmware::stack_used_by(|| {
+        read_ticks = ticks(syst, || {
+            for i in 0..STEPS {
+                scale.push(260_000 + (i % 3) as i32);
+                if let Some(reply) = scale.streamed() {
+                    let mut buf = [0u8; MAX_FRAME];
+                    sent += wire::encode(STREAM, &reply, &mut buf).map_or(0, |f| f.len());
+                }
+            }
+        });
+        let weigh = Request::Scale(ScaleRequest::Weigh {
+            stable: true,
+            unit: Unit::G,
+        });
+        weigh_ticks = ticks(syst, || {
+            sent += frame(service, scale, 2, &weigh);
+        });
+    });
+    if sent == 0 {
+        fail("scale");
+    }
+    (read_ticks, weigh_ticks, stack)
+}
+
 #[entry]
 fn main() -> ! {
     static mut SERVICE: Service = Service::new();
+    static mut SCALE: Scale = Scale::new(ScaleConfig::LAB);
     let Some(mut p) = cortex_m::Peripherals::take() else {
         fail("peripherals")
     };
@@ -265,5 +324,15 @@ fn main() -> ! {
         instructions(update_ticks, UPDATES)
     );
     hprintln!("service stack: {} bytes", stack);
+    let (read_ticks, weigh_ticks, scale_stack) = scale_costs(SERVICE, SCALE, &mut p.SYST);
+    hprintln!(
+        "scale reading (filter, display, stability, streamed frame): {} instructions",
+        instructions(read_ticks, STEPS)
+    );
+    hprintln!(
+        "scale weighing request (decode, weigh, encode): {} instructions",
+        instructions(weigh_ticks, 1)
+    );
+    hprintln!("scale stack: {} bytes", scale_stack);
     primo_firmware::exit(true)
 }

@@ -1,0 +1,706 @@
+//! A load-cell scale behind the wire: raw counts of a 24-bit ADC in,
+//! weights out, with no I/O, so the scale firmware and the host's tests
+//! run the same code.
+//!
+//! - **Filter**: the mean of the last [`FILTER`] samples (integer sums, so
+//!   every target computes the same bits).
+//! - **Calibration**: two points `(counts, grams)` ([`CalibrationPoint`]),
+//!   a straight line through them; **zero** and **tare** in grams. They
+//!   are the [`Settings`] the firmware keeps in a flash page: every change
+//!   is reported once by [`Scale::take_changed`].
+//! - **Stability**, as a lab balance's: the displayed digits have held
+//!   within one digit for the last [`WINDOW`] samples (a second at 80
+//!   samples per second); the ADC's sample rate is the clock.
+//! - **Faults**: overload (beyond the capacity), underload (below the zero
+//!   range), not settled, uncalibrated, as typed [`FaultKind`]s.
+//!
+//! The samples reach the firmware from the ADC, or under QEMU over a UART
+//! as [`encode_sample`] writes them (a real board reads an HX711 or an
+//! ADS1232 instead).
+//!
+//! ```
+//! use primo_core::scale::{CalibrationPoint, Scale, ScaleConfig, ScaleRequest, ScaleReply, Unit, FILTER, WINDOW};
+//! use primo_core::wire::Reply;
+//! let mut s = Scale::new(ScaleConfig::LAB);
+//! let mut settle = |s: &mut Scale, counts: i32| (0..FILTER + WINDOW).for_each(|_| s.push(counts));
+//! settle(&mut s, 12_000);
+//! let low = ScaleRequest::Calibrate(CalibrationPoint::Low { grams: 0.0 });
+//! assert_eq!(s.respond(&low), Reply::Ok);
+//! settle(&mut s, 512_000); // 500 g at 1000 counts per gram
+//! let high = ScaleRequest::Calibrate(CalibrationPoint::High { grams: 500.0 });
+//! assert_eq!(s.respond(&high), Reply::Ok);
+//! let Reply::Scale(ScaleReply::Reading(r)) = s.respond(&ScaleRequest::Weigh { stable: true, unit: Unit::G })
+//! else { panic!() };
+//! assert_eq!((r.digits, r.exponent, r.stable), (50_000, -2, true));
+//! ```
+
+use heapless::String;
+use serde::{Deserialize, Serialize};
+
+use crate::wire::{Fault, FaultKind, Reply};
+
+/// Samples averaged into one filtered value.
+pub const FILTER: usize = 16;
+/// Samples the display must hold within one digit to be stable.
+pub const WINDOW: usize = 80;
+/// The sequence number of streamed readings (hosts never send it).
+pub const STREAM: u32 = u32::MAX;
+/// Length of the model name.
+pub const MODEL: usize = 16;
+
+/// What the host asks the scale.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum ScaleRequest {
+    /// Who are you? Answered with [`ScaleReply::Identity`].
+    Identify,
+    /// The weight: when `stable`, only a stable one (else the fault
+    /// [`FaultKind::NotSettled`]: ask again); else the current one.
+    Weigh {
+        /// Only a stable reading.
+        stable: bool,
+        /// The unit to give it in.
+        unit: Unit,
+    },
+    /// Send a reading (immediate, in grams) every `every` samples,
+    /// numbered [`STREAM`]; 0 stops.
+    Stream {
+        /// Samples between readings.
+        every: u16,
+    },
+    /// Sets the zero to the current stable load (within the zero range)
+    /// and clears the tare.
+    Zero,
+    /// Sets the tare to the current stable net load.
+    Tare,
+    /// Takes one point of the two-point calibration at the current stable
+    /// load.
+    Calibrate(CalibrationPoint),
+}
+
+/// A point of the two-point calibration: the known mass on the pan now.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub enum CalibrationPoint {
+    /// The lower mass (usually the empty pan, 0 g); first.
+    Low {
+        /// Its mass, g.
+        grams: f32,
+    },
+    /// The upper mass (a reference weight); completes the calibration,
+    /// clears zero and tare.
+    High {
+        /// Its mass, g.
+        grams: f32,
+    },
+}
+
+/// What the scale answers (besides [`Reply::Ok`] and [`Reply::Error`]).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum ScaleReply {
+    /// Its identity and settings.
+    Identity(Identity),
+    /// A weight.
+    Reading(Reading),
+}
+
+/// Units of a reading.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Unit {
+    /// Grams.
+    G,
+    /// Milligrams.
+    Mg,
+    /// Kilograms.
+    Kg,
+}
+
+/// A weight: `digits × 10^exponent` of `unit`, exactly as displayed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Reading {
+    /// The displayed value in units of `10^exponent`.
+    pub digits: i32,
+    /// Decimal exponent of a digit.
+    pub exponent: i8,
+    /// The unit.
+    pub unit: Unit,
+    /// The display has held within one digit for [`WINDOW`] samples.
+    pub stable: bool,
+    /// A tare is set: the value is net.
+    pub net: bool,
+    /// Samples taken since power-on, when this was read.
+    pub sample: u32,
+}
+
+impl Reading {
+    /// The value in its unit.
+    pub fn value(&self) -> f64 {
+        f64::from(self.digits) * libm::pow(10.0, f64::from(self.exponent))
+    }
+
+    /// The value in grams.
+    pub fn grams(&self) -> f64 {
+        let per_unit = match self.unit {
+            Unit::G => 1.0,
+            Unit::Mg => 1e-3,
+            Unit::Kg => 1e3,
+        };
+        self.value() * per_unit
+    }
+}
+
+/// Who the scale is.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Identity {
+    /// Model name.
+    pub model: String<MODEL>,
+    /// Serial number.
+    pub serial: u32,
+    /// Largest load, g.
+    pub capacity: f32,
+    /// Decimals of a gram shown (2: 0.01 g digits).
+    pub decimals: u8,
+    /// ADC samples per second.
+    pub rate: u16,
+    /// A calibration is in force.
+    pub calibrated: bool,
+}
+
+/// A scale's fixed properties.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ScaleConfig {
+    /// Serial number.
+    pub serial: u32,
+    /// Largest load, g.
+    pub capacity: f32,
+    /// Decimals of a gram shown.
+    pub decimals: u8,
+    /// ADC samples per second.
+    pub rate: u16,
+    /// Zero works within ± this of the calibrated zero, and below its
+    /// negative the scale is underloaded, g.
+    pub zero_range: f32,
+}
+
+impl ScaleConfig {
+    /// A 0.01 g laboratory scale of 4.2 kg on an 80 samples per second
+    /// ADC, zero range ±2 % of the capacity (the simulated cell's).
+    pub const LAB: ScaleConfig = ScaleConfig {
+        serial: 1,
+        capacity: 4200.0,
+        decimals: 2,
+        rate: 80,
+        zero_range: 84.0,
+    };
+}
+
+/// A two-point calibration: `grams = grams_low + (counts − counts_low) ×
+/// gain`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Calibration {
+    /// Filtered counts at the lower mass.
+    pub counts_low: i32,
+    /// The lower mass, g.
+    pub grams_low: f32,
+    /// Grams per count.
+    pub gain: f32,
+}
+
+/// What survives a reset (the firmware keeps it in a flash page, as a
+/// [`crate::wire`] frame: CRC-checked).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
+pub struct Settings {
+    /// The calibration, once both points were taken.
+    pub calibration: Option<Calibration>,
+    /// The first point of a calibration in progress: counts and grams.
+    pub low: Option<(i32, f32)>,
+    /// Gross grams shown as zero.
+    pub zero: f32,
+    /// Tare, g.
+    pub tare: f32,
+}
+
+/// The scale (see the module docs).
+#[derive(Debug, Clone)]
+pub struct Scale {
+    config: ScaleConfig,
+    settings: Settings,
+    changed: bool,
+    /// The last [`FILTER`] samples and their sum.
+    recent: [i32; FILTER],
+    sum: i64,
+    /// The displayed digits of the last [`WINDOW`] samples.
+    shown: [i32; WINDOW],
+    /// Samples since power-on (wrapping).
+    samples: u32,
+    /// Samples so far, up to [`FILTER`] + [`WINDOW`].
+    warm: usize,
+    stream_every: u16,
+}
+
+/// Counts per nominal digit while uncalibrated, so that a calibration
+/// point waits for a stable load too.
+const RAW_DIGIT: f32 = 16.0;
+
+/// A fault reply.
+fn fault(kind: FaultKind, detail: &str) -> Reply {
+    Reply::Error(Fault::new(kind, detail))
+}
+
+impl Scale {
+    /// A scale of `config`, uncalibrated, with no samples yet.
+    pub const fn new(config: ScaleConfig) -> Self {
+        Scale {
+            config,
+            settings: Settings {
+                calibration: None,
+                low: None,
+                zero: 0.0,
+                tare: 0.0,
+            },
+            changed: false,
+            recent: [0; FILTER],
+            sum: 0,
+            shown: [0; WINDOW],
+            samples: 0,
+            warm: 0,
+            stream_every: 0,
+        }
+    }
+
+    /// Takes the settings kept over a reset.
+    pub fn restore(&mut self, settings: Settings) {
+        self.settings = settings;
+    }
+
+    /// The settings, once after each change (for the flash page).
+    pub fn take_changed(&mut self) -> Option<&Settings> {
+        core::mem::take(&mut self.changed).then_some(&self.settings)
+    }
+
+    /// One ADC sample.
+    pub fn push(&mut self, counts: i32) {
+        let slot = self.samples as usize % FILTER;
+        if let Some(old) = self.recent.get_mut(slot) {
+            self.sum += i64::from(counts) - i64::from(*old);
+            *old = counts;
+        }
+        self.samples = self.samples.wrapping_add(1);
+        self.warm = (self.warm + 1).min(FILTER + WINDOW);
+        let digits = self.shown_now();
+        if let Some(d) = self.shown.get_mut(self.samples as usize % WINDOW) {
+            *d = digits;
+        }
+    }
+
+    /// What the display shows now, in digits (uncalibrated: in nominal
+    /// digits of [`RAW_DIGIT`] counts).
+    fn shown_now(&self) -> i32 {
+        self.display(self.gross()).unwrap_or_else(|| {
+            // `as` saturates.
+            self.filtered()
+                .map_or(0, |c| libm::roundf(c / RAW_DIGIT) as i32)
+        })
+    }
+
+    /// After a change of the display's meaning: the load was stable, and
+    /// the display stays so.
+    fn refill(&mut self) {
+        let now = self.shown_now();
+        self.shown.fill(now);
+    }
+
+    /// The filtered counts; `None` until [`FILTER`] samples arrived.
+    fn filtered(&self) -> Option<f32> {
+        (self.warm >= FILTER).then(|| self.sum as f32 / FILTER as f32)
+    }
+
+    /// The gross load, g: `None` uncalibrated or without samples.
+    fn gross(&self) -> Option<f32> {
+        let c = self.settings.calibration?;
+        Some(c.grams_low + (self.filtered()? - c.counts_low as f32) * c.gain)
+    }
+
+    /// Grams per displayed digit.
+    fn digit(&self) -> f32 {
+        libm::powf(10.0, -f32::from(self.config.decimals))
+    }
+
+    /// The net load of `gross` in displayed digits.
+    fn display(&self, gross: Option<f32>) -> Option<i32> {
+        let net = gross? - self.settings.zero - self.settings.tare;
+        // `as` saturates: an absurd load is an overload, caught before.
+        Some(libm::roundf(net / self.digit()) as i32)
+    }
+
+    /// The display has held within one digit for [`WINDOW`] samples.
+    fn stable(&self) -> bool {
+        let (lo, hi) = self
+            .shown
+            .iter()
+            .fold((i32::MAX, i32::MIN), |(lo, hi), d| (lo.min(*d), hi.max(*d)));
+        self.warm >= FILTER + WINDOW && hi.saturating_sub(lo) <= 1
+    }
+
+    /// The gross load within the scale's range, or the fault.
+    fn load(&self) -> Result<f32, Reply> {
+        if self.settings.calibration.is_none() {
+            return Err(fault(FaultKind::Uncalibrated, "calibrate the scale"));
+        }
+        let gross = self
+            .gross()
+            .ok_or_else(|| fault(FaultKind::NotSettled, "no samples yet"))?;
+        if !(gross <= self.config.capacity) {
+            return Err(fault(FaultKind::Overload, "beyond the capacity"));
+        }
+        if gross - self.settings.zero < -self.config.zero_range {
+            return Err(fault(FaultKind::Underload, "below the zero range"));
+        }
+        Ok(gross)
+    }
+
+    /// The current reading in `unit`.
+    fn reading(&self, unit: Unit) -> Result<Reading, Reply> {
+        let gross = self.load()?;
+        let digits = self.display(Some(gross)).unwrap_or(0);
+        let shift = match unit {
+            Unit::G => 0,
+            Unit::Mg => 3,
+            Unit::Kg => -3,
+        };
+        Ok(Reading {
+            digits,
+            exponent: shift - self.config.decimals as i8,
+            unit,
+            stable: self.stable(),
+            net: self.settings.tare != 0.0,
+            sample: self.samples,
+        })
+    }
+
+    /// The stable filtered counts, or why not.
+    fn settled(&self) -> Result<f32, Reply> {
+        match self.filtered() {
+            Some(c) if self.stable() => Ok(c),
+            _ => Err(fault(FaultKind::NotSettled, "not stable yet")),
+        }
+    }
+
+    /// The stream's next reading, after a [`Scale::push`], when one is due.
+    pub fn streamed(&self) -> Option<Reply> {
+        let every = u32::from(self.stream_every);
+        (every > 0 && self.samples.is_multiple_of(every)).then(|| {
+            self.reading(Unit::G)
+                .map_or_else(|e| e, |r| Reply::Scale(ScaleReply::Reading(r)))
+        })
+    }
+
+    /// The scale's identity.
+    pub fn identity(&self) -> Identity {
+        let mut model = String::new();
+        let _ = model.push_str("primo-scale");
+        Identity {
+            model,
+            serial: self.config.serial,
+            capacity: self.config.capacity,
+            decimals: self.config.decimals,
+            rate: self.config.rate,
+            calibrated: self.settings.calibration.is_some(),
+        }
+    }
+
+    /// Answers one request.
+    pub fn respond(&mut self, request: &ScaleRequest) -> Reply {
+        let done = match request {
+            ScaleRequest::Identify => return Reply::Scale(ScaleReply::Identity(self.identity())),
+            ScaleRequest::Weigh { stable, unit } => {
+                return match self.reading(*unit) {
+                    Ok(r) if *stable && !r.stable => fault(FaultKind::NotSettled, "not stable yet"),
+                    Ok(r) => Reply::Scale(ScaleReply::Reading(r)),
+                    Err(e) => e,
+                };
+            }
+            ScaleRequest::Stream { every } => {
+                self.stream_every = *every;
+                return Reply::Ok;
+            }
+            ScaleRequest::Zero => self.zero(),
+            ScaleRequest::Tare => self.tare(),
+            ScaleRequest::Calibrate(point) => self.calibrate(*point),
+        };
+        match done {
+            Ok(()) => {
+                self.changed = true;
+                self.refill();
+                Reply::Ok
+            }
+            Err(e) => e,
+        }
+    }
+
+    fn zero(&mut self) -> Result<(), Reply> {
+        let gross = self.load()?;
+        self.settled()?;
+        if gross > self.config.zero_range {
+            return Err(fault(FaultKind::Overload, "beyond the zero range"));
+        }
+        self.settings.zero = gross;
+        self.settings.tare = 0.0;
+        Ok(())
+    }
+
+    fn tare(&mut self) -> Result<(), Reply> {
+        let gross = self.load()?;
+        self.settled()?;
+        self.settings.tare = gross - self.settings.zero;
+        Ok(())
+    }
+
+    fn calibrate(&mut self, point: CalibrationPoint) -> Result<(), Reply> {
+        let counts = self.settled()?;
+        let invalid = |why| Err(fault(FaultKind::Invalid, why));
+        match point {
+            CalibrationPoint::Low { grams } if grams.is_finite() && grams >= 0.0 => {
+                self.settings.low = Some((libm::roundf(counts) as i32, grams));
+                Ok(())
+            }
+            CalibrationPoint::High { grams } if grams.is_finite() && grams > 0.0 => {
+                let Some((counts_low, grams_low)) = self.settings.low else {
+                    return Err(fault(FaultKind::BadState, "take the low point first"));
+                };
+                let gain = (grams - grams_low) / (counts - counts_low as f32);
+                if !(gain.is_finite() && gain > 0.0 && grams > grams_low) {
+                    return invalid("the high point must weigh more than the low one");
+                }
+                self.settings = Settings {
+                    calibration: Some(Calibration {
+                        counts_low,
+                        grams_low,
+                        gain,
+                    }),
+                    ..Settings::default()
+                };
+                Ok(())
+            }
+            _ => invalid("a calibration mass must be finite and >= 0 g (the high one > 0 g)"),
+        }
+    }
+}
+
+/// Bytes of one sample on the ADC line.
+pub const SAMPLE_BYTES: usize = 4;
+
+/// One 24-bit sample as the ADC line carries it: 24 bits of two's
+/// complement and a 4-bit check in 28 bits, 7 to a byte, the first byte
+/// marked by its top bit, so a reader resynchronizes after a lost byte.
+pub fn encode_sample(counts: i32) -> [u8; SAMPLE_BYTES] {
+    let v = (counts as u32) & 0x00FF_FFFF;
+    [
+        0x80 | (v >> 17) as u8 & 0x7F,
+        (v >> 10) as u8 & 0x7F,
+        (v >> 3) as u8 & 0x7F,
+        ((v & 7) << 4) as u8 | check(v),
+    ]
+}
+
+/// The xor of the six nibbles of a 24-bit value.
+fn check(v: u32) -> u8 {
+    (0..6).fold(0u8, |c, i| c ^ ((v >> (4 * i)) & 0xF) as u8)
+}
+
+/// Reads samples off the ADC line, byte by byte, dropping damaged ones.
+#[derive(Debug, Clone, Default)]
+pub struct SampleReader {
+    bits: u32,
+    len: u8,
+}
+
+impl SampleReader {
+    /// A reader waiting for the first sample's start.
+    pub const fn new() -> Self {
+        SampleReader { bits: 0, len: 0 }
+    }
+
+    /// Feeds one byte; returns the sample it completes, if intact.
+    pub fn push(&mut self, byte: u8) -> Option<i32> {
+        if byte & 0x80 != 0 {
+            self.bits = u32::from(byte & 0x7F);
+            self.len = 1;
+            return None;
+        }
+        if self.len == 0 {
+            return None;
+        }
+        self.bits = self.bits << 7 | u32::from(byte);
+        self.len += 1;
+        if self.len < SAMPLE_BYTES as u8 {
+            return None;
+        }
+        self.len = 0;
+        let v = self.bits >> 4;
+        // Sign-extend the 24 bits.
+        (check(v) == (self.bits & 0xF) as u8).then_some(((v << 8) as i32) >> 8)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::vec::Vec;
+
+    fn settle(s: &mut Scale, counts: i32) {
+        (0..FILTER + WINDOW).for_each(|_| s.push(counts));
+    }
+
+    fn calibrated() -> Scale {
+        let mut s = Scale::new(ScaleConfig::LAB);
+        settle(&mut s, 10_000);
+        s.respond(&ScaleRequest::Calibrate(CalibrationPoint::Low {
+            grams: 0.0,
+        }));
+        settle(&mut s, 1_010_000);
+        let high = ScaleRequest::Calibrate(CalibrationPoint::High { grams: 1000.0 });
+        assert_eq!(s.respond(&high), Reply::Ok);
+        s
+    }
+
+    fn weigh(s: &mut Scale, stable: bool) -> Result<Reading, FaultKind> {
+        match s.respond(&ScaleRequest::Weigh {
+            stable,
+            unit: Unit::G,
+        }) {
+            Reply::Scale(ScaleReply::Reading(r)) => Ok(r),
+            Reply::Error(f) => Err(f.kind),
+            other => panic!("{other:?}"),
+        }
+    }
+
+    #[test]
+    fn samples_round_trip_and_damage_is_dropped() {
+        for v in [0, 1, -1, 8_388_607, -8_388_608, 123_456, -654_321] {
+            let mut r = SampleReader::new();
+            let bytes = encode_sample(v);
+            let got: Vec<_> = bytes.iter().filter_map(|b| r.push(*b)).collect();
+            assert_eq!(got, [v]);
+            for i in 0..SAMPLE_BYTES {
+                for bit in 0..7 {
+                    let mut bad = bytes;
+                    bad[i] ^= 1 << bit;
+                    let mut r = SampleReader::new();
+                    let got: Vec<_> = bad.iter().filter_map(|b| r.push(*b)).collect();
+                    assert!(got.is_empty(), "{v} byte {i} bit {bit}: {got:?}");
+                }
+            }
+        }
+        // A lost byte costs its sample only.
+        let mut line: Vec<u8> = encode_sample(5)[1..].to_vec();
+        line.extend(encode_sample(-7));
+        let mut r = SampleReader::new();
+        assert_eq!(
+            line.iter().filter_map(|b| r.push(*b)).collect::<Vec<_>>(),
+            [-7]
+        );
+    }
+
+    #[test]
+    fn uncalibrated_and_unsettled_are_faults() {
+        let mut s = Scale::new(ScaleConfig::LAB);
+        assert_eq!(weigh(&mut s, false), Err(FaultKind::Uncalibrated));
+        let mut s = calibrated();
+        s.push(2_000_000);
+        assert_eq!(weigh(&mut s, true), Err(FaultKind::NotSettled));
+        assert!(!weigh(&mut s, false).unwrap().stable);
+        assert_eq!(
+            s.respond(&ScaleRequest::Tare),
+            fault(FaultKind::NotSettled, "not stable yet")
+        );
+    }
+
+    #[test]
+    fn weighs_tares_and_zeroes_in_digits() {
+        let mut s = calibrated();
+        assert!(s.take_changed().is_some());
+        assert!(s.take_changed().is_none());
+        settle(&mut s, 260_000); // 250 g
+        let r = weigh(&mut s, true).unwrap();
+        assert_eq!((r.digits, r.grams(), r.net), (25_000, 250.0, false));
+        assert_eq!(s.respond(&ScaleRequest::Tare), Reply::Ok);
+        settle(&mut s, 270_000);
+        let r = weigh(&mut s, true).unwrap();
+        assert_eq!((r.digits, r.net), (1_000, true));
+        let Reply::Scale(ScaleReply::Reading(kg)) = s.respond(&ScaleRequest::Weigh {
+            stable: true,
+            unit: Unit::Kg,
+        }) else {
+            panic!()
+        };
+        assert_eq!((kg.digits, kg.exponent), (1_000, -5));
+        // Zero only near the calibrated zero.
+        assert_eq!(
+            s.respond(&ScaleRequest::Zero),
+            fault(FaultKind::Overload, "beyond the zero range")
+        );
+        settle(&mut s, 15_000); // 5 g
+        assert_eq!(s.respond(&ScaleRequest::Zero), Reply::Ok);
+        assert_eq!(weigh(&mut s, true).unwrap().digits, 0);
+        assert_eq!(s.take_changed().unwrap().zero, 5.0);
+    }
+
+    #[test]
+    fn stability_is_one_digit_for_the_window() {
+        let mut s = calibrated();
+        // ±1 count (0.001 g) of noise: one digit at most.
+        for i in 0..200 {
+            s.push(110_000 + i % 3 - 1);
+        }
+        assert!(weigh(&mut s, true).is_ok());
+        // A 0.03 g step is three digits: unstable until the window has
+        // passed since the filter took it in.
+        let mut stable_after = None;
+        for i in 0..2 * (WINDOW + FILTER) {
+            s.push(110_030);
+            let stable = weigh(&mut s, false).unwrap().stable;
+            if !stable {
+                stable_after = None;
+            } else if stable_after.is_none() {
+                stable_after = Some(i);
+            }
+        }
+        let at = stable_after.unwrap();
+        assert!((WINDOW..WINDOW + FILTER).contains(&at), "{at}");
+        assert_eq!(weigh(&mut s, true).unwrap().digits, 10_003);
+    }
+
+    #[test]
+    fn overload_and_underload() {
+        let mut s = calibrated();
+        settle(&mut s, 4_300_000);
+        assert_eq!(weigh(&mut s, false), Err(FaultKind::Overload));
+        settle(&mut s, -90_000);
+        assert_eq!(weigh(&mut s, false), Err(FaultKind::Underload));
+    }
+
+    #[test]
+    fn settings_survive_as_a_frame() {
+        let mut s = calibrated();
+        let saved = *s.take_changed().unwrap();
+        let mut buf = [0u8; crate::wire::MAX_FRAME];
+        let frame = crate::wire::encode(0, &saved, &mut buf).unwrap();
+        let back = crate::wire::decode::<Settings>(&frame[..frame.len() - 1]).unwrap();
+        let mut fresh = Scale::new(ScaleConfig::LAB);
+        fresh.restore(back.body);
+        settle(&mut fresh, 510_000);
+        assert_eq!(weigh(&mut fresh, true).unwrap().digits, 50_000);
+    }
+
+    #[test]
+    fn streams_every_n_samples() {
+        let mut s = calibrated();
+        assert_eq!(s.respond(&ScaleRequest::Stream { every: 8 }), Reply::Ok);
+        let n = (0..80)
+            .filter(|_| {
+                s.push(10_000);
+                s.streamed().is_some()
+            })
+            .count();
+        assert_eq!(n, 10);
+    }
+}

@@ -1,0 +1,163 @@
+//! The scale firmware's state machine fed an arbitrary session: ADC
+//! samples (held for a while, so loads settle), raw bytes on the ADC line,
+//! and scale requests (postcard from the input) as frames through the
+//! service, some corrupted. No panic; a sample survives the ADC line's
+//! codec; every reply is a frame that decodes, numbered as the request (a
+//! corrupted one as UNREAD); a stable weighing is stable and finite, or a
+//! weighing's typed fault; a weighing is uncalibrated exactly when the
+//! scale says so; settings change only on an `Ok` to zero, tare or a
+//! calibration, and survive the settings page's frame bit for bit.
+#![no_main]
+
+use libfuzzer_sys::fuzz_target;
+use primo_core::scale::{
+    SampleReader, Scale, ScaleConfig, ScaleReply, ScaleRequest, Settings, encode_sample,
+};
+use primo_core::service::{Coprocessor, UNREAD};
+use primo_core::wire::{self, FaultKind, MAX_FRAME, Reply, Request};
+
+/// Operations per session.
+const MAX_OPS: usize = 300;
+
+/// Sends `request` as frame `seq` (one byte changed when `corrupt`);
+/// returns the reply.
+fn send(
+    service: &mut Coprocessor,
+    scale: &mut Scale,
+    seq: u32,
+    request: &ScaleRequest,
+    corrupt: Option<u8>,
+) -> Option<Reply> {
+    let mut buf = [0u8; MAX_FRAME];
+    let frame = wire::encode(seq, &Request::Scale(request.clone()), &mut buf).ok()?;
+    let mut raw = frame[..frame.len() - 1].to_vec();
+    if let Some(at) = corrupt {
+        let at = usize::from(at) % raw.len();
+        raw[at] ^= 0x5a;
+    }
+    let mut out = [0u8; MAX_FRAME];
+    let reply = service.handle_with(Ok(&raw), &mut out, Some(scale));
+    let (end, body) = reply.split_last().expect("a reply frame");
+    assert_eq!(*end, 0);
+    let reply = wire::decode::<Reply>(body).expect("the reply decodes");
+    let expected = if corrupt.is_some() { UNREAD } else { seq };
+    assert_eq!(reply.seq, expected);
+    if corrupt.is_some() {
+        assert!(matches!(&reply.body, Reply::Error(f) if f.kind == FaultKind::BadFrame));
+        return None;
+    }
+    Some(reply.body)
+}
+
+fuzz_target!(|data: &[u8]| {
+    let mut service = Box::new(Coprocessor::new());
+    let mut scale = Scale::new(ScaleConfig::LAB);
+    let mut adc = SampleReader::new();
+    let mut seq = 1u32;
+    let mut rest = data;
+    for _ in 0..MAX_OPS {
+        let Some((&control, after)) = rest.split_first() else {
+            break;
+        };
+        rest = after;
+        match control % 4 {
+            // A sample held for 1..=64 periods, through the line's codec.
+            0 => {
+                let Some((bytes, after)) = rest.split_first_chunk::<3>() else {
+                    break;
+                };
+                rest = after;
+                let counts = i32::from_le_bytes([bytes[0], bytes[1], bytes[2], 0]) << 8 >> 8;
+                let mut line = SampleReader::new();
+                let got: Vec<i32> = encode_sample(counts)
+                    .iter()
+                    .filter_map(|b| line.push(*b))
+                    .collect();
+                assert_eq!(got, [counts]);
+                for _ in 0..=(control >> 2) {
+                    scale.push(counts);
+                }
+            }
+            // Raw bytes on the ADC line.
+            1 => {
+                let n = usize::from(control >> 2).min(rest.len());
+                let (bytes, after) = rest.split_at(n);
+                rest = after;
+                for b in bytes {
+                    if let Some(counts) = adc.push(*b) {
+                        assert!((-8_388_608..=8_388_607).contains(&counts));
+                        scale.push(counts);
+                    }
+                }
+            }
+            // A request, intact or with a byte changed.
+            op => {
+                let Ok((request, after)) = postcard::take_from_bytes::<ScaleRequest>(rest) else {
+                    break;
+                };
+                rest = after;
+                seq += 1;
+                let corrupt = (op == 3).then_some(control >> 2);
+                let calibrated = scale.identity().calibrated;
+                let Some(reply) = send(&mut service, &mut scale, seq, &request, corrupt) else {
+                    assert!(scale.take_changed().is_none());
+                    continue;
+                };
+                check(&request, &reply, calibrated);
+                let changed = scale.take_changed().copied();
+                let setting = matches!(
+                    request,
+                    ScaleRequest::Zero | ScaleRequest::Tare | ScaleRequest::Calibrate(_)
+                );
+                assert_eq!(
+                    changed.is_some(),
+                    setting && reply == Reply::Ok,
+                    "{request:?}"
+                );
+                if let Some(settings) = changed {
+                    page_round_trip(&settings);
+                }
+            }
+        }
+    }
+});
+
+/// What a reply to `request` must be.
+fn check(request: &ScaleRequest, reply: &Reply, calibrated: bool) {
+    match (request, reply) {
+        (ScaleRequest::Weigh { stable, .. }, Reply::Scale(ScaleReply::Reading(r))) => {
+            assert!(calibrated);
+            assert!(r.stable || !stable, "{r:?}");
+            assert!(r.grams().is_finite());
+        }
+        (ScaleRequest::Weigh { .. }, Reply::Error(f)) => {
+            assert_eq!(f.kind == FaultKind::Uncalibrated, !calibrated, "{f:?}");
+            assert!(matches!(
+                f.kind,
+                FaultKind::Uncalibrated
+                    | FaultKind::NotSettled
+                    | FaultKind::Overload
+                    | FaultKind::Underload
+            ));
+        }
+        (ScaleRequest::Identify, Reply::Scale(ScaleReply::Identity(i))) => {
+            assert_eq!(i.calibrated, calibrated);
+        }
+        (
+            ScaleRequest::Stream { .. }
+            | ScaleRequest::Zero
+            | ScaleRequest::Tare
+            | ScaleRequest::Calibrate(_),
+            Reply::Ok | Reply::Error(_),
+        ) => {}
+        _ => panic!("{request:?} answered {reply:?}"),
+    }
+}
+
+/// The settings page's frame gives the settings back, bit for bit.
+fn page_round_trip(settings: &Settings) {
+    let mut buf = [0u8; MAX_FRAME];
+    let frame = wire::encode(0, settings, &mut buf).expect("settings fit a frame");
+    let back = wire::decode::<Settings>(&frame[..frame.len() - 1]).expect("the page decodes");
+    assert_eq!(format!("{:?}", back.body), format!("{settings:?}"));
+}

@@ -1,0 +1,279 @@
+//! The scales a real cell weighs with, behind one interface ([`Weigher`]):
+//! an MT-SICS balance on a serial port, or primo's load-cell scale (the
+//! `primo-scale` firmware) over the wire protocol, on a serial port
+//! (`postcard:PORT`) or booted in QEMU with its ADC line on the simulated
+//! cell's load cell (`qemu:LOAD_CELL`). primo's scale serves the learner
+//! too: [`Weigher::link`] is the line to run it on.
+
+use std::path::Path;
+use std::time::{Duration, Instant};
+
+use primo_core::scale::{CalibrationPoint, Identity, Reading, ScaleReply, ScaleRequest, Unit};
+use primo_core::wire::{Fault, FaultKind, Reply, Request};
+use primo_mtsics::{Client, ClientConfig};
+use primo_sim::load_cell::LoadCellModel;
+
+use crate::Error;
+use crate::coprocessor::{Image, Link, Qemu};
+
+/// Where a scale is.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum ScaleSpec {
+    /// An MT-SICS balance on this serial port.
+    MtSics(String),
+    /// primo's scale on this serial port.
+    Postcard(String),
+    /// primo's scale booted in QEMU, its ADC line on this serial device.
+    Qemu(String),
+}
+
+impl ScaleSpec {
+    /// `postcard:PORT`, `qemu:LOAD_CELL`, or an MT-SICS scale's port, as
+    /// option `flag` gave it.
+    pub fn parse(flag: &str, text: &str) -> Result<ScaleSpec, Error> {
+        let named = |rest: &str, what: &str| {
+            if rest.is_empty() {
+                Err(Error::Invalid(format!("{flag} {text}: {what}")))
+            } else {
+                Ok(rest.to_string())
+            }
+        };
+        Ok(match text.split_once(':') {
+            Some(("postcard", port)) => ScaleSpec::Postcard(named(port, "name the serial port")?),
+            Some(("qemu", cell)) => ScaleSpec::Qemu(named(
+                cell,
+                "name the load cell's port (`primo robot sim-krc --load-cell` prints it)",
+            )?),
+            _ if text == "qemu" => {
+                return Err(Error::Invalid(format!(
+                    "{flag} qemu: name the load cell's port, qemu:PATH (`primo robot sim-krc \
+                     --load-cell` prints it)"
+                )));
+            }
+            _ => ScaleSpec::MtSics(named(text, "name the serial port")?),
+        })
+    }
+}
+
+/// A scale that weighs.
+pub enum Weigher {
+    /// An MT-SICS balance.
+    MtSics(Client),
+    /// primo's scale.
+    Primo(PrimoScale),
+}
+
+impl Weigher {
+    /// Opens the scale of `spec`: `baud` for MT-SICS; a stable reading is
+    /// waited for up to `settle`. A scale in QEMU boots with the
+    /// simulated load cell's factory calibration.
+    pub fn open(spec: &ScaleSpec, baud: u32, settle: Duration) -> Result<Weigher, Error> {
+        Ok(match spec {
+            ScaleSpec::MtSics(port) => Weigher::MtSics(Client::open(
+                port,
+                ClientConfig {
+                    baud,
+                    settle,
+                    ..ClientConfig::default()
+                },
+            )?),
+            ScaleSpec::Postcard(port) => Weigher::Primo(PrimoScale::open(port, settle)?),
+            ScaleSpec::Qemu(cell) => {
+                Weigher::Primo(PrimoScale::boot(&Qemu::find(Image::Scale)?, cell, settle)?)
+            }
+        })
+    }
+
+    /// The stable weight, g.
+    pub fn stable_grams(&mut self) -> Result<f64, Error> {
+        match self {
+            Weigher::MtSics(client) => Ok(client.stable()?.grams()),
+            Weigher::Primo(scale) => Ok(scale.weigh(true, Unit::G)?.grams()),
+        }
+    }
+
+    /// The scale's serial number.
+    pub fn serial(&self) -> String {
+        match self {
+            Weigher::MtSics(client) => client.serial().to_string(),
+            Weigher::Primo(scale) => scale.identity().serial.to_string(),
+        }
+    }
+
+    /// The line to primo's scale, which serves the learner too.
+    pub fn link(&self) -> Option<Link> {
+        match self {
+            Weigher::MtSics(_) => None,
+            Weigher::Primo(scale) => Some(scale.link()),
+        }
+    }
+}
+
+/// How often a request is made again while the scale is not settled.
+const SETTLE_POLL: Duration = Duration::from_millis(50);
+
+/// primo's load-cell scale over the wire protocol.
+pub struct PrimoScale {
+    link: Link,
+    identity: Identity,
+    settle: Duration,
+    /// QEMU, when the scale runs there: it lives as long as this.
+    _qemu: Option<Qemu>,
+}
+
+impl PrimoScale {
+    /// The scale on serial port `port`; stable readings are waited for up
+    /// to `settle`.
+    pub fn open(port: &str, settle: Duration) -> Result<PrimoScale, Error> {
+        Self::with(Link::open(port)?, settle, None)
+    }
+
+    /// Boots the scale `firmware` in QEMU, its ADC line on `load_cell`,
+    /// calibrated as the simulated load cell's factory would.
+    pub fn boot(firmware: &Path, load_cell: &str, settle: Duration) -> Result<PrimoScale, Error> {
+        let page = LoadCellModel::default().factory_settings();
+        let qemu = Qemu::start_scale(firmware, load_cell, &page)?;
+        Self::with(Link::open(qemu.pty())?, settle, Some(qemu))
+    }
+
+    fn with(link: Link, settle: Duration, qemu: Option<Qemu>) -> Result<PrimoScale, Error> {
+        let mut scale = PrimoScale {
+            link,
+            identity: Identity {
+                model: Default::default(),
+                serial: 0,
+                capacity: 0.0,
+                decimals: 0,
+                rate: 0,
+                calibrated: false,
+            },
+            settle,
+            _qemu: qemu,
+        };
+        match scale.call(&ScaleRequest::Identify)? {
+            Reply::Scale(ScaleReply::Identity(identity)) => scale.identity = identity,
+            other => return Err(scale.unexpected("identify", &other)),
+        }
+        Ok(scale)
+    }
+
+    /// Who it is.
+    pub fn identity(&self) -> &Identity {
+        &self.identity
+    }
+
+    /// The line to it.
+    pub fn link(&self) -> Link {
+        self.link.clone()
+    }
+
+    /// A reading in `unit`: when `stable`, asked again while the scale is
+    /// not settled, up to the settling time.
+    pub fn weigh(&mut self, stable: bool, unit: Unit) -> Result<Reading, Error> {
+        match self.settled(&ScaleRequest::Weigh { stable, unit })? {
+            Reply::Scale(ScaleReply::Reading(r)) => Ok(r),
+            other => Err(self.unexpected("weigh", &other)),
+        }
+    }
+
+    /// Zero, tare or a calibration point, at a stable load (waited for).
+    pub fn set(&mut self, request: &ScaleRequest) -> Result<(), Error> {
+        match self.settled(request)? {
+            Reply::Ok => Ok(()),
+            other => Err(self.unexpected("setting", &other)),
+        }
+    }
+
+    /// Takes calibration point `point`.
+    pub fn calibrate(&mut self, point: CalibrationPoint) -> Result<(), Error> {
+        self.set(&ScaleRequest::Calibrate(point))
+    }
+
+    /// `count` readings streamed every `every` samples (then the stream
+    /// stops), each waited for up to a second: a reading, or the fault
+    /// the scale streamed instead (not settled, overload, …).
+    pub fn stream(
+        &mut self,
+        every: u16,
+        count: usize,
+    ) -> Result<Vec<Result<Reading, Fault>>, Error> {
+        self.call(&ScaleRequest::Stream { every })?;
+        let mut readings = Vec::with_capacity(count);
+        while readings.len() < count {
+            let got = self.link.streamed(Duration::from_secs(1))?;
+            if got.is_empty() {
+                break;
+            }
+            for reply in got {
+                match reply {
+                    Reply::Scale(ScaleReply::Reading(r)) => readings.push(Ok(r)),
+                    Reply::Error(fault) => readings.push(Err(fault)),
+                    other => return Err(self.unexpected("stream", &other)),
+                }
+            }
+        }
+        self.call(&ScaleRequest::Stream { every: 0 })?;
+        if readings.len() < count {
+            return Err(Error::Instrument(format!(
+                "scale {}: the stream stopped after {} of {count} readings",
+                self.link.name(),
+                readings.len()
+            )));
+        }
+        readings.truncate(count);
+        Ok(readings)
+    }
+
+    /// `request`, made again while the scale answers not settled, up to
+    /// the settling time.
+    fn settled(&mut self, request: &ScaleRequest) -> Result<Reply, Error> {
+        let start = Instant::now();
+        loop {
+            match self.link.call(&Request::Scale(request.clone()))? {
+                Reply::Error(f)
+                    if f.kind == FaultKind::NotSettled && start.elapsed() < self.settle =>
+                {
+                    std::thread::sleep(SETTLE_POLL)
+                }
+                reply => return self.fault(request, reply),
+            }
+        }
+    }
+
+    /// One request.
+    fn call(&mut self, request: &ScaleRequest) -> Result<Reply, Error> {
+        let reply = self.link.call(&Request::Scale(request.clone()))?;
+        self.fault(request, reply)
+    }
+
+    /// A fault reply as an error naming the port and the request.
+    fn fault(&self, request: &ScaleRequest, reply: Reply) -> Result<Reply, Error> {
+        match reply {
+            Reply::Error(fault) => Err(Error::Instrument(format!(
+                "scale {}: {}: {fault}",
+                self.link.name(),
+                name(request)
+            ))),
+            reply => Ok(reply),
+        }
+    }
+
+    fn unexpected(&self, what: &str, reply: &Reply) -> Error {
+        Error::Instrument(format!(
+            "scale {}: unexpected answer to {what}: {reply:?}",
+            self.link.name()
+        ))
+    }
+}
+
+/// What `request` asks, in a word.
+fn name(request: &ScaleRequest) -> &'static str {
+    match request {
+        ScaleRequest::Identify => "identify",
+        ScaleRequest::Weigh { .. } => "weigh",
+        ScaleRequest::Stream { .. } => "stream",
+        ScaleRequest::Zero => "zero",
+        ScaleRequest::Tare => "tare",
+        ScaleRequest::Calibrate(_) => "calibrate",
+    }
+}
