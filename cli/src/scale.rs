@@ -6,7 +6,7 @@ use std::time::Duration;
 
 use clap::{Args, Subcommand, ValueEnum};
 
-use primo_core::scale::{Reading, Unit as ScaleUnit};
+use primo_core::scale::{CalibrationPoint, Reading, ScaleRequest, Unit as ScaleUnit};
 use primo_learn::coprocessor::{Image, Qemu};
 use primo_learn::weigh::{PrimoScale, ScaleSpec};
 use primo_mtsics::{Client, ClientConfig, Density, Unit, quote};
@@ -34,6 +34,44 @@ pub enum ScaleCommand {
     /// QEMU: `qemu` on a simulated load cell holding --load, `qemu:PATH`
     /// on a load cell's line).
     Read(ReadArgs),
+    /// Set the scale's zero at the load on the pan now (MT-SICS `Z`, or
+    /// primo's scale), waiting for it to be stable.
+    Zero(SetArgs),
+    /// Tare the load on the pan now (MT-SICS `T`, or primo's scale, which
+    /// keeps it in its settings page; an MT-SICS balance forgets it at the
+    /// `@` primo sends when it next connects).
+    Tare(SetArgs),
+    /// Take a calibration point on primo's scale at the load on the pan
+    /// now: `--low GRAMS` first (usually the empty pan, 0), then `--high
+    /// GRAMS` (a reference weight), which completes it and is kept in the
+    /// scale's settings page. MT-SICS balances calibrate themselves.
+    Calibrate(CalibrateArgs),
+}
+
+/// `primo scale zero|tare` options.
+#[derive(Debug, Args)]
+pub struct SetArgs {
+    #[command(flatten)]
+    scale: ScaleArgs,
+}
+
+/// `primo scale calibrate` options.
+#[derive(Debug, Args)]
+pub struct CalibrateArgs {
+    #[command(flatten)]
+    scale: ScaleArgs,
+    /// The lower calibration mass on the pan now, g.
+    #[arg(
+        long,
+        value_name = "GRAMS",
+        conflicts_with = "high",
+        required_unless_present = "high",
+        allow_hyphen_values = true
+    )]
+    low: Option<f32>,
+    /// The upper calibration mass on the pan now, g.
+    #[arg(long, value_name = "GRAMS", allow_hyphen_values = true)]
+    high: Option<f32>,
 }
 
 /// `primo scale serve` options.
@@ -77,9 +115,9 @@ impl LoadArg {
     }
 }
 
-/// `primo scale read` options.
+/// How to reach a scale.
 #[derive(Debug, Args)]
-pub struct ReadArgs {
+pub struct ScaleArgs {
     /// The scale: an MT-SICS scale's serial port (e.g. /dev/ttyUSB0, or
     /// the path `primo scale serve` printed); `postcard:PORT`, primo's
     /// scale; `qemu:LOAD_CELL`, its firmware booted in QEMU on a load
@@ -90,19 +128,9 @@ pub struct ReadArgs {
     /// With `--port qemu`: the load on the simulated cell.
     #[command(flatten)]
     load: LoadArg,
-    /// primo's scale: print this many readings as it streams them (every
-    /// 8th sample, stable or not), then how fast they came.
-    #[arg(long, value_name = "N")]
-    stream: Option<usize>,
     /// Baud rate (8N1, no handshake).
     #[arg(long, default_value_t = 9600)]
     baud: u32,
-    /// Unit to print; `ml` converts through --density.
-    #[arg(long, value_enum, default_value_t = OutputUnit::G)]
-    unit: OutputUnit,
-    /// Density of the liquid for `--unit ml`, g/ml (water: 0.998).
-    #[arg(long, value_name = "G_PER_ML", default_value_t = Density::WATER.g_per_ml())]
-    density: f64,
     /// How long the scale may stay silent (noise is no answer) before
     /// primo gives up, the re-sends included, s.
     #[arg(long, value_name = "SECONDS", default_value_t = 10.0)]
@@ -114,6 +142,23 @@ pub struct ReadArgs {
     /// stable yet (`S I`), s.
     #[arg(long, value_name = "SECONDS", default_value_t = 60.0)]
     settle: f64,
+}
+
+/// `primo scale read` options.
+#[derive(Debug, Args)]
+pub struct ReadArgs {
+    #[command(flatten)]
+    scale: ScaleArgs,
+    /// primo's scale: print this many readings as it streams them (every
+    /// 8th sample, stable or not), then how fast they came.
+    #[arg(long, value_name = "N")]
+    stream: Option<usize>,
+    /// Unit to print; `ml` converts through --density.
+    #[arg(long, value_enum, default_value_t = OutputUnit::G)]
+    unit: OutputUnit,
+    /// Density of the liquid for `--unit ml`, g/ml (water: 0.998).
+    #[arg(long, value_name = "G_PER_ML", default_value_t = Density::WATER.g_per_ml())]
+    density: f64,
 }
 
 /// What `primo scale read` prints in.
@@ -133,6 +178,16 @@ pub fn run(command: ScaleCommand) -> Result<(), CliError> {
     match command {
         ScaleCommand::Serve(args) => serve(&args),
         ScaleCommand::Read(args) => read(&args),
+        ScaleCommand::Zero(args) => set(&args.scale, Setting::Zero),
+        ScaleCommand::Tare(args) => set(&args.scale, Setting::Tare),
+        ScaleCommand::Calibrate(args) => {
+            let point = match (args.low, args.high) {
+                (Some(grams), _) => CalibrationPoint::Low { grams },
+                (None, Some(grams)) => CalibrationPoint::High { grams },
+                (None, None) => return Err(CliError::input("give --low GRAMS or --high GRAMS")),
+            };
+            set(&args.scale, Setting::Calibrate(point))
+        }
     }
 }
 
@@ -299,41 +354,54 @@ fn limit(flag: &str, seconds: f64) -> Result<Duration, CliError> {
         })
 }
 
-fn read(args: &ReadArgs) -> Result<(), CliError> {
+/// A scale reached: primo's (with the simulated load cell it may stand
+/// on) or an MT-SICS balance.
+enum Opened {
+    Primo(PrimoScale, Option<LoadCellServer>),
+    MtSics(Client),
+}
+
+fn open(args: &ScaleArgs) -> Result<Opened, CliError> {
     let timeout = limit("--timeout", args.timeout)?;
     let settle = limit("--settle", args.settle)?;
-    let density =
-        Density::new(args.density).map_err(|e| CliError::input(format!("--density: {e}")))?;
     if args.port == "qemu" {
-        // Kept until the reading is printed.
         let cell = LoadCellServer::start(LoadCellModel::default(), 1, args.load.handle()?)
             .map_err(|e| CliError::other(format!("cannot serve the load cell: {e}")))?;
         let scale = PrimoScale::boot(&Qemu::find(Image::Scale)?, cell.path(), settle)?;
-        return primo_read(scale, args, density);
+        return Ok(Opened::Primo(scale, Some(cell)));
     }
-    let port = match ScaleSpec::parse("--port", &args.port)? {
-        ScaleSpec::Postcard(port) => {
-            return primo_read(PrimoScale::open(&port, settle)?, args, density);
+    Ok(match ScaleSpec::parse("--port", &args.port)? {
+        ScaleSpec::Postcard(port) => Opened::Primo(PrimoScale::open(&port, settle)?, None),
+        ScaleSpec::Qemu(cell) => Opened::Primo(
+            PrimoScale::boot(&Qemu::find(Image::Scale)?, &cell, settle)?,
+            None,
+        ),
+        ScaleSpec::MtSics(port) => {
+            let config = ClientConfig {
+                baud: args.baud,
+                timeout,
+                retries: args.retries,
+                settle,
+                ..ClientConfig::default()
+            };
+            Opened::MtSics(Client::open(&port, config)?)
         }
-        ScaleSpec::Qemu(cell) => {
-            let scale = PrimoScale::boot(&Qemu::find(Image::Scale)?, &cell, settle)?;
-            return primo_read(scale, args, density);
-        }
-        ScaleSpec::MtSics(port) => port,
+    })
+}
+
+fn read(args: &ReadArgs) -> Result<(), CliError> {
+    let density =
+        Density::new(args.density).map_err(|e| CliError::input(format!("--density: {e}")))?;
+    let mut client = match open(&args.scale)? {
+        Opened::Primo(scale, _cell) => return primo_read(scale, args, density),
+        Opened::MtSics(client) => client,
     };
     if args.stream.is_some() {
         return Err(CliError::input(
-            "--stream: primo's scale streams (postcard:PORT or qemu), an MT-SICS one does not",
+            "--stream: streaming is primo's scale's (--port postcard:PORT or qemu)",
         ));
     }
-    let config = ClientConfig {
-        baud: args.baud,
-        timeout,
-        retries: args.retries,
-        settle,
-        ..ClientConfig::default()
-    };
-    let weight = Client::open(&port, config)?.stable()?;
+    let weight = client.stable()?;
     let text = match args.unit {
         OutputUnit::G => weight.to(Unit::G).to_string(),
         OutputUnit::Mg => weight.to(Unit::Mg).to_string(),
@@ -345,6 +413,57 @@ fn read(args: &ReadArgs) -> Result<(), CliError> {
         ),
     };
     say(&text)
+}
+
+/// What `primo scale zero|tare|calibrate` sets.
+enum Setting {
+    Zero,
+    Tare,
+    Calibrate(CalibrationPoint),
+}
+
+fn set(args: &ScaleArgs, setting: Setting) -> Result<(), CliError> {
+    if let Setting::Calibrate(CalibrationPoint::Low { grams } | CalibrationPoint::High { grams }) =
+        setting
+        && !grams.is_finite()
+    {
+        return Err(CliError::input(format!(
+            "--low/--high: {grams} is not a mass in grams"
+        )));
+    }
+    match (open(args)?, setting) {
+        (Opened::Primo(mut scale, _cell), setting) => {
+            let (request, done) = match setting {
+                Setting::Zero => (ScaleRequest::Zero, "zeroed".to_string()),
+                Setting::Tare => (ScaleRequest::Tare, "tared".to_string()),
+                Setting::Calibrate(point) => (
+                    ScaleRequest::Calibrate(point),
+                    match point {
+                        CalibrationPoint::Low { grams } => {
+                            format!("low calibration point {grams} g taken; now --high")
+                        }
+                        CalibrationPoint::High { grams } => {
+                            format!("high calibration point {grams} g taken: calibrated")
+                        }
+                    },
+                ),
+            };
+            scale.set(&request)?;
+            say(&done)
+        }
+        (Opened::MtSics(mut client), Setting::Zero) => {
+            client.zero()?;
+            say("zeroed")
+        }
+        (Opened::MtSics(mut client), Setting::Tare) => {
+            let tare = client.tare()?;
+            say(&format!("tared {tare}"))
+        }
+        (Opened::MtSics(_), Setting::Calibrate(_)) => Err(CliError::input(
+            "calibrate: an MT-SICS balance calibrates itself (its own menu or `C` \
+             commands); this is for primo's scale (--port postcard:PORT)",
+        )),
+    }
 }
 
 #[cfg(test)]

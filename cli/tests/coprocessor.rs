@@ -149,6 +149,51 @@ fn primo_scale_read_boots_the_scale_on_a_simulated_load_cell() {
 }
 
 #[test]
+fn primo_scale_takes_zero_tare_and_calibration_points() {
+    for (args, says) in [
+        (&["tare", "--load", "50"][..], "tared\n"),
+        (&["zero", "--load", "5"], "zeroed\n"),
+        (
+            &["calibrate", "--load", "0", "--low", "0"],
+            "low calibration point 0 g taken; now --high\n",
+        ),
+    ] {
+        let mut all = vec!["scale", args[0], "--port", "qemu"];
+        all.extend_from_slice(&args[1..]);
+        let (status, stdout, stderr) = primo(&all);
+        assert_eq!(status, 0, "{args:?}: {stderr}");
+        assert_eq!(stdout, says);
+    }
+    // The scale's own rule: the low point first.
+    let (status, _, stderr) = primo(&[
+        "scale",
+        "calibrate",
+        "--port",
+        "qemu",
+        "--load",
+        "200",
+        "--high",
+        "200",
+    ]);
+    assert_eq!(status, 1);
+    assert!(
+        stderr.contains("calibrate: bad state: take the low point first"),
+        "{stderr}"
+    );
+    let (status, _, stderr) = primo(&[
+        "scale",
+        "calibrate",
+        "--port",
+        "qemu",
+        "--low",
+        "0",
+        "--high",
+        "1",
+    ]);
+    assert_eq!(status, 2, "{stderr}");
+}
+
+#[test]
 fn primo_scale_settings_are_checked_before_anything_starts() {
     let (status, _, stderr) = primo(&["scale", "read", "--port", "qemu:"]);
     assert_eq!(status, 2);

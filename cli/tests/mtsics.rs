@@ -301,6 +301,27 @@ fn power_on_lines_are_skipped_at_connect_and_mid_exchange() {
 }
 
 #[test]
+fn primo_scale_zero_and_tare_set_the_balance() {
+    let served = Served::start(&["--load", "12.5"]);
+    let port = served.path.as_str();
+    let (code, out, err) = primo(&["scale", "tare", "--port", port]);
+    assert_eq!(code, 0, "{err}");
+    // (Each command connects anew, and primo's `@` at connect cancels a
+    // tare: tare and zero are for the run that follows on the same line.)
+    assert!(out.starts_with("tared 12.5"), "{out}");
+    let (code, out, err) = primo(&["scale", "zero", "--port", port]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(out, "zeroed\n");
+    // A balance calibrates itself: refused, naming why.
+    let (code, _, err) = primo(&["scale", "calibrate", "--port", port, "--high", "100"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("an MT-SICS balance calibrates itself"),
+        "{err}"
+    );
+}
+
+#[test]
 fn primo_scale_read_prints_one_stable_weight() {
     let served = Served::start(&["--load", "77.7"]);
     let read = |extra: &[&str]| {
