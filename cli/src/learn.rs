@@ -76,8 +76,7 @@ pub fn run(args: &LearnArgs) -> Result<(), CliError> {
                 }
                 task.learner.max_rollouts = n;
             }
-            if let Some(pour) = task.pour_start(args.out.clone(), args.force, args.seed) {
-                let mut start = pour?;
+            if let Some(mut start) = task.pour_start(args.out.clone(), args.force, args.seed) {
                 if let (PourStart::New { cell, .. }, Some(spec)) = (&mut start, instruments) {
                     *cell = CellSpec::Instruments(spec);
                 }

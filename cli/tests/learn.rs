@@ -452,6 +452,19 @@ fn bad_task_files_are_refused_before_anything_runs() {
         err.contains("swapped.csv: column 2 is `elbow`, expected `shoulder` (the columns are in another order)"),
         "{err}"
     );
+    // The built-in pour is primo pour: its PoWER settings are the paper's.
+    let pour = tmp("bad-pour");
+    std::fs::create_dir_all(&pour).unwrap();
+    let text = std::fs::read_to_string(examples().join("pour.toml"))
+        .unwrap()
+        .replace("method = \"golden\"", "method = \"power\"\nsampler = 2");
+    std::fs::write(pour.join("task.toml"), text).unwrap();
+    let (code, _, err) = learn(&pour.join("task.toml"), &tmp("out-bad-pour"), &[]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("[learner] sampler: the built-in pour runs as `primo pour`"),
+        "{err}"
+    );
     // A flag that makes no sense for a task with its own evaluator.
     let (code, _, err) = learn(
         &task("bad-robot", "throw.toml", |t| t),

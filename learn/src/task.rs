@@ -442,7 +442,7 @@ impl Task {
             .map(|v| positive(&p, v, "[movement] dt"))
             .transpose()?;
         let limits = limits(&p, movement, pour)?;
-        let learner = learner(&p, &raw.learner, dim, &demos)?;
+        let learner = learner(&p, &raw.learner, dim, &demos, pour)?;
         let goal = goal(&p, &raw.goal, dim, learner.method)?;
         Ok(Task {
             file: file.to_path_buf(),
@@ -692,8 +692,28 @@ fn learner(
     raw: &Spanned<LearnerKeys>,
     dim: usize,
     demos: &[TaskDemo],
+    pour: bool,
 ) -> Result<LearnerSettings, Error> {
     let l = raw.get_ref();
+    // The built-in pour is `primo pour`: PoWER with the paper's sampler,
+    // roll-outs per update and decay, and the paper's reward.
+    let fixed_by_the_pour = [
+        ("sampler", l.sampler.as_ref().map(Spanned::span)),
+        (
+            "rollouts_per_update",
+            l.rollouts_per_update.as_ref().map(Spanned::span),
+        ),
+        ("decay", l.decay.as_ref().map(Spanned::span)),
+        ("reward", l.reward.as_ref().map(Spanned::span)),
+        ("reward_scale", l.reward_scale.as_ref().map(Spanned::span)),
+    ];
+    if pour && let Some((key, Some(span))) = fixed_by_the_pour.iter().find(|(_, s)| s.is_some()) {
+        return Err(p.at(
+            span.clone(),
+            &format!("[learner] {key}"),
+            "the built-in pour runs as `primo pour`, with the paper's setting (and reward) here",
+        ));
+    }
     let method = *l.method.get_ref();
     if dim > 1 && matches!(method, Algorithm::Golden | Algorithm::Illinois) {
         return Err(p.at(

@@ -22,10 +22,9 @@ use serde::{Deserialize, Serialize};
 
 use crate::Error;
 use crate::evaluator::{Answer, Evaluator, Operator, Program, Prompt};
-use crate::learning::Algorithm;
 use crate::learning::{
-    Entry, Record, Scored, best, check_examples, examples_crc, learn_logged, power_blocks,
-    query_text, setup, wire_query,
+    Algorithm, Entry, Record, Scored, best, check_examples, examples_crc, learn_logged,
+    power_blocks, query_text, setup, wire_query,
 };
 use crate::output::{check_dir, create_dir, write_file};
 use crate::pour::{Failure, LearnerSpec, open_learner};
@@ -333,12 +332,7 @@ impl Rollouts<'_> {
 impl Task {
     /// The `primo pour` run this task is, if it is the built-in pour:
     /// the same roll-outs as `primo pour` with the same settings and seed.
-    pub fn pour_start(
-        &self,
-        out: PathBuf,
-        force: bool,
-        seed: u64,
-    ) -> Option<Result<crate::pour::Start, Error>> {
+    pub fn pour_start(&self, out: PathBuf, force: bool, seed: u64) -> Option<crate::pour::Start> {
         let Evaluate::Pour(p) = &self.evaluate else {
             return None;
         };
@@ -366,7 +360,7 @@ impl Task {
             s2: self.learner.s2,
             ..defaults
         };
-        Some(Ok(crate::pour::Start::New {
+        Some(crate::pour::Start::New {
             out,
             force,
             settings,
@@ -387,7 +381,7 @@ impl Task {
                     .collect(),
             },
             cell: crate::pour::CellSpec::Simulated,
-        }))
+        })
     }
 }
 
