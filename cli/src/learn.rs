@@ -14,7 +14,7 @@ use primo_learn::teach::{Event, Logged, Start, logged_kind, rollout_line};
 
 use crate::error::CliError;
 use crate::pour::{
-    CellArgs, LearnerArgs, Progress, execute, finish, print, run_line, with_progress,
+    CellArgs, LearnerArgs, Progress, execute, finish, print, run_line, show_rollout, with_progress,
 };
 
 /// `primo learn` options.
@@ -140,21 +140,9 @@ fn show(event: Event, progress: &mut Progress) -> Result<(), Error> {
             )
         }
         Event::Rollout { entry, logged } => {
-            progress.clear();
+            let note = format!("reward {:.3}", entry.record.trial.reward);
             let line = rollout_line(&entry.record);
-            print(&if logged {
-                format!("{line}  (logged)")
-            } else {
-                line
-            })?;
-            progress.show(
-                entry.record.rollout,
-                &format!("reward {:.3}", entry.record.trial.reward),
-            );
-            if crate::interrupt::pressed() {
-                return Err(Error::Interrupted);
-            }
-            return Ok(());
+            return show_rollout(progress, &line, logged, entry.record.rollout, &note);
         }
         Event::Finished(f) => {
             let verdict = match f.converged_at {

@@ -360,22 +360,9 @@ fn show(event: Event, progress: &mut Progress) -> Result<(), Error> {
             }
         ),
         Event::Rollout { entry, logged } => {
-            progress.clear();
+            let note = format!("error {:+.1} ml", entry.record.trial.error * 1e3);
             let line = rollout_line(&entry.record);
-            let line = if logged {
-                format!("{line}  (logged)")
-            } else {
-                line
-            };
-            print(&line)?;
-            progress.show(
-                entry.record.rollout,
-                &format!("error {:+.1} ml", entry.record.trial.error * 1e3),
-            );
-            if crate::interrupt::pressed() {
-                return Err(Error::Interrupted);
-            }
-            return Ok(());
+            return show_rollout(progress, &line, logged, entry.record.rollout, &note);
         }
         Event::Finished(f) => {
             let s = &f.settings;
@@ -404,6 +391,28 @@ fn show(event: Event, progress: &mut Progress) -> Result<(), Error> {
         }
     };
     print(&line)
+}
+
+/// A roll-out's line (marked when replayed from the log), then the
+/// progress bar at roll-out `rollout` with `note`; Ctrl-C ends the run.
+pub fn show_rollout(
+    progress: &Progress,
+    line: &str,
+    logged: bool,
+    rollout: u32,
+    note: &str,
+) -> Result<(), Error> {
+    progress.clear();
+    if logged {
+        print(&format!("{line}  (logged)"))?;
+    } else {
+        print(line)?;
+    }
+    progress.show(rollout, note);
+    if crate::interrupt::pressed() {
+        return Err(Error::Interrupted);
+    }
+    Ok(())
 }
 
 /// A line on stdout; a closed stdout is an error that ends the run.

@@ -80,6 +80,15 @@ impl Algorithm {
         }
     }
 
+    /// Parameters it learns on `skill`: `[q̂, Δθ]` for PoWER, the query
+    /// otherwise.
+    pub fn learned_parameters(self, skill: &Skill) -> usize {
+        match self {
+            Algorithm::Power => skill.param_len() + skill.query_dim(),
+            _ => skill.query_dim(),
+        }
+    }
+
     /// Its search core's setup, for the error learners over the bounds
     /// `low`, `high` from `desired` (one value each for golden section and
     /// Illinois); `None` for PoWER.

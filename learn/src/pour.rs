@@ -371,7 +371,7 @@ pub fn pour(
     event(Event::Learning {
         settings: &s,
         space,
-        parameters: learned_parameters(&s, &skill),
+        parameters: s.method.learned_parameters(&skill),
     })
     .map_err(fail)?;
     let simulated = Simulated::new(cell, s.bottle, s.seed).map_err(fail)?;
@@ -446,14 +446,6 @@ impl Rig for Complete {
     }
 }
 
-/// Parameters learned: `[q̂, Δθ]` for PoWER, the query otherwise.
-pub fn learned_parameters(s: &Settings, skill: &Skill) -> usize {
-    match s.method {
-        Algorithm::Power => skill.param_len() + 1,
-        _ => 1,
-    }
-}
-
 /// Writes the reports of a run.
 #[allow(clippy::too_many_arguments)]
 fn report(
@@ -483,7 +475,7 @@ fn report(
     let summary = PourSummary {
         settings: s,
         space,
-        parameters: learned_parameters(s, skill),
+        parameters: s.method.learned_parameters(skill),
         rollouts: records.len(),
         converged_at,
         last: RolloutSummary::of(last),

@@ -191,14 +191,6 @@ struct Summary<'a> {
     seconds: f64,
 }
 
-/// Parameters learned: `[q̂, Δθ]` for PoWER, the query otherwise.
-pub fn learned_parameters(task: &Task, skill: &Skill) -> usize {
-    match task.learner.method {
-        Algorithm::Power => skill.param_len() + task.query_dim(),
-        _ => task.query_dim(),
-    }
-}
-
 /// The learner's setup for `task` on its fitted `skill`.
 pub fn task_setup(task: &Task, skill: &Skill, seed: u64) -> Result<Setup, Error> {
     let l = &task.learner;
@@ -440,7 +432,7 @@ pub fn learn(
     }
     event(Event::Learning {
         task,
-        parameters: learned_parameters(task, &built.skill),
+        parameters: task.learner.method.learned_parameters(&built.skill),
     })
     .map_err(fail)?;
     let trajectories = dir.join(TRAJECTORIES);
@@ -575,7 +567,7 @@ fn report(
         method: task.learner.method,
         query_dim: dim,
         desired: &task.goal.desired,
-        parameters: learned_parameters(task, skill),
+        parameters: task.learner.method.learned_parameters(skill),
         rollouts: records.len(),
         converged_at,
         last,
