@@ -56,6 +56,9 @@ pub enum Method {
     WeightedGain,
     /// PoWER over the extended parameter set `[q̂, Δθ]`.
     Power,
+    /// PoWER whose query is learned from the error (eq. 10, --gain) while
+    /// it explores Δθ.
+    PowerEl,
 }
 
 impl From<Method> for primo_learn::learning::Algorithm {
@@ -68,6 +71,7 @@ impl From<Method> for primo_learn::learning::Algorithm {
             Method::FixedGain => Algorithm::FixedGain,
             Method::WeightedGain => Algorithm::WeightedGain,
             Method::Power => Algorithm::Power,
+            Method::PowerEl => Algorithm::PowerEl,
         }
     }
 }

@@ -2,7 +2,7 @@
 
 use std::path::{Path, PathBuf};
 
-use primo_learn::experiment::{THRESHOLDS, golden_settings, golden_skill, power_skill};
+use primo_learn::experiment::{THRESHOLDS, Variant, golden_settings, golden_skill, power_skill};
 use primo_learn::learning::{Algorithm, ERROR_LEARNERS};
 use primo_learn::output::{check_dir, create_dir};
 use primo_learn::report::{PowerSetup, median_rollouts, write_golden, write_power_experiment};
@@ -34,7 +34,8 @@ pub enum ExperimentCommand {
         #[arg(long, default_value = "experiment-golden")]
         out: PathBuf,
     },
-    /// Figs. 5–6: extended against ordinary PoWER in joint space.
+    /// Figs. 5–6: extended against ordinary PoWER in joint space, and PoWER
+    /// with the query learned from the error.
     Power {
         /// Seeded runs per variant.
         #[arg(long, default_value_t = 20)]
@@ -167,10 +168,10 @@ fn power(
         glass: glass.into(),
     };
     let comparison = write_power_experiment(out, setup, &curves, seconds)?;
-    let [extended, ordinary] = &curves;
-    for (name, c) in [("extended", extended), ("ordinary", ordinary)] {
+    for (variant, c) in Variant::ALL.iter().zip(&curves) {
         say(&format!(
-            "{name:>8}: start |error| {:.1} ml spilled {:.1} ml -> final |error| {:.2} ± {:.2} ml, spilled {:.2} ± {:.2} ml, reward {:.3}; {:.0} % of roll-outs reward 0, {} rejected",
+            "{:>13}: start |error| {:.1} ml spilled {:.1} ml -> final |error| {:.2} ± {:.2} ml, spilled {:.2} ± {:.2} ml, reward {:.3}; {:.0} % of roll-outs reward 0, {} rejected",
+            variant.name(),
             c.error.mean.first().copied().unwrap_or(f64::NAN) * 1e3,
             c.spilled.mean.first().copied().unwrap_or(f64::NAN) * 1e3,
             c.error.last() * 1e3,
@@ -179,7 +180,7 @@ fn power(
             c.spilled.std.last().copied().unwrap_or(f64::NAN) * 1e3,
             c.reward.last(),
             100.0 * c.zero_reward as f64 / c.rollouts.max(1) as f64,
-            c.rejected
+            c.rejected,
         ))?;
     }
     let e = |x: &Estimate, scale: f64, digits: usize| {
@@ -197,19 +198,25 @@ fn power(
         let c = &comparison;
         say(&format!(
             "to mean reward {level}: roll-outs, median [90 % CI]: extended {} ({}/{runs} reached), \
-             ordinary {} ({}/{runs}); saved by extended {}",
+             ordinary {} ({}/{runs}), error-learned {} ({}/{runs}); saved against ordinary: by \
+             extended {}, by error-learned {}",
             e(&c.extended.rollouts_to[k], 1.0, 0),
             c.extended.reached[k],
             e(&c.ordinary.rollouts_to[k], 1.0, 0),
             c.ordinary.reached[k],
+            e(&c.error_learned.rollouts_to[k], 1.0, 0),
+            c.error_learned.reached[k],
             e(&c.rollouts_saved[k], 1.0, 0),
+            e(&c.rollouts_saved_by_error_learning[k], 1.0, 0),
         ))?;
     }
     say(&format!(
-        "regret Σ(1 − r): extended {}, ordinary {}; ordinary/extended final error x{}, spill x{}; \
-         {} parameters, {runs} runs x {updates} updates each; {:.1} s; wrote {}",
+        "regret Σ(1 − r): extended {}, ordinary {}, error-learned {}; ordinary/extended final \
+         error x{}, spill x{}; {} parameters, {runs} runs x {updates} updates each; {:.1} s; \
+         wrote {}",
         e(&comparison.extended.regret, 1.0, 1),
         e(&comparison.ordinary.regret, 1.0, 1),
+        e(&comparison.error_learned.regret, 1.0, 1),
         e(&comparison.error_ratio, 1.0, 2),
         e(&comparison.spill_ratio, 1.0, 2),
         parameters,

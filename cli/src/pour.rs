@@ -4,7 +4,7 @@ use std::io::{BufRead, IsTerminal, Write};
 use std::path::PathBuf;
 
 use primo_learn::Error;
-use primo_learn::learning::{Algorithm, Settings};
+use primo_learn::learning::Settings;
 use primo_learn::pour::{CellSpec, DemoFile, Event, Failure, LearnerSpec, SkillSpec, Start};
 use primo_learn::report::rollout_line;
 use primo_learn::rig::{InstrumentsSpec, Operator};
@@ -93,7 +93,7 @@ pub struct PourArgs {
     #[arg(long, value_name = "LOW,HIGH", default_value = "0.1,1.5", value_parser = bounds)]
     search: [f32; 2],
     /// The error learners' gain K in l per l of error (the first for
-    /// secant, the only one for fixed-gain and weighted-gain).
+    /// secant, the only one for fixed-gain, weighted-gain and power-el).
     #[arg(long, default_value_t = 1.0, allow_hyphen_values = true)]
     gain: f32,
     /// Output directory: run.log (every roll-out, appended as it is made),
@@ -212,7 +212,7 @@ pub fn run(args: &PourArgs) -> Result<(), CliError> {
         },
         None => {
             let space = match args.method {
-                Method::Power => Space::Joint,
+                Method::Power | Method::PowerEl => Space::Joint,
                 _ => Space::Cartesian,
             };
             let mut settings =
@@ -367,7 +367,7 @@ fn show(event: Event, progress: &mut Progress) -> Result<(), Error> {
         Event::Finished(f) => {
             let s = &f.settings;
             let verdict = match (s.method, f.converged_at) {
-                (Algorithm::Power, _) => "learned".to_string(),
+                (m, _) if m.is_power() => "learned".to_string(),
                 (_, Some(n)) => format!(
                     "converged to |error| < {} ml in {n} roll-outs",
                     s.precision * 1e3

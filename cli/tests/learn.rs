@@ -114,6 +114,32 @@ fn power_improves_the_throws_reward() {
     assert!(again.contains("the run is complete: reporting"), "{again}");
 }
 
+#[test]
+fn power_with_an_error_learned_query_gets_there_sooner() {
+    let means = |toml: &str, name: &str| -> Vec<f64> {
+        let file = task(name, toml, |t| t);
+        let (code, stdout, err) = learn(&file, &tmp(&format!("out-{name}")), &["--seed", "3"]);
+        assert_eq!(code, 0, "{err}");
+        stdout
+            .lines()
+            .filter(|l| l.starts_with("roll-out") && l.ends_with("(mean)"))
+            .map(|l| {
+                let r = l.split("reward ").nth(1).unwrap();
+                r.split_whitespace().next().unwrap().parse().unwrap()
+            })
+            .collect()
+    };
+    let plain = means("throw-power.toml", "power-plain");
+    let learned = means("throw-power-el.toml", "power-el");
+    // The 4th mean is roll-out 13: the error has moved the query twice.
+    assert!(
+        learned[3] > 0.95 && learned[3] > plain[3],
+        "4th mean: {} (power-el) against {} (power)",
+        learned[3],
+        plain[3]
+    );
+}
+
 /// An evaluator that fails once, at roll-out 3, as `how` says, then (run
 /// again) is the throw's.
 fn flaky(name: &str, how: &str) -> PathBuf {

@@ -209,7 +209,7 @@ fn experiment_golden_writes_its_figure_data() {
 }
 
 #[test]
-fn experiment_power_writes_both_curves() {
+fn experiment_power_writes_every_variants_curves() {
     let dir = tmp("exp-power");
     let (code, out, err) = primo(&[
         "experiment",
@@ -235,7 +235,7 @@ fn experiment_power_writes_both_curves() {
             .len(),
         4
     );
-    for variant in ["extended", "ordinary"] {
+    for variant in ["extended", "ordinary", "error_learned"] {
         let c = &summary[variant];
         assert_eq!(c["rollouts"], 2 * (4 * 3 + 1), "{variant}");
         let count = |k: &str| c[k].as_u64().unwrap();
@@ -256,7 +256,7 @@ fn experiment_power_writes_both_curves() {
         .skip(1)
         .map(|l| l.split(',').collect())
         .collect();
-    assert_eq!(rows.len(), 4, "{runs}");
+    assert_eq!(rows.len(), 6, "{runs}");
     for row in &rows {
         let regret: f64 = row[6].parse().unwrap();
         assert!((0.0..=13.0).contains(&regret), "{row:?}");

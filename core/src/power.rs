@@ -17,6 +17,13 @@
 //!   / Σ r_i`. This is the paper's rule: rewards enter linearly (no
 //!   exponent), the sampler keeps the best L = 3 rather than Kober's best 10,
 //!   and variances follow the fixed schedule rather than being re-estimated.
+//! - **Error-learned query** (optional, `query_gain ≠ 0`): the paper's
+//!   error learning (Sec. IV, eq. 10) inside PoWER. A roll-out told with
+//!   its error `ε` ([`Power::tell_outcome`]) enters the sampler with its
+//!   query entries corrected to `q̂ + K ε`, the query that would have
+//!   given the right outcome to first order, so the update moves `q̂` by
+//!   what the error says rather than by what exploring `q̂` happened to
+//!   find. The reward still ranks and weights the roll-outs.
 //! - **Rewards** must be finite and ≥ 0; anything else is an error that
 //!   changes nothing. If every reward in the sampler is 0 the mean stays.
 //!   The weights are the rewards divided by the best one, so no sum
@@ -82,6 +89,9 @@ pub struct PowerConfig {
     pub roll_out_mean: bool,
     /// Importance sampler length L (1 ≤ L ≤ the capacity); the paper uses 3.
     pub sampler: usize,
+    /// The error-learning gain `K` on the query entries (finite; 0: off,
+    /// the paper's PoWER).
+    pub query_gain: f32,
 }
 
 impl PowerConfig {
@@ -97,6 +107,7 @@ impl PowerConfig {
             rollouts_per_update: 3,
             roll_out_mean: true,
             sampler: 3,
+            query_gain: 0.0,
         })
     }
 }
@@ -205,6 +216,7 @@ impl<const P: usize, const L: usize> Power<P, L> {
                 rollouts_per_update: 0,
                 roll_out_mean: false,
                 sampler: 0,
+                query_gain: 0.0,
             },
             n: 0,
             mean: [0.0; P],
@@ -255,6 +267,9 @@ impl<const P: usize, const L: usize> Power<P, L> {
             return Err(Error::OutOfRange("sampler length must be >= 1"));
         }
         check_capacity("sampler length", cfg.sampler, L)?;
+        if !cfg.query_gain.is_finite() {
+            return Err(Error::NotFinite("query gain"));
+        }
         self.mean = [0.0; P];
         self.mean.iter_mut().zip(initial).for_each(|(m, v)| *m = *v);
         self.current = self.mean;
@@ -306,6 +321,15 @@ impl<const P: usize, const L: usize> Power<P, L> {
     /// an error and nothing changes. Returns `true` when this completed an
     /// update (the mean moved).
     pub fn tell(&mut self, reward: f32) -> Result<bool, Error> {
+        self.tell_outcome(reward, &[])
+    }
+
+    /// [`Power::tell`] with the roll-out's error `ε` on its first
+    /// `error.len()` parameters (the query; `ε_i > 0` asks for a larger
+    /// `q_i`), which the query gain corrects (none when the gain is 0).
+    /// An error that is not finite, longer than the parameters, or
+    /// corrects a parameter beyond ±[`MAX_ABS_PARAM`] changes nothing.
+    pub fn tell_outcome(&mut self, reward: f32, error: &[f32]) -> Result<bool, Error> {
         if !self.pending {
             return Err(Error::BadState("tell() without a preceding ask()"));
         }
@@ -315,11 +339,21 @@ impl<const P: usize, const L: usize> Power<P, L> {
         if reward < 0.0 {
             return Err(Error::OutOfRange("reward must be >= 0"));
         }
+        let mut params = self.current;
+        if self.cfg.query_gain != 0.0 {
+            check_capacity("error values", error.len(), self.n)?;
+            check_finite(error, "error")?;
+            for (p, e) in params.iter_mut().zip(error) {
+                *p += self.cfg.query_gain * e;
+            }
+            check_bounded(
+                params.get(..error.len()).unwrap_or(&[]),
+                MAX_ABS_PARAM,
+                "corrected query beyond MAX_ABS_PARAM",
+            )?;
+        }
         self.pending = false;
-        let rollout = Rollout {
-            params: self.current,
-            reward,
-        };
+        let rollout = Rollout { params, reward };
         if self.best.as_ref().is_none_or(|b| reward > b.reward) {
             self.best = Some(rollout.clone());
         }
@@ -378,6 +412,11 @@ impl<const P: usize, const L: usize> Power<P, L> {
         self.mean.get(..self.n).unwrap_or(&[])
     }
 
+    /// The error-learning gain on the query (0: off).
+    pub fn query_gain(&self) -> f32 {
+        self.cfg.query_gain
+    }
+
     /// Completed updates.
     pub fn updates(&self) -> u32 {
         self.updates
@@ -395,7 +434,7 @@ impl<const P: usize, const L: usize> Power<P, L> {
             .map(|r| (r.params.get(..self.n).unwrap_or(&[]), r.reward))
     }
 
-    /// The best roll-out so far.
+    /// The best roll-out so far (with a query gain, its query corrected).
     pub fn best(&self) -> Option<BestRollout<'_>> {
         self.best.as_ref().map(|r| BestRollout {
             params: r.params.get(..self.n).unwrap_or(&[]),
@@ -503,6 +542,7 @@ mod tests {
             rollouts_per_update: 3,
             roll_out_mean: false,
             sampler: 3,
+            query_gain: 0.0,
         };
         let mut p = Power::<4, 3>::new(&[0.0; 4], c, 5).unwrap();
         let (mut s_q, mut s_w, mut count) = (0.0f64, 0.0f64, 0);
@@ -710,5 +750,63 @@ mod tests {
         assert!(exploration_variance(0.2, ex.iter().copied(), 2..5).is_err());
         let nan: [&[f32]; 2] = [&[0.0, f32::NAN], &[1.0, 2.0]];
         assert!(exploration_variance(1.0, nan.iter().copied(), 0..2).is_err());
+    }
+
+    /// A task whose outcome is `q + d` (d: a disturbance Δθ cannot see)
+    /// and whose reward only sees Δθ: with a query gain the mean's query
+    /// goes where the error says, without exploring it.
+    #[test]
+    fn query_gain_moves_the_query_by_the_error() {
+        let blocks = [
+            Block {
+                len: 1,
+                variance: 0.0,
+                decay: 1.0,
+            },
+            Block {
+                len: 2,
+                variance: 0.01,
+                decay: 1.0,
+            },
+        ];
+        let c = PowerConfig {
+            query_gain: 1.0,
+            ..cfg(&blocks, 3)
+        };
+        let mut p = Power::<3, 3>::new(&[0.0; 3], c, 3).unwrap();
+        let (desired, disturbance) = (0.5f32, 0.2f32);
+        for _ in 0..40 {
+            let t = p.ask().to_vec();
+            // ε = desired − outcome: > 0 asks for a larger query.
+            let error = desired - (t[0] + disturbance);
+            let reward = libm::expf(-(t[1] * t[1] + t[2] * t[2]));
+            p.tell_outcome(reward, &[error]).unwrap();
+        }
+        assert!(
+            (p.mean()[0] - (desired - disturbance)).abs() < 1e-5,
+            "query {}",
+            p.mean()[0]
+        );
+    }
+
+    #[test]
+    fn a_bad_error_changes_nothing() {
+        let blocks = [Block {
+            len: 2,
+            variance: 0.1,
+            decay: 1.0,
+        }];
+        let c = PowerConfig {
+            query_gain: 2.0,
+            ..cfg(&blocks, 3)
+        };
+        let mut p = Power::<2, 3>::new(&[0.0; 2], c, 3).unwrap();
+        p.ask();
+        let before = p.clone();
+        for error in [&[f32::NAN][..], &[1.0, 2.0, 3.0], &[1e38]] {
+            assert!(p.tell_outcome(0.5, error).is_err(), "{error:?}");
+            assert_eq!(p, before);
+        }
+        assert!(p.tell_outcome(0.5, &[0.1]).is_ok());
     }
 }

@@ -511,6 +511,12 @@ impl<const P: usize, const E: usize, const K: usize> Service<P, E, K> {
             Learner::Golden(l) => scalar(&outcome.error).and_then(|e| l.tell(e)).map(drop),
             Learner::Illinois(l) => scalar(&outcome.error).and_then(|e| l.tell(e)).map(drop),
             Learner::Secant(l) => l.tell(&outcome.error).map(drop),
+            // No error (nothing measured): nothing to correct the query by.
+            Learner::Power if self.power.query_gain() != 0.0 && !outcome.error.is_empty() => {
+                crate::error::check_len("PoWER error", self.query_dim, outcome.error.len())
+                    .and_then(|()| self.power.tell_outcome(outcome.reward, &outcome.error))
+                    .map(drop)
+            }
             Learner::Power => self.power.tell(outcome.reward).map(drop),
         };
         match told {

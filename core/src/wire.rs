@@ -56,8 +56,9 @@ use crate::scale::{ScaleReply, ScaleRequest};
 use crate::secant::SecantConfig;
 
 /// Protocol version; a coprocessor speaking another one refuses to work.
-/// 3: the scale's messages.
-pub const VERSION: u16 = 3;
+/// 3: the scale's messages; 4: PoWER's error-learned query
+/// (`PowerConfig::query_gain`).
+pub const VERSION: u16 = 4;
 /// Largest frame on the line, in bytes, the 0x00 delimiter included.
 pub const MAX_FRAME: usize = 160;
 /// Values per chunk of a long vector.
@@ -174,7 +175,8 @@ pub enum LearnerSetup {
 pub struct Outcome {
     /// The error vector `ε = desired − measured` (`ε_i > 0`: component `i`
     /// of the query must increase): one value for golden section and
-    /// Illinois, `query_dim` for the secant learner; PoWER ignores it.
+    /// Illinois, `query_dim` for the secant learner and for PoWER with a
+    /// query gain (plain PoWER ignores it).
     pub error: Query,
     /// The reward (finite, ≥ 0).
     pub reward: f32,

@@ -78,13 +78,15 @@ fn power_config() -> impl Strategy<Value = PowerConfig> {
         any::<u16>(),
         any::<bool>(),
         any::<usize>(),
+        float(),
     )
         .prop_map(
-            |(blocks, rollouts_per_update, roll_out_mean, sampler)| PowerConfig {
+            |(blocks, rollouts_per_update, roll_out_mean, sampler, query_gain)| PowerConfig {
                 blocks: HVec::from_slice(&blocks).unwrap(),
                 rollouts_per_update,
                 roll_out_mean,
                 sampler,
+                query_gain,
             },
         )
 }

@@ -157,7 +157,7 @@ pub fn digest() -> u64 {
     let Ok(cfg) = PowerConfig::paper(&blocks) else { return 9 };
     let mut start = [0.0f32; THETA + 1];
     start[0] = 0.5;
-    let Ok(mut power) = Power::<{ THETA + 1 }, 3>::new(&start, cfg, 7) else {
+    let Ok(mut power) = Power::<{ THETA + 1 }, 3>::new(&start, cfg.clone(), 7) else {
         return 10;
     };
     for _ in 0..40 {
@@ -165,6 +165,17 @@ pub fn digest() -> u64 {
         h.floats(theta);
         let cost: f32 = theta.iter().map(|x| (x - 0.1) * (x - 0.1)).sum();
         let _ = power.tell(1.0 / (1.0 + cost));
+    }
+    h.floats(power.mean());
+    // The same with the query learned from the error (power-el).
+    let cfg = PowerConfig { query_gain: 0.8, ..cfg };
+    let Ok(()) = power.reset(&start, cfg, 8) else { return 15 };
+    for _ in 0..40 {
+        let theta = power.ask();
+        h.floats(theta);
+        let error = 0.3 - theta.first().copied().unwrap_or(0.0);
+        let cost: f32 = theta.iter().skip(1).map(|x| (x - 0.1) * (x - 0.1)).sum();
+        let _ = power.tell_outcome(1.0 / (1.0 + cost), &[error]);
     }
     h.floats(power.mean());
     // A frame: postcard, CRC-32C, COBS.

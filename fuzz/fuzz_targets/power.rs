@@ -28,6 +28,7 @@ fn config(u: &mut Unstructured) -> Result<PowerConfig> {
         rollouts_per_update: *u.choose(&[0, 1, 2, 3, u16::MAX])?,
         roll_out_mean: u.arbitrary()?,
         sampler: u.int_in_range(0..=L + 1)?,
+        query_gain: *u.choose(&[0.0, 1.0, -0.5, 1e30, f32::NAN])?,
     })
 }
 
@@ -46,6 +47,7 @@ fn valid(initial: &[f32], cfg: &PowerConfig) -> bool {
         && cfg.blocks.iter().all(|b| b.decay > 0.0 && b.decay <= 1.0)
         && cfg.rollouts_per_update >= 1
         && (1..=L).contains(&cfg.sampler)
+        && cfg.query_gain.is_finite()
 }
 
 fn run(u: &mut Unstructured) -> Result<()> {
@@ -72,13 +74,27 @@ fn run(u: &mut Unstructured) -> Result<()> {
         assert!(asked.iter().all(|v| v.is_finite()), "{asked:?}");
         assert_eq!(power.ask(), &asked[..], "asking again gives the same");
         let reward = num(u, 10.0)?;
+        let error: Vec<f32> = (0..u.int_in_range(0..=2)?)
+            .map(|_| num(u, 10.0))
+            .collect::<Result<_>>()?;
         let before = power.clone();
-        if !(reward.is_finite() && reward >= 0.0) {
-            assert!(power.tell(reward).is_err(), "reward {reward} taken");
+        let corrected = error.len() <= n
+            && error.iter().zip(&asked).all(|(e, q)| {
+                let c = q + cfg.query_gain * e;
+                e.is_finite() && c.is_finite() && c.abs() <= MAX_ABS_PARAM
+            });
+        let taken = reward.is_finite() && reward >= 0.0 && (cfg.query_gain == 0.0 || corrected);
+        if !taken {
+            assert!(
+                power.tell_outcome(reward, &error).is_err(),
+                "reward {reward}, error {error:?} taken"
+            );
             assert_eq!(power, before);
             continue;
         }
-        power.tell(reward).expect("a valid reward is taken");
+        power
+            .tell_outcome(reward, &error)
+            .expect("a valid outcome is taken");
         asked_untold = false;
         rewards.push(reward);
         assert!(power.mean().iter().all(|v| v.is_finite()));

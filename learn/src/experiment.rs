@@ -281,16 +281,20 @@ pub struct PowerStats {
     pub spilled: Estimate,
 }
 
-/// Extended against ordinary on the same seeds (paired).
+/// The variants against ordinary PoWER on the same seeds (paired).
 #[derive(Debug, Clone, Serialize)]
 pub struct PowerComparison {
     /// Extended's figures.
     pub extended: PowerStats,
     /// Ordinary's.
     pub ordinary: PowerStats,
+    /// The error-learned query's.
+    pub error_learned: PowerStats,
     /// Per level: the median over seeds of (ordinary − extended) roll-outs
     /// to it: above 0, extended gets there sooner.
     pub rollouts_saved: [Estimate; 2],
+    /// The same for (ordinary − error-learned).
+    pub rollouts_saved_by_error_learning: [Estimate; 2],
     /// Ordinary's mean final |error| over extended's: the paper's claim is
     /// an order of magnitude.
     pub error_ratio: Estimate,
@@ -299,9 +303,13 @@ pub struct PowerComparison {
 }
 
 impl PowerComparison {
-    /// The figures of two variants' runs (the same seeds, in order), with
-    /// `budget` roll-outs per run.
-    pub fn of(extended: &[PowerRun], ordinary: &[PowerRun], budget: u32) -> PowerComparison {
+    /// The figures of the variants' runs (in the order of
+    /// [`Variant::ALL`], the same seeds, in order), with `budget`
+    /// roll-outs per run.
+    pub fn of(
+        [extended, ordinary, error_learned]: [&[PowerRun]; 3],
+        budget: u32,
+    ) -> PowerComparison {
         let censored = |n: Option<u32>| f64::from(n.unwrap_or(budget + 1));
         let stats = |runs: &[PowerRun]| {
             let pick = |f: &dyn Fn(&PowerRun) -> f64, of: fn(&[f64]) -> f64, seed: u64| {
@@ -330,57 +338,83 @@ impl PowerComparison {
                 sum(ordinary) / sum(extended)
             }
         };
-        PowerComparison {
-            extended: stats(extended),
-            ordinary: stats(ordinary),
-            rollouts_saved: [0, 1].map(|k| {
-                paired(
-                    &|idx: &[usize]| {
+        // Per level: the median of (ordinary − other) roll-outs, paired.
+        let saved = |other: &[PowerRun], seed: u64| {
+            let n = other.len().min(ordinary.len());
+            [0, 1].map(|k| {
+                bootstrap(
+                    n,
+                    |idx: &[usize]| {
                         median(
                             &idx.iter()
                                 .map(|i| {
                                     censored(ordinary[*i].rollouts_to[k])
-                                        - censored(extended[*i].rollouts_to[k])
+                                        - censored(other[*i].rollouts_to[k])
                                 })
                                 .collect::<Vec<_>>(),
                         )
                     },
-                    11 + k as u64,
+                    seed + k as u64,
                 )
-            }),
+            })
+        };
+        PowerComparison {
+            extended: stats(extended),
+            ordinary: stats(ordinary),
+            error_learned: stats(error_learned),
+            rollouts_saved: saved(extended, 11),
+            rollouts_saved_by_error_learning: saved(error_learned, 15),
             error_ratio: paired(&ratio(|r| r.error), 13),
             spill_ratio: paired(&ratio(|r| r.spilled), 14),
         }
     }
 }
 
-/// The power experiment's two PoWER variants.
+/// The power experiment's PoWER variants.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
+#[serde(rename_all = "kebab-case")]
 pub enum Variant {
     /// Extended PoWER over `[q̂, Δθ]` (s1 = 0.2).
     Extended,
     /// Ordinary PoWER over Δθ (s1 = 0).
     Ordinary,
+    /// PoWER over `[q̂, Δθ]` with the query learned from the error
+    /// (`primo pour --method power-el`: s1 = 0, gain 1).
+    ErrorLearned,
 }
 
 impl Variant {
-    /// Both, in the order the experiment reports them.
-    pub const BOTH: [Variant; 2] = [Variant::Extended, Variant::Ordinary];
+    /// All, in the order the experiment reports them.
+    pub const ALL: [Variant; 3] = [Variant::Extended, Variant::Ordinary, Variant::ErrorLearned];
 
-    /// The query's exploration scale s1.
-    pub fn s1(self) -> f32 {
-        match self {
-            Variant::Extended => 0.2,
-            Variant::Ordinary => 0.0,
+    /// The learner's settings for a run of this variant.
+    pub fn settings(self, seed: u64) -> Settings {
+        let (method, s1) = match self {
+            Variant::Extended => (Algorithm::Power, 0.2),
+            Variant::Ordinary => (Algorithm::Power, 0.0),
+            Variant::ErrorLearned => (Algorithm::PowerEl, 0.0),
+        };
+        Settings {
+            s1,
+            ..Settings::paper(method, 0.5, 0.2, seed)
         }
     }
 
-    /// Its name in files: `extended`, `ordinary`.
+    /// Its name in files: `extended`, `ordinary`, `error-learned`.
     pub fn name(self) -> &'static str {
         match self {
             Variant::Extended => "extended",
             Variant::Ordinary => "ordinary",
+            Variant::ErrorLearned => "error-learned",
+        }
+    }
+
+    /// Its label in plots.
+    pub fn label(self) -> &'static str {
+        match self {
+            Variant::Extended => "extended PoWER (s1 = 0.2)",
+            Variant::Ordinary => "ordinary PoWER (s1 = 0)",
+            Variant::ErrorLearned => "PoWER, query error-learned (power-el)",
         }
     }
 }
@@ -419,7 +453,7 @@ pub fn power_skill(glass: GlassKind, kernels: usize) -> Result<(CellConfig, Skil
 /// PoWER from the generalized start for a 0.5 l bottle, pouring 0.2 l,
 /// `updates` updates of 4 roll-outs each, then one more roll-out of the
 /// final mean ([`power_budget`]); every roll-out, in order. [`power`]
-/// runs it for both variants and every seed.
+/// runs it for every variant and seed.
 pub fn power_run(
     skill: &Skill,
     cell: &CellConfig,
@@ -427,8 +461,7 @@ pub fn power_run(
     updates: u32,
     seed: u64,
 ) -> Result<Vec<Record>, Error> {
-    let mut s = Settings::paper(Algorithm::Power, 0.5, 0.2, seed);
-    s.s1 = variant.s1();
+    let mut s = variant.settings(seed);
     s.max_rollouts = power_budget(updates)?;
     learn(skill, cell, &s, &mut Learner::local(), |_| {})
 }
@@ -462,28 +495,28 @@ impl PowerCurves {
 }
 
 /// Figs. 5 and 6: `runs` seeded runs (seeds `seed`, `seed + 1`, …) of
-/// extended (s1 = 0.2) and ordinary (s1 = 0) PoWER ([`power_run`]) from
-/// the same generalized start, `updates` updates of 4 roll-outs each,
-/// then one more roll-out of the final mean.
+/// each [`Variant`] ([`power_run`]) from the same generalized start,
+/// `updates` updates of 4 roll-outs each, then one more roll-out of the
+/// final mean; the curves in the order of [`Variant::ALL`].
 pub fn power(
     skill: &Skill,
     cell: &CellConfig,
     runs: usize,
     updates: u32,
     seed: u64,
-) -> Result<[PowerCurves; 2], Error> {
-    let jobs: Vec<(Variant, u64)> = Variant::BOTH
+) -> Result<[PowerCurves; 3], Error> {
+    let jobs: Vec<(Variant, u64)> = Variant::ALL
         .iter()
         .flat_map(|v| (0..runs as u64).map(move |r| (*v, seed.wrapping_add(r))))
         .collect();
-    let results = parallel(jobs.len(), |i| {
+    let mut results = parallel(jobs.len(), |i| {
         let (variant, seed) = jobs[i];
         Ok((seed, power_run(skill, cell, variant, updates, seed)?))
     })
     .into_iter()
-    .collect::<Result<Vec<_>, Error>>()?;
-    let (extended, ordinary) = results.split_at(runs.min(results.len()));
-    Ok([PowerCurves::of(extended), PowerCurves::of(ordinary)])
+    .collect::<Result<Vec<_>, Error>>()?
+    .into_iter();
+    Ok(Variant::ALL.map(|_| PowerCurves::of(&results.by_ref().take(runs).collect::<Vec<_>>())))
 }
 
 #[cfg(test)]
@@ -493,8 +526,8 @@ mod tests {
     #[test]
     fn one_seeded_run_is_the_experiments_run_of_that_seed() {
         let (cell, skill) = power_skill(GlassKind::Small, 4).unwrap();
-        let [extended, ordinary] = power(&skill, &cell, 2, 1, 7).unwrap();
-        for (variant, curves) in Variant::BOTH.iter().zip([extended, ordinary]) {
+        let curves = power(&skill, &cell, 2, 1, 7).unwrap();
+        for (variant, curves) in Variant::ALL.iter().zip(curves) {
             let alone = power_run(&skill, &cell, *variant, 1, 8).unwrap();
             assert_eq!(alone.len(), 5);
             assert_eq!(curves.runs[1], PowerRun::of(8, &alone));

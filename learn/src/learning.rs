@@ -56,6 +56,10 @@ pub enum Algorithm {
     WeightedGain,
     /// PoWER over the extended parameter set `[q̂, Δθ]`.
     Power,
+    /// PoWER over `[q̂, Δθ]` whose query is learned from the error by the
+    /// paper's eq. 10 (`K = gain`) instead of explored: error learning
+    /// (Sec. IV) and PoWER (Sec. V) in one learner.
+    PowerEl,
 }
 
 /// The error learners, in the order experiments report them.
@@ -77,6 +81,25 @@ impl Algorithm {
             Algorithm::FixedGain => "fixed-gain error learning (eq. 10)",
             Algorithm::WeightedGain => "weighted fixed-gain error learning (eq. 11)",
             Algorithm::Power => "extended PoWER",
+            Algorithm::PowerEl => "PoWER with error-learned query",
+        }
+    }
+
+    /// PoWER (learns `Δθ` from rewards), not only the query.
+    pub fn is_power(self) -> bool {
+        matches!(self, Algorithm::Power | Algorithm::PowerEl)
+    }
+
+    /// Learns the query from the error (every learner but plain PoWER).
+    pub fn uses_error(self) -> bool {
+        self != Algorithm::Power
+    }
+
+    /// PoWER's error-learning gain on the query for `gain` (0: plain PoWER).
+    pub fn query_gain(self, gain: f32) -> f32 {
+        match self {
+            Algorithm::PowerEl => gain,
+            _ => 0.0,
         }
     }
 
@@ -84,7 +107,7 @@ impl Algorithm {
     /// otherwise.
     pub fn learned_parameters(self, skill: &Skill) -> usize {
         match self {
-            Algorithm::Power => skill.param_len() + skill.query_dim(),
+            Algorithm::Power | Algorithm::PowerEl => skill.param_len() + skill.query_dim(),
             _ => skill.query_dim(),
         }
     }
@@ -123,7 +146,7 @@ impl Algorithm {
             Algorithm::Secant => secant(Rule::Broyden)?,
             Algorithm::FixedGain => secant(Rule::Fixed)?,
             Algorithm::WeightedGain => secant(Rule::Weighted)?,
-            Algorithm::Power => return Ok(None),
+            Algorithm::Power | Algorithm::PowerEl => return Ok(None),
         }))
     }
 }
@@ -155,21 +178,25 @@ pub struct Settings {
 
 impl Settings {
     /// The paper's settings for `method`: golden section from the bottle's
-    /// volume within [0.1, 1.5] l to 2 ml; PoWER with s1 = 0.2, s2 = 0.05.
+    /// volume within [0.1, 1.5] l to 2 ml; PoWER with s1 = 0.2, s2 = 0.05
+    /// (with an error-learned query s1 = 0: the error moves the query).
     pub fn paper(method: Algorithm, bottle: f64, target: f64, seed: u64) -> Self {
         Settings {
             method,
             bottle,
             target,
             seed,
-            max_rollouts: match method {
-                Algorithm::Power => 200,
-                _ => 30,
+            max_rollouts: match method.is_power() {
+                true => 200,
+                false => 30,
             },
             precision: 0.002,
             search: [0.1, 1.5],
             gain: 1.0,
-            s1: 0.2,
+            s1: match method {
+                Algorithm::PowerEl => 0.0,
+                _ => 0.2,
+            },
             s2: 0.05,
         }
     }
@@ -191,8 +218,8 @@ impl Settings {
             ));
         }
         let bracket = f64::from(low)..f64::from(high);
-        if self.method != Algorithm::Power
-            && !(bracket.contains(&self.bottle) && self.bottle > f64::from(low))
+        let inside = bracket.contains(&self.bottle) && self.bottle > f64::from(low);
+        if !(self.method.is_power() || inside)
         {
             return bad(format!(
                 "--bottle {}: error learning searches the query within ({low}, {high}) l, \
@@ -427,8 +454,11 @@ pub fn pour_setup(skill: &Skill, s: &Settings) -> Result<Setup, Error> {
     {
         Some(learner) => learner,
         None => LearnerSetup::Power {
-            config: PowerConfig::paper(&power_blocks(skill, s.s1, s.s2, QUERY_DECAY)?)
-                .map_err(|e| Error::Invalid(format!("PoWER: {e}")))?,
+            config: PowerConfig {
+                query_gain: s.method.query_gain(s.gain),
+                ..PowerConfig::paper(&power_blocks(skill, s.s1, s.s2, QUERY_DECAY)?)
+                    .map_err(|e| Error::Invalid(format!("PoWER: {e}")))?
+            },
             query: wire_query(&bottle)?,
         },
     };

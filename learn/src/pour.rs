@@ -20,8 +20,7 @@ use serde::{Deserialize, Serialize};
 use crate::Error;
 use crate::coprocessor::{Image, Link, Qemu};
 use crate::learning::{
-    Algorithm, Entry, Learner, Record, Settings, best, check_examples, examples_crc, learn_logged,
-    pour_setup,
+    Entry, Learner, Record, Settings, best, check_examples, examples_crc, learn_logged, pour_setup,
 };
 use crate::output::{check_dir, create_dir};
 use crate::pouring::built_in_skill;
@@ -465,7 +464,7 @@ fn report(
         .find(|r| r.mean)
         .ok_or_else(|| Error::Learner("no roll-out was made".into()))?;
     let converged_at = match s.method {
-        Algorithm::Power => None,
+        m if m.is_power() => None,
         _ => records
             .iter()
             .find(|r| r.trial.error.abs() < s.precision)

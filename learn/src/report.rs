@@ -7,7 +7,9 @@ use std::path::Path;
 use serde::Serialize;
 
 use crate::Error;
-use crate::experiment::{PowerComparison, PowerCurves, SearchRun, THRESHOLDS, power_budget};
+use crate::experiment::{
+    PowerComparison, PowerCurves, SearchRun, THRESHOLDS, Variant, power_budget,
+};
 use crate::learning::{Algorithm, ERROR_LEARNERS, Record, Settings};
 use crate::output::write_file;
 use crate::plot::{Line, Panel, render_png};
@@ -146,7 +148,7 @@ pub fn write_task_chart(
     records: &[&Record<crate::teach::TaskTrial>],
 ) -> Result<(), Error> {
     let x = |r: &Record<crate::teach::TaskTrial>| f64::from(r.rollout);
-    let power = task.learner.method == Algorithm::Power;
+    let power = task.learner.method.is_power();
     let error: Vec<(f64, f64)> = records
         .iter()
         .filter(|r| r.mean)
@@ -216,7 +218,7 @@ pub fn write_pour(dir: &Path, records: &[Record], summary: &PourSummary) -> Resu
     write_file(&dir.join("rollouts.csv"), csv.as_bytes())?;
     write_file(&dir.join("summary.json"), &json(summary)?)?;
     let precision_ml = summary.settings.precision * 1e3;
-    let power = summary.settings.method == Algorithm::Power;
+    let power = summary.settings.method.is_power();
     let shown: Vec<&Record> = records
         .iter()
         .filter(|r| r.mean && r.trial.rejected.is_none())
@@ -385,12 +387,26 @@ pub struct PowerSummary<'a> {
     pub extended: &'a PowerCurves,
     /// s1 = 0, s2 = 0.05.
     pub ordinary: &'a PowerCurves,
+    /// The query error-learned (gain 1), s1 = 0, s2 = 0.05.
+    pub error_learned: &'a PowerCurves,
     /// The per-seed figures compared, with bootstrap intervals: roll-outs
     /// to reward thresholds, regret, final error and spill, and the
     /// ordinary/extended ratios.
     pub comparison: &'a PowerComparison,
     /// Wall-clock time, s.
     pub seconds: f64,
+}
+
+impl PowerSummary<'_> {
+    /// Each variant's curves, in the order of [`Variant::ALL`].
+    pub fn variants(&self) -> [(Variant, &PowerCurves); 3] {
+        let [e, o, l] = Variant::ALL;
+        [
+            (e, self.extended),
+            (o, self.ordinary),
+            (l, self.error_learned),
+        ]
+    }
 }
 
 /// The settings of a power experiment, for its summary.
@@ -407,26 +423,34 @@ pub struct PowerSetup {
 }
 
 /// Writes what `primo experiment power` writes ([`write_power`]) for the
-/// curves of both variants' runs (the same seeds, in order), compared
-/// seed by seed; `seconds` of wall-clock time. Returns the comparison.
+/// curves of the variants' runs (in the order of [`Variant::ALL`], the
+/// same seeds, in order), compared seed by seed; `seconds` of wall-clock
+/// time. Returns the comparison.
 pub fn write_power_experiment(
     dir: &Path,
     setup: PowerSetup,
-    [extended, ordinary]: &[PowerCurves; 2],
+    [extended, ordinary, error_learned]: &[PowerCurves; 3],
     seconds: f64,
 ) -> Result<PowerComparison, Error> {
-    let comparison =
-        PowerComparison::of(&extended.runs, &ordinary.runs, power_budget(setup.updates)?);
+    let comparison = PowerComparison::of(
+        [&extended.runs, &ordinary.runs, &error_learned.runs],
+        power_budget(setup.updates)?,
+    );
     write_power(
         dir,
         &PowerSummary {
-            runs: extended.runs.len().max(ordinary.runs.len()),
+            runs: [extended, ordinary, error_learned]
+                .iter()
+                .map(|c| c.runs.len())
+                .max()
+                .unwrap_or(0),
             updates: setup.updates,
             kernels: setup.kernels,
             parameters: setup.parameters,
             glass: setup.glass,
             extended,
             ordinary,
+            error_learned,
             comparison: &comparison,
             seconds,
         },
@@ -445,7 +469,7 @@ pub fn write_power(dir: &Path, s: &PowerSummary) -> Result<(), Error> {
         let _ = write!(runs, ",rollouts_to_{level},updates_to_{level}");
     }
     runs += ",regret,final_error_l,final_spilled_l,final_reward\n";
-    for (name, c) in [("extended", s.extended), ("ordinary", s.ordinary)] {
+    for (name, c) in s.variants().map(|(v, c)| (v.name(), c)) {
         for r in &c.runs {
             let _ = write!(runs, "{name},{}", r.seed);
             for k in 0..THRESHOLDS.len() {
@@ -468,7 +492,7 @@ pub fn write_power(dir: &Path, s: &PowerSummary) -> Result<(), Error> {
     let mut csv = String::from(
         "update,variant,error_mean_l,error_std_l,spilled_mean_l,spilled_std_l,reward_mean,reward_std\n",
     );
-    for (name, c) in [("extended", s.extended), ("ordinary", s.ordinary)] {
+    for (name, c) in s.variants().map(|(v, c)| (v.name(), c)) {
         for u in 0..c.error.mean.len() {
             let _ = writeln!(
                 csv,
@@ -494,25 +518,18 @@ pub fn write_power(dir: &Path, s: &PowerSummary) -> Result<(), Error> {
             c.std.iter().map(|v| v * scale).collect(),
         )
     };
-    let pick = |f: &dyn Fn(&PowerCurves) -> Band| [f(s.extended), f(s.ordinary)];
+    let pick = |f: &dyn Fn(&PowerCurves) -> Band| s.variants().map(|(_, c)| f(c));
     let error = pick(&|c| curve(&c.error, 1e3));
     let spilled = pick(&|c| curve(&c.spilled, 1e3));
     let reward = pick(&|c| curve(&c.reward, 1.0));
-    fn two(d: &[Band; 2]) -> [Line<'_>; 2] {
-        [
-            Line {
-                label: "extended PoWER (s1 = 0.2)",
-                points: &d[0].0,
-                spread: Some(&d[0].1),
-            },
-            Line {
-                label: "ordinary PoWER (s1 = 0)",
-                points: &d[1].0,
-                spread: Some(&d[1].1),
-            },
-        ]
+    fn lines(d: &[Band; 3]) -> [Line<'_>; 3] {
+        std::array::from_fn(|i| Line {
+            label: Variant::ALL[i].label(),
+            points: &d[i].0,
+            spread: Some(&d[i].1),
+        })
     }
-    let (e, sp, r) = (two(&error), two(&spilled), two(&reward));
+    let (e, sp, r) = (lines(&error), lines(&spilled), lines(&reward));
     let panels = [
         Panel {
             title: "Pouring error (mean ± std over runs)",

@@ -730,7 +730,7 @@ fn learner(
             ),
         ));
     }
-    let power = method == Algorithm::Power;
+    let power = method.is_power();
     let power_keys = [
         ("s1", l.s1.as_ref().map(Spanned::span)),
         ("s2", l.s2.as_ref().map(Spanned::span)),
@@ -806,11 +806,12 @@ fn learner(
         None => 1.0,
     };
     let gain = match &l.gain {
-        Some(v) if power => {
+        Some(v) if !method.uses_error() => {
             return Err(p.at(
                 v.span(),
                 "[learner] gain",
-                "an error learner's setting; this task's method is PoWER",
+                "an error learner's setting; this task's method is PoWER (\"power-el\" learns \
+                 the query from the error with a gain)",
             ));
         }
         Some(v) if !(v.get_ref().is_finite() && *v.get_ref() != 0.0) => {
@@ -827,7 +828,15 @@ fn learner(
         method,
         max_rollouts,
         gain,
-        s1: unit(&l.s1, "[learner] s1", 0.2, false)?,
+        s1: unit(
+            &l.s1,
+            "[learner] s1",
+            match method {
+                Algorithm::PowerEl => 0.0,
+                _ => 0.2,
+            },
+            false,
+        )?,
         s2: unit(&l.s2, "[learner] s2", 0.05, false)?,
         sampler,
         rollouts_per_update,
@@ -852,7 +861,7 @@ pub fn distance(a: &[f32], b: &[f32]) -> f32 {
 fn goal(p: &Place, raw: &Spanned<GoalKeys>, dim: usize, method: Algorithm) -> Result<Goal, Error> {
     let g = raw.get_ref();
     let desired = query(p, &g.desired, "[goal] desired", dim)?;
-    let error_learning = method != Algorithm::Power;
+    let error_learning = !method.is_power();
     let bound = |v: &Option<Spanned<Vec<f64>>>, key: &str| -> Result<Option<Vec<f32>>, Error> {
         v.as_ref().map(|v| query(p, v, key, dim)).transpose()
     };

@@ -206,6 +206,7 @@ pub fn task_setup(task: &Task, skill: &Skill, seed: u64) -> Result<Setup, Error>
             let config = PowerConfig {
                 rollouts_per_update: l.rollouts_per_update,
                 sampler: l.sampler,
+                query_gain: l.method.query_gain(l.gain),
                 ..PowerConfig::paper(&blocks).map_err(|e| Error::Invalid(format!("PoWER: {e}")))?
             };
             LearnerSetup::Power {
@@ -230,7 +231,7 @@ pub fn reward(rule: RewardRule, scale: f32, error: &[f64]) -> f64 {
 /// error learning cannot learn from it, so it ends the run (unlogged:
 /// `--resume` tries it again).
 fn score(task: &Task, rollout: u32, answer: Answer) -> Result<TaskTrial, Error> {
-    let power = task.learner.method == Algorithm::Power;
+    let power = task.learner.method.is_power();
     if let Some(why) = answer.failed {
         if !power {
             return Err(Error::Instrument(format!(
@@ -254,11 +255,11 @@ fn score(task: &Task, rollout: u32, answer: Answer) -> Result<TaskTrial, Error> 
             .zip(m)
             .map(|(d, m)| f64::from(*d) - m)
             .collect(),
-        None if power => Vec::new(),
+        None if !task.learner.method.uses_error() => Vec::new(),
         None => {
             return Err(Error::Instrument(format!(
-                "roll-out {rollout}: the evaluator gave no `measured` query; error learning \
-                 needs it"
+                "roll-out {rollout}: the evaluator gave no `measured` query; {} needs it",
+                task.learner.method.name()
             )));
         }
     };
@@ -331,7 +332,7 @@ impl Task {
         let method = self.learner.method;
         let bottle = f64::from(self.goal.desired.first().copied().unwrap_or(0.0));
         let defaults = crate::learning::Settings::paper(method, bottle, p.target, seed);
-        let error_learning = method != crate::learning::Algorithm::Power;
+        let error_learning = !method.is_power();
         let settings = crate::learning::Settings {
             max_rollouts: self.learner.max_rollouts,
             gain: self.learner.gain,
@@ -358,7 +359,7 @@ impl Task {
             settings,
             skill: crate::pour::SkillSpec {
                 space: p.space.unwrap_or(match method {
-                    crate::learning::Algorithm::Power => primo_skill::Space::Joint,
+                    m if m.is_power() => primo_skill::Space::Joint,
                     _ => primo_skill::Space::Cartesian,
                 }),
                 glass: p.glass,
@@ -505,7 +506,7 @@ fn report(
         .copied()
         .ok_or_else(|| Error::Learner("no roll-out was made".into()))?;
     let converged_at = match task.learner.method {
-        Algorithm::Power => None,
+        m if m.is_power() => None,
         _ => records
             .iter()
             .find(|r| {

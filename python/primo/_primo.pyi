@@ -212,11 +212,13 @@ class Power:
         roll_out_mean: bool = True,
         sampler: int = 3,
         seed: int = 0,
+        query_gain: float = 0.0,
     ) -> None: ...
     def ask(self) -> Array:
         """The parameters to roll out next (the same until told)."""
-    def tell(self, reward: float) -> bool:
-        """The asked roll-out's reward (finite, >= 0); True after an update."""
+    def tell(self, reward: float, error: Optional[ArrayLike] = None) -> bool:
+        """The asked roll-out's reward (finite, >= 0) and, with a query
+        gain, its error; True after an update."""
     @property
     def mean(self) -> Array: ...
     @property
@@ -275,7 +277,7 @@ class Cell:
         """Every row on all cores, the GIL released."""
 
 Method = Literal["golden", "illinois", "secant", "fixed-gain", "weighted-gain"]
-Variant = Literal["extended", "ordinary"]
+Variant = Literal["extended", "ordinary", "error-learned"]
 
 class Rollouts(TypedDict):
     """A run's roll-outs as columns (``rollouts.csv``'s)."""

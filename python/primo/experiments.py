@@ -1,7 +1,8 @@
 """The paper's experiments, one seeded run at a time, and their files.
 
 ``golden_run`` (Fig. 3: an error learner per bottle volume) and
-``power_run`` (Figs. 5 and 6: extended or ordinary PoWER) are the
+``power_run`` (Figs. 5 and 6: extended or ordinary PoWER, or PoWER with
+the query learned from the error) are the
 functions ``primo experiment golden`` and ``primo experiment power`` call
 for each run in their parallel loops, so a run here is the command
 line's run with the same seed, bit for bit. Each runs on one core with
@@ -24,8 +25,9 @@ from primo._primo import golden_run, power_run, write_golden, write_power
 
 #: The error learners of the golden experiment, in the order it reports them.
 METHODS = ("golden", "illinois", "secant", "fixed-gain", "weighted-gain")
-#: The power experiment's PoWER variants: s1 = 0.2 and s1 = 0.
-VARIANTS = ("extended", "ordinary")
+#: The power experiment's PoWER variants: s1 = 0.2, s1 = 0, and the query
+#: learned from the error (``primo pour --method power-el``).
+VARIANTS = ("extended", "ordinary", "error-learned")
 #: The mean policy's reward levels the power experiment times runs to.
 THRESHOLDS = (0.95, 0.99)
 

@@ -306,7 +306,7 @@ def _report(kind: str, settings: Mapping[str, Any], where: pathlib.Path) -> str:
         return f"{label}: median roll-outs to precision: {medians}; wrote {where}"
     parts = []
     for variant in VARIANTS:
-        c = summary[variant]
+        c = summary[variant.replace("-", "_")]
         if c["error"]["mean"]:
             parts.append(f"{variant} final |error| {c['error']['mean'][-1] * 1e3:.2f} ml, "
                          f"reward {c['reward']['mean'][-1]:.3f}")

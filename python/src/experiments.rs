@@ -70,6 +70,7 @@ fn name_of(value: &impl serde::Serialize) -> String {
     }
 }
 
+const VARIANTS: &str = "\"extended\", \"ordinary\" or \"error-learned\"";
 const METHODS: &str = "\"golden\", \"illinois\", \"secant\", \"fixed-gain\" or \"weighted-gain\"";
 
 /// The roll-outs' columns of numbers.
@@ -227,7 +228,8 @@ pub fn golden_run<'py>(
 /// ``primo experiment power --seed SEED --runs 1 --kernels KERNELS
 /// --updates UPDATES --glass GLASS`` runs it for ``variant``
 /// (``"extended"``: PoWER over ``[q̂, Δθ]``, s1 = 0.2; ``"ordinary"``:
-/// s1 = 0): from the generalized start for a 0.5 l bottle, pouring
+/// s1 = 0; ``"error-learned"``: the query learned from the error,
+/// ``primo pour --method power-el``): from the generalized start for a 0.5 l bottle, pouring
 /// 0.2 l, ``updates`` updates of 4 roll-outs each, then one roll-out of
 /// the final mean, in joint space. Runs on one core with the GIL
 /// released.
@@ -257,7 +259,7 @@ pub fn power_run<'py>(
     updates: u32,
     glass: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let kind: Variant = parse("variant", variant, "\"extended\" or \"ordinary\"")?;
+    let kind: Variant = parse("variant", variant, VARIANTS)?;
     let glass_kind = glass_kind(glass)?;
     let seed = seed.map_or(Ok(1), |s| seed_of("seed", &s))?;
     let (records, parameters) = py
@@ -368,7 +370,7 @@ pub fn write_golden(py: Python<'_>, out: PathBuf, runs: Vec<Bound<'_, PyAny>>) -
 /// ``power.csv``, ``summary.json``, ``power.png``) into the directory
 /// ``out`` (made if missing) for ``runs``, dicts of ``power_run`` of one
 /// setting (kernels, updates, glass): each variant's runs in the order
-/// given, the two variants on the same seeds in the same order (they are
+/// given, the variants on the same seeds in the same order (they are
 /// compared seed by seed). ``seconds`` is the wall-clock time the summary
 /// reports. For the runs of ``primo experiment power --seed S --runs N``
 /// (seeds S, S + 1, …) the files are the command's, byte for byte, but
@@ -395,29 +397,28 @@ pub fn write_power(
         parameters: shared(&runs, "parameters")?,
         glass: glass_kind(&shared::<String>(&runs, "glass")?)?,
     };
-    let mut by_variant: [Vec<(u64, Vec<Record>)>; 2] = Default::default();
+    let mut by_variant: [Vec<(u64, Vec<Record>)>; 3] = Default::default();
     for (i, run) in runs.iter().enumerate() {
         let what = format!("runs[{i}]");
         let variant: String = field(&what, run, "variant")?;
-        let variant: Variant = parse(
-            &format!("{what}[\"variant\"]"),
-            &variant,
-            "\"extended\" or \"ordinary\"",
-        )?;
+        let variant: Variant = parse(&format!("{what}[\"variant\"]"), &variant, VARIANTS)?;
         let seed = seed_of(&format!("{what}[\"seed\"]"), &field(&what, run, "seed")?)?;
-        let k = Variant::BOTH
-            .iter()
-            .position(|v| *v == variant)
-            .unwrap_or(0);
+        let k = Variant::ALL.iter().position(|v| *v == variant).unwrap_or(0);
         by_variant[k].push((seed, records_of(&what, run)?));
     }
     let seeds = |k: usize| by_variant[k].iter().map(|(s, _)| *s).collect::<Vec<u64>>();
-    if by_variant.iter().all(|v| !v.is_empty()) && seeds(0) != seeds(1) {
+    let given: Vec<usize> = (0..by_variant.len())
+        .filter(|k| !by_variant[*k].is_empty())
+        .collect();
+    if let [first, rest @ ..] = &given[..]
+        && let Some(other) = rest.iter().find(|k| seeds(**k) != seeds(*first))
+    {
         return Err(invalid(format!(
-            "runs: extended's seeds {:?} and ordinary's {:?} differ; the variants are compared \
-             seed by seed",
-            seeds(0),
-            seeds(1)
+            "runs: {}'s seeds {:?} and {}'s {:?} differ; the variants are compared seed by seed",
+            Variant::ALL[*first].name(),
+            seeds(*first),
+            Variant::ALL[*other].name(),
+            seeds(*other)
         )));
     }
     if !(seconds.is_finite() && seconds >= 0.0) {

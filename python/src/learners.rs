@@ -333,14 +333,21 @@ impl Secant {
 type CorePower = primo_core::power::Power<MAX_EXTENDED, MAX_SAMPLER>;
 
 /// PoWER's constructor arguments: initial, blocks `(len, variance,
-/// decay)`, roll-outs per update, roll out the mean, sampler, seed.
-type PowerArgs = (Vec<f32>, Vec<(usize, f32, f32)>, u16, bool, usize, u64);
+/// decay)`, roll-outs per update, roll out the mean, sampler, seed, query
+/// gain.
+type PowerArgs = (Vec<f32>, Vec<(usize, f32, f32)>, u16, bool, usize, u64, f32);
+
+/// What PoWER was told: each roll-out's reward and error, and whether a
+/// roll-out was asked after them.
+type PowerTold = (Vec<(f32, Vec<f32>)>, bool);
 
 /// PoWER (Kober & Peters) as in the paper: contiguous `blocks` of
 /// `(len, variance, decay)`, the mean rolled out once per update
 /// (`roll_out_mean`), `rollouts_per_update` explorations, an importance
 /// sampler of the best `sampler` roll-outs; deterministic per `seed`.
-/// At most 2066 parameters (a 16-DoF, 128-kernel DMP and its query).
+/// With `query_gain` K ≠ 0 the first parameters are a query learned from
+/// the error (`tell(reward, error)`: each roll-out's query is kept as
+/// `q + K·error`). At most 2066 parameters (a 16-DoF, 128-kernel DMP and its query).
 ///
 /// >>> import numpy as np, primo
 /// >>> power = primo.Power([1.0, -1.0], blocks=[(2, 0.04, 1.0)], seed=42)
@@ -353,14 +360,14 @@ type PowerArgs = (Vec<f32>, Vec<(usize, f32, f32)>, u16, bool, usize, u64);
 pub struct Power {
     learner: Box<CorePower>,
     args: PowerArgs,
-    /// Rewards told, and whether a roll-out was asked after them.
-    told: (Vec<f32>, bool),
+    told: PowerTold,
 }
 
 #[pymethods]
 impl Power {
     #[new]
-    #[pyo3(signature = (initial, blocks, rollouts_per_update=3, roll_out_mean=true, sampler=3, seed=0))]
+    #[pyo3(signature = (initial, blocks, rollouts_per_update=3, roll_out_mean=true, sampler=3, seed=0, query_gain=0.0))]
+    #[allow(clippy::too_many_arguments)] // Python's keyword arguments
     fn new(
         initial: Array<'_>,
         blocks: Vec<(usize, f64, f64)>,
@@ -368,7 +375,9 @@ impl Power {
         roll_out_mean: bool,
         sampler: usize,
         seed: u64,
+        query_gain: f64,
     ) -> PyResult<Power> {
+        let query_gain = scalar("query_gain", query_gain)?;
         let initial = vector("initial", &initial, false)?;
         let list = blocks
             .iter()
@@ -392,6 +401,7 @@ impl Power {
             rollouts_per_update,
             roll_out_mean,
             sampler,
+            query_gain,
         };
         let mut learner = Box::new(CorePower::idle());
         learner.reset(&initial, cfg, seed).map_err(core)?;
@@ -405,6 +415,7 @@ impl Power {
                 roll_out_mean,
                 sampler,
                 seed,
+                query_gain,
             ),
             told: (Vec::new(), false),
         })
@@ -417,11 +428,22 @@ impl Power {
     }
 
     /// The reward (finite, >= 0) of the asked roll-out; True when it
-    /// completed an update.
-    fn tell(&mut self, reward: f64) -> PyResult<bool> {
+    /// completed an update. With a query gain, also its `error` (one value
+    /// per query entry, > 0 asks for a larger query).
+    #[pyo3(signature = (reward, error=None))]
+    fn tell(&mut self, reward: f64, error: Option<Array<'_>>) -> PyResult<bool> {
         let r = scalar("reward", reward)?;
-        let updated = self.learner.tell(r).map_err(core)?;
-        self.told.0.push(r);
+        let e = match &error {
+            Some(e) => vector("error", e, true)?,
+            None => Vec::new(),
+        };
+        if self.learner.query_gain() != 0.0 && e.is_empty() {
+            return Err(invalid(
+                "error: PoWER with a query gain needs each roll-out's error".to_string(),
+            ));
+        }
+        let updated = self.learner.tell_outcome(r, &e).map_err(core)?;
+        self.told.0.push((r, e));
         self.told.1 = false;
         Ok(updated)
     }
@@ -473,10 +495,11 @@ impl Power {
         reduce(slf.as_any(), this.args.clone(), this.told.clone())
     }
 
-    fn __setstate__(&mut self, told: (Vec<f64>, bool)) -> PyResult<()> {
-        for r in told.0 {
+    fn __setstate__(&mut self, told: PowerTold) -> PyResult<()> {
+        for (r, e) in told.0 {
             self.learner.ask();
-            self.tell(r)?;
+            self.learner.tell_outcome(r, &e).map_err(core)?;
+            self.told.0.push((r, e));
         }
         if told.1 {
             self.learner.ask();

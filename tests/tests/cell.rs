@@ -95,8 +95,9 @@ fn power_learns_to_pour_without_spilling_from_the_joint_space_start() {
     let cell = CellConfig::standard(GlassKind::Small);
     let skill = built_in_skill(&cell, Space::Joint, 30).unwrap();
     let (runs, updates) = (3, 25);
-    let [extended, ordinary] = experiment::power(&skill, &cell, runs, updates, 7).unwrap();
-    for (name, c) in [("extended", &extended), ("ordinary", &ordinary)] {
+    let curves = experiment::power(&skill, &cell, runs, updates, 7).unwrap();
+    for (variant, c) in experiment::Variant::ALL.iter().zip(&curves) {
+        let name = variant.name();
         let zero = c.zero_reward as f64 / c.rollouts as f64;
         println!(
             "{name}: reward {:.3} -> {:.3}, spilled {:.1} -> {:.2} ml, |error| {:.1} -> {:.2} ml, {:.0} % reward 0",
