@@ -524,3 +524,99 @@ fn the_secant_learner_runs_on_the_emulated_mcu() {
         std::fs::read_to_string(host.join("rollouts.csv")).unwrap()
     );
 }
+
+/// A task whose tool turns about z to a yaw on either side of 180°:
+/// columns `x, qw, qx, qy, qz` (the quaternion's sign flipped on every
+/// third row, as some recorders write it), the query the final yaw in
+/// degrees within [0, 360), measured by a standard-library evaluator.
+fn turn_task(name: &str, limits: &str) -> PathBuf {
+    let dir = tmp(name);
+    std::fs::create_dir_all(&dir).unwrap();
+    for (file, from, to) in [("low.csv", 140.0f64, 170.0f64), ("high.csv", 220.0, 190.0)] {
+        let mut csv = String::from("t,x,qw,qx,qy,qz\n");
+        for i in 0..=50 {
+            let t = i as f64 / 50.0;
+            let s = t * t * (3.0 - 2.0 * t);
+            let half = (from + (to - from) * s).to_radians() / 2.0;
+            let sign = if i % 3 == 1 { -1.0 } else { 1.0 };
+            csv += &format!(
+                "{t},{},{},0,0,{}\n",
+                0.1 * s,
+                sign * half.cos(),
+                sign * half.sin()
+            );
+        }
+        std::fs::write(dir.join(file), csv).unwrap();
+    }
+    std::fs::write(
+        dir.join("yaw.py"),
+        r#"import csv, json, math, sys
+for line in sys.stdin:
+    with open(json.loads(line)["csv"], newline="") as f:
+        rows = list(csv.reader(f))
+    assert rows[0] == ["t", "x", "qw", "qx", "qy", "qz"], rows[0]
+    for r in rows[1:]:
+        norm = math.sqrt(sum(float(v) ** 2 for v in r[2:]))
+        assert abs(norm - 1) < 1e-5, r
+    w, z = float(rows[-1][2]), float(rows[-1][5])
+    yaw = math.degrees(2 * math.atan2(z, w)) % 360
+    print(json.dumps({"measured": [yaw]}), flush=True)
+"#,
+    )
+    .unwrap();
+    let file = dir.join("task.toml");
+    std::fs::write(
+        &file,
+        format!(
+            r#"version = 1
+[[demo]]
+file = "low.csv"
+query = [170.0]
+[[demo]]
+file = "high.csv"
+query = [190.0]
+[movement]
+kernels = 10
+[movement.limits]
+x = {{ min = -1.0, max = 1.0, max_speed = 5.0 }}
+{limits}
+[goal]
+desired = [184.0]
+low = [165.0]
+high = [195.0]
+precision = 0.01
+[learner]
+method = "secant"
+max_rollouts = 5
+[evaluate]
+command = ["python3", "yaw.py"]
+"#
+        ),
+    )
+    .unwrap();
+    file
+}
+
+#[test]
+fn an_orientation_group_is_learned_through_180_degrees() {
+    let file = turn_task("turn", "");
+    let out = tmp("out-turn");
+    let (code, stdout, err) = learn(&file, &out, &[]);
+    assert_eq!(code, 0, "{stdout}\n{err}");
+    let s = summary(&out);
+    // G(184°) lands there at once: the goals blend through 180°, not 0°.
+    assert_eq!(s["converged_at"].as_u64(), Some(1), "{stdout}");
+    let yaw = s["last"]["trial"]["measured"][0].as_f64().unwrap();
+    assert!((yaw - 184.0).abs() < 0.01, "{yaw}");
+    // A per-column limit on a quaternion's component is refused.
+    let file = turn_task(
+        "turn-limit",
+        "qw = { min = -1.0, max = 1.0, max_speed = 5.0 }",
+    );
+    let (code, _, err) = learn(&file, &tmp("out-turn-limit"), &[]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("[movement.limits] qw: a component of the orientation qw,qx,qy,qz"),
+        "{err}"
+    );
+}

@@ -17,6 +17,9 @@
 //! uses. Both need `E ≥ m + 1` examples to fit the linear part over an
 //! `m`-dimensional query; with fewer they fall back to a constant mean.
 //!
+//! Orientation and Cartesian DMPs are generalized with the same
+//! coefficients, their orientations as tangent vectors: [`orientation`].
+//!
 //! ```
 //! use primo_core::generalize::{Generalizer, Method};
 //! // Examples: bottle volume 0.3 l → θ = [1, 10], 1.0 l → θ = [2, 3].
@@ -31,6 +34,8 @@
 //! ```
 
 use serde::{Deserialize, Serialize};
+
+pub mod orientation;
 
 use crate::error::{check_capacity, check_finite, check_len};
 use crate::{Error, linalg};

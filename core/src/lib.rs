@@ -17,7 +17,9 @@
 //! - [`power`]: PoWER over the extended parameter set `[q̂, Δθ]` with
 //!   per-block exploration and an importance sampler.
 //! - [`quaternion`] and [`orientation`]: unit quaternions, orientation DMPs
-//!   and Cartesian DMPs (position and orientation on one phase).
+//!   and Cartesian DMPs (position and orientation on one phase);
+//!   [`tangent`]: orientations as rotation vectors at a reference, the way
+//!   [`generalize::orientation`] combines them over a query.
 //! - [`rhythmic`]: periodic DMPs, frequency and amplitude changed online.
 //! - [`normal`]: a seedable standard-normal sampler on any [`rand_core::Rng`].
 //!
@@ -72,6 +74,7 @@ pub mod rng;
 pub mod scale;
 pub mod secant;
 pub mod service;
+pub mod tangent;
 pub mod wire;
 
 pub use error::Error;

@@ -16,6 +16,7 @@ use primo_core::generalize::Method as Regression;
 use primo_robot::Robot;
 use primo_robot::envelope::{ColumnLimit, Envelope, Limits, WorkspaceBox};
 use primo_skill::csv::{Demo, check_rotation_vectors, parse_demo};
+use primo_skill::dmpfile::orientation_groups;
 use primo_skill::skill::{MAX_EXAMPLES, same_columns};
 use primo_skill::{MAX_KERNELS, MAX_QUERY, Skill};
 use serde::{Deserialize, Serialize};
@@ -470,7 +471,7 @@ impl Task {
             .limits
             .as_ref()
             .ok_or_else(|| Error::Invalid("the built-in pour builds its skill itself".into()))?;
-        let limits = spec.limits()?;
+        let mut limits = spec.limits()?;
         let mut demos: Vec<(String, Demo)> = Vec::new();
         for d in &self.demos {
             let name = d.file.display().to_string();
@@ -484,6 +485,8 @@ impl Task {
                         "{name}: {why} (the columns of {first}, the first demonstration)"
                     ))
                 })?;
+            } else {
+                self.exempt_orientations(spec, &mut limits, &demo.names)?;
             }
             limits.covers(&demo.names).map_err(|why| {
                 Error::Invalid(format!("{name}: {why} ({})", self.limits_place()))
@@ -520,6 +523,43 @@ impl Task {
             .collect();
         let skill = Skill::fit(&examples, self.kernels, self.regression)?;
         Ok(Built { skill, limits, dt })
+    }
+
+    /// Orientation columns (`…qw,…qx,…qy,…qz`, the rule of `primo dmp
+    /// fit`) take no per-column limits: a unit quaternion's components say
+    /// nothing of how far or fast it turns, and primo writes them
+    /// unit-norm. An entry for one is refused; they pass the check.
+    fn exempt_orientations(
+        &self,
+        spec: &LimitsSpec,
+        limits: &mut Limits,
+        names: &[String],
+    ) -> Result<(), Error> {
+        let groups = orientation_groups(names);
+        let columns = groups.iter().flat_map(|(group, _)| group);
+        if let LimitsSpec::Columns {
+            columns: limited, ..
+        } = spec
+            && let Some((group, name)) = groups
+                .iter()
+                .find_map(|(g, _)| g.iter().find(|c| limited.contains_key(*c)).map(|c| (g, c)))
+        {
+            return Err(Error::Invalid(format!(
+                "{}: [movement.limits] {name}: a component of the orientation {} (a unit \
+                 quaternion); per-column limits do not apply to orientations: remove the entry",
+                self.file.display(),
+                group.join(",")
+            )));
+        }
+        if let Limits::Envelope(e) = limits {
+            e.columns.extend(columns.map(|name| ColumnLimit {
+                name: name.clone(),
+                min: f64::NEG_INFINITY,
+                max: f64::INFINITY,
+                max_speed: f64::INFINITY,
+            }));
+        }
+        Ok(())
     }
 
     fn limits_place(&self) -> String {

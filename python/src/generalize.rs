@@ -1,17 +1,17 @@
 //! `Generalizer`: DMPs at task queries, `G(q)` → a DMP for a new query
-//! (`primo_skill::Skill::from_dmps`: LWR or GPR over the parameter
+//! (`primo_skill::Skill::from_files`: LWR or GPR over the parameter
 //! vectors, the start generalized with the same coefficients).
 
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
 
 use primo_core::generalize::Method;
-use primo_skill::dmpfile::{DmpFile, FORMAT, Fitted, VERSION};
-use primo_skill::{HostDmp, Skill};
+use primo_skill::Skill;
+use primo_skill::dmpfile::{DmpFile, Fitted};
 
 use crate::arrays::{Array, out, vector};
 use crate::dmp::Dmp;
-use crate::errors::{core, invalid, skill};
+use crate::errors::{invalid, skill};
 
 /// `G(q)` over examples `(query, dmp)` (a query is a float or 1 to 4
 /// values): LWR (`method="lwr"`, `bandwidth`) or GPR (`"gpr"`,
@@ -98,20 +98,20 @@ impl Generalizer {
         else {
             return Err(invalid("examples: give at least one (query, dmp) pair"));
         };
-        let names = first.names.clone();
-        let mut dmps: Vec<(&[f32], HostDmp)> = Vec::new();
+        let names = &first.names;
+        let mut files: Vec<(&[f32], &DmpFile)> = Vec::new();
         for (i, (q, dmp)) in kept.iter().enumerate() {
             if let Fitted::Discrete(f) = &dmp.fitted {
-                if f.names != names {
+                if &f.names != names {
                     return Err(invalid(format!(
                         "examples[{i}]: columns {:?}, the first example's are {names:?}",
                         f.names
                     )));
                 }
-                dmps.push((q, f.dmp.clone()));
+                files.push((q, f));
             }
         }
-        let skill = Skill::from_dmps(names, &dmps, regression).map_err(skill)?;
+        let skill = Skill::from_files(&files, regression).map_err(skill)?;
         Ok(Generalizer {
             skill,
             examples: kept,
@@ -124,18 +124,9 @@ impl Generalizer {
     /// The DMP for query `q`.
     fn generalize(&self, q: Array<'_>) -> PyResult<Dmp> {
         let query = vector("q", &q, true)?;
-        let (dmp, exec) = self.skill.movement(&query, &[]).map_err(skill)?;
-        let mut theta = vec![0.0; dmp.param_len()];
-        dmp.params(&mut theta).map_err(core)?;
-        let dmp = HostDmp::from_shape(&dmp.shape(), dmp.dof(), dmp.kernels(), &exec.start, &theta)
-            .map_err(core)?;
-        Ok(Dmp::from_file(DmpFile {
-            format: FORMAT.into(),
-            version: VERSION,
-            names: self.skill.names().to_vec(),
-            orientations: Vec::new(),
-            dmp,
-        }))
+        Ok(Dmp::from_file(
+            self.skill.movement(&query, &[]).map_err(skill)?,
+        ))
     }
 
     /// `G(q)`, the parameter vector.

@@ -283,6 +283,16 @@ fn layout(names: &[String]) -> Vec<Slot> {
     out
 }
 
+/// The orientation groups among columns `names` (the module docs' rule):
+/// each group's four column names and its first DoF in the DMP.
+pub fn orientation_groups(names: &[String]) -> Vec<([String; 4], usize)> {
+    layout(names)
+        .into_iter()
+        .filter(|s| s.kind == Column::Quaternion)
+        .map(|s| (std::array::from_fn(|k| names[s.column + k].clone()), s.dof))
+        .collect()
+}
+
 /// DMP DoFs of a layout.
 fn dmp_dof(layout: &[Slot]) -> usize {
     layout.last().map_or(0, |s| {
@@ -294,6 +304,18 @@ impl DmpFile {
     /// Fits a DMP of `kernels` kernels per DoF to a demonstration (`file`
     /// names it in errors); orientations as the module docs say.
     pub fn fit(file: &str, demo: &Demo, kernels: usize) -> Result<Self, Error> {
+        DmpFile::fit_with(file, demo, kernels, None)
+    }
+
+    /// [`DmpFile::fit`] with the amplitude-scaled DoFs given (bit `d`:
+    /// DMP DoF `d`), as a skill fits every demonstration like its first;
+    /// `None` decides per column, an orientation's never scaled.
+    pub fn fit_with(
+        file: &str,
+        demo: &Demo,
+        kernels: usize,
+        scaled: Option<u32>,
+    ) -> Result<Self, Error> {
         if !(2..=MAX_KERNELS).contains(&kernels) {
             return Err(Error::File(format!(
                 "--kernels: {kernels} is outside 2..={MAX_KERNELS}"
@@ -351,7 +373,7 @@ impl DmpFile {
             }
         }
         let options = FitOptions {
-            scaling: Scaling::AutoWhere(scaled_mask),
+            scaling: scaled.map_or(Scaling::AutoWhere(scaled_mask), Scaling::Mask),
             ..FitOptions::default()
         };
         let dmp = HostDmp::fit(&demo.times, &positions, dof, kernels, &options).map_err(|e| {

@@ -10,12 +10,24 @@
 //! Cartesian space the workspace box and speed limits, and the joint
 //! limits of the arm's inverse kinematics along the poses. What passes is
 //! a [`JointPath`], the only thing a rig executes.
-
-use primo_core::dmp::{Execution, FitOptions, Scaling};
+//!
+//! Columns `<p>qw,<p>qx,<p>qy,<p>qz` are one orientation, fitted as
+//! [`crate::dmpfile`] fits them: three DMP DoFs, the log coordinates
+//! `log(q ⊗ ḡ)` relative to the demonstration's goal `g`. They are
+//! generalized as [`primo_core::generalize::orientation`] says: the goals
+//! and starts as tangent vectors at the mean of the demonstrated goals,
+//! the weights as they are. In `θ` such a group has its three DoFs' weights
+//! in its place among the DoFs, and as its three goals the goal's rotation
+//! vector from that mean (rad, world frame): `Δθ` there turns the goal. A
+//! plan writes the four columns back, unit-norm.
 use primo_core::generalize::{Generalizer, Method};
+use primo_core::orientation::{from_log, nearest_log};
+use primo_core::quaternion::Quaternion;
+use primo_core::tangent::Tangent;
 use primo_robot::{Gate, JOINTS, JointPath};
 
 use crate::csv::Demo;
+use crate::dmpfile::{DmpFile, FORMAT, Orientation, VERSION, orientation_groups};
 use crate::{Error, HOST_MAX_DOF, HostDmp, MAX_KERNELS};
 
 /// Names of the Cartesian columns: the controlled point (m) and the tool's
@@ -91,7 +103,23 @@ pub struct Skill {
     space: Option<Space>,
     template: HostDmp,
     generalizer: Box<Gen>,
+    /// Per example, the DMP's start (an orientation's: its log
+    /// coordinates, the turn to its goal).
     starts: Vec<Vec<f32>>,
+    /// Per example and orientation, the start's tangent vector.
+    start_orientations: Vec<Vec<[f32; 3]>>,
+    groups: Vec<Group>,
+}
+
+/// An orientation among the columns.
+#[derive(Debug, Clone)]
+struct Group {
+    /// Its four columns.
+    columns: [String; 4],
+    /// Its first DoF in the DMP.
+    dof: usize,
+    /// Where its goals and starts are vectors.
+    tangent: Tangent,
 }
 
 /// A trajectory sampled at the control step, row-major `dof` values per
@@ -102,18 +130,19 @@ pub struct Plan {
     pub space: Option<Space>,
     /// Sample times, s.
     pub t: Vec<f64>,
-    /// Positions.
+    /// Positions, one value per column.
     pub rows: Vec<f64>,
-    /// DoF per row.
+    /// Values per row: the columns.
     pub dof: usize,
 }
 
 impl Skill {
-    /// Fits one DMP per demonstration `(q_i, demo_i)`, all with the same
-    /// amplitude scaling (decided on the first: interpolating weights only
-    /// makes sense when every example scales them alike), and generalizes
-    /// over the queries ([`Skill::from_dmps`]). Every demonstration has the
-    /// first one's columns, by name and in order.
+    /// Fits one DMP per demonstration `(q_i, demo_i)` (as
+    /// [`DmpFile::fit`]: orientations as the module docs say), all with the
+    /// same amplitude scaling (decided on the first: interpolating weights
+    /// only makes sense when every example scales them alike), and
+    /// generalizes over the queries ([`Skill::from_files`]). Every
+    /// demonstration has the first one's columns, by name and in order.
     pub fn fit(
         examples: &[(&[f32], &Demo)],
         kernels: usize,
@@ -122,54 +151,45 @@ impl Skill {
         let (_, first) = examples.first().ok_or_else(|| {
             Error::Demonstrations("a skill needs at least one demonstration".into())
         })?;
-        let names = first.names.clone();
-        let dof = names.len();
-        let mut options = FitOptions::default();
-        let mut dmps = Vec::new();
+        let mut scaled = None;
+        let mut files = Vec::new();
         for (i, (q, demo)) in examples.iter().enumerate() {
-            same_columns(&names, &demo.names)
+            same_columns(&first.names, &demo.names)
                 .map_err(|why| Error::Demonstrations(format!("demonstration {}: {why}", i + 1)))?;
-            let dmp = HostDmp::fit(&demo.times, &demo.positions, dof, kernels, &options).map_err(
-                |e| Error::Demonstrations(format!("demonstration {} (q = {q:?}): {e}", i + 1)),
-            )?;
-            if i == 0 {
-                let mask = (0..dof)
+            let label = format!("demonstration {} (q = {q:?})", i + 1);
+            let file = DmpFile::fit_with(&label, demo, kernels, scaled)
+                .map_err(|e| Error::Demonstrations(e.to_string()))?;
+            let dmp = &file.dmp;
+            scaled.get_or_insert(
+                (0..dmp.dof())
                     .filter(|d| dmp.is_scaled(*d))
-                    .fold(0u32, |m, d| m | 1 << d);
-                options.scaling = Scaling::Mask(mask);
-            }
-            dmps.push((*q, dmp));
+                    .fold(0, |m, d| m | 1 << d),
+            );
+            files.push((*q, file));
         }
-        Skill::from_dmps(names, &dmps, method)
+        let examples: Vec<(&[f32], &DmpFile)> = files.iter().map(|(q, f)| (*q, f)).collect();
+        Skill::from_files(&examples, method)
     }
 
-    /// Generalizes over fitted DMPs `(q_i, dmp_i)` with columns `names`:
-    /// every query of the first one's dimension (1 to [`MAX_QUERY`]), every
-    /// DMP of the first one's DoF, kernels, gains and amplitude scaling.
-    pub fn from_dmps(
-        names: Vec<String>,
-        dmps: &[(&[f32], HostDmp)],
-        method: Method,
-    ) -> Result<Skill, Error> {
-        let (first_query, template) = dmps
+    /// Generalizes over fitted DMPs `(q_i, file_i)`: every query of the
+    /// first one's dimension (1 to [`MAX_QUERY`]), every file of the first
+    /// one's columns, kernels, gains and amplitude scaling.
+    pub fn from_files(examples: &[(&[f32], &DmpFile)], method: Method) -> Result<Skill, Error> {
+        let (first_query, first) = examples
             .first()
             .ok_or_else(|| Error::Demonstrations("no demonstration".into()))?;
+        let template = &first.dmp;
         let query_dim = first_query.len();
         if !(1..=MAX_QUERY).contains(&query_dim) {
             return Err(Error::Demonstrations(format!(
                 "a query has 1 to {MAX_QUERY} values, demonstration 1's has {query_dim}"
             )));
         }
-        if names.len() != template.dof() {
-            return Err(Error::Demonstrations(format!(
-                "{} column names for a DMP of {} DoF",
-                names.len(),
-                template.dof()
-            )));
-        }
-        let mut generalizer = Box::new(Gen::new(query_dim, template.param_len(), method));
-        let mut theta = vec![0.0; template.param_len()];
-        for (i, (q, dmp)) in dmps.iter().enumerate() {
+        let names = first.names.clone();
+        let mut goals: Vec<Vec<Quaternion>> = Vec::new();
+        for (i, (q, file)) in examples.iter().enumerate() {
+            same_columns(&names, &file.names)
+                .map_err(|why| Error::Demonstrations(format!("demonstration {}: {why}", i + 1)))?;
             if q.len() != query_dim {
                 return Err(Error::Demonstrations(format!(
                     "demonstration {}: its query has {} values, demonstration 1's has {query_dim}",
@@ -177,6 +197,7 @@ impl Skill {
                     q.len()
                 )));
             }
+            let dmp = &file.dmp;
             if (dmp.dof(), dmp.kernels(), dmp.shape())
                 != (template.dof(), template.kernels(), template.shape())
             {
@@ -190,8 +211,53 @@ impl Skill {
                     template.kernels()
                 )));
             }
-            dmp.params(&mut theta)
+            goals.push(
+                file.orientations
+                    .iter()
+                    .map(|o| Quaternion::from_array(o.goal).normalized())
+                    .collect::<Result<_, _>>()
+                    .map_err(|e| {
+                        Error::Demonstrations(format!("demonstration {}: a goal: {e}", i + 1))
+                    })?,
+            );
+        }
+        let groups = orientation_groups(&names)
+            .into_iter()
+            .enumerate()
+            .map(|(j, (columns, dof))| {
+                let of_group: Vec<Quaternion> =
+                    goals.iter().filter_map(|g| g.get(j)).copied().collect();
+                if of_group.len() != goals.len() {
+                    return Err(Error::Demonstrations(format!(
+                        "{}…: an orientation without its goal",
+                        columns[0]
+                    )));
+                }
+                let tangent = Tangent::mean(&of_group)
+                    .map_err(|e| Error::Demonstrations(format!("{}…: {e}", columns[0])))?;
+                Ok(Group {
+                    columns,
+                    dof,
+                    tangent,
+                })
+            })
+            .collect::<Result<Vec<_>, Error>>()?;
+        let mut generalizer = Box::new(Gen::new(query_dim, template.param_len(), method));
+        let mut theta = vec![0.0; template.param_len()];
+        let goal_at = template.dof() * template.kernels();
+        let mut start_orientations = Vec::new();
+        for ((q, file), goals) in examples.iter().zip(&goals) {
+            file.dmp
+                .params(&mut theta)
                 .map_err(|e| Error::Demonstrations(e.to_string()))?;
+            let start = file.dmp.start_position();
+            let mut starts = Vec::new();
+            for (g, goal) in groups.iter().zip(goals) {
+                let at = goal_at + g.dof;
+                theta[at..at + 3].copy_from_slice(&g.tangent.log(goal));
+                starts.push(g.tangent.log(&from_log(&start[g.dof..g.dof + 3], goal)));
+            }
+            start_orientations.push(starts);
             generalizer
                 .add_example(q, &theta)
                 .map_err(|e| Error::Demonstrations(format!("example q = {q:?}: {e}")))?;
@@ -203,10 +269,12 @@ impl Skill {
             space: Space::of(&names),
             names,
             query_dim,
-            starts: dmps
+            starts: examples
                 .iter()
-                .map(|(_, d)| d.start_position().to_vec())
+                .map(|(_, f)| f.dmp.start_position().to_vec())
                 .collect(),
+            start_orientations,
+            groups,
             template: template.clone(),
             generalizer,
         })
@@ -228,7 +296,8 @@ impl Skill {
         self.space
     }
 
-    /// Length of θ (weights, goals, τ): `dof·kernels + dof + 1`.
+    /// Length of θ (weights, goals, τ): `dof·kernels + dof + 1` (DMP DoFs:
+    /// an orientation's four columns are three).
     pub fn param_len(&self) -> usize {
         self.template.param_len()
     }
@@ -238,7 +307,7 @@ impl Skill {
         self.template.kernels()
     }
 
-    /// DoF count.
+    /// The DMP's DoF count (an orientation's four columns are three).
     pub fn dof(&self) -> usize {
         self.template.dof()
     }
@@ -264,7 +333,8 @@ impl Skill {
         self.generalizer.method()
     }
 
-    /// `G(q)`.
+    /// `G(q)` (an orientation's goal as its rotation vector from the
+    /// demonstrated goals' mean: see the module docs).
     pub fn generalize(&self, query: &[f32]) -> Result<Vec<f32>, Error> {
         self.check_query(query)?;
         let mut theta = vec![0.0; self.param_len()];
@@ -274,12 +344,10 @@ impl Skill {
         Ok(theta)
     }
 
-    /// The DMP and its execution for `θ = G(q̂) + Δθ`.
-    pub fn movement(
-        &self,
-        query: &[f32],
-        delta: &[f32],
-    ) -> Result<(HostDmp, Execution<HOST_MAX_DOF>), Error> {
+    /// The movement for `θ = G(q̂) + Δθ`, as a DMP file whose DMP starts
+    /// at the generalized start and whose orientations' goals are the
+    /// generalized ones.
+    pub fn movement(&self, query: &[f32], delta: &[f32]) -> Result<DmpFile, Error> {
         if delta.len() > self.param_len() {
             return Err(Error::Movement(format!(
                 "Δθ has {} values, θ has {}",
@@ -291,42 +359,68 @@ impl Skill {
         for (t, d) in theta.iter_mut().zip(delta) {
             *t += d;
         }
-        let mut dmp = self.template.clone();
-        dmp.set_params(&theta)
-            .map_err(|e| Error::Movement(format!("movement for q = {query:?}: {e}")))?;
         let mut c = [0.0f32; MAX_EXAMPLES];
         self.generalizer
             .coefficients(query, &mut c)
             .map_err(|e| Error::Movement(e.to_string()))?;
-        let mut exec = dmp.execution();
-        for (d, s) in exec.start.iter_mut().enumerate() {
-            *s = self
-                .starts
-                .iter()
-                .zip(c)
-                .map(|(start, c)| c * start.get(d).copied().unwrap_or(0.0))
-                .sum();
+        let mut start: Vec<f32> = (0..self.dof())
+            .map(|d| {
+                self.starts
+                    .iter()
+                    .zip(c)
+                    .map(|(start, c)| c * start.get(d).copied().unwrap_or(0.0))
+                    .sum()
+            })
+            .collect();
+        let goal_at = self.dof() * self.kernels();
+        let mut orientations = Vec::new();
+        for (j, g) in self.groups.iter().enumerate() {
+            let at = goal_at + g.dof;
+            let goal = g.tangent.exp(&theta[at..at + 3]);
+            // The log DMP's own goal is 0: the goal is the orientation's.
+            theta[at..at + 3].fill(0.0);
+            let mut vector = [0.0f32; 3];
+            for (starts, c) in self.start_orientations.iter().zip(c) {
+                for (v, s) in vector.iter_mut().zip(starts.get(j).unwrap_or(&[0.0; 3])) {
+                    *v += c * s;
+                }
+            }
+            let turn = &mut start[g.dof..g.dof + 3];
+            let e = nearest_log(&g.tangent.exp(&vector), &goal, turn);
+            turn.copy_from_slice(&e);
+            orientations.push(Orientation {
+                columns: g.columns.clone(),
+                goal: goal.to_array(),
+            });
         }
-        Ok((dmp, exec))
+        let t = &self.template;
+        let dmp = HostDmp::from_shape(&t.shape(), t.dof(), t.kernels(), &start, &theta)
+            .map_err(|e| Error::Movement(format!("movement for q = {query:?}: {e}")))?;
+        Ok(DmpFile {
+            format: FORMAT.into(),
+            version: VERSION,
+            names: self.names.clone(),
+            orientations,
+            dmp,
+        })
     }
 
-    /// The movement sampled every `dt` seconds from 0 to τ.
+    /// The movement sampled every `dt` seconds from 0 to τ, one value per
+    /// column.
     pub fn plan(&self, query: &[f32], delta: &[f32], dt: f64) -> Result<Plan, Error> {
-        let (dmp, exec) = self.movement(query, delta)?;
-        let dof = dmp.dof();
+        let file = self.movement(query, delta)?;
         let mut plan = Plan {
             space: self.space,
             t: Vec::new(),
             rows: Vec::new(),
-            dof,
+            dof: self.names.len(),
         };
-        let steps = dmp
-            .trajectory(&exec, dt as f32)
+        let steps = file
+            .run(dt as f32, None, None, None)
             .map_err(|e| Error::Movement(format!("integrating the movement: {e}")))?;
-        for s in steps {
-            plan.t.push(f64::from(s.time));
-            plan.rows
-                .extend(s.position.iter().take(dof).map(|v| f64::from(*v)));
+        for (time, row) in steps {
+            plan.t.push(f64::from(time));
+            plan.rows.extend(row.iter().map(|v| f64::from(*v)));
         }
         Ok(plan)
     }
@@ -371,4 +465,72 @@ fn rows<const N: usize>(plan: &Plan) -> Vec<[f64; N]> {
         .chunks_exact(N)
         .map(|r| std::array::from_fn(|j| r[j]))
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn yaw(deg: f32) -> Quaternion {
+        Quaternion::exp([0.0, 0.0, deg.to_radians()])
+    }
+
+    /// `x` from 0 to `x`, yaw from `from`° to `to`°, the quaternion's sign
+    /// flipped on every third row (as some recorders do).
+    fn demo(x: f32, from: f32, to: f32) -> Demo {
+        let times: Vec<f32> = (0..=100).map(|i| i as f32 / 100.0).collect();
+        let positions = times
+            .iter()
+            .enumerate()
+            .flat_map(|(i, &t)| {
+                let s = t * t * (3.0 - 2.0 * t);
+                let q = yaw(from + (to - from) * s);
+                let q = if i % 3 == 1 { q.neg() } else { q };
+                [x * s].into_iter().chain(q.to_array())
+            })
+            .collect();
+        Demo {
+            names: ["x", "qw", "qx", "qy", "qz"].map(String::from).to_vec(),
+            times,
+            positions,
+        }
+    }
+
+    fn last_orientation(plan: &Plan) -> Quaternion {
+        let row = &plan.rows[plan.rows.len() - 5..];
+        Quaternion::from_array([row[1], row[2], row[3], row[4]].map(|v| v as f32))
+    }
+
+    #[test]
+    fn an_orientation_group_is_generalized_in_the_tangent_space() {
+        let (a, b) = (demo(0.2, 140.0, 170.0), demo(0.4, -140.0, -170.0));
+        let skill = Skill::fit(
+            &[(&[0.0], &a), (&[1.0], &b)],
+            10,
+            Method::Lwr { bandwidth: None },
+        )
+        .unwrap();
+        // x: 1 DoF, the orientation: 3.
+        assert_eq!((skill.dof(), skill.param_len()), (4, 4 * 10 + 4 + 1));
+        for (q, expect) in [(0.0, 170.0), (0.5, 180.0), (1.0, 190.0)] {
+            let plan = skill.plan(&[q], &[], 0.01).unwrap();
+            assert_eq!(plan.dof, 5);
+            for row in plan.rows.chunks_exact(5) {
+                let norm = row[1..].iter().map(|v| v * v).sum::<f64>().sqrt();
+                assert!((norm - 1.0).abs() < 1e-5, "{row:?}");
+            }
+            let end = last_orientation(&plan);
+            assert!(end.dot(&yaw(expect)).abs() > 1.0 - 1e-6, "q {q}: {end:?}");
+            let first = &plan.rows[..5];
+            let start =
+                Quaternion::from_array([first[1], first[2], first[3], first[4]].map(|v| v as f32));
+            let from = 140.0 + 80.0 * q;
+            assert!(start.dot(&yaw(from)).abs() > 1.0 - 1e-6, "q {q}: {start:?}");
+        }
+        // Δθ on the group's third goal value turns the goal about z.
+        let mut delta = vec![0.0; skill.param_len()];
+        delta[4 * 10 + 3] = 5f32.to_radians();
+        let end = last_orientation(&skill.plan(&[0.5], &delta, 0.01).unwrap());
+        assert!(end.dot(&yaw(185.0)).abs() > 1.0 - 1e-6, "{end:?}");
+    }
 }
