@@ -42,7 +42,7 @@ fn main() -> ! {
                 settings::store(changed);
             }
         }
-        while let Some(counts) = cell.sample() {
+        while let Ok(Some(counts)) = cell.sample() {
             idle = false;
             SCALE.push(counts);
             if let Some(frame) = SERVICE.deferred(SCALE, &mut out) {
