@@ -6,7 +6,7 @@ use std::time::Duration;
 
 use clap::{Args, Subcommand, ValueEnum};
 
-use primo_core::scale::{CalibrationPoint, Reading, ScaleRequest, Unit as ScaleUnit};
+use primo_core::scale::{CalibrationPoint, Reading, ScaleRequest, Unit as ScaleUnit, WeighMode};
 use primo_learn::coprocessor::{Image, Qemu};
 use primo_learn::weigh::{PrimoScale, ScaleSpec};
 use primo_mtsics::{Client, ClientConfig, Density, Unit, quote};
@@ -307,7 +307,7 @@ fn primo_read(mut scale: PrimoScale, args: &ReadArgs, density: Density) -> Resul
             OutputUnit::Kg => ScaleUnit::Kg,
             OutputUnit::G | OutputUnit::Ml => ScaleUnit::G,
         };
-        let r = scale.weigh(true, unit)?;
+        let r = scale.weigh(WeighMode::Stable, unit)?;
         return say(&shown(&r, args.unit, density));
     };
     let start = std::time::Instant::now();

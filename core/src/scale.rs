@@ -11,6 +11,12 @@
 //! - **Stability**, as a lab balance's: the displayed digits have held
 //!   within one digit for the last [`WINDOW`] samples (a second at 80
 //!   samples per second); the ADC's sample rate is the clock.
+//! - **Weighing**: the current reading, the current one if stable, or the
+//!   next stable one ([`WeighMode`]): the first stable reading made only of
+//!   samples taken after the request (as MT-SICS `S` after a change), so a
+//!   weighing just after a load change cannot give the old load. Its answer
+//!   waits for the samples: [`Scale::respond`] defers it, and
+//!   [`Scale::deferred`], polled after each [`Scale::push`], gives it.
 //! - **Faults**: overload (beyond the capacity), underload (below the zero
 //!   range), not settled, uncalibrated, as typed [`FaultKind`]s.
 //!
@@ -19,19 +25,32 @@
 //! ADS1232 instead).
 //!
 //! ```
-//! use primo_core::scale::{CalibrationPoint, Scale, ScaleConfig, ScaleRequest, ScaleReply, Unit, FILTER, WINDOW};
+//! use primo_core::scale::{CalibrationPoint, Scale, ScaleConfig, ScaleRequest, ScaleReply};
+//! use primo_core::scale::{Unit, WeighMode, FILTER, FRESH, WINDOW};
 //! use primo_core::wire::Reply;
 //! let mut s = Scale::new(ScaleConfig::LAB);
 //! let mut settle = |s: &mut Scale, counts: i32| (0..FILTER + WINDOW).for_each(|_| s.push(counts));
 //! settle(&mut s, 12_000);
 //! let low = ScaleRequest::Calibrate(CalibrationPoint::Low { grams: 0.0 });
-//! assert_eq!(s.respond(&low), Reply::Ok);
+//! assert_eq!(s.respond(&low), Some(Reply::Ok));
 //! settle(&mut s, 512_000); // 500 g at 1000 counts per gram
 //! let high = ScaleRequest::Calibrate(CalibrationPoint::High { grams: 500.0 });
-//! assert_eq!(s.respond(&high), Reply::Ok);
-//! let Reply::Scale(ScaleReply::Reading(r)) = s.respond(&ScaleRequest::Weigh { stable: true, unit: Unit::G })
+//! assert_eq!(s.respond(&high), Some(Reply::Ok));
+//! let weigh = |mode| ScaleRequest::Weigh { mode, unit: Unit::G };
+//! let Some(Reply::Scale(ScaleReply::Reading(r))) = s.respond(&weigh(WeighMode::Stable))
 //! else { panic!() };
 //! assert_eq!((r.digits, r.exponent, r.stable), (50_000, -2, true));
+//! // 100 g more: the next stable reading waits for samples of it alone.
+//! assert_eq!(s.respond(&weigh(WeighMode::Next { within: 400 })), None);
+//! let mut pushed = 0;
+//! let r = loop {
+//!     s.push(612_000);
+//!     pushed += 1;
+//!     if let Some(Reply::Scale(ScaleReply::Reading(r))) = s.deferred() {
+//!         break r;
+//!     }
+//! };
+//! assert_eq!((r.digits, pushed), (60_000, FRESH));
 //! ```
 
 use heapless::String;
@@ -47,17 +66,20 @@ pub const WINDOW: usize = 80;
 pub const STREAM: u32 = u32::MAX;
 /// Length of the model name.
 pub const MODEL: usize = 16;
+/// Samples after a request before the filter and the whole stability
+/// window hold samples of that time alone: the soonest a
+/// [`WeighMode::Next`] reading can be.
+pub const FRESH: u16 = (FILTER + WINDOW - 1) as u16;
 
 /// What the host asks the scale.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub enum ScaleRequest {
     /// Who are you? Answered with [`ScaleReply::Identity`].
     Identify,
-    /// The weight: when `stable`, only a stable one (else the fault
-    /// [`FaultKind::NotSettled`]: ask again); else the current one.
+    /// The weight, as `mode` says.
     Weigh {
-        /// Only a stable reading.
-        stable: bool,
+        /// Which reading.
+        mode: WeighMode,
         /// The unit to give it in.
         unit: Unit,
     },
@@ -75,6 +97,26 @@ pub enum ScaleRequest {
     /// Takes one point of the two-point calibration at the current stable
     /// load.
     Calibrate(CalibrationPoint),
+}
+
+/// Which reading a [`ScaleRequest::Weigh`] asks for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum WeighMode {
+    /// The current reading, stable or not.
+    Now,
+    /// The current reading if stable, else the fault
+    /// [`FaultKind::NotSettled`] (ask again). Within a second of a load
+    /// change it can still be the old load's.
+    Stable,
+    /// The first stable reading made only of samples taken after the
+    /// request ([`FRESH`] at least): answered when there is one, or with
+    /// the fault [`FaultKind::NotSettled`] once `within` samples passed
+    /// without one. An overload or underload is answered once the
+    /// samples are fresh; a later request drops this one's answer.
+    Next {
+        /// Samples to wait at most, at least [`FRESH`].
+        within: u16,
+    },
 }
 
 /// A point of the two-point calibration: the known mass on the pan now.
@@ -234,6 +276,17 @@ pub struct Scale {
     /// Samples so far, up to [`FILTER`] + [`WINDOW`].
     warm: usize,
     stream_every: u16,
+    /// The [`WeighMode::Next`] weighing waiting for its reading.
+    next: Option<Next>,
+}
+
+/// A deferred [`WeighMode::Next`] weighing.
+#[derive(Debug, Clone, Copy)]
+struct Next {
+    unit: Unit,
+    /// [`Scale::samples`] when it was asked.
+    asked: u32,
+    within: u16,
 }
 
 /// Counts per nominal digit while uncalibrated, so that a calibration
@@ -263,6 +316,7 @@ impl Scale {
             samples: 0,
             warm: 0,
             stream_every: 0,
+            next: None,
         }
     }
 
@@ -393,6 +447,27 @@ impl Scale {
         })
     }
 
+    /// The answer to a deferred [`WeighMode::Next`] weighing, after a
+    /// [`Scale::push`], once it is due (then no more).
+    pub fn deferred(&mut self) -> Option<Reply> {
+        let next = self.next?;
+        let taken = self.samples.wrapping_sub(next.asked);
+        let fresh = taken >= u32::from(FRESH);
+        let answer = match self.reading(next.unit) {
+            Ok(r) if fresh && r.stable => Some(Reply::Scale(ScaleReply::Reading(r))),
+            Err(e) if fresh => Some(e),
+            _ if taken >= u32::from(next.within) => Some(fault(
+                FaultKind::NotSettled,
+                "no stable reading within the samples given",
+            )),
+            _ => None,
+        };
+        if answer.is_some() {
+            self.next = None;
+        }
+        answer
+    }
+
     /// The scale's identity.
     pub fn identity(&self) -> Identity {
         let mut model = String::new();
@@ -407,33 +482,62 @@ impl Scale {
         }
     }
 
-    /// Answers one request.
-    pub fn respond(&mut self, request: &ScaleRequest) -> Reply {
+    /// Answers one request: `None` defers the answer to
+    /// [`Scale::deferred`] (a [`WeighMode::Next`] weighing). Any request
+    /// drops a deferred answer not given yet.
+    pub fn respond(&mut self, request: &ScaleRequest) -> Option<Reply> {
+        self.next = None;
         let done = match request {
-            ScaleRequest::Identify => return Reply::Scale(ScaleReply::Identity(self.identity())),
-            ScaleRequest::Weigh { stable, unit } => {
-                return match self.reading(*unit) {
-                    Ok(r) if *stable && !r.stable => fault(FaultKind::NotSettled, "not stable yet"),
-                    Ok(r) => Reply::Scale(ScaleReply::Reading(r)),
-                    Err(e) => e,
-                };
+            ScaleRequest::Identify => {
+                return Some(Reply::Scale(ScaleReply::Identity(self.identity())));
             }
+            ScaleRequest::Weigh { mode, unit } => return self.weigh(*mode, *unit),
             ScaleRequest::Stream { every } => {
                 self.stream_every = *every;
-                return Reply::Ok;
+                return Some(Reply::Ok);
             }
             ScaleRequest::Zero => self.zero(),
             ScaleRequest::Tare => self.tare(),
             ScaleRequest::Calibrate(point) => self.calibrate(*point),
         };
-        match done {
+        Some(match done {
             Ok(()) => {
                 self.changed = true;
                 self.refill();
                 Reply::Ok
             }
             Err(e) => e,
+        })
+    }
+
+    fn weigh(&mut self, mode: WeighMode, unit: Unit) -> Option<Reply> {
+        let within = match mode {
+            WeighMode::Next { within } => within,
+            WeighMode::Now | WeighMode::Stable => {
+                return Some(match self.reading(unit) {
+                    Ok(r) if mode == WeighMode::Stable && !r.stable => {
+                        fault(FaultKind::NotSettled, "not stable yet")
+                    }
+                    Ok(r) => Reply::Scale(ScaleReply::Reading(r)),
+                    Err(e) => e,
+                });
+            }
+        };
+        if self.settings.calibration.is_none() {
+            return Some(fault(FaultKind::Uncalibrated, "calibrate the scale"));
         }
+        if within < FRESH {
+            return Some(Reply::Error(Fault::new(
+                FaultKind::Invalid,
+                format_args!("wait at least {FRESH} samples for the next stable reading"),
+            )));
+        }
+        self.next = Some(Next {
+            unit,
+            asked: self.samples,
+            within,
+        });
+        None
     }
 
     fn zero(&mut self) -> Result<(), Reply> {
@@ -558,17 +662,22 @@ mod tests {
         }));
         settle(&mut s, 1_010_000);
         let high = ScaleRequest::Calibrate(CalibrationPoint::High { grams: 1000.0 });
-        assert_eq!(s.respond(&high), Reply::Ok);
+        assert_eq!(s.respond(&high), Some(Reply::Ok));
         s
     }
 
     fn weigh(s: &mut Scale, stable: bool) -> Result<Reading, FaultKind> {
+        let mode = if stable {
+            WeighMode::Stable
+        } else {
+            WeighMode::Now
+        };
         match s.respond(&ScaleRequest::Weigh {
-            stable,
+            mode,
             unit: Unit::G,
         }) {
-            Reply::Scale(ScaleReply::Reading(r)) => Ok(r),
-            Reply::Error(f) => Err(f.kind),
+            Some(Reply::Scale(ScaleReply::Reading(r))) => Ok(r),
+            Some(Reply::Error(f)) => Err(f.kind),
             other => panic!("{other:?}"),
         }
     }
@@ -610,7 +719,7 @@ mod tests {
         assert!(!weigh(&mut s, false).unwrap().stable);
         assert_eq!(
             s.respond(&ScaleRequest::Tare),
-            fault(FaultKind::NotSettled, "not stable yet")
+            Some(fault(FaultKind::NotSettled, "not stable yet"))
         );
     }
 
@@ -622,12 +731,12 @@ mod tests {
         settle(&mut s, 260_000); // 250 g
         let r = weigh(&mut s, true).unwrap();
         assert_eq!((r.digits, r.grams(), r.net), (25_000, 250.0, false));
-        assert_eq!(s.respond(&ScaleRequest::Tare), Reply::Ok);
+        assert_eq!(s.respond(&ScaleRequest::Tare), Some(Reply::Ok));
         settle(&mut s, 270_000);
         let r = weigh(&mut s, true).unwrap();
         assert_eq!((r.digits, r.net), (1_000, true));
-        let Reply::Scale(ScaleReply::Reading(kg)) = s.respond(&ScaleRequest::Weigh {
-            stable: true,
+        let Some(Reply::Scale(ScaleReply::Reading(kg))) = s.respond(&ScaleRequest::Weigh {
+            mode: WeighMode::Stable,
             unit: Unit::Kg,
         }) else {
             panic!()
@@ -636,10 +745,10 @@ mod tests {
         // Zero only near the calibrated zero.
         assert_eq!(
             s.respond(&ScaleRequest::Zero),
-            fault(FaultKind::Overload, "beyond the zero range")
+            Some(fault(FaultKind::Overload, "beyond the zero range"))
         );
         settle(&mut s, 15_000); // 5 g
-        assert_eq!(s.respond(&ScaleRequest::Zero), Reply::Ok);
+        assert_eq!(s.respond(&ScaleRequest::Zero), Some(Reply::Ok));
         assert_eq!(weigh(&mut s, true).unwrap().digits, 0);
         assert_eq!(s.take_changed().unwrap().zero, 5.0);
     }
@@ -694,7 +803,10 @@ mod tests {
     #[test]
     fn streams_every_n_samples() {
         let mut s = calibrated();
-        assert_eq!(s.respond(&ScaleRequest::Stream { every: 8 }), Reply::Ok);
+        assert_eq!(
+            s.respond(&ScaleRequest::Stream { every: 8 }),
+            Some(Reply::Ok)
+        );
         let n = (0..80)
             .filter(|_| {
                 s.push(10_000);
@@ -702,5 +814,73 @@ mod tests {
             })
             .count();
         assert_eq!(n, 10);
+    }
+
+    /// A [`WeighMode::Next`] weighing of `within` samples, pushing
+    /// `counts(i)` for the i-th sample after it: the answer and the
+    /// samples it took.
+    fn next(s: &mut Scale, within: u16, counts: impl Fn(u32) -> i32) -> (Reply, u32) {
+        let request = ScaleRequest::Weigh {
+            mode: WeighMode::Next { within },
+            unit: Unit::G,
+        };
+        assert_eq!(s.respond(&request), None);
+        for i in 1..=u32::from(u16::MAX) {
+            s.push(counts(i));
+            if let Some(answer) = s.deferred() {
+                assert_eq!(s.deferred(), None, "answered twice");
+                return (answer, i);
+            }
+        }
+        panic!("no answer")
+    }
+
+    #[test]
+    fn the_next_stable_reading_is_of_the_new_load_only() {
+        let mut s = calibrated();
+        settle(&mut s, 260_000); // 250 g
+        // 50 g more on the pan, but no sample of it yet (the ADC's
+        // latency, a sample period): the stable reading is the old one.
+        assert_eq!(weigh(&mut s, true).unwrap().digits, 25_000);
+        let (answer, took) = next(&mut s, 400, |_| 310_000);
+        let Reply::Scale(ScaleReply::Reading(r)) = answer else {
+            panic!("{answer:?}")
+        };
+        assert_eq!((r.digits, r.stable, took), (30_000, true, u32::from(FRESH)));
+        // A load still moving is not settled by the deadline, exactly.
+        let (answer, took) = next(&mut s, 300, |i| 310_000 + 100 * i as i32);
+        assert!(matches!(answer, Reply::Error(f) if f.kind == FaultKind::NotSettled));
+        assert_eq!(took, 300);
+        // It settles once it stops: a window of displays later, once the
+        // filter holds samples of the rest alone.
+        let (answer, took) = next(&mut s, 1000, |i| 310_000 + 100 * i.min(200) as i32);
+        assert!(matches!(answer, Reply::Scale(_)), "{answer:?}");
+        let window = 200 + WINDOW as u32..=200 + u32::from(FRESH);
+        assert!(window.contains(&took), "{took}");
+    }
+
+    #[test]
+    fn the_next_stable_reading_faults() {
+        let mut s = Scale::new(ScaleConfig::LAB);
+        let request = |within| ScaleRequest::Weigh {
+            mode: WeighMode::Next { within },
+            unit: Unit::G,
+        };
+        let kind = |r: Option<Reply>| match r {
+            Some(Reply::Error(f)) => f.kind,
+            other => panic!("{other:?}"),
+        };
+        assert_eq!(kind(s.respond(&request(400))), FaultKind::Uncalibrated);
+        let mut s = calibrated();
+        assert_eq!(kind(s.respond(&request(FRESH - 1))), FaultKind::Invalid);
+        // An overload is answered once the samples are fresh.
+        let (answer, took) = next(&mut s, 1000, |_| 4_300_000);
+        assert!(matches!(answer, Reply::Error(f) if f.kind == FaultKind::Overload));
+        assert_eq!(took, u32::from(FRESH));
+        // Another request drops the deferred answer.
+        assert_eq!(s.respond(&request(400)), None);
+        assert!(s.respond(&ScaleRequest::Identify).is_some());
+        settle(&mut s, 10_000);
+        assert_eq!(s.deferred(), None);
     }
 }

@@ -236,7 +236,9 @@ impl<const P: usize, const E: usize, const K: usize> Service<P, E, K> {
     }
 
     /// [`Service::handle`] on a device that is also a scale: its requests
-    /// go to `scale`, under the same sequence numbers.
+    /// go to `scale`, under the same sequence numbers. A weighing the scale
+    /// defers gets no reply frame here (an empty one) but from
+    /// [`Service::deferred`], unless another frame comes first.
     pub fn handle_with<'a>(
         &mut self,
         raw: Result<&[u8], FrameError>,
@@ -248,6 +250,9 @@ impl<const P: usize, const E: usize, const K: usize> Service<P, E, K> {
     }
 
     /// [`Service::handle_with`], returning the reply's length in `out`.
+    /// Never inlined: the firmware's loop inlined it with its callees
+    /// whole, 8 KB more of flash.
+    #[inline(never)]
     fn reply_len(
         &mut self,
         raw: Result<&[u8], FrameError>,
@@ -271,20 +276,50 @@ impl<const P: usize, const E: usize, const K: usize> Service<P, E, K> {
         }
         let reply = match (&frame.body, scale) {
             (Request::Scale(request), Some(scale)) => scale.respond(request),
-            (request, _) => self.respond(request),
+            (request, _) => Some(self.respond(request)),
         };
-        let n = match wire::encode(frame.seq, &reply, out) {
+        let Some(reply) = reply else {
+            // Deferred: an empty last reply until the scale gives it, so a
+            // retransmission meanwhile gets nothing and changes nothing.
+            self.last = Some((frame.seq, Vec::new()));
+            return 0;
+        };
+        self.record(frame.seq, &reply, out)
+    }
+
+    /// The deferred answer to the last frame, a scale's weighing, once
+    /// `scale` gives it after a [`Scale::push`] ([`Scale::deferred`]): its
+    /// reply frame, written into `out`, and kept for a retransmission.
+    pub fn deferred<'a>(
+        &mut self,
+        scale: &mut Scale,
+        out: &'a mut [u8; MAX_FRAME],
+    ) -> Option<&'a [u8]> {
+        let reply = scale.deferred()?;
+        let seq = match &self.last {
+            Some((seq, bytes)) if bytes.is_empty() => *seq,
+            _ => return None,
+        };
+        let len = self.record(seq, &reply, out);
+        out.get(..len)
+    }
+
+    /// Encodes `reply` to frame `seq` into `out` and keeps it as the last
+    /// reply; returns its length.
+    fn record(&mut self, seq: u32, reply: &Reply, out: &mut [u8; MAX_FRAME]) -> usize {
+        let len = |r: Result<&[u8], FrameError>| r.map_or(0, <[u8]>::len);
+        let n = match wire::encode(seq, reply, out) {
             Ok(bytes) => bytes.len(),
             // Every reply fits a frame (tested); should one not, say so.
             Err(e) => {
                 let f = Reply::Error(Fault::new(FaultKind::Capacity, e));
-                len(wire::encode(frame.seq, &f, out))
+                len(wire::encode(seq, &f, out))
             }
         };
         self.last = out
             .get(..n)
             .and_then(|b| Vec::from_slice(b).ok())
-            .map(|b| (frame.seq, b));
+            .map(|b| (seq, b));
         n
     }
 

@@ -6,7 +6,9 @@
 //! [`Request`]s, the device answers each with exactly one [`Reply`]. A
 //! scale's requests and replies ([`crate::scale`]) travel inside
 //! [`Request::Scale`] and [`Reply::Scale`]; a scale that streams sends
-//! replies numbered [`crate::scale::STREAM`] unasked.
+//! replies numbered [`crate::scale::STREAM`] unasked, and answers a
+//! weighing of the next stable reading only once it has one (and not at
+//! all if another request comes first: the host gave up on it).
 //! Vectors longer than a frame (training examples, a roll-out's `Δθ`) travel
 //! in [`CHUNK`]-value pieces, so that every frame stays small: on a line that
 //! corrupts 1 % of its bytes a 40-byte frame still arrives intact two times
@@ -56,8 +58,9 @@ use crate::scale::{ScaleReply, ScaleRequest};
 use crate::secant::SecantConfig;
 
 /// Protocol version; a coprocessor speaking another one refuses to work.
-/// 3: the scale's messages; 4: PoWER's error-learned query
-/// (`PowerConfig::query_gain`).
+/// 3: the scale's messages; 4: the scale's weighing modes, among them the
+/// next stable reading, answered when it is ready, and PoWER's
+/// error-learned query (`PowerConfig::query_gain`).
 pub const VERSION: u16 = 4;
 /// Largest frame on the line, in bytes, the 0x00 delimiter included.
 pub const MAX_FRAME: usize = 160;
@@ -580,6 +583,10 @@ mod tests {
             Request::Scale(crate::scale::ScaleRequest::Calibrate(
                 crate::scale::CalibrationPoint::High { grams: f32::MAX },
             )),
+            Request::Scale(crate::scale::ScaleRequest::Weigh {
+                mode: crate::scale::WeighMode::Next { within: u16::MAX },
+                unit: crate::scale::Unit::Kg,
+            }),
         ];
         for m in &messages {
             encode(u32::MAX, m, &mut buf).unwrap();

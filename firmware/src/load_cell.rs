@@ -1,17 +1,14 @@
-//! The load cell's 24-bit ADC behind a small trait: a board reads an HX711
-//! or an ADS1232 here; under QEMU the host's simulated cell sends the raw
-//! counts over UART1 ([`primo_core::scale::encode_sample`]).
+//! The load cell's 24-bit ADC behind [`LoadCell`]: a board reads an
+//! HX711 or an ADS1232 through `primo_loadcell`'s drivers; under QEMU the
+//! host's simulated cell sends the raw counts over UART1
+//! ([`primo_core::scale::encode_sample`]).
+
+use core::convert::Infallible;
 
 use primo_core::scale::SampleReader;
+pub use primo_loadcell::LoadCell;
 
 use crate::uart::Uart;
-
-/// A 24-bit load-cell ADC, polled.
-pub trait LoadCell {
-    /// The next conversion's counts, if one is ready; `None` means
-    /// nothing more is waiting.
-    fn sample(&mut self) -> Option<i32>;
-}
 
 /// The counts arriving on a UART, as the host's simulated cell sends
 /// them; damaged samples are dropped.
@@ -36,12 +33,14 @@ impl UartCell {
 }
 
 impl LoadCell for UartCell {
-    fn sample(&mut self) -> Option<i32> {
-        loop {
-            let byte = self.uart.try_read_byte()?;
+    type Error = Infallible;
+
+    fn sample(&mut self) -> Result<Option<i32>, Infallible> {
+        while let Some(byte) = self.uart.try_read_byte() {
             if let Some(counts) = self.reader.push(byte) {
-                return Some(counts);
+                return Ok(Some(counts));
             }
         }
+        Ok(None)
     }
 }

@@ -9,7 +9,8 @@ use cortex_m::peripheral::SCB;
 use cortex_m_rt::entry;
 use cortex_m_semihosting::hprintln;
 use primo_core::scale::{
-    CalibrationPoint, FILTER, Reading, Scale, ScaleConfig, ScaleReply, ScaleRequest, Unit, WINDOW,
+    CalibrationPoint, FILTER, FRESH, Reading, Scale, ScaleConfig, ScaleReply, ScaleRequest, Unit,
+    WINDOW, WeighMode,
 };
 use primo_core::wire::Reply;
 use primo_firmware::{exit, settings};
@@ -20,11 +21,11 @@ fn settle(s: &mut Scale, counts: i32) {
 
 fn weigh(s: &mut Scale) -> Option<Reading> {
     let weigh = ScaleRequest::Weigh {
-        stable: true,
+        mode: WeighMode::Stable,
         unit: Unit::G,
     };
     match s.respond(&weigh) {
-        Reply::Scale(ScaleReply::Reading(r)) => Some(r),
+        Some(Reply::Scale(ScaleReply::Reading(r))) => Some(r),
         _ => None,
     }
 }
@@ -60,14 +61,34 @@ fn main() -> ! {
     check("a single boot", seconds() < 30);
     settle(&mut s, 10_000);
     let low = ScaleRequest::Calibrate(CalibrationPoint::Low { grams: 0.0 });
-    check("the low point", s.respond(&low) == Reply::Ok);
+    check("the low point", s.respond(&low) == Some(Reply::Ok));
     settle(&mut s, 1_010_000);
     let high = ScaleRequest::Calibrate(CalibrationPoint::High { grams: 1000.0 });
-    check("the high point", s.respond(&high) == Reply::Ok);
+    check("the high point", s.respond(&high) == Some(Reply::Ok));
     settle(&mut s, 260_000);
     check("250 g", weigh(&mut s).map(|r| r.digits) == Some(25_000));
+    // 50 g more, no sample of it yet: the next stable reading waits for
+    // FRESH samples of the new load (the deadline ends the loop).
+    let next = ScaleRequest::Weigh {
+        mode: WeighMode::Next { within: 400 },
+        unit: Unit::G,
+    };
+    check("a deferred weighing", s.respond(&next).is_none());
+    let mut took = 0;
+    let answer = loop {
+        s.push(310_000);
+        took += 1;
+        if let Some(answer) = s.deferred() {
+            break answer;
+        }
+    };
+    let fresh = matches!(answer, Reply::Scale(ScaleReply::Reading(r)) if r.digits == 30_000);
+    check("300 g, the next stable reading", fresh && took == FRESH);
     settle(&mut s, 120_000);
-    check("the tare", s.respond(&ScaleRequest::Tare) == Reply::Ok);
+    check(
+        "the tare",
+        s.respond(&ScaleRequest::Tare) == Some(Reply::Ok),
+    );
     let Some(changed) = s.take_changed() else {
         check("a change to keep", false);
         exit(false)

@@ -3,15 +3,16 @@
 //! and scale requests (postcard from the input) as frames through the
 //! service, some corrupted. No panic; a sample survives the ADC line's
 //! codec; every reply is a frame that decodes, numbered as the request (a
-//! corrupted one as UNREAD); a stable weighing is stable and finite, or a
-//! weighing's typed fault; a weighing is uncalibrated exactly when the
+//! corrupted one as UNREAD), a weighing of the next stable reading's once
+//! its samples came (none when the next request came first); a stable
+//! weighing is stable and finite, or a weighing's typed fault; a weighing is uncalibrated exactly when the
 //! scale says so; settings change only on an `Ok` to zero, tare or a
 //! calibration, and survive the settings page's frame bit for bit.
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
 use primo_core::scale::{
-    SampleReader, Scale, ScaleConfig, ScaleReply, ScaleRequest, Settings, encode_sample,
+    SampleReader, Scale, ScaleConfig, ScaleReply, ScaleRequest, Settings, WeighMode, encode_sample,
 };
 use primo_core::service::{Coprocessor, UNREAD};
 use primo_core::wire::{self, FaultKind, MAX_FRAME, Reply, Request};
@@ -20,7 +21,7 @@ use primo_core::wire::{self, FaultKind, MAX_FRAME, Reply, Request};
 const MAX_OPS: usize = 300;
 
 /// Sends `request` as frame `seq` (one byte changed when `corrupt`);
-/// returns the reply.
+/// returns the reply, `None` for a corrupted request or a deferred one.
 fn send(
     service: &mut Coprocessor,
     scale: &mut Scale,
@@ -37,7 +38,19 @@ fn send(
     }
     let mut out = [0u8; MAX_FRAME];
     let reply = service.handle_with(Ok(&raw), &mut out, Some(scale));
-    let (end, body) = reply.split_last().expect("a reply frame");
+    let Some((end, body)) = reply.split_last() else {
+        assert!(
+            corrupt.is_none()
+                && matches!(
+                    request,
+                    ScaleRequest::Weigh {
+                        mode: WeighMode::Next { .. },
+                        ..
+                    }
+                )
+        );
+        return None;
+    };
     assert_eq!(*end, 0);
     let reply = wire::decode::<Reply>(body).expect("the reply decodes");
     let expected = if corrupt.is_some() { UNREAD } else { seq };
@@ -49,8 +62,29 @@ fn send(
     Some(reply.body)
 }
 
+/// Pushes `counts` and checks the deferred answer it may complete.
+fn push(
+    service: &mut Coprocessor,
+    scale: &mut Scale,
+    counts: i32,
+    pending: &mut Option<(u32, ScaleRequest, bool)>,
+) {
+    scale.push(counts);
+    let mut out = [0u8; MAX_FRAME];
+    let Some(frame) = service.deferred(scale, &mut out) else {
+        return;
+    };
+    let (seq, request, calibrated) = pending
+        .take()
+        .expect("a deferred answer to a waiting request");
+    let reply = wire::decode::<Reply>(&frame[..frame.len() - 1]).expect("the reply decodes");
+    assert_eq!(reply.seq, seq);
+    check(&request, &reply.body, calibrated);
+}
+
 fuzz_target!(|data: &[u8]| {
     let mut service = Box::new(Coprocessor::new());
+    let mut pending = None;
     let mut scale = Scale::new(ScaleConfig::LAB);
     let mut adc = SampleReader::new();
     let mut seq = 1u32;
@@ -75,7 +109,7 @@ fuzz_target!(|data: &[u8]| {
                     .collect();
                 assert_eq!(got, [counts]);
                 for _ in 0..=(control >> 2) {
-                    scale.push(counts);
+                    push(&mut service, &mut scale, counts, &mut pending);
                 }
             }
             // Raw bytes on the ADC line.
@@ -86,7 +120,7 @@ fuzz_target!(|data: &[u8]| {
                 for b in bytes {
                     if let Some(counts) = adc.push(*b) {
                         assert!((-8_388_608..=8_388_607).contains(&counts));
-                        scale.push(counts);
+                        push(&mut service, &mut scale, counts, &mut pending);
                     }
                 }
             }
@@ -99,8 +133,15 @@ fuzz_target!(|data: &[u8]| {
                 seq += 1;
                 let corrupt = (op == 3).then_some(control >> 2);
                 let calibrated = scale.identity().calibrated;
+                if corrupt.is_none() {
+                    // A new request: the waiting one, if any, goes unanswered.
+                    pending = None;
+                }
                 let Some(reply) = send(&mut service, &mut scale, seq, &request, corrupt) else {
                     assert!(scale.take_changed().is_none());
+                    if corrupt.is_none() {
+                        pending = Some((seq, request, calibrated));
+                    }
                     continue;
                 };
                 check(&request, &reply, calibrated);
@@ -125,9 +166,9 @@ fuzz_target!(|data: &[u8]| {
 /// What a reply to `request` must be.
 fn check(request: &ScaleRequest, reply: &Reply, calibrated: bool) {
     match (request, reply) {
-        (ScaleRequest::Weigh { stable, .. }, Reply::Scale(ScaleReply::Reading(r))) => {
+        (ScaleRequest::Weigh { mode, .. }, Reply::Scale(ScaleReply::Reading(r))) => {
             assert!(calibrated);
-            assert!(r.stable || !stable, "{r:?}");
+            assert!(r.stable || *mode == WeighMode::Now, "{r:?}");
             assert!(r.grams().is_finite());
         }
         (ScaleRequest::Weigh { .. }, Reply::Error(f)) => {
@@ -135,6 +176,7 @@ fn check(request: &ScaleRequest, reply: &Reply, calibrated: bool) {
             assert!(matches!(
                 f.kind,
                 FaultKind::Uncalibrated
+                    | FaultKind::Invalid
                     | FaultKind::NotSettled
                     | FaultKind::Overload
                     | FaultKind::Underload

@@ -109,7 +109,14 @@ impl Link {
     /// Sends `request` and returns its reply, retransmitting as needed.
     /// Errors: the port fails, or no intact reply after [`ATTEMPTS`] sends.
     pub fn call(&mut self, request: &Request) -> Result<Reply, Error> {
-        self.line().call(request)
+        self.line().call(request, Duration::ZERO)
+    }
+
+    /// [`Link::call`] of a request whose reply may take up to `patience`
+    /// (a scale's next stable reading): sent again while unanswered, for
+    /// [`ATTEMPTS`] sends or `patience`, whichever is longer.
+    pub fn call_within(&mut self, request: &Request, patience: Duration) -> Result<Reply, Error> {
+        self.line().call(request, patience)
     }
 
     /// The replies the device streamed, oldest first, waiting up to
@@ -129,7 +136,7 @@ impl Line {
         let hello = Request::Hello {
             version: wire::VERSION,
         };
-        match self.call(&hello)? {
+        match self.call(&hello, Duration::ZERO)? {
             Reply::Hello { .. } => Ok(()),
             Reply::Error(f) if f.kind == FaultKind::Version => Err(Error::Coprocessor(format!(
                 "coprocessor {}: {f}; flash firmware of this primo version",
@@ -142,7 +149,8 @@ impl Line {
         }
     }
 
-    fn call(&mut self, request: &Request) -> Result<Reply, Error> {
+    fn call(&mut self, request: &Request, patience: Duration) -> Result<Reply, Error> {
+        let start = Instant::now();
         self.seq = self.seq.wrapping_add(1);
         if self.seq == UNREAD || self.seq == STREAM {
             self.seq = 1;
@@ -156,10 +164,12 @@ impl Line {
                 ))
             })?
             .to_vec();
-        for attempt in 0..ATTEMPTS {
-            if attempt > 0 {
+        let mut attempts = 0;
+        while attempts < ATTEMPTS || start.elapsed() < patience {
+            if attempts > 0 {
                 self.stats.retransmissions += 1;
             }
+            attempts += 1;
             self.port
                 .write_all(&frame)
                 .and_then(|()| self.port.flush())
@@ -172,7 +182,7 @@ impl Line {
             }
         }
         Err(Error::Coprocessor(format!(
-            "coprocessor {}: no intact reply to {request:?} after {ATTEMPTS} attempts",
+            "coprocessor {}: no intact reply to {request:?} after {attempts} attempts",
             self.name
         )))
     }

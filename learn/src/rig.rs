@@ -301,7 +301,9 @@ impl Rig for Instruments {
                 played.ended
             )));
         }
-        let after = self.weigh()?;
+        // The first stable weight of the glass after the pour, never the
+        // one before its last drops.
+        let after = self.scale.next_stable_grams()?;
         let poured = (after - before) / self.spec.density * 1e-3;
         let load = played.load;
         if load.is_none() {

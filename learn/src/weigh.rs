@@ -8,7 +8,9 @@
 use std::path::Path;
 use std::time::{Duration, Instant};
 
-use primo_core::scale::{CalibrationPoint, Identity, Reading, ScaleReply, ScaleRequest, Unit};
+use primo_core::scale::{
+    CalibrationPoint, FRESH, Identity, Reading, ScaleReply, ScaleRequest, Unit, WeighMode,
+};
 use primo_core::wire::{Fault, FaultKind, Reply, Request};
 use primo_mtsics::{Client, ClientConfig};
 use primo_sim::load_cell::LoadCellModel;
@@ -88,7 +90,17 @@ impl Weigher {
     pub fn stable_grams(&mut self) -> Result<f64, Error> {
         match self {
             Weigher::MtSics(client) => Ok(client.stable()?.grams()),
-            Weigher::Primo(scale) => Ok(scale.weigh(true, Unit::G)?.grams()),
+            Weigher::Primo(scale) => Ok(scale.weigh(WeighMode::Stable, Unit::G)?.grams()),
+        }
+    }
+
+    /// The first stable weight made of samples taken after this call, g:
+    /// never the load before it (after a pour, not the glass before the
+    /// last drops). An MT-SICS balance's `S`, as [`Weigher::stable_grams`].
+    pub fn next_stable_grams(&mut self) -> Result<f64, Error> {
+        match self {
+            Weigher::MtSics(client) => Ok(client.stable()?.grams()),
+            Weigher::Primo(scale) => Ok(scale.next_stable(Unit::G)?.grams()),
         }
     }
 
@@ -111,6 +123,9 @@ impl Weigher {
 
 /// How often a request is made again while the scale is not settled.
 const SETTLE_POLL: Duration = Duration::from_millis(50);
+/// How much longer than its samples take the host waits for the next
+/// stable reading: the ADC's rate is nominal, and the line adds its delay.
+const NEXT_MARGIN: Duration = Duration::from_secs(2);
 
 /// primo's load-cell scale over the wire protocol.
 pub struct PrimoScale {
@@ -167,18 +182,36 @@ impl PrimoScale {
         self.link.clone()
     }
 
-    /// A reading in `unit`: when `stable`, asked again while the scale is
-    /// not settled, up to the settling time.
-    pub fn weigh(&mut self, stable: bool, unit: Unit) -> Result<Reading, Error> {
-        match self.settled(&ScaleRequest::Weigh { stable, unit })? {
+    /// A reading in `unit` as `mode` asks: a stable one is asked again
+    /// while the scale is not settled, up to the settling time; the next
+    /// stable one is waited for as long as its samples take.
+    pub fn weigh(&mut self, mode: WeighMode, unit: Unit) -> Result<Reading, Error> {
+        let patience = match mode {
+            WeighMode::Next { within } => {
+                let rate = f64::from(self.identity.rate.max(1));
+                Duration::from_secs_f64(f64::from(within) / rate) + NEXT_MARGIN
+            }
+            WeighMode::Now | WeighMode::Stable => Duration::ZERO,
+        };
+        match self.settled(&ScaleRequest::Weigh { mode, unit }, patience)? {
             Reply::Scale(ScaleReply::Reading(r)) => Ok(r),
             other => Err(self.unexpected("weigh", &other)),
         }
     }
 
+    /// The next stable reading in `unit` ([`WeighMode::Next`]): made of
+    /// samples taken after this call alone, within the settling time (at
+    /// least the [`FRESH`] samples it needs).
+    pub fn next_stable(&mut self, unit: Unit) -> Result<Reading, Error> {
+        let rate = f64::from(self.identity.rate);
+        // `as` saturates: past u16::MAX samples, the scale is asked again.
+        let within = ((self.settle.as_secs_f64() * rate) as u16).max(FRESH);
+        self.weigh(WeighMode::Next { within }, unit)
+    }
+
     /// Zero, tare or a calibration point, at a stable load (waited for).
     pub fn set(&mut self, request: &ScaleRequest) -> Result<(), Error> {
-        match self.settled(request)? {
+        match self.settled(request, Duration::ZERO)? {
             Reply::Ok => Ok(()),
             other => Err(self.unexpected("setting", &other)),
         }
@@ -225,11 +258,12 @@ impl PrimoScale {
     }
 
     /// `request`, made again while the scale answers not settled, up to
-    /// the settling time.
-    fn settled(&mut self, request: &ScaleRequest) -> Result<Reply, Error> {
+    /// the settling time; its answer may take `patience`.
+    fn settled(&mut self, request: &ScaleRequest, patience: Duration) -> Result<Reply, Error> {
         let start = Instant::now();
         loop {
-            match self.link.call(&Request::Scale(request.clone()))? {
+            let request_frame = Request::Scale(request.clone());
+            match self.link.call_within(&request_frame, patience)? {
                 Reply::Error(f)
                     if f.kind == FaultKind::NotSettled && start.elapsed() < self.settle =>
                 {

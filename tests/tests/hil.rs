@@ -9,7 +9,9 @@ mod relay;
 use std::sync::atomic::Ordering;
 use std::time::{Duration, Instant};
 
-use primo_core::scale::{CalibrationPoint, ScaleRequest, Settings as ScaleSettings, Unit};
+use primo_core::scale::{
+    CalibrationPoint, ScaleRequest, Settings as ScaleSettings, Unit, WeighMode,
+};
 use primo_learn::coprocessor::{Image, Link, Qemu};
 use primo_learn::learning::{Algorithm as Method, Learner, Record, Settings, learn};
 use primo_learn::pouring::built_in_skill;
@@ -123,7 +125,7 @@ fn put(load: &LoadHandle, grams: f64) {
 }
 
 fn grams(scale: &mut PrimoScale) -> f64 {
-    scale.weigh(true, Unit::G).unwrap().grams()
+    scale.weigh(WeighMode::Stable, Unit::G).unwrap().grams()
 }
 
 #[test]
@@ -132,7 +134,10 @@ fn the_scale_in_qemu_calibrates_weighs_tares_and_streams() {
     let (_cell, qemu) = scale_on(&load, &ScaleSettings::default());
     let mut scale = PrimoScale::open(qemu.pty(), Duration::from_secs(20)).unwrap();
     assert!(!scale.identity().calibrated);
-    let err = scale.weigh(false, Unit::G).unwrap_err().to_string();
+    let err = scale
+        .weigh(WeighMode::Now, Unit::G)
+        .unwrap_err()
+        .to_string();
     assert!(err.contains("uncalibrated"), "{err}");
     // Two points: the empty pan, then a 500 g reference.
     scale
@@ -146,8 +151,9 @@ fn the_scale_in_qemu_calibrates_weighs_tares_and_streams() {
     let g = grams(&mut scale);
     assert!((g - 123.45).abs() <= 0.02, "{g}");
     scale.set(&ScaleRequest::Tare).unwrap();
-    put(&load, 173.45);
-    let net = scale.weigh(true, Unit::G).unwrap();
+    // The next stable reading is of the new load, asked at once.
+    load.set(173.45);
+    let net = scale.next_stable(Unit::G).unwrap();
     assert!(net.net && (net.grams() - 50.0).abs() <= 0.02, "{net:?}");
     // Streamed readings come at the ADC's rate.
     let start = Instant::now();
@@ -161,7 +167,10 @@ fn the_scale_in_qemu_calibrates_weighs_tares_and_streams() {
     assert!(samples.windows(2).all(|w| w[1] == w[0] + 8), "{samples:?}");
     assert!(rate > 40.0, "{rate}");
     put(&load, 5000.0);
-    let err = scale.weigh(false, Unit::G).unwrap_err().to_string();
+    let err = scale
+        .weigh(WeighMode::Now, Unit::G)
+        .unwrap_err()
+        .to_string();
     assert!(err.contains("overload"), "{err}");
 }
 
@@ -176,8 +185,9 @@ fn the_learner_on_the_scale_through_a_lossy_line_gives_the_host_only_roll_outs()
     let host = golden(&mut Learner::local());
     let on_scale = golden(&mut Learner::Remote(scale.link()));
     assert_eq!(bits(&on_scale), bits(&host));
-    put(&load, 300.0);
-    let g = grams(&mut scale);
+    // The deferred answer through the lossy line, retransmissions and all.
+    load.set(300.0);
+    let g = scale.next_stable(Unit::G).unwrap().grams();
     assert!((g - 300.0).abs() <= 0.02, "{g}");
     let (d, stats) = (&relay.damage, scale.link().stats());
     println!(

@@ -19,6 +19,7 @@ use primo_core::power::{Block, PowerConfig};
 use primo_core::quaternion::Quaternion;
 use primo_core::scale::{
     Calibration, STREAM, Scale, ScaleConfig, ScaleRequest, Settings as ScaleSettings, Unit,
+    WeighMode,
 };
 use primo_core::service::{Coprocessor as Service, THETA};
 use primo_core::wire::{
@@ -249,7 +250,7 @@ fn scale_costs(service: &mut Service, scale: &mut Scale, syst: &mut SYST) -> (u6
             }
         });
         let weigh = Request::Scale(ScaleRequest::Weigh {
-            stable: true,
+            mode: WeighMode::Stable,
             unit: Unit::G,
         });
         weigh_ticks = ticks(syst, || {

@@ -1,6 +1,7 @@
 //! The load-cell scale, which also serves the learner: frames in on UART0
 //! go to the scale or to the learner service, under one sequence; the
-//! load cell's counts come in on UART1; streamed readings go out on UART0.
+//! load cell's counts come in on UART1; streamed readings, and the answer
+//! to a weighing that waits for the next stable reading, go out on UART0.
 //! Between bytes the core sleeps.
 #![no_std]
 #![no_main]
@@ -41,9 +42,12 @@ fn main() -> ! {
                 settings::store(changed);
             }
         }
-        while let Some(counts) = cell.sample() {
+        while let Ok(Some(counts)) = cell.sample() {
             idle = false;
             SCALE.push(counts);
+            if let Some(frame) = SERVICE.deferred(SCALE, &mut out) {
+                host.write_all(frame);
+            }
             if let Some(reading) = SCALE.streamed()
                 && let Ok(frame) = wire::encode(STREAM, &reading, &mut out)
             {
