@@ -4,7 +4,7 @@ use std::path::{Path, PathBuf};
 
 use primo_skill::MAX_KERNELS;
 use primo_skill::csv::{parse_demo, write_rows};
-use primo_skill::dmpfile::{self, DmpFile, Fitted, MAX_ROWS, RhythmicFile};
+use primo_skill::dmpfile::{self, Change, DmpFile, Fitted, MAX_ROWS, RhythmicFile};
 
 use crate::error::CliError;
 use crate::output::{check_out_file, emit, read};
@@ -63,6 +63,13 @@ pub enum DmpCommand {
         /// A rhythmic DMP: the oscillation's centre, one value per column.
         #[arg(long, allow_hyphen_values = true, conflicts_with_all = ["tau", "start", "goal"])]
         anchor: Option<String>,
+        /// A rhythmic DMP: a change during the run, "T frequency=F
+        /// amplitude=A,… anchor=C,…" (any of the three, from T seconds on;
+        /// repeat for more). The run keeps its phase through a new
+        /// frequency and glides onto a new amplitude or anchor.
+        #[arg(long = "change", value_name = "T KEY=VALUE ...", allow_hyphen_values = true,
+              conflicts_with_all = ["tau", "start", "goal"])]
+        changes: Vec<String>,
         /// Output CSV file (stdout when absent).
         #[arg(long)]
         out: Option<PathBuf>,
@@ -89,6 +96,7 @@ pub fn run(command: DmpCommand) -> Result<(), CliError> {
             frequency,
             amplitude,
             anchor,
+            changes,
             out,
         } => {
             let file = dmp.display().to_string();
@@ -106,23 +114,32 @@ pub fn run(command: DmpCommand) -> Result<(), CliError> {
                         || frequency.is_some()
                         || amplitude.is_some()
                         || anchor.is_some()
+                        || !changes.is_empty()
                     {
                         return Err(CliError::input(format!(
-                            "--duration, --frequency, --amplitude, --anchor: {file} is not a \
-                             rhythmic DMP"
+                            "--duration, --frequency, --amplitude, --anchor, --change: {file} is \
+                             not a rhythmic DMP"
                         )));
                     }
                     run_discrete(&file, &dmp, dt, tau, start.as_deref(), goal.as_deref())?
                 }
-                Fitted::Rhythmic(dmp) => run_rhythmic(
-                    &file,
-                    &dmp,
-                    dt,
-                    duration,
-                    frequency,
-                    amplitude.as_deref(),
-                    anchor.as_deref(),
-                )?,
+                Fitted::Rhythmic(dmp) => {
+                    let from_start = Change {
+                        at: 0.0,
+                        frequency,
+                        amplitude: amplitude
+                            .map(|text| parse_vector("--amplitude", &text, &dmp.names))
+                            .transpose()?,
+                        anchor: anchor
+                            .map(|text| parse_vector("--anchor", &text, &dmp.names))
+                            .transpose()?,
+                    };
+                    let mut all = vec![from_start];
+                    for text in &changes {
+                        all.push(parse_change(text, &dmp.names)?);
+                    }
+                    run_rhythmic(&file, &dmp, dt, duration, &all)?
+                }
             };
             emit(out.as_deref(), &rows)
         }
@@ -217,15 +234,57 @@ fn run_discrete(
     Ok(buf)
 }
 
+/// One `--change "T KEY=VALUE …"`.
+fn parse_change(text: &str, names: &[String]) -> Result<Change, CliError> {
+    let bad = |why: String| CliError::input(format!("--change \"{text}\": {why}"));
+    let mut words = text.split_whitespace();
+    let at = match words.next().map(str::parse::<f32>) {
+        Some(Ok(t)) if t.is_finite() && t >= 0.0 => t,
+        _ => return Err(bad("must start with a time in seconds >= 0".into())),
+    };
+    let mut change = Change {
+        at,
+        ..Change::default()
+    };
+    for word in words {
+        let flag = format!(
+            "--change at {at} s: {}",
+            word.split('=').next().unwrap_or("")
+        );
+        match word.split_once('=') {
+            Some(("frequency", v)) => match v.parse::<f32>() {
+                Ok(hz) if hz.is_finite() => change.frequency = Some(hz),
+                _ => return Err(bad(format!("frequency `{v}` is not a number of Hz"))),
+            },
+            Some(("amplitude", v)) => change.amplitude = Some(parse_vector(&flag, v, names)?),
+            Some(("anchor", v)) => change.anchor = Some(parse_vector(&flag, v, names)?),
+            _ => {
+                return Err(bad(format!(
+                    "`{word}`: expected frequency=F, amplitude=A,… or anchor=C,…"
+                )));
+            }
+        }
+    }
+    if change
+        == (Change {
+            at,
+            ..Change::default()
+        })
+    {
+        return Err(bad(
+            "changes nothing: give frequency=, amplitude= or anchor=".into(),
+        ));
+    }
+    Ok(change)
+}
+
 /// The rows of a rhythmic DMP's run, as CSV.
 fn run_rhythmic(
     file: &str,
     dmp: &RhythmicFile,
     dt: f32,
     duration: Option<f32>,
-    frequency: Option<f32>,
-    amplitude: Option<&str>,
-    anchor: Option<&str>,
+    changes: &[Change],
 ) -> Result<Vec<u8>, CliError> {
     let duration = duration.unwrap_or(3.0 * dmp.rhythmic.period());
     if !(duration.is_finite() && duration >= 0.0) {
@@ -234,20 +293,8 @@ fn run_rhythmic(
         )));
     }
     check_rows(dt, duration, "duration")?;
-    let amplitude = amplitude
-        .map(|text| parse_vector("--amplitude", text, &dmp.names))
-        .transpose()?;
-    let anchor = anchor
-        .map(|text| parse_vector("--anchor", text, &dmp.names))
-        .transpose()?;
     let rows = dmp
-        .run(
-            dt,
-            duration,
-            frequency,
-            amplitude.as_deref(),
-            anchor.as_deref(),
-        )
+        .run(dt, duration, changes)
         .map_err(|e| CliError::input(format!("{file}: {e}")))?;
     let mut buf = Vec::new();
     write_rows(&mut buf, &dmp.names, rows)

@@ -383,6 +383,51 @@ fn a_rhythmic_fit_replays_faster_and_wider() {
         .fold((f64::MAX, f64::MIN), |(lo, hi), x| (lo.min(x), hi.max(x)));
     let ratio = span / (demo_span.1 - demo_span.0);
     assert!((ratio - 1.5).abs() < 0.01, "{ratio}");
+    // The same change made online at 2 s: the run is the plain one until
+    // then, and settles on the new size after.
+    let plain = run(&["--duration", "2"]);
+    let changed = run(&[
+        "--duration",
+        "5",
+        "--change",
+        "2 frequency=2.5 amplitude=1.5,1.5",
+    ]);
+    assert_eq!(changed[..plain.len()], plain[..]);
+    let late: Vec<f64> = changed[4000..].iter().map(|r| r[1]).collect();
+    let span = late.iter().cloned().fold(f64::MIN, f64::max)
+        - late.iter().cloned().fold(f64::MAX, f64::min);
+    let ratio = span / (demo_span.1 - demo_span.0);
+    assert!((ratio - 1.5).abs() < 0.01, "online: {ratio}");
+    let (code, _, err) = primo(&[
+        "dmp",
+        "run",
+        json.to_str().unwrap(),
+        "--change",
+        "soon frequency=2",
+    ]);
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("--change \"soon frequency=2\": must start with a time"),
+        "{err}"
+    );
+    let (code, _, err) = primo(&[
+        "dmp",
+        "run",
+        json.to_str().unwrap(),
+        "--change",
+        "1 speed=2",
+    ]);
+    assert_eq!(code, 2);
+    assert!(err.contains("`speed=2`"), "{err}");
+    let (code, _, err) = primo(&[
+        "dmp",
+        "run",
+        json.to_str().unwrap(),
+        "--change",
+        "1 frequency=5000",
+    ]);
+    assert_eq!(code, 2);
+    assert!(err.contains("at 1 s: frequency 5000"), "{err}");
     // Rhythmic flags on a discrete DMP, and a bad period: refused.
     let reach = tmp("reach-rhythm.json");
     let (code, _, err) = primo(&[

@@ -8,7 +8,7 @@ use pyo3::types::PyTuple;
 
 use primo_skill::HostDmp;
 use primo_skill::csv::Demo;
-use primo_skill::dmpfile::{self, DmpFile, Fitted, MAX_ROWS, Prepared, RhythmicFile};
+use primo_skill::dmpfile::{self, Change, DmpFile, Fitted, MAX_ROWS, Prepared, RhythmicFile};
 
 use crate::arrays::{Array, matrix, out, out2, vector};
 use crate::errors::{core, invalid, io, skill};
@@ -365,16 +365,13 @@ impl Dmp {
                 let amplitude = per_column("amplitude", amplitude, names)?;
                 let anchor = per_column("anchor", anchor, names)?;
                 let (mut t, mut y) = (Vec::new(), Vec::new());
-                for (time, row) in r
-                    .run(
-                        dt,
-                        duration,
-                        frequency,
-                        amplitude.as_deref(),
-                        anchor.as_deref(),
-                    )
-                    .map_err(skill)?
-                {
+                let from_start = Change {
+                    at: 0.0,
+                    frequency,
+                    amplitude,
+                    anchor,
+                };
+                for (time, row) in r.run(dt, duration, &[from_start]).map_err(skill)? {
                     t.push(time);
                     y.extend(row);
                 }

@@ -27,7 +27,7 @@
 use primo_core::dmp::{FitOptions, Scaling};
 use primo_core::orientation::{from_log, log_coordinates, nearest_log};
 use primo_core::quaternion::Quaternion;
-use primo_core::rhythmic::RhythmicDmp;
+use primo_core::rhythmic::{RhythmicDmp, RhythmicRun};
 use serde::{Deserialize, Serialize};
 
 use crate::csv::Demo;
@@ -192,41 +192,83 @@ impl RhythmicFile {
         serde_json::to_string_pretty(self)
     }
 
-    /// Runs `duration` seconds at step `dt`: times and rows. `frequency`
-    /// (Hz), `amplitude` (relative, per column) and `anchor` (per column)
-    /// replace the demonstrated ones from the start.
+    /// Runs `duration` seconds at step `dt`: times and rows. Each change
+    /// takes effect from its time on (in time order; those at 0 from the
+    /// start): the run glides onto a new amplitude or anchor and keeps its
+    /// phase through a new frequency. Every change is checked first.
     pub fn run(
         &self,
         dt: f32,
         duration: f32,
-        frequency: Option<f32>,
-        amplitude: Option<&[f32]>,
-        anchor: Option<&[f32]>,
+        changes: &[Change],
     ) -> Result<impl Iterator<Item = (f32, Vec<f32>)> + '_, Error> {
         let movement = |e: primo_core::Error| Error::Movement(e.to_string());
         let mut run = self.rhythmic.start().map_err(movement)?;
-        if let Some(hz) = frequency {
-            run.set_frequency(hz).map_err(|_| {
-                Error::Movement(format!("--frequency {hz}: must be in 0.001..=1000 Hz"))
-            })?;
-        }
-        if let Some(a) = amplitude {
-            run.set_amplitude(a)
-                .map_err(|e| Error::Movement(format!("--amplitude: {e}")))?;
-        }
-        if let Some(g) = anchor {
-            run.set_anchor(g)
-                .map_err(|e| Error::Movement(format!("--anchor: {e}")))?;
+        let mut changes = changes.to_vec();
+        changes.sort_by(|a, b| a.at.total_cmp(&b.at));
+        let mut scratch = run.clone();
+        for c in &changes {
+            c.apply(&mut scratch)?;
         }
         let steps = (duration / dt).round().max(0.0) as usize;
+        let mut pending = changes.into_iter().peekable();
+        let mut due = move |run: &mut RhythmicRun<HOST_MAX_DOF>, t: f32| {
+            while let Some(c) = pending.next_if(|c| c.at <= t) {
+                // Checked above on the scratch run: cannot fail.
+                let _ = c.apply(run);
+            }
+        };
+        due(&mut run, 0.0);
         // The caller checked `dt` > 0, so a step cannot fail; the rows
         // would stop if one ever did.
         let first = std::iter::once((0.0, run.position().to_vec()));
         let rest = (1..=steps).map_while(move |i| {
+            due(&mut run, (i - 1) as f32 * dt);
             run.step(&self.rhythmic, dt).ok()?;
             Some((i as f32 * dt, run.position().to_vec()))
         });
         Ok(first.chain(rest))
+    }
+}
+
+/// A change to a rhythmic run at a time: any of frequency, amplitude and
+/// anchor ([`RhythmicFile::run`]).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Change {
+    /// From this time on, s (≥ 0).
+    pub at: f32,
+    /// The frequency, Hz.
+    pub frequency: Option<f32>,
+    /// Amplitudes relative to the demonstrated, one per column.
+    pub amplitude: Option<Vec<f32>>,
+    /// The oscillation's centre, one value per column.
+    pub anchor: Option<Vec<f32>>,
+}
+
+impl Change {
+    fn apply(&self, run: &mut RhythmicRun<HOST_MAX_DOF>) -> Result<(), Error> {
+        let at = |what: String| match self.at {
+            0.0 => Error::Movement(what),
+            t => Error::Movement(format!("at {t} s: {what}")),
+        };
+        if !(self.at.is_finite() && self.at >= 0.0) {
+            return Err(Error::Movement(format!(
+                "a change at {} s: its time must be a number of seconds >= 0",
+                self.at
+            )));
+        }
+        if let Some(hz) = self.frequency {
+            run.set_frequency(hz)
+                .map_err(|_| at(format!("frequency {hz}: must be in 0.001..=1000 Hz")))?;
+        }
+        if let Some(a) = &self.amplitude {
+            run.set_amplitude(a)
+                .map_err(|e| at(format!("amplitude: {e}")))?;
+        }
+        if let Some(g) = &self.anchor {
+            run.set_anchor(g).map_err(|e| at(format!("anchor: {e}")))?;
+        }
+        Ok(())
     }
 }
 
