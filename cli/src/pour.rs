@@ -9,6 +9,7 @@ use primo_learn::pour::{CellSpec, DemoFile, Event, Failure, LearnerSpec, SkillSp
 use primo_learn::report::rollout_line;
 use primo_learn::rig::{InstrumentsSpec, Operator};
 use primo_learn::runlog::RunEvent;
+use primo_sim::cell::CellConfig;
 
 use crate::args::{Glass, Method, Space};
 use crate::error::CliError;
@@ -92,6 +93,12 @@ pub struct PourArgs {
     /// what the demonstrations support and the glass holds).
     #[arg(long, value_name = "LOW,HIGH", default_value = "0.1,1.5", value_parser = bounds)]
     search: [f32; 2],
+    /// What the glass holds, l: error learning then tries no query that
+    /// would let more leave the bottle (it raises the search's low end to
+    /// bottle + target − this) [default: the simulated glass's capacity;
+    /// with --robot, none: give your glass's]
+    #[arg(long, value_name = "LITRES")]
+    glass_holds: Option<f64>,
     /// The error learners' gain K in l per l of error (the first for
     /// secant, the only one for fixed-gain, weighted-gain and power-el).
     #[arg(long, default_value_t = 1.0, allow_hyphen_values = true)]
@@ -109,7 +116,8 @@ pub struct PourArgs {
     /// instrument): its settings come from the log, and no roll-out is
     /// lost or repeated.
     #[arg(long, value_name = "DIR", conflicts_with_all = [
-        "bottle", "target", "method", "seed", "max_rollouts", "precision", "gain", "search", "out",
+        "bottle", "target", "method", "seed", "max_rollouts", "precision", "gain", "search",
+        "glass_holds", "out",
         "force",
         "space", "kernels", "glass", "demos",
     ])]
@@ -223,11 +231,17 @@ pub fn run(args: &PourArgs) -> Result<(), CliError> {
             if let Some(n) = args.max_rollouts {
                 settings.max_rollouts = n;
             }
+            let skill = args.skill.spec(space, Glass::Normal)?;
+            settings.glass_holds = args.glass_holds.or_else(|| {
+                instruments
+                    .is_none()
+                    .then(|| CellConfig::standard(skill.glass).glass_litres())
+            });
             Start::New {
                 out: args.out.clone(),
                 force: args.force,
                 settings,
-                skill: args.skill.spec(space, Glass::Normal)?,
+                skill,
                 cell: instruments.map_or(CellSpec::Simulated, CellSpec::Instruments),
             }
         }

@@ -24,6 +24,48 @@ fn pour_learns_and_writes_its_reports() {
     assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
 }
 
+/// The most any roll-out of a golden-section pour from a 0.9 l bottle let
+/// leave the bottle and spilled, l, with `extra` flags.
+fn golden_from_a_full_bottle(name: &str, extra: &[&str]) -> (f64, f64) {
+    let dir = tmp(name);
+    let mut args = vec!["pour", "--bottle", "0.9", "--out", dir.to_str().unwrap()];
+    args.extend(extra);
+    let (code, _, err) = primo(&args);
+    assert_eq!(code, 0, "{err}");
+    let csv = std::fs::read_to_string(dir.join("rollouts.csv")).unwrap();
+    csv.lines().skip(1).fold((0.0, 0.0), |(out, spilled), l| {
+        let v: Vec<f64> = l
+            .split(',')
+            .skip(4)
+            .take(2)
+            .map(|v| v.parse().unwrap())
+            .collect();
+        (f64::max(out, v[0] + v[1]), f64::max(spilled, v[1]))
+    })
+}
+
+#[test]
+fn golden_section_never_overflows_the_glass() {
+    // The normal glass holds 0.423 l. Searching all of [0.1, 1.5] l, the
+    // low end lets more than that out of a 0.9 l bottle.
+    let (out, spilled) = golden_from_a_full_bottle("unbounded", &["--glass-holds", "100"]);
+    assert!(out > 0.423 && spilled > 0.05, "{out} {spilled}");
+    let (out, spilled) = golden_from_a_full_bottle("bounded", &[]);
+    assert!(out < 0.423 && spilled == 0.0, "{out} {spilled}");
+    let (code, _, err) = primo(&[
+        "pour",
+        "--glass-holds",
+        "0.1",
+        "--out",
+        tmp("small").to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("--glass-holds 0.1: must be a volume in litres above the target's 0.2"),
+        "{err}"
+    );
+}
+
 #[test]
 fn power_pour_runs_in_joint_space() {
     let dir = tmp("power");

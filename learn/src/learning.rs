@@ -168,6 +168,11 @@ pub struct Settings {
     pub precision: f64,
     /// Query search limits for error learning, l.
     pub search: [f32; 2],
+    /// What the glass holds, l, if known: error learning then tries no
+    /// query that would let more than that leave the bottle
+    /// ([`Settings::search_bounds`]).
+    #[serde(default)]
+    pub glass_holds: Option<f64>,
     /// The error learners' first (fixed-gain: only) gain `K = gain · I`.
     pub gain: f32,
     /// PoWER exploration scales s1 (query; 0 is ordinary PoWER) and s2 (Δθ).
@@ -192,6 +197,7 @@ impl Settings {
             },
             precision: 0.002,
             search: [0.1, 1.5],
+            glass_holds: None,
             gain: 1.0,
             s1: match method {
                 Algorithm::PowerEl => 0.0,
@@ -201,14 +207,45 @@ impl Settings {
         }
     }
 
+    /// The queries error learning may try: `search`, its low end raised
+    /// so that the glass does not overflow. The skill pours what the
+    /// demonstrations poured (the target) from a bottle holding `q̂`: it
+    /// tilts until `q̂ − target` would remain, so from the bottle's actual
+    /// volume `bottle − q̂ + target` leaves it, which the glass holds while
+    /// `q̂ ≥ bottle + target − glass_holds`.
+    pub fn search_bounds(&self) -> [f32; 2] {
+        let [low, high] = self.search;
+        match self.glass_holds {
+            Some(holds) => [low.max((self.bottle + self.target - holds) as f32), high],
+            None => [low, high],
+        }
+    }
+
     /// Checks every setting before anything runs; the message names the
     /// flag and what it must be.
     pub fn validate(&self) -> Result<(), Error> {
         let bad = |m: String| Err(Error::Invalid(m));
+        if let Some(holds) = self.glass_holds
+            && !(holds.is_finite() && holds > self.target)
+        {
+            return bad(format!(
+                "--glass-holds {holds}: must be a volume in litres above the target's {}",
+                self.target
+            ));
+        }
         let [low, high] = self.search;
         if !(low.is_finite() && high.is_finite() && 0.0 < low && low < high) {
             return bad(format!(
                 "--search {low},{high}: must be two volumes in litres, 0 < low < high"
+            ));
+        }
+        let [low, high] = self.search_bounds();
+        if !(low < high) && !self.method.is_power() {
+            return bad(format!(
+                "--search {},{high} with --glass-holds {}: a query below {low} l would \
+                 overflow the glass, which leaves nothing to search",
+                self.search[0],
+                self.glass_holds.unwrap_or(f64::NAN),
             ));
         }
         if !(self.bottle.is_finite() && self.bottle > 0.0) {
@@ -446,7 +483,8 @@ impl Learner {
 /// The learner's setup for a pouring run of `s` on `skill`.
 pub fn pour_setup(skill: &Skill, s: &Settings) -> Result<Setup, Error> {
     let bottle = [s.bottle as f32];
-    let search = (&s.search[..1], &s.search[1..], &bottle[..]);
+    let bounds = s.search_bounds();
+    let search = (&bounds[..1], &bounds[1..], &bottle[..]);
     let learner = match s
         .method
         .search(search, s.precision as f32, s.max_rollouts, s.gain)?

@@ -351,6 +351,8 @@ impl Task {
             },
             s1: self.learner.s1,
             s2: self.learner.s2,
+            // The simulated glass, as `primo pour` has it.
+            glass_holds: Some(primo_sim::cell::CellConfig::standard(p.glass).glass_litres()),
             ..defaults
         };
         Some(crate::pour::Start::New {

@@ -129,6 +129,11 @@ impl CellConfig {
         self.bottle.capacity() * LITRE
     }
 
+    /// What the glass holds to its rim, l.
+    pub fn glass_litres(&self) -> f64 {
+        self.glass.capacity() * LITRE
+    }
+
     /// The arm with this grasp as its tool: `forward` gives the bottle frame.
     pub fn arm(&self) -> Arm {
         Arm::with_tool(self.robot, &self.grasp)
