@@ -240,7 +240,7 @@ impl Settings {
             ));
         }
         let [low, high] = self.search_bounds();
-        if !(low < high) && !self.method.is_power() {
+        if low >= high && !self.method.is_power() {
             return bad(format!(
                 "--search {},{high} with --glass-holds {}: a query below {low} l would \
                  overflow the glass, which leaves nothing to search",
