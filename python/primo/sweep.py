@@ -116,7 +116,7 @@ class Sweep:
 
     >>> sweep = Sweep("power", grid={"kernels": [10, 30], "updates": 50}, seeds=range(1, 4))
     >>> len(sweep), sweep.tasks()[0]
-    (12, {'kernels': 10, 'updates': 50, 'glass': 'small', 'variant': 'extended', 'seed': 1})
+    (18, {'kernels': 10, 'updates': 50, 'glass': 'small', 'variant': 'extended', 'seed': 1})
     """
 
     def __init__(
