@@ -3,7 +3,8 @@
 //! - [`golden`] (Fig. 3): error learning for several bottle volumes, with
 //!   the paper's golden section and with Illinois, in Cartesian space.
 //! - [`power`] (Figs. 5 and 6): extended against ordinary PoWER in joint
-//!   space, many seeded runs, mean ± std per update.
+//!   space, many seeded runs: per update the mean, std and the range of
+//!   the middle 90 % of runs.
 //!
 //! Runs are independent and seeded, and spread over all cores; the results
 //! do not depend on how many cores there are. One seeded run of each is
@@ -20,7 +21,7 @@ use crate::Error;
 use crate::learning::{Algorithm, ERROR_LEARNERS, Learner, Record, Settings, learn};
 use crate::pour::SkillSpec;
 use crate::pouring::built_in_skill;
-use crate::stats::{Estimate, bootstrap, mean, median};
+use crate::stats::{Estimate, bootstrap, mean, median, quantile};
 use primo_sim::cell::{CellConfig, GlassKind};
 use primo_skill::{Skill, Space};
 
@@ -163,13 +164,22 @@ pub fn golden(
     .collect()
 }
 
-/// Mean and standard deviation over runs, per update.
+/// The share of runs between a [`Curve`]'s `low` and `high`.
+pub const SPREAD: f64 = 0.90;
+
+/// Mean, standard deviation and the range of the middle [`SPREAD`] of runs,
+/// per update.
 #[derive(Debug, Clone, Default, Serialize)]
 pub struct Curve {
     /// Mean per update.
     pub mean: Vec<f64>,
     /// Standard deviation per update.
     pub std: Vec<f64>,
+    /// The (1 − [`SPREAD`]) / 2 quantile over runs per update (the 5th
+    /// percentile): unlike mean − std, a value some run had.
+    pub low: Vec<f64>,
+    /// The (1 + [`SPREAD`]) / 2 quantile (the 95th percentile).
+    pub high: Vec<f64>,
 }
 
 impl Curve {
@@ -178,10 +188,13 @@ impl Curve {
         let n = runs.len().max(1) as f64;
         let mut c = Curve::default();
         for u in 0..len {
-            let mean = runs.iter().map(|r| r[u]).sum::<f64>() / n;
-            let var = runs.iter().map(|r| (r[u] - mean).powi(2)).sum::<f64>() / n;
+            let at: Vec<f64> = runs.iter().map(|r| r[u]).collect();
+            let mean = at.iter().sum::<f64>() / n;
+            let var = at.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / n;
             c.mean.push(mean);
             c.std.push(var.sqrt());
+            c.low.push(quantile(&at, 0.5 * (1.0 - SPREAD)));
+            c.high.push(quantile(&at, 0.5 * (1.0 + SPREAD)));
         }
         c
     }
