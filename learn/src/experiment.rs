@@ -27,10 +27,21 @@ use primo_skill::{Skill, Space};
 
 /// Runs `job(0..n)` on all cores; results in index order.
 pub fn parallel<T: Send>(n: usize, job: impl Fn(usize) -> T + Sync) -> Vec<T> {
+    parallel_reporting(n, job, |_| {})
+}
+
+/// [`parallel`], calling `done` with the number of jobs finished as each
+/// finishes (from the worker that finished it).
+pub fn parallel_reporting<T: Send>(
+    n: usize,
+    job: impl Fn(usize) -> T + Sync,
+    done: impl Fn(usize) + Sync,
+) -> Vec<T> {
     let threads = std::thread::available_parallelism()
         .map_or(1, |n| n.get())
         .min(n.max(1));
     let next = AtomicUsize::new(0);
+    let finished = AtomicUsize::new(0);
     let results: Mutex<Vec<Option<T>>> = Mutex::new((0..n).map(|_| None).collect());
     std::thread::scope(|scope| {
         for _ in 0..threads {
@@ -44,6 +55,7 @@ pub fn parallel<T: Send>(n: usize, job: impl Fn(usize) -> T + Sync) -> Vec<T> {
                     if let Ok(mut r) = results.lock() {
                         r[i] = Some(value);
                     }
+                    done(finished.fetch_add(1, Ordering::Relaxed) + 1);
                 }
             });
         }
@@ -54,6 +66,15 @@ pub fn parallel<T: Send>(n: usize, job: impl Fn(usize) -> T + Sync) -> Vec<T> {
         .into_iter()
         .flatten()
         .collect()
+}
+
+/// How far an experiment is: reported as each of its runs finishes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Done {
+    /// Runs finished.
+    pub runs: usize,
+    /// Runs in all.
+    pub of: usize,
 }
 
 /// One learning run of the golden experiment.
@@ -144,22 +165,28 @@ pub fn golden_run(
 
 /// Fig. 3: every error learner ([`ERROR_LEARNERS`]: golden section,
 /// Illinois, secant, and the paper's fixed-gain rules) for every volume,
-/// volume by volume.
+/// volume by volume; `progress` hears of every run finished.
 pub fn golden(
     skill: &Skill,
     cell: &CellConfig,
     volumes: &[f64],
     precision: f64,
     seed: u64,
+    progress: impl Fn(Done) + Sync,
 ) -> Result<Vec<SearchRun>, Error> {
     let jobs: Vec<(f64, Algorithm)> = volumes
         .iter()
         .flat_map(|v| ERROR_LEARNERS.map(|m| (*v, m)))
         .collect();
-    parallel(jobs.len(), |i| {
-        let (volume, method) = jobs[i];
-        golden_run(skill, cell, volume, method, precision, seed)
-    })
+    let of = jobs.len();
+    parallel_reporting(
+        of,
+        |i| {
+            let (volume, method) = jobs[i];
+            golden_run(skill, cell, volume, method, precision, seed)
+        },
+        |runs| progress(Done { runs, of }),
+    )
     .into_iter()
     .collect()
 }
@@ -510,26 +537,37 @@ impl PowerCurves {
 /// Figs. 5 and 6: `runs` seeded runs (seeds `seed`, `seed + 1`, …) of
 /// each [`Variant`] ([`power_run`]) from the same generalized start,
 /// `updates` updates of 4 roll-outs each, then one more roll-out of the
-/// final mean; the curves in the order of [`Variant::ALL`].
+/// final mean; the curves in the order of [`Variant::ALL`]. `progress`
+/// hears of every run finished.
 pub fn power(
     skill: &Skill,
     cell: &CellConfig,
     runs: usize,
     updates: u32,
     seed: u64,
+    progress: impl Fn(Done) + Sync,
 ) -> Result<[PowerCurves; 3], Error> {
-    let jobs: Vec<(Variant, u64)> = Variant::ALL
-        .iter()
-        .flat_map(|v| (0..runs as u64).map(move |r| (*v, seed.wrapping_add(r))))
+    // Seed by seed, every variant's run of a seed together: runs of one
+    // variant take alike, so the finished share tracks the time spent.
+    let jobs: Vec<(Variant, u64)> = (0..runs as u64)
+        .flat_map(|r| Variant::ALL.map(|v| (v, seed.wrapping_add(r))))
         .collect();
-    let mut results = parallel(jobs.len(), |i| {
-        let (variant, seed) = jobs[i];
-        Ok((seed, power_run(skill, cell, variant, updates, seed)?))
-    })
+    let of = jobs.len();
+    let results = parallel_reporting(
+        of,
+        |i| {
+            let (variant, seed) = jobs[i];
+            Ok((seed, power_run(skill, cell, variant, updates, seed)?))
+        },
+        |runs| progress(Done { runs, of }),
+    )
     .into_iter()
-    .collect::<Result<Vec<_>, Error>>()?
-    .into_iter();
-    Ok(Variant::ALL.map(|_| PowerCurves::of(&results.by_ref().take(runs).collect::<Vec<_>>())))
+    .collect::<Result<Vec<_>, Error>>()?;
+    let mut by_variant: [Vec<(u64, Vec<Record>)>; 3] = Default::default();
+    for (i, run) in results.into_iter().enumerate() {
+        by_variant[i % Variant::ALL.len()].push(run);
+    }
+    Ok(by_variant.map(|runs| PowerCurves::of(&runs)))
 }
 
 #[cfg(test)]
@@ -539,14 +577,20 @@ mod tests {
     #[test]
     fn one_seeded_run_is_the_experiments_run_of_that_seed() {
         let (cell, skill) = power_skill(GlassKind::Small, 4).unwrap();
-        let curves = power(&skill, &cell, 2, 1, 7).unwrap();
+        let heard = Mutex::new(Vec::new());
+        let hear = |d: Done| heard.lock().unwrap().push(d);
+        let curves = power(&skill, &cell, 2, 1, 7, hear).unwrap();
+        let mut heard = heard.into_inner().unwrap();
+        heard.sort_by_key(|d| d.runs);
+        let all: Vec<Done> = (1..=6).map(|runs| Done { runs, of: 6 }).collect();
+        assert_eq!(heard, all, "every run finished is reported once");
         for (variant, curves) in Variant::ALL.iter().zip(curves) {
             let alone = power_run(&skill, &cell, *variant, 1, 8).unwrap();
             assert_eq!(alone.len(), 5);
             assert_eq!(curves.runs[1], PowerRun::of(8, &alone));
         }
         let (cell, skill) = golden_skill().unwrap();
-        let runs = golden(&skill, &cell, &[0.5], 0.002, 3).unwrap();
+        let runs = golden(&skill, &cell, &[0.5], 0.002, 3, |_| {}).unwrap();
         let alone = golden_run(&skill, &cell, 0.5, Algorithm::Secant, 0.002, 3).unwrap();
         assert_eq!(runs[2].records, alone.records);
     }
