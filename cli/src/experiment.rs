@@ -1,8 +1,11 @@
 //! `primo experiment`: the paper's experiments on the simulated cell.
 
 use std::path::{Path, PathBuf};
+use std::sync::Mutex;
 
-use primo_learn::experiment::{THRESHOLDS, Variant, golden_settings, golden_skill, power_skill};
+use primo_learn::experiment::{
+    Done, THRESHOLDS, Variant, golden_settings, golden_skill, power_skill,
+};
 use primo_learn::learning::{Algorithm, ERROR_LEARNERS};
 use primo_learn::output::{check_dir, create_dir};
 use primo_learn::report::{PowerSetup, median_rollouts, write_golden, write_power_experiment};
@@ -11,6 +14,7 @@ use primo_learn::stats::Estimate;
 use crate::args::Glass;
 use crate::error::CliError;
 use crate::output::say;
+use crate::progress::Progress;
 
 /// `primo experiment …`.
 #[derive(Debug, clap::Subcommand)]
@@ -78,6 +82,22 @@ pub fn run(command: ExperimentCommand) -> Result<(), CliError> {
     }
 }
 
+/// Runs `experiment` with its runs' progress on stderr, cleared at the end.
+fn with_runs<T>(name: &str, experiment: impl FnOnce(&(dyn Fn(Done) + Sync)) -> T) -> T {
+    let command = format!("primo experiment {name}");
+    let progress = Mutex::new(Progress::new());
+    let result = experiment(&|done: Done| {
+        if let Ok(mut p) = progress.lock() {
+            p.total = u32::try_from(done.of).unwrap_or(u32::MAX);
+            p.runs(&command, u32::try_from(done.runs).unwrap_or(u32::MAX));
+        }
+    });
+    if let Ok(p) = progress.lock() {
+        p.clear();
+    }
+    result
+}
+
 fn golden(volumes: &[f64], precision: f64, seed: u64, out: &Path) -> Result<(), CliError> {
     let started = std::time::Instant::now();
     check_dir("--out", out)?;
@@ -91,7 +111,9 @@ fn golden(volumes: &[f64], precision: f64, seed: u64, out: &Path) -> Result<(), 
         golden_settings(&cell, *v, Algorithm::Golden, precision, seed)
             .map_err(|e| CliError::input(format!("--volumes {v}: {e}")))?;
     }
-    let runs = primo_learn::experiment::golden(&skill, &cell, volumes, precision, seed)?;
+    let runs = with_runs("golden", |progress| {
+        primo_learn::experiment::golden(&skill, &cell, volumes, precision, seed, progress)
+    })?;
     create_dir(out)?;
     write_golden(out, &runs, precision)?;
     let names = [
@@ -157,7 +179,9 @@ fn power(
     }
     check_dir("--out", out)?;
     let (cell, skill) = power_skill(glass.into(), kernels)?;
-    let curves = primo_learn::experiment::power(&skill, &cell, runs, updates, seed)?;
+    let curves = with_runs("power", |progress| {
+        primo_learn::experiment::power(&skill, &cell, runs, updates, seed, progress)
+    })?;
     let parameters = skill.param_len() + 1;
     let seconds = started.elapsed().as_secs_f64();
     create_dir(out)?;

@@ -14,8 +14,9 @@ use primo_learn::teach::{Event, Logged, Start, logged_kind, rollout_line};
 
 use crate::error::CliError;
 use crate::pour::{
-    CellArgs, LearnerArgs, Progress, execute, finish, print, run_line, show_rollout, with_progress,
+    CellArgs, LearnerArgs, execute, finish, print, run_line, show_rollout, with_progress,
 };
+use crate::progress::Progress;
 
 /// `primo learn` options.
 #[derive(Debug, clap::Args)]

@@ -12,6 +12,7 @@ mod interrupt;
 mod learn;
 mod output;
 mod pour;
+mod progress;
 mod robot;
 mod rollout;
 mod scale;

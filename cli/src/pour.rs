@@ -1,6 +1,6 @@
 //! `primo pour`: learn to pour on the simulated cell or a real one.
 
-use std::io::{BufRead, IsTerminal, Write};
+use std::io::{BufRead, Write};
 use std::path::PathBuf;
 
 use primo_learn::Error;
@@ -13,6 +13,7 @@ use primo_sim::cell::CellConfig;
 
 use crate::args::{Glass, Method, Space};
 use crate::error::CliError;
+use crate::progress::Progress;
 
 /// The cell and skill options shared by the learning commands.
 #[derive(Debug, Clone, clap::Args)]
@@ -460,43 +461,5 @@ impl Operator for Terminal {
 
     fn warn(&mut self, rollout: u32, message: &str) {
         eprintln!("primo pour: roll-out {rollout}: {message}");
-    }
-}
-
-/// A progress bar on stderr, redrawn in place when stderr is a terminal.
-pub struct Progress {
-    /// Roll-outs in the budget.
-    pub total: u32,
-    tty: bool,
-}
-
-impl Progress {
-    fn new() -> Self {
-        Progress {
-            total: 1,
-            tty: std::io::stderr().is_terminal(),
-        }
-    }
-
-    /// Shows `done` of the total, with a note.
-    pub fn show(&self, done: u32, note: &str) {
-        if !self.tty {
-            return;
-        }
-        let width = 30;
-        let filled = (done.min(self.total) * width / self.total) as usize;
-        eprint!(
-            "\r[{}{}] {done}/{} {note}   ",
-            "#".repeat(filled),
-            ".".repeat(width as usize - filled),
-            self.total
-        );
-    }
-
-    /// Clears the bar.
-    pub fn clear(&self) {
-        if self.tty {
-            eprint!("\r{}\r", " ".repeat(70));
-        }
     }
 }

@@ -3,7 +3,8 @@
 //! - [`golden`] (Fig. 3): error learning for several bottle volumes, with
 //!   the paper's golden section and with Illinois, in Cartesian space.
 //! - [`power`] (Figs. 5 and 6): extended against ordinary PoWER in joint
-//!   space, many seeded runs, mean ± std per update.
+//!   space, many seeded runs: per update the mean, std and the range of
+//!   the middle 90 % of runs.
 //!
 //! Runs are independent and seeded, and spread over all cores; the results
 //! do not depend on how many cores there are. One seeded run of each is
@@ -20,16 +21,27 @@ use crate::Error;
 use crate::learning::{Algorithm, ERROR_LEARNERS, Learner, Record, Settings, learn};
 use crate::pour::SkillSpec;
 use crate::pouring::built_in_skill;
-use crate::stats::{Estimate, bootstrap, mean, median};
+use crate::stats::{Estimate, bootstrap, mean, median, quantile};
 use primo_sim::cell::{CellConfig, GlassKind};
 use primo_skill::{Skill, Space};
 
 /// Runs `job(0..n)` on all cores; results in index order.
 pub fn parallel<T: Send>(n: usize, job: impl Fn(usize) -> T + Sync) -> Vec<T> {
+    parallel_reporting(n, job, |_| {})
+}
+
+/// [`parallel`], calling `done` with the number of jobs finished as each
+/// finishes (from the worker that finished it).
+pub fn parallel_reporting<T: Send>(
+    n: usize,
+    job: impl Fn(usize) -> T + Sync,
+    done: impl Fn(usize) + Sync,
+) -> Vec<T> {
     let threads = std::thread::available_parallelism()
         .map_or(1, |n| n.get())
         .min(n.max(1));
     let next = AtomicUsize::new(0);
+    let finished = AtomicUsize::new(0);
     let results: Mutex<Vec<Option<T>>> = Mutex::new((0..n).map(|_| None).collect());
     std::thread::scope(|scope| {
         for _ in 0..threads {
@@ -43,6 +55,7 @@ pub fn parallel<T: Send>(n: usize, job: impl Fn(usize) -> T + Sync) -> Vec<T> {
                     if let Ok(mut r) = results.lock() {
                         r[i] = Some(value);
                     }
+                    done(finished.fetch_add(1, Ordering::Relaxed) + 1);
                 }
             });
         }
@@ -53,6 +66,15 @@ pub fn parallel<T: Send>(n: usize, job: impl Fn(usize) -> T + Sync) -> Vec<T> {
         .into_iter()
         .flatten()
         .collect()
+}
+
+/// How far an experiment is: reported as each of its runs finishes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Done {
+    /// Runs finished.
+    pub runs: usize,
+    /// Runs in all.
+    pub of: usize,
 }
 
 /// One learning run of the golden experiment.
@@ -143,33 +165,48 @@ pub fn golden_run(
 
 /// Fig. 3: every error learner ([`ERROR_LEARNERS`]: golden section,
 /// Illinois, secant, and the paper's fixed-gain rules) for every volume,
-/// volume by volume.
+/// volume by volume; `progress` hears of every run finished.
 pub fn golden(
     skill: &Skill,
     cell: &CellConfig,
     volumes: &[f64],
     precision: f64,
     seed: u64,
+    progress: impl Fn(Done) + Sync,
 ) -> Result<Vec<SearchRun>, Error> {
     let jobs: Vec<(f64, Algorithm)> = volumes
         .iter()
         .flat_map(|v| ERROR_LEARNERS.map(|m| (*v, m)))
         .collect();
-    parallel(jobs.len(), |i| {
-        let (volume, method) = jobs[i];
-        golden_run(skill, cell, volume, method, precision, seed)
-    })
+    let of = jobs.len();
+    parallel_reporting(
+        of,
+        |i| {
+            let (volume, method) = jobs[i];
+            golden_run(skill, cell, volume, method, precision, seed)
+        },
+        |runs| progress(Done { runs, of }),
+    )
     .into_iter()
     .collect()
 }
 
-/// Mean and standard deviation over runs, per update.
+/// The share of runs between a [`Curve`]'s `low` and `high`.
+pub const SPREAD: f64 = 0.90;
+
+/// Mean, standard deviation and the range of the middle [`SPREAD`] of runs,
+/// per update.
 #[derive(Debug, Clone, Default, Serialize)]
 pub struct Curve {
     /// Mean per update.
     pub mean: Vec<f64>,
     /// Standard deviation per update.
     pub std: Vec<f64>,
+    /// The (1 − [`SPREAD`]) / 2 quantile over runs per update (the 5th
+    /// percentile): unlike mean − std, a value some run had.
+    pub low: Vec<f64>,
+    /// The (1 + [`SPREAD`]) / 2 quantile (the 95th percentile).
+    pub high: Vec<f64>,
 }
 
 impl Curve {
@@ -178,10 +215,13 @@ impl Curve {
         let n = runs.len().max(1) as f64;
         let mut c = Curve::default();
         for u in 0..len {
-            let mean = runs.iter().map(|r| r[u]).sum::<f64>() / n;
-            let var = runs.iter().map(|r| (r[u] - mean).powi(2)).sum::<f64>() / n;
+            let at: Vec<f64> = runs.iter().map(|r| r[u]).collect();
+            let mean = at.iter().sum::<f64>() / n;
+            let var = at.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / n;
             c.mean.push(mean);
             c.std.push(var.sqrt());
+            c.low.push(quantile(&at, 0.5 * (1.0 - SPREAD)));
+            c.high.push(quantile(&at, 0.5 * (1.0 + SPREAD)));
         }
         c
     }
@@ -497,26 +537,37 @@ impl PowerCurves {
 /// Figs. 5 and 6: `runs` seeded runs (seeds `seed`, `seed + 1`, …) of
 /// each [`Variant`] ([`power_run`]) from the same generalized start,
 /// `updates` updates of 4 roll-outs each, then one more roll-out of the
-/// final mean; the curves in the order of [`Variant::ALL`].
+/// final mean; the curves in the order of [`Variant::ALL`]. `progress`
+/// hears of every run finished.
 pub fn power(
     skill: &Skill,
     cell: &CellConfig,
     runs: usize,
     updates: u32,
     seed: u64,
+    progress: impl Fn(Done) + Sync,
 ) -> Result<[PowerCurves; 3], Error> {
-    let jobs: Vec<(Variant, u64)> = Variant::ALL
-        .iter()
-        .flat_map(|v| (0..runs as u64).map(move |r| (*v, seed.wrapping_add(r))))
+    // Seed by seed, every variant's run of a seed together: runs of one
+    // variant take alike, so the finished share tracks the time spent.
+    let jobs: Vec<(Variant, u64)> = (0..runs as u64)
+        .flat_map(|r| Variant::ALL.map(|v| (v, seed.wrapping_add(r))))
         .collect();
-    let mut results = parallel(jobs.len(), |i| {
-        let (variant, seed) = jobs[i];
-        Ok((seed, power_run(skill, cell, variant, updates, seed)?))
-    })
+    let of = jobs.len();
+    let results = parallel_reporting(
+        of,
+        |i| {
+            let (variant, seed) = jobs[i];
+            Ok((seed, power_run(skill, cell, variant, updates, seed)?))
+        },
+        |runs| progress(Done { runs, of }),
+    )
     .into_iter()
-    .collect::<Result<Vec<_>, Error>>()?
-    .into_iter();
-    Ok(Variant::ALL.map(|_| PowerCurves::of(&results.by_ref().take(runs).collect::<Vec<_>>())))
+    .collect::<Result<Vec<_>, Error>>()?;
+    let mut by_variant: [Vec<(u64, Vec<Record>)>; 3] = Default::default();
+    for (i, run) in results.into_iter().enumerate() {
+        by_variant[i % Variant::ALL.len()].push(run);
+    }
+    Ok(by_variant.map(|runs| PowerCurves::of(&runs)))
 }
 
 #[cfg(test)]
@@ -526,14 +577,20 @@ mod tests {
     #[test]
     fn one_seeded_run_is_the_experiments_run_of_that_seed() {
         let (cell, skill) = power_skill(GlassKind::Small, 4).unwrap();
-        let curves = power(&skill, &cell, 2, 1, 7).unwrap();
+        let heard = Mutex::new(Vec::new());
+        let hear = |d: Done| heard.lock().unwrap().push(d);
+        let curves = power(&skill, &cell, 2, 1, 7, hear).unwrap();
+        let mut heard = heard.into_inner().unwrap();
+        heard.sort_by_key(|d| d.runs);
+        let all: Vec<Done> = (1..=6).map(|runs| Done { runs, of: 6 }).collect();
+        assert_eq!(heard, all, "every run finished is reported once");
         for (variant, curves) in Variant::ALL.iter().zip(curves) {
             let alone = power_run(&skill, &cell, *variant, 1, 8).unwrap();
             assert_eq!(alone.len(), 5);
             assert_eq!(curves.runs[1], PowerRun::of(8, &alone));
         }
         let (cell, skill) = golden_skill().unwrap();
-        let runs = golden(&skill, &cell, &[0.5], 0.002, 3).unwrap();
+        let runs = golden(&skill, &cell, &[0.5], 0.002, 3, |_| {}).unwrap();
         let alone = golden_run(&skill, &cell, 0.5, Algorithm::Secant, 0.002, 3).unwrap();
         assert_eq!(runs[2].records, alone.records);
     }

@@ -8,11 +8,12 @@ use serde::Serialize;
 
 use crate::Error;
 use crate::experiment::{
-    PowerComparison, PowerCurves, SearchRun, THRESHOLDS, Variant, power_budget,
+    Curve, PER_UPDATE, PowerComparison, PowerCurves, SPREAD, SearchRun, THRESHOLDS, Variant,
+    power_budget,
 };
 use crate::learning::{Algorithm, ERROR_LEARNERS, Record, Settings};
 use crate::output::write_file;
-use crate::plot::{Line, Panel, render_png};
+use crate::plot::{Line, Panel, grid, render_png};
 
 /// Header of `rollouts.csv`.
 pub const ROLLOUT_HEADER: &str =
@@ -115,6 +116,16 @@ impl RolloutSummary {
     }
 }
 
+/// Errors below this are drawn at it on log axes, ml: a microlitre, far
+/// below any scale's resolution (a simulated pour can hit the target to
+/// 1e-13 ml, which says nothing).
+const ERROR_FLOOR_ML: f64 = 1e-3;
+/// Spills below this (none at all included) are drawn at it, ml.
+const SPILL_FLOOR_ML: f64 = 1e-2;
+
+/// Height of a row of panels, px.
+const PANEL_HEIGHT: u32 = 350;
+
 /// A linear panel over the roll-outs.
 fn per_rollout<'a>(title: &'a str, y_label: &'a str, series: &'a [Line<'a>]) -> Panel<'a> {
     Panel {
@@ -122,9 +133,30 @@ fn per_rollout<'a>(title: &'a str, y_label: &'a str, series: &'a [Line<'a>]) -> 
         x_label: "roll-out",
         y_label,
         series,
-        log_y: false,
-        hline: None,
+        ..Panel::default()
     }
+}
+
+/// The reward of every roll-out from (roll-out, of the mean policy,
+/// reward): the mean policy's, and the explorations' around it.
+fn rewards(rows: impl Iterator<Item = (u32, bool, f64)>) -> [Vec<(f64, f64)>; 2] {
+    let mut split = [Vec::new(), Vec::new()];
+    for (rollout, mean, reward) in rows {
+        split[usize::from(!mean)].push((f64::from(rollout), reward));
+    }
+    split
+}
+
+/// The reward panel's series: the mean policy's line, the explorations'
+/// markers.
+fn reward_lines(split: &[Vec<(f64, f64)>; 2]) -> [Line<'_>; 2] {
+    [
+        Line::new("mean policy", &split[0]),
+        Line {
+            scatter: true,
+            ..Line::new("exploration", &split[1])
+        },
+    ]
 }
 
 fn json(value: &impl Serialize) -> Result<Vec<u8>, Error> {
@@ -141,7 +173,8 @@ fn png(path: &Path, panels: &[Panel<'_>], height: u32) -> Result<(), Error> {
 }
 
 /// Writes a task run's `convergence.png`: the largest error component
-/// (error learning) or the reward (PoWER) of every roll-out, and the query.
+/// (error learning; PoWER: of the mean policy) on a log axis, PoWER's
+/// reward of every roll-out, and the query.
 pub fn write_task_chart(
     dir: &Path,
     task: &crate::task::Task,
@@ -154,7 +187,7 @@ pub fn write_task_chart(
         .filter(|r| r.mean)
         .filter_map(|r| Some((x(r), r.trial.worst_error()?)))
         .collect();
-    let reward: Vec<(f64, f64)> = records.iter().map(|r| (x(r), r.trial.reward)).collect();
+    let reward = rewards(records.iter().map(|r| (r.rollout, r.mean, r.trial.reward)));
     let queries: Vec<Vec<(f64, f64)>> = (0..task.query_dim())
         .map(|i| {
             records
@@ -168,22 +201,11 @@ pub fn write_task_chart(
     let q: Vec<Line> = queries
         .iter()
         .zip(&labels)
-        .map(|(points, label)| Line {
-            label,
-            points,
-            spread: None,
-        })
+        .map(|(points, label)| Line::new(label, points))
         .collect();
-    let e = [Line {
-        label: "max |error|",
-        points: &error,
-        spread: None,
-    }];
-    let w = [Line {
-        label: "reward",
-        points: &reward,
-        spread: None,
-    }];
+    let e = [Line::new("max |error|", &error)];
+    let w = reward_lines(&reward);
+    let precision = task.goal.precision;
     let mut panels = vec![Panel {
         title: if power {
             "Largest error of the mean policy"
@@ -191,10 +213,13 @@ pub fn write_task_chart(
             "Largest error"
         },
         x_label: "roll-out",
-        y_label: "max |desired - measured|",
+        y_label: "max |error|",
         series: &e,
         log_y: true,
-        hline: (!power).then_some((task.goal.precision, "precision")),
+        // Far below the precision an error is as good as none (PoWER's
+        // precision may be 0: no floor).
+        floor: Some(precision * 1e-3),
+        hline: (!power).then_some((precision, "precision")),
     }];
     if power {
         panels.push(per_rollout("Reward of every roll-out", "reward", &w));
@@ -203,7 +228,7 @@ pub fn write_task_chart(
     png(
         &dir.join("convergence.png"),
         &panels,
-        300 * panels.len() as u32,
+        PANEL_HEIGHT * grid(panels.len()).0 as u32,
     )
 }
 
@@ -236,19 +261,12 @@ pub fn write_pour(dir: &Path, records: &[Record], summary: &PourSummary) -> Resu
         .iter()
         .map(|r| (x(r), f64::from(r.volume())))
         .collect();
-    let reward: Vec<(f64, f64)> = records.iter().map(|r| (x(r), r.trial.reward)).collect();
-    let one = |label, points| {
-        [Line {
-            label,
-            points,
-            spread: None,
-        }]
-    };
+    let reward = rewards(records.iter().map(|r| (r.rollout, r.mean, r.trial.reward)));
     let (e, s, q, w) = (
-        one("|error|", &error),
-        one("spilled", &spilled),
-        one("query", &query),
-        one("reward", &reward),
+        [Line::new("|error|", &error)],
+        [Line::new("spilled", &spilled)],
+        [Line::new("query", &query)],
+        reward_lines(&reward),
     );
     let mut panels = vec![Panel {
         title: if power {
@@ -257,24 +275,25 @@ pub fn write_pour(dir: &Path, records: &[Record], summary: &PourSummary) -> Resu
             "Pouring error"
         },
         x_label: "roll-out",
-        y_label: "|poured - target| [ml]",
+        y_label: "|error| [ml]",
         series: &e,
         log_y: true,
+        floor: Some(ERROR_FLOOR_ML),
         hline: Some((precision_ml, "precision")),
     }];
     if power {
-        panels.push(per_rollout(
-            "Spilled by the mean policy",
-            "spilled [ml]",
-            &s,
-        ));
+        panels.push(Panel {
+            log_y: true,
+            floor: Some(SPILL_FLOOR_ML),
+            ..per_rollout("Spilled by the mean policy", "spilled [ml]", &s)
+        });
         panels.push(per_rollout("Reward of every roll-out", "reward", &w));
     }
     panels.push(per_rollout("Learned query", "q [l]", &q));
     png(
         &dir.join("convergence.png"),
         &panels,
-        300 * panels.len() as u32,
+        PANEL_HEIGHT * grid(panels.len()).0 as u32,
     )
 }
 
@@ -321,52 +340,85 @@ pub fn write_golden(dir: &Path, runs: &[SearchRun], precision: f64) -> Result<()
         median_rollouts: ERROR_LEARNERS.map(|m| (m, median_rollouts(runs, m))),
     };
     write_file(&dir.join("summary.json"), &json(&summary)?)?;
-    let points = |m: Algorithm, f: &dyn Fn(&Record) -> f64| -> Vec<(String, Vec<(f64, f64)>)> {
-        runs.iter()
-            .filter(|r| r.method == m)
-            .map(|run| {
-                (
-                    format!("{} l", run.volume),
-                    run.records
-                        .iter()
-                        .map(|r| (f64::from(r.rollout), f(r)))
-                        .collect(),
-                )
-            })
-            .collect()
-    };
-    let error = |r: &Record| r.trial.error.abs() * 1e3;
-    let titles = ERROR_LEARNERS.map(|m| format!("{}: pouring error", m.name()));
-    let sets: Vec<(&str, &str, _, bool)> = ERROR_LEARNERS
+    // Per learner: its runs' errors, one line a volume.
+    let learners: Vec<(String, Vec<Labelled>)> = ERROR_LEARNERS
         .iter()
-        .zip(&titles)
-        .map(|(m, title)| (title.as_str(), "|error| [ml]", points(*m, &error), true))
+        .map(|m| {
+            let mine: Vec<&SearchRun> = runs.iter().filter(|r| r.method == *m).collect();
+            let curves = mine
+                .iter()
+                .map(|run| {
+                    let error = |r: &Record| (f64::from(r.rollout), r.trial.error.abs() * 1e3);
+                    (
+                        format!("{} l", run.volume),
+                        run.records.iter().map(error).collect(),
+                    )
+                })
+                .collect();
+            (format!("{} (n = {} volumes)", key(*m), mine.len()), curves)
+        })
         .collect();
-    let series: Vec<Vec<Line>> = sets
+    let series: Vec<Vec<Line>> = learners
         .iter()
-        .map(|(_, _, s, _)| {
-            s.iter()
-                .map(|(label, p)| Line {
-                    label,
-                    points: p,
-                    spread: None,
+        .map(|(_, curves)| {
+            curves
+                .iter()
+                .map(|(label, p)| Line::new(label, p))
+                .collect()
+        })
+        .collect();
+    let mut panels: Vec<Panel> = learners
+        .iter()
+        .zip(&series)
+        .map(|((title, _), s)| Panel {
+            title,
+            x_label: "roll-out",
+            y_label: "|error| [ml]",
+            series: s,
+            log_y: true,
+            floor: Some(ERROR_FLOOR_ML),
+            hline: Some((precision * 1e3, "precision")),
+        })
+        .collect();
+    // The learners side by side: roll-outs to the precision per volume.
+    let keys = ERROR_LEARNERS.map(key);
+    let reached: Vec<Vec<(f64, f64)>> = ERROR_LEARNERS
+        .iter()
+        .map(|m| {
+            runs.iter()
+                .filter(|r| r.method == *m)
+                .map(|r| {
+                    let n = r.rollouts_to_precision.map_or(f64::NAN, f64::from);
+                    (r.volume, n)
                 })
                 .collect()
         })
         .collect();
-    let panels: Vec<Panel> = sets
+    let compared: Vec<Line> = keys
         .iter()
-        .zip(&series)
-        .map(|((title, y, _, log), s)| Panel {
-            title,
-            x_label: "roll-out",
-            y_label: y,
-            series: s,
-            log_y: *log,
-            hline: log.then_some((precision * 1e3, "precision")),
-        })
+        .zip(&reached)
+        .map(|(k, p)| Line::new(k, p))
         .collect();
-    png(&dir.join("golden.png"), &panels, 300 * panels.len() as u32)
+    let title = format!("Roll-outs to |error| < {} ml", precision * 1e3);
+    panels.push(Panel {
+        title: &title,
+        x_label: "liquid in the bottle [l]",
+        y_label: "roll-outs (not reached: no point)",
+        series: &compared,
+        ..Panel::default()
+    });
+    png(&dir.join("golden.png"), &panels, 1100)
+}
+
+/// A labelled curve.
+type Labelled = (String, Vec<(f64, f64)>);
+
+/// The learner's name on the command line and in files (`fixed-gain`).
+fn key(m: Algorithm) -> String {
+    match serde_json::to_value(m) {
+        Ok(serde_json::Value::String(s)) => s,
+        _ => format!("{m:?}"),
+    }
 }
 
 /// `summary.json` of `primo experiment power`.
@@ -458,8 +510,8 @@ pub fn write_power_experiment(
     Ok(comparison)
 }
 
-/// A curve's points and its ± spread.
-type Band = (Vec<(f64, f64)>, Vec<f64>);
+/// A curve's points and its band, `(low, high)` per point.
+type Band = (Vec<(f64, f64)>, Vec<(f64, f64)>);
 
 /// Writes `power.csv`, `power_runs.csv` (one row per variant and seed),
 /// `power.png` and `summary.json` into `dir`.
@@ -490,32 +542,32 @@ pub fn write_power(dir: &Path, s: &PowerSummary) -> Result<(), Error> {
     }
     write_file(&dir.join("power_runs.csv"), runs.as_bytes())?;
     let mut csv = String::from(
-        "update,variant,error_mean_l,error_std_l,spilled_mean_l,spilled_std_l,reward_mean,reward_std\n",
+        "update,variant,error_mean_l,error_std_l,spilled_mean_l,spilled_std_l,reward_mean,reward_std,\
+         error_p05_l,error_p95_l,spilled_p05_l,spilled_p95_l,reward_p05,reward_p95\n",
     );
     for (name, c) in s.variants().map(|(v, c)| (v.name(), c)) {
         for u in 0..c.error.mean.len() {
-            let _ = writeln!(
-                csv,
-                "{u},{name},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6}",
-                c.error.mean[u],
-                c.error.std[u],
-                c.spilled.mean[u],
-                c.spilled.std[u],
-                c.reward.mean[u],
-                c.reward.std[u]
-            );
+            let _ = write!(csv, "{u},{name}");
+            for q in [&c.error, &c.spilled, &c.reward] {
+                let _ = write!(csv, ",{:.6},{:.6}", q.mean[u], q.std[u]);
+            }
+            for q in [&c.error, &c.spilled, &c.reward] {
+                let _ = write!(csv, ",{:.6},{:.6}", q.low[u], q.high[u]);
+            }
+            csv.push('\n');
         }
     }
     write_file(&dir.join("power.csv"), csv.as_bytes())?;
     write_file(&dir.join("summary.json"), &json(s)?)?;
-    let curve = |c: &crate::experiment::Curve, scale: f64| -> Band {
+    // Against the roll-outs made (the cost on a cell): the mean policy's
+    // roll-out after `u` updates is roll-out PER_UPDATE · u + 1.
+    let x = |u: usize| (u as f64) * f64::from(PER_UPDATE) + 1.0;
+    let curve = |c: &Curve, scale: f64| -> Band {
+        let at = |v: &[f64]| -> Vec<f64> { v.iter().map(|v| v * scale).collect() };
+        let (mean, low, high) = (at(&c.mean), at(&c.low), at(&c.high));
         (
-            c.mean
-                .iter()
-                .enumerate()
-                .map(|(u, m)| (u as f64, m * scale))
-                .collect(),
-            c.std.iter().map(|v| v * scale).collect(),
+            mean.iter().enumerate().map(|(u, m)| (x(u), *m)).collect(),
+            low.into_iter().zip(high).collect(),
         )
     };
     let pick = |f: &dyn Fn(&PowerCurves) -> Band| s.variants().map(|(_, c)| f(c));
@@ -524,36 +576,43 @@ pub fn write_power(dir: &Path, s: &PowerSummary) -> Result<(), Error> {
     let reward = pick(&|c| curve(&c.reward, 1.0));
     fn lines(d: &[Band; 3]) -> [Line<'_>; 3] {
         std::array::from_fn(|i| Line {
-            label: Variant::ALL[i].label(),
-            points: &d[i].0,
-            spread: Some(&d[i].1),
+            band: Some(&d[i].1),
+            ..Line::new(Variant::ALL[i].label(), &d[i].0)
         })
     }
     let (e, sp, r) = (lines(&error), lines(&spilled), lines(&reward));
+    let of_runs = format!(
+        "mean, shaded: middle {:.0} % of runs (n = {} seeds)",
+        SPREAD * 100.0,
+        s.runs
+    );
+    let titles = ["Pouring error", "Spilled", "Reward"].map(|t| format!("{t}: {of_runs}"));
+    let x_label = "roll-outs (4 per update)";
     let panels = [
         Panel {
-            title: "Pouring error (mean ± std over runs)",
-            x_label: "update",
+            title: &titles[0],
+            x_label,
             y_label: "|error| [ml]",
             series: &e,
-            log_y: false,
+            log_y: true,
+            floor: Some(ERROR_FLOOR_ML),
             hline: None,
         },
         Panel {
-            title: "Spilled volume",
-            x_label: "update",
+            title: &titles[1],
+            x_label,
             y_label: "spilled [ml]",
             series: &sp,
-            log_y: false,
+            log_y: true,
+            floor: Some(SPILL_FLOOR_ML),
             hline: None,
         },
         Panel {
-            title: "Reward",
-            x_label: "update",
-            y_label: "reward",
+            title: &titles[2],
+            x_label,
+            y_label: "reward of the mean policy",
             series: &r,
-            log_y: false,
-            hline: None,
+            ..Panel::default()
         },
     ];
     png(&dir.join("power.png"), &panels, 1000)

@@ -32,6 +32,20 @@ pub fn median(values: &[f64]) -> f64 {
     0.5 * (v[(n - 1) / 2] + v[n / 2])
 }
 
+/// The `q` quantile (0 to 1) of the finite values, interpolated linearly between the
+/// sorted values (`NaN` for none).
+pub fn quantile(values: &[f64], q: f64) -> f64 {
+    let mut v: Vec<f64> = values.iter().copied().filter(|x| x.is_finite()).collect();
+    v.sort_by(f64::total_cmp);
+    let Some(last) = v.len().checked_sub(1) else {
+        return f64::NAN;
+    };
+    let at = q.clamp(0.0, 1.0) * last as f64;
+    let (i, t) = (at.floor() as usize, at.fract());
+    let next = v[(i + 1).min(last)];
+    v[i] + t * (next - v[i])
+}
+
 /// The mean (`NaN` for no values).
 pub fn mean(values: &[f64]) -> f64 {
     values.iter().sum::<f64>() / values.len() as f64
@@ -88,5 +102,18 @@ mod tests {
         assert!(many.high - many.low < few.high - few.low);
         assert_eq!(of(10), of(10), "seeded");
         assert_eq!(median(&[3.0, 1.0, 2.0, 10.0]), 2.5);
+    }
+
+    #[test]
+    fn quantiles_interpolate_and_stay_within_the_values() {
+        let v = [4.0, 0.0, 2.0, f64::NAN, 1.0];
+        assert_eq!(quantile(&v, 0.0), 0.0);
+        assert_eq!(quantile(&v, 1.0), 4.0);
+        assert_eq!(quantile(&v, 0.5), 1.5);
+        assert_eq!(quantile(&v, 0.25), 0.75);
+        assert_eq!(quantile(&v, 7.0), 4.0);
+        assert_eq!(quantile(&[3.0], 0.05), 3.0);
+        assert!(quantile(&[], 0.5).is_nan());
+        assert!(quantile(&[f64::NAN], 0.5).is_nan());
     }
 }

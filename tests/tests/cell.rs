@@ -13,7 +13,7 @@ fn error_learning_reaches_2_ml_for_every_bottle_volume() {
     let cell = CellConfig::standard(GlassKind::Normal);
     let skill = built_in_skill(&cell, Space::Cartesian, 30).unwrap();
     let volumes = [0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0];
-    let runs = experiment::golden(&skill, &cell, &volumes, 0.002, 1).unwrap();
+    let runs = experiment::golden(&skill, &cell, &volumes, 0.002, 1, |_| {}).unwrap();
     for run in &runs {
         let n = run.rollouts_to_precision;
         println!("{} l {:?}: {n:?} roll-outs", run.volume, run.method);
@@ -95,7 +95,7 @@ fn power_learns_to_pour_without_spilling_from_the_joint_space_start() {
     let cell = CellConfig::standard(GlassKind::Small);
     let skill = built_in_skill(&cell, Space::Joint, 30).unwrap();
     let (runs, updates) = (3, 25);
-    let curves = experiment::power(&skill, &cell, runs, updates, 7).unwrap();
+    let curves = experiment::power(&skill, &cell, runs, updates, 7, |_| {}).unwrap();
     for (variant, c) in experiment::Variant::ALL.iter().zip(&curves) {
         let name = variant.name();
         let zero = c.zero_reward as f64 / c.rollouts as f64;
