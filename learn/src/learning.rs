@@ -219,8 +219,7 @@ impl Settings {
         }
         let bracket = f64::from(low)..f64::from(high);
         let inside = bracket.contains(&self.bottle) && self.bottle > f64::from(low);
-        if !(self.method.is_power() || inside)
-        {
+        if !(self.method.is_power() || inside) {
             return bad(format!(
                 "--bottle {}: error learning searches the query within ({low}, {high}) l, \
                  and starts from the bottle's volume: it must lie inside",
