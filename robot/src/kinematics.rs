@@ -213,7 +213,13 @@ impl Arm {
 
     /// Base → tool frame for joint angles `q` (radians).
     pub fn forward(&self, q: &[f64; JOINTS]) -> Pose {
-        self.frames(q)[JOINTS].then(&self.tool)
+        // The last of `frames`, without keeping the others.
+        q.iter()
+            .zip(&self.links)
+            .fold(Pose::IDENTITY, |frame, (theta, link)| {
+                frame.then(&link.pose(*theta))
+            })
+            .then(&self.tool)
     }
 
     /// The geometric Jacobian of the tool frame in the base frame at `q`:

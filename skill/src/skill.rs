@@ -415,12 +415,12 @@ impl Skill {
             rows: Vec::new(),
             dof: self.names.len(),
         };
-        let steps = file
-            .run(dt as f32, None, None, None)
+        let (prepared, steps) = file
+            .steps(dt as f32, None, None, None)
             .map_err(|e| Error::Movement(format!("integrating the movement: {e}")))?;
-        for (time, row) in steps {
-            plan.t.push(f64::from(time));
-            plan.rows.extend(row.iter().map(|v| f64::from(*v)));
+        for sample in steps {
+            plan.t.push(f64::from(sample.time));
+            prepared.each_column(&sample.position, |v| plan.rows.push(f64::from(v)));
         }
         Ok(plan)
     }
