@@ -108,6 +108,79 @@ pub struct Outflow {
     pub centroid: f64,
 }
 
+/// Where a free surface cuts the bottle: the volume below it and its area,
+/// each computed only when asked for (the lip test needs no area, a
+/// converged Newton step none either).
+#[derive(Debug, Clone, Copy)]
+enum Cut {
+    /// Volume and area without integrals: upright, all full, all empty.
+    Known(f64, f64),
+    /// The surface crosses the sections.
+    Crossing {
+        /// Body radius and length.
+        r: f64,
+        l: f64,
+        /// `sin θ`.
+        sin: f64,
+        /// Axial length of the completely full sections.
+        full_len: f64,
+        /// Axial length of the sections the surface crosses.
+        crossing: f64,
+        /// The chord coordinate `c` over the crossing, `[a, b]`.
+        chords: (f64, f64),
+    },
+}
+
+impl Cut {
+    /// The volume below the surface, m³.
+    fn volume(self) -> f64 {
+        match self {
+            Cut::Known(volume, _) => volume,
+            Cut::Crossing {
+                r,
+                l,
+                full_len,
+                crossing,
+                chords: (a, b),
+                ..
+            } => {
+                let full = PI * r * r;
+                let partial = if b - a < 1e-9 * r {
+                    // Nearly lying flat: c barely changes along the crossing.
+                    crossing * segment_area(r, 0.5 * (a + b))
+                } else {
+                    let per_c = crossing / (b - a);
+                    per_c * (segment_area_integral(r, b) - segment_area_integral(r, a))
+                };
+                (full * full_len + partial).clamp(0.0, full * l)
+            }
+        }
+    }
+
+    /// The free surface's area, m²: the volume's derivative in its height.
+    fn area(self) -> f64 {
+        match self {
+            Cut::Known(_, area) => area,
+            Cut::Crossing {
+                r,
+                sin,
+                crossing,
+                chords: (a, b),
+                ..
+            } => {
+                let area = if b - a < 1e-9 * r {
+                    let m = 0.5 * (a + b);
+                    crossing * 2.0 * (r * r - m * m).max(0.0).sqrt() / sin.abs()
+                } else {
+                    let per_c = crossing / (b - a);
+                    per_c * (chord_integral(r, b) - chord_integral(r, a)) / sin.abs()
+                };
+                area.max(0.0)
+            }
+        }
+    }
+}
+
 /// Nodes of the outflow quadrature (trapezoid in an angle that makes the
 /// integrand smooth, so it converges geometrically).
 const MOUTH_NODES: usize = 24;
@@ -157,14 +230,25 @@ impl Bottle {
     /// centre) at tilt `θ` (radians from vertical), and its derivative in
     /// `z_s`, the free-surface area (m²).
     pub fn volume_and_area(&self, z_s: f64, tilt: impl Into<Tilt>) -> (f64, f64) {
-        let (s, c) = tilt.into().sin_cos();
+        let cut = self.cut(z_s, tilt.into());
+        (cut.volume(), cut.area())
+    }
+
+    /// Liquid volume (m³) below the free surface at height `z_s`, tilt `θ`.
+    pub fn volume_below(&self, z_s: f64, tilt: impl Into<Tilt>) -> f64 {
+        self.cut(z_s, tilt.into()).volume()
+    }
+
+    /// Where the free surface `z_s` cuts the bottle at `tilt`.
+    fn cut(&self, z_s: f64, tilt: Tilt) -> Cut {
+        let (s, c) = tilt.sin_cos();
         let (r, l) = (self.radius, self.length);
         let full = PI * r * r;
         if s.abs() < 1e-9 {
             // Upright (or upside down): flat layers.
             let h = if c > 0.0 { z_s } else { z_s + l };
             let inside = h > 0.0 && h < l;
-            return (full * h.clamp(0.0, l), if inside { full } else { 0.0 });
+            return Cut::Known(full * h.clamp(0.0, l), if inside { full } else { 0.0 });
         }
         // c(u) = (u cos θ − z_s)/sin θ is linear in u: the sections outside
         // [u1, u2] are completely full or empty.
@@ -172,10 +256,10 @@ impl Bottle {
         let (c0, c1) = (chord(0.0), chord(l));
         let (lo, hi) = (c0.min(c1), c0.max(c1));
         if hi <= -r {
-            return (full * l, 0.0);
+            return Cut::Known(full * l, 0.0);
         }
         if lo >= r {
-            return (0.0, 0.0);
+            return Cut::Known(0.0, 0.0);
         }
         // Axial lengths of the full part and the crossing interval.
         let span = hi - lo;
@@ -189,30 +273,14 @@ impl Bottle {
         } else {
             0.0
         };
-        let (a, b) = (lo.max(-r), hi.min(r));
-        let (partial, area) = if b - a < 1e-9 * r {
-            // Nearly lying flat: c barely changes along the crossing.
-            let m = 0.5 * (a + b);
-            (
-                crossing * segment_area(r, m),
-                crossing * 2.0 * (r * r - m * m).max(0.0).sqrt() / s.abs(),
-            )
-        } else {
-            let per_c = crossing / (b - a);
-            (
-                per_c * (segment_area_integral(r, b) - segment_area_integral(r, a)),
-                per_c * (chord_integral(r, b) - chord_integral(r, a)) / s.abs(),
-            )
-        };
-        (
-            (full * full_len + partial).clamp(0.0, full * l),
-            area.max(0.0),
-        )
-    }
-
-    /// Liquid volume (m³) below the free surface at height `z_s`, tilt `θ`.
-    pub fn volume_below(&self, z_s: f64, tilt: impl Into<Tilt>) -> f64 {
-        self.volume_and_area(z_s, tilt).0
+        Cut::Crossing {
+            r,
+            l,
+            sin: s,
+            full_len,
+            crossing,
+            chords: (lo.max(-r), hi.min(r)),
+        }
     }
 
     /// Whether `volume` (m³) at tilt `θ` reaches the mouth's lowest point,
@@ -235,11 +303,12 @@ impl Bottle {
             .filter(|g| *g > lo && *g < hi)
             .unwrap_or(0.5 * (lo + hi));
         for _ in 0..100 {
-            let (v, area) = self.volume_and_area(z, tilt);
-            let miss = v - target;
+            let cut = self.cut(z, tilt);
+            let miss = cut.volume() - target;
             if miss.abs() <= tolerance {
                 break;
             }
+            let area = cut.area();
             if miss < 0.0 {
                 lo = z;
             } else {
