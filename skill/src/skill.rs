@@ -409,18 +409,19 @@ impl Skill {
     /// column.
     pub fn plan(&self, query: &[f32], delta: &[f32], dt: f64) -> Result<Plan, Error> {
         let file = self.movement(query, delta)?;
-        let mut plan = Plan {
-            space: self.space,
-            t: Vec::new(),
-            rows: Vec::new(),
-            dof: self.names.len(),
-        };
-        let (prepared, steps) = file
+        let (prepared, mut steps) = file
             .steps(dt as f32, None, None, None)
             .map_err(|e| Error::Movement(format!("integrating the movement: {e}")))?;
-        for sample in steps {
-            plan.t.push(f64::from(sample.time));
-            prepared.each_column(&sample.position, |v| plan.rows.push(f64::from(v)));
+        let (samples, dof) = (steps.size_hint().0, self.names.len());
+        let mut plan = Plan {
+            space: self.space,
+            t: Vec::with_capacity(samples),
+            rows: Vec::with_capacity(samples * dof),
+            dof,
+        };
+        while let Some((time, position)) = steps.next_position() {
+            plan.t.push(f64::from(time));
+            prepared.each_column(position, |v| plan.rows.push(f64::from(v)));
         }
         Ok(plan)
     }
