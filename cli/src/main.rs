@@ -10,6 +10,7 @@ mod error;
 mod experiment;
 mod interrupt;
 mod learn;
+mod memory;
 mod output;
 mod pour;
 mod progress;
@@ -61,6 +62,7 @@ enum Command {
 }
 
 fn main() {
+    memory::keep_freed_blocks();
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
         Err(e) => {

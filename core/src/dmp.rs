@@ -931,9 +931,17 @@ pub struct Trajectory<'a, const D: usize, const K: usize> {
     done: bool,
 }
 
-impl<const D: usize, const K: usize> Iterator for Trajectory<'_, D, K> {
-    type Item = Sample<D>;
-    fn next(&mut self) -> Option<Sample<D>> {
+impl<const D: usize, const K: usize> Trajectory<'_, D, K> {
+    /// The next sample's time and position (one value per DoF):
+    /// [`Iterator::next`] without the velocity and acceleration, for a
+    /// caller that only wants where the movement goes.
+    pub fn next_position(&mut self) -> Option<(f32, &[f32])> {
+        let time = self.step()?;
+        Some((time, self.run.position()))
+    }
+
+    /// Advances to the next sample, if any; its time.
+    fn step(&mut self) -> Option<f32> {
         if self.done {
             return None;
         }
@@ -945,9 +953,8 @@ impl<const D: usize, const K: usize> Iterator for Trajectory<'_, D, K> {
             };
             self.run.advance(self.dmp, dt);
         }
-        let mut sample = self.run.sample();
         // Report exact grid times rather than the accumulated clock.
-        sample.time = if self.index <= self.full_steps {
+        let mut time = if self.index <= self.full_steps {
             self.index as f32 * self.dt
         } else {
             self.run.tau
@@ -958,11 +965,31 @@ impl<const D: usize, const K: usize> Iterator for Trajectory<'_, D, K> {
             self.index == self.full_steps
         };
         if at_end {
-            sample.time = self.run.tau;
+            time = self.run.tau;
             self.done = true;
         }
         self.index += 1;
+        Some(time)
+    }
+}
+
+impl<const D: usize, const K: usize> Iterator for Trajectory<'_, D, K> {
+    type Item = Sample<D>;
+    fn next(&mut self) -> Option<Sample<D>> {
+        let time = self.step()?;
+        let mut sample = self.run.sample();
+        sample.time = time;
         Some(sample)
+    }
+
+    fn size_hint(&self) -> (usize, Option<usize>) {
+        // Samples 0..=full_steps on the grid, then the shorter last step's.
+        let total = u64::from(self.full_steps) + 1 + u64::from(self.last_dt > 0.0);
+        let left = match self.done {
+            true => 0,
+            false => usize::try_from(total.saturating_sub(u64::from(self.index))).unwrap_or(0),
+        };
+        (left, Some(left))
     }
 }
 

@@ -170,6 +170,29 @@ fn step_by_step_equals_whole_trajectory_and_goal_can_move() {
 }
 
 #[test]
+fn positions_alone_are_the_samples_positions_and_the_length_is_known_ahead() {
+    let (t, y) = demo_2d();
+    let dmp = Dmp::<2, 10>::fit(&t, &y, 2, 10, &FitOptions::default()).unwrap();
+    let exec = dmp.execution();
+    for dt in [0.002, 0.3, 0.25, 2.0, 1e4] {
+        let whole: Vec<_> = dmp.trajectory(&exec, dt).unwrap().collect();
+        let mut steps = dmp.trajectory(&exec, dt).unwrap();
+        assert_eq!(
+            steps.size_hint(),
+            (whole.len(), Some(whole.len())),
+            "dt {dt}"
+        );
+        for (i, s) in whole.iter().enumerate() {
+            let (time, position) = steps.next_position().unwrap();
+            assert_eq!((time, position), (s.time, &s.position[..]), "dt {dt}");
+            let left = whole.len() - i - 1;
+            assert_eq!(steps.size_hint(), (left, Some(left)));
+        }
+        assert_eq!(steps.next_position(), None);
+    }
+}
+
+#[test]
 fn trajectory_length_is_exact_for_any_dt() {
     let (t, y) = demo_2d();
     let dmp = Dmp::<2, 10>::fit(&t, &y, 2, 10, &FitOptions::default()).unwrap();

@@ -134,50 +134,92 @@ impl Pose {
     }
 }
 
-/// One DH link: `Rz(θ) · Tz(d) · Tx(a) · Rx(α)`.
-fn dh(theta: f64, d: f64, a: f64, alpha: f64) -> Pose {
-    let (st, ct) = theta.sin_cos();
-    let (sa, ca) = alpha.sin_cos();
-    Pose {
-        rotation: [
-            [ct, -st * ca, st * sa],
-            [st, ct * ca, -ct * sa],
-            [0.0, sa, ca],
-        ],
-        position: [a * ct, a * st, d],
+/// One DH link, `Rz(θ) · Tz(d) · Tx(a) · Rx(α)`, its twist's sine and
+/// cosine computed once: a control loop's forward kinematics computes only
+/// the joint angles'.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Twisted {
+    d: f64,
+    a: f64,
+    sin_alpha: f64,
+    cos_alpha: f64,
+}
+
+impl Twisted {
+    fn new(Link { d, a, alpha }: Link) -> Self {
+        let (sin_alpha, cos_alpha) = alpha.sin_cos();
+        Twisted {
+            d,
+            a,
+            sin_alpha,
+            cos_alpha,
+        }
+    }
+
+    /// The link's transform at joint angle `theta`.
+    fn pose(&self, theta: f64) -> Pose {
+        let (st, ct) = theta.sin_cos();
+        let (sa, ca) = (self.sin_alpha, self.cos_alpha);
+        Pose {
+            rotation: [
+                [ct, -st * ca, st * sa],
+                [st, ct * ca, -ct * sa],
+                [0.0, sa, ca],
+            ],
+            position: [self.a * ct, self.a * st, self.d],
+        }
     }
 }
 
 /// A robot with a tool transform from its last joint frame.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Arm {
-    /// The robot's description.
-    pub robot: Robot,
-    /// Last joint frame → tool frame (flange, hand, bottle, …).
-    pub tool: Pose,
+    robot: Robot,
+    tool: Pose,
+    /// The robot's DH table, ready for forward kinematics.
+    links: [Twisted; JOINTS],
 }
 
 impl Arm {
     /// The bare arm, tool frame at the flange.
     pub fn new(robot: Robot) -> Self {
-        Arm {
-            robot,
-            tool: Pose::translation(0.0, 0.0, robot.flange),
-        }
+        Arm::holding(robot, Pose::translation(0.0, 0.0, robot.flange))
     }
 
     /// The arm holding a tool: `grasp` is flange → tool frame.
     pub fn with_tool(robot: Robot, grasp: &Pose) -> Self {
         let bare = Arm::new(robot);
+        Arm::holding(robot, bare.tool.then(grasp))
+    }
+
+    /// `robot` with `tool` as its last joint frame → tool frame.
+    fn holding(robot: Robot, tool: Pose) -> Self {
         Arm {
             robot,
-            tool: bare.tool.then(grasp),
+            tool,
+            links: robot.dh.map(Twisted::new),
         }
+    }
+
+    /// The robot's description.
+    pub fn robot(&self) -> &Robot {
+        &self.robot
+    }
+
+    /// Last joint frame → tool frame (flange, hand, bottle, …).
+    pub fn tool(&self) -> &Pose {
+        &self.tool
     }
 
     /// Base → tool frame for joint angles `q` (radians).
     pub fn forward(&self, q: &[f64; JOINTS]) -> Pose {
-        self.frames(q)[JOINTS].then(&self.tool)
+        // The last of `frames`, without keeping the others.
+        q.iter()
+            .zip(&self.links)
+            .fold(Pose::IDENTITY, |frame, (theta, link)| {
+                frame.then(&link.pose(*theta))
+            })
+            .then(&self.tool)
     }
 
     /// The geometric Jacobian of the tool frame in the base frame at `q`:
@@ -278,8 +320,8 @@ impl Arm {
     /// Base → DH frame i for i = 0 (the base itself) to [`JOINTS`].
     fn frames(&self, q: &[f64; JOINTS]) -> [Pose; JOINTS + 1] {
         let mut frames = [Pose::IDENTITY; JOINTS + 1];
-        for (i, (theta, Link { d, a, alpha })) in q.iter().zip(self.robot.dh).enumerate() {
-            frames[i + 1] = frames[i].then(&dh(*theta, d, a, alpha));
+        for (i, (theta, link)) in q.iter().zip(&self.links).enumerate() {
+            frames[i + 1] = frames[i].then(&link.pose(*theta));
         }
         frames
     }
@@ -629,10 +671,10 @@ mod tests {
 
     #[test]
     fn jacobian_matches_finite_differences() {
-        let arm = Arm {
-            robot: Robot::lwr4(),
-            tool: Pose::from_rotation_vector([0.02, -0.01, 0.2], [0.3, 0.0, -0.2]),
-        };
+        let arm = Arm::holding(
+            Robot::lwr4(),
+            Pose::from_rotation_vector([0.02, -0.01, 0.2], [0.3, 0.0, -0.2]),
+        );
         let h = 1e-6;
         for q in CONFIGURATIONS {
             let jacobian = arm.jacobian(&q);

@@ -283,7 +283,7 @@ impl Gate {
         times: Vec<f64>,
         positions: Vec<[f64; JOINTS]>,
     ) -> Result<JointPath, Rejection> {
-        check_joints(&self.arm.robot, times, positions)
+        check_joints(self.arm.robot(), times, positions)
     }
 
     /// Checks a Cartesian trajectory of poses `[x, y, z, rx, ry, rz]`

@@ -25,6 +25,7 @@
 //! ```
 
 use std::f64::consts::PI;
+use std::sync::LazyLock;
 
 /// Standard gravity, m/s².
 pub const G: f64 = 9.81;
@@ -57,11 +58,32 @@ fn chord_integral(r: f64, c: f64) -> f64 {
     c * (r * r - c * c).max(0.0).sqrt() + r * r * (c / r).clamp(-1.0, 1.0).asin()
 }
 
-/// `(sin θ, cos θ)` with `θ` folded into `[0, π]`: the bottle is
-/// axisymmetric, so only the angle between its axis and the vertical counts.
-fn sin_cos_folded(tilt: f64) -> (f64, f64) {
-    let c = tilt.cos();
-    ((1.0 - c * c).max(0.0).sqrt(), c)
+/// A tilt `θ` (radians from vertical) as its sine and cosine, with `θ`
+/// folded into `[0, π]`: the bottle is axisymmetric, so only the angle
+/// between its axis and the vertical counts. The methods take a tilt in
+/// radians or this: the cell computes it once per control step for all of
+/// them.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Tilt {
+    sin: f64,
+    cos: f64,
+}
+
+impl From<f64> for Tilt {
+    fn from(tilt: f64) -> Tilt {
+        let cos = tilt.cos();
+        Tilt {
+            sin: (1.0 - cos * cos).max(0.0).sqrt(),
+            cos,
+        }
+    }
+}
+
+impl Tilt {
+    /// `(sin θ, cos θ)`.
+    fn sin_cos(self) -> (f64, f64) {
+        (self.sin, self.cos)
+    }
 }
 
 /// Geometry of a bottle: body radius, length, mouth radius (metres).
@@ -86,9 +108,89 @@ pub struct Outflow {
     pub centroid: f64,
 }
 
+/// Where a free surface cuts the bottle: the volume below it and its area,
+/// each computed only when asked for (the lip test needs no area, a
+/// converged Newton step none either).
+#[derive(Debug, Clone, Copy)]
+enum Cut {
+    /// Volume and area without integrals: upright, all full, all empty.
+    Known(f64, f64),
+    /// The surface crosses the sections.
+    Crossing {
+        /// Body radius and length.
+        r: f64,
+        l: f64,
+        /// `sin θ`.
+        sin: f64,
+        /// Axial length of the completely full sections.
+        full_len: f64,
+        /// Axial length of the sections the surface crosses.
+        crossing: f64,
+        /// The chord coordinate `c` over the crossing, `[a, b]`.
+        chords: (f64, f64),
+    },
+}
+
+impl Cut {
+    /// The volume below the surface, m³.
+    fn volume(self) -> f64 {
+        match self {
+            Cut::Known(volume, _) => volume,
+            Cut::Crossing {
+                r,
+                l,
+                full_len,
+                crossing,
+                chords: (a, b),
+                ..
+            } => {
+                let full = PI * r * r;
+                let partial = if b - a < 1e-9 * r {
+                    // Nearly lying flat: c barely changes along the crossing.
+                    crossing * segment_area(r, 0.5 * (a + b))
+                } else {
+                    let per_c = crossing / (b - a);
+                    per_c * (segment_area_integral(r, b) - segment_area_integral(r, a))
+                };
+                (full * full_len + partial).clamp(0.0, full * l)
+            }
+        }
+    }
+
+    /// The free surface's area, m²: the volume's derivative in its height.
+    fn area(self) -> f64 {
+        match self {
+            Cut::Known(_, area) => area,
+            Cut::Crossing {
+                r,
+                sin,
+                crossing,
+                chords: (a, b),
+                ..
+            } => {
+                let area = if b - a < 1e-9 * r {
+                    let m = 0.5 * (a + b);
+                    crossing * 2.0 * (r * r - m * m).max(0.0).sqrt() / sin.abs()
+                } else {
+                    let per_c = crossing / (b - a);
+                    per_c * (chord_integral(r, b) - chord_integral(r, a)) / sin.abs()
+                };
+                area.max(0.0)
+            }
+        }
+    }
+}
+
 /// Nodes of the outflow quadrature (trapezoid in an angle that makes the
 /// integrand smooth, so it converges geometrically).
 const MOUTH_NODES: usize = 24;
+/// The quadrature's step in the angle φ.
+const MOUTH_STEP: f64 = PI / MOUTH_NODES as f64;
+
+/// `(sin φ, cos φ)` at the outflow quadrature's nodes: the same every
+/// control step, so computed once.
+static MOUTH_ANGLES: LazyLock<[(f64, f64); MOUTH_NODES]> =
+    LazyLock::new(|| std::array::from_fn(|i| ((i as f64 + 0.5) * MOUTH_STEP).sin_cos()));
 
 impl Bottle {
     /// A bottle; sizes must be finite and positive, the mouth no wider than
@@ -116,8 +218,8 @@ impl Bottle {
     }
 
     /// Lowest and highest height of the bottle's interior at tilt `θ`.
-    fn height_range(&self, tilt: f64) -> (f64, f64) {
-        let (s, c) = sin_cos_folded(tilt);
+    fn height_range(&self, tilt: Tilt) -> (f64, f64) {
+        let (s, c) = tilt.sin_cos();
         let ends = [0.0, self.length * c];
         let lo = ends[0].min(ends[1]) - self.radius * s.abs();
         let hi = ends[0].max(ends[1]) + self.radius * s.abs();
@@ -127,15 +229,26 @@ impl Bottle {
     /// Volume (m³) below the free surface `z_s` (metres above the base
     /// centre) at tilt `θ` (radians from vertical), and its derivative in
     /// `z_s`, the free-surface area (m²).
-    pub fn volume_and_area(&self, z_s: f64, tilt: f64) -> (f64, f64) {
-        let (s, c) = sin_cos_folded(tilt);
+    pub fn volume_and_area(&self, z_s: f64, tilt: impl Into<Tilt>) -> (f64, f64) {
+        let cut = self.cut(z_s, tilt.into());
+        (cut.volume(), cut.area())
+    }
+
+    /// Liquid volume (m³) below the free surface at height `z_s`, tilt `θ`.
+    pub fn volume_below(&self, z_s: f64, tilt: impl Into<Tilt>) -> f64 {
+        self.cut(z_s, tilt.into()).volume()
+    }
+
+    /// Where the free surface `z_s` cuts the bottle at `tilt`.
+    fn cut(&self, z_s: f64, tilt: Tilt) -> Cut {
+        let (s, c) = tilt.sin_cos();
         let (r, l) = (self.radius, self.length);
         let full = PI * r * r;
         if s.abs() < 1e-9 {
             // Upright (or upside down): flat layers.
             let h = if c > 0.0 { z_s } else { z_s + l };
             let inside = h > 0.0 && h < l;
-            return (full * h.clamp(0.0, l), if inside { full } else { 0.0 });
+            return Cut::Known(full * h.clamp(0.0, l), if inside { full } else { 0.0 });
         }
         // c(u) = (u cos θ − z_s)/sin θ is linear in u: the sections outside
         // [u1, u2] are completely full or empty.
@@ -143,10 +256,10 @@ impl Bottle {
         let (c0, c1) = (chord(0.0), chord(l));
         let (lo, hi) = (c0.min(c1), c0.max(c1));
         if hi <= -r {
-            return (full * l, 0.0);
+            return Cut::Known(full * l, 0.0);
         }
         if lo >= r {
-            return (0.0, 0.0);
+            return Cut::Known(0.0, 0.0);
         }
         // Axial lengths of the full part and the crossing interval.
         let span = hi - lo;
@@ -160,43 +273,29 @@ impl Bottle {
         } else {
             0.0
         };
-        let (a, b) = (lo.max(-r), hi.min(r));
-        let (partial, area) = if b - a < 1e-9 * r {
-            // Nearly lying flat: c barely changes along the crossing.
-            let m = 0.5 * (a + b);
-            (
-                crossing * segment_area(r, m),
-                crossing * 2.0 * (r * r - m * m).max(0.0).sqrt() / s.abs(),
-            )
-        } else {
-            let per_c = crossing / (b - a);
-            (
-                per_c * (segment_area_integral(r, b) - segment_area_integral(r, a)),
-                per_c * (chord_integral(r, b) - chord_integral(r, a)) / s.abs(),
-            )
-        };
-        (
-            (full * full_len + partial).clamp(0.0, full * l),
-            area.max(0.0),
-        )
-    }
-
-    /// Liquid volume (m³) below the free surface at height `z_s`, tilt `θ`.
-    pub fn volume_below(&self, z_s: f64, tilt: f64) -> f64 {
-        self.volume_and_area(z_s, tilt).0
+        Cut::Crossing {
+            r,
+            l,
+            sin: s,
+            full_len,
+            crossing,
+            chords: (lo.max(-r), hi.min(r)),
+        }
     }
 
     /// Whether `volume` (m³) at tilt `θ` reaches the mouth's lowest point,
     /// i.e. whether anything can pour.
-    pub fn reaches_lip(&self, volume: f64, tilt: f64) -> bool {
-        let (s, c) = sin_cos_folded(tilt);
+    pub fn reaches_lip(&self, volume: f64, tilt: impl Into<Tilt>) -> bool {
+        let tilt = tilt.into();
+        let (s, c) = tilt.sin_cos();
         volume > self.volume_below(self.length * c - self.mouth * s, tilt)
     }
 
     /// The free-surface height holding `volume` (m³) at tilt `θ`: Newton on
     /// the monotone [`Bottle::volume_and_area`], safeguarded by bisection,
     /// starting from `guess` when given (the previous step's height).
-    pub fn surface_height(&self, volume: f64, tilt: f64, guess: Option<f64>) -> f64 {
+    pub fn surface_height(&self, volume: f64, tilt: impl Into<Tilt>, guess: Option<f64>) -> f64 {
+        let tilt = tilt.into();
         let (mut lo, mut hi) = self.height_range(tilt);
         let target = volume.clamp(0.0, self.capacity());
         let tolerance = 1e-15 * self.capacity().max(1e-12);
@@ -204,11 +303,12 @@ impl Bottle {
             .filter(|g| *g > lo && *g < hi)
             .unwrap_or(0.5 * (lo + hi));
         for _ in 0..100 {
-            let (v, area) = self.volume_and_area(z, tilt);
-            let miss = v - target;
+            let cut = self.cut(z, tilt);
+            let miss = cut.volume() - target;
             if miss.abs() <= tolerance {
                 break;
             }
+            let area = cut.area();
             if miss < 0.0 {
                 lo = z;
             } else {
@@ -232,8 +332,8 @@ impl Bottle {
     /// the surface. Across the mouth the depth changes only along `v`, so
     /// this is a 1-D integral over chords; the substitution
     /// `v = a + (r − a)(1 − cos φ)/2` removes the square-root end points.
-    pub fn outflow(&self, z_s: f64, tilt: f64) -> Outflow {
-        let (s, c) = sin_cos_folded(tilt);
+    pub fn outflow(&self, z_s: f64, tilt: impl Into<Tilt>) -> Outflow {
+        let (s, c) = tilt.into().sin_cos();
         let r = self.mouth;
         let head = z_s - self.length * c; // over the mouth's centre
         // The depth at v is head + v sin θ: wetted for v > −head / sin θ.
@@ -246,15 +346,12 @@ impl Bottle {
             return Outflow::default();
         }
         let half = 0.5 * (r - a);
-        let step = PI / MOUTH_NODES as f64;
         let mut flow = 0.0;
-        for i in 0..MOUTH_NODES {
-            let phi = (i as f64 + 0.5) * step;
-            let (sp, cp) = phi.sin_cos();
+        for &(sp, cp) in MOUTH_ANGLES.iter() {
             let v = a + half * (1.0 - cp);
             let depth = (head + v * s).max(0.0);
             let chord = 2.0 * (r * r - v * v).max(0.0).sqrt();
-            flow += chord * (2.0 * G * depth).sqrt() * half * sp * step;
+            flow += chord * (2.0 * G * depth).sqrt() * half * sp * MOUTH_STEP;
         }
         let area = segment_area(r, a);
         let w = (r * r - a * a).max(0.0);
@@ -301,7 +398,7 @@ mod tests {
         let b = bottle();
         for k in 0..=18 {
             let tilt = k as f64 * PI / 18.0;
-            let (lo, hi) = b.height_range(tilt);
+            let (lo, hi) = b.height_range(tilt.into());
             assert!(b.volume_below(lo - 0.01, tilt).abs() < 1e-12);
             assert!(
                 (b.volume_below(hi + 0.01, tilt) - b.capacity()).abs()
@@ -418,7 +515,7 @@ mod tests {
     fn closed_form_volume_matches_simpson_and_its_derivative_is_the_surface_area() {
         let b = bottle();
         for tilt in [0.3, 0.9, 1.5, PI / 2.0, 1.6, 2.5] {
-            let (lo, hi) = b.height_range(tilt);
+            let (lo, hi) = b.height_range(tilt.into());
             for k in 1..10 {
                 let z = lo + (hi - lo) * k as f64 / 10.0;
                 let (v, area) = b.volume_and_area(z, tilt);

@@ -23,7 +23,7 @@
 use crate::Error;
 use primo_robot::{Arm, JOINTS, Pose, Robot};
 
-use crate::bottle::{Bottle, G};
+use crate::bottle::{Bottle, G, Tilt};
 use crate::scale::{Scale, ScaleModel};
 use crate::stream::{Glass, land};
 
@@ -324,14 +324,15 @@ impl Cell {
         let sin = tilt.sin();
         self.flow = 0.0;
         self.landing = None;
+        let folded = Tilt::from(tilt);
         // Cheap test first (one closed-form volume, no surface solve).
-        if !b.reaches_lip(self.bottle, tilt) {
+        if !b.reaches_lip(self.bottle, folded) {
             self.surface = None;
             return;
         }
-        let z_s = b.surface_height(self.bottle, tilt, self.surface);
+        let z_s = b.surface_height(self.bottle, folded, self.surface);
         self.surface = Some(z_s);
-        let out = b.outflow(z_s, tilt);
+        let out = b.outflow(z_s, folded);
         let volume = (out.flow * dt).min(self.bottle);
         if !(volume > 0.0 && out.area > 0.0) {
             return;

@@ -713,7 +713,7 @@ impl Robot {
         self.refl = c.head.send_seq_count;
         let wanted = c.cmd.jnt_pos.map(f64::from);
         let moves = c.cmd.cmd_flags & flags::JNTPOS != 0;
-        let limits = self.arm.robot;
+        let limits = self.arm.robot();
         let velocity = limits.velocity_limits_deg.map(f64::to_radians);
         let position = limits.position_limits_deg.map(f64::to_radians);
         match self.state {
@@ -739,7 +739,7 @@ impl Robot {
     /// toward the commanded position, no faster than the velocity limits.
     fn servo(&mut self) {
         let follow = 1.0 - (-self.cycle / SERVO_LAG).exp();
-        for (j, limit) in self.arm.robot.velocity_limits_deg.iter().enumerate() {
+        for (j, limit) in self.arm.robot().velocity_limits_deg.iter().enumerate() {
             let max = limit.to_radians() * self.cycle;
             self.measured[j] += ((self.target[j] - self.measured[j]) * follow).clamp(-max, max);
         }

@@ -26,7 +26,7 @@ use primo_core::scale::{Calibration, SAMPLE_BYTES, Settings, encode_sample};
 use rand_core::SeedableRng;
 use serialport::{SerialPort, TTYPort};
 
-use crate::scale::{ScaleModel, lag};
+use crate::scale::{Lag, ScaleModel};
 use crate::scale_device::LoadSource;
 
 /// The load cell and its ADC.
@@ -76,6 +76,7 @@ impl LoadCellModel {
 pub struct LoadCell {
     model: LoadCellModel,
     settled: f64,
+    lag: Lag,
     rng: Xoshiro128PlusPlus,
     normal: StandardNormal,
 }
@@ -86,6 +87,7 @@ impl LoadCell {
         LoadCell {
             model,
             settled: 0.0,
+            lag: Lag::NEW,
             rng: Xoshiro128PlusPlus::seed_from_u64(seed),
             normal: StandardNormal::new(),
         }
@@ -101,7 +103,7 @@ impl LoadCell {
     /// load changes nothing).
     pub fn step(&mut self, dt: f64, load: f64) {
         if load.is_finite() && dt.is_finite() && dt > 0.0 {
-            self.settled = lag(self.settled, load, dt, self.model.scale.lag);
+            self.settled = self.lag.step(self.settled, load, dt, self.model.scale.lag);
         }
     }
 

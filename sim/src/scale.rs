@@ -85,11 +85,29 @@ pub struct Reading {
     pub overload: bool,
 }
 
-/// `value` after `dt` seconds of a first-order lag of time constant `tau`
-/// toward `load`: the pan's and the liquid's settling, which the scale and
-/// the bare load cell share.
-pub(crate) fn lag(value: f64, load: f64, dt: f64, tau: f64) -> f64 {
-    value + (load - value) * -(-dt / tau).exp_m1()
+/// A first-order lag: the pan's and the liquid's settling, which the scale
+/// and the bare load cell share. It keeps its step's factor: a control
+/// loop steps by the same `dt` every time, and `exp_m1` is most of a step.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Lag {
+    /// The `dt` and `tau` of the last step, and its factor `1 − e^{−dt/τ}`.
+    last: (f64, f64, f64),
+}
+
+impl Lag {
+    /// A lag that has not stepped yet.
+    pub(crate) const NEW: Lag = Lag {
+        last: (f64::NAN, f64::NAN, f64::NAN),
+    };
+
+    /// `value` after `dt` seconds of the lag of time constant `tau` toward
+    /// `load`.
+    pub(crate) fn step(&mut self, value: f64, load: f64, dt: f64, tau: f64) -> f64 {
+        if (dt, tau) != (self.last.0, self.last.1) {
+            self.last = (dt, tau, -(-dt / tau).exp_m1());
+        }
+        value + (load - value) * self.last.2
+    }
 }
 
 /// The simulated scale.
@@ -98,6 +116,7 @@ pub struct Scale {
     model: ScaleModel,
     time: f64,
     filtered: f64,
+    lag: Lag,
     display: f64,
     next_update: f64,
     /// Recent display values with their times, oldest first.
@@ -113,6 +132,7 @@ impl Scale {
             model,
             time: 0.0,
             filtered: 0.0,
+            lag: Lag::NEW,
             display: 0.0,
             next_update: model.update,
             recent: VecDeque::from([(0.0, 0.0)]),
@@ -124,7 +144,7 @@ impl Scale {
     /// Advances by `dt` seconds under `load` grams.
     pub fn step(&mut self, dt: f64, load: f64) {
         let m = self.model;
-        self.filtered = lag(self.filtered, load, dt, m.lag);
+        self.filtered = self.lag.step(self.filtered, load, dt, m.lag);
         self.time += dt;
         while self.time >= self.next_update {
             let noisy = self.filtered + m.noise * f64::from(self.normal.sample(&mut self.rng));

@@ -24,7 +24,7 @@
 //! rather than misread. Version 1 files (no orientations) still load. The
 //! fields of `dmp` are those of [`primo_core::dmp::Dmp`] (see the README).
 
-use primo_core::dmp::{FitOptions, Scaling};
+use primo_core::dmp::{FitOptions, Scaling, Trajectory};
 use primo_core::orientation::{from_log, log_coordinates, nearest_log};
 use primo_core::quaternion::Quaternion;
 use primo_core::rhythmic::{RhythmicDmp, RhythmicRun};
@@ -482,12 +482,27 @@ impl DmpFile {
         start: Option<&[f32]>,
         goal: Option<&[f32]>,
     ) -> Result<impl Iterator<Item = (f32, Vec<f32>)> + '_, Error> {
+        let (prepared, steps) = self.steps(dt, tau, start, goal)?;
+        Ok(steps.map(move |s| (s.time, prepared.columns(&s.position))))
+    }
+
+    /// [`DmpFile::run`]'s samples in the DMP's coordinates, and what turns
+    /// them into the columns: for a caller that writes the columns where
+    /// it wants them ([`Prepared::each_column`]) rather than a row per
+    /// sample.
+    pub fn steps(
+        &self,
+        dt: f32,
+        tau: Option<f32>,
+        start: Option<&[f32]>,
+        goal: Option<&[f32]>,
+    ) -> Result<(Prepared, Trajectory<'_, HOST_MAX_DOF, MAX_KERNELS>), Error> {
         let prepared = self.prepare(tau, start, goal)?;
         let steps = self
             .dmp
             .trajectory(&prepared.execution, dt)
             .map_err(|e| Error::Movement(e.to_string()))?;
-        Ok(steps.map(move |s| (s.time, prepared.columns(&s.position))))
+        Ok((prepared, steps))
     }
 
     /// The execution for `tau`, `start` and `goal` (as in
@@ -573,9 +588,15 @@ impl Prepared {
     /// their goals.
     pub fn columns(&self, dmp: &[f32]) -> Vec<f32> {
         let mut out = Vec::with_capacity(self.width);
+        self.each_column(dmp, |v| out.push(v));
+        out
+    }
+
+    /// [`Prepared::columns`], each value handed to `emit` in column order.
+    pub fn each_column(&self, dmp: &[f32], mut emit: impl FnMut(f32)) {
         for s in &self.layout {
             match s.kind {
-                Column::Scalar => out.push(dmp.get(s.dof).copied().unwrap_or(0.0)),
+                Column::Scalar => emit(dmp.get(s.dof).copied().unwrap_or(0.0)),
                 Column::Quaternion => {
                     let goal = self
                         .goals
@@ -583,11 +604,13 @@ impl Prepared {
                         .copied()
                         .unwrap_or(Quaternion::IDENTITY);
                     let e = dmp.get(s.dof..s.dof + 3).unwrap_or(&[0.0; 3]);
-                    out.extend(from_log(e, &goal).to_array());
+                    from_log(e, &goal)
+                        .to_array()
+                        .into_iter()
+                        .for_each(&mut emit);
                 }
             }
         }
-        out
     }
 
     /// Whether every column is one DoF (no orientation): the DMP's

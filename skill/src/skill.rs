@@ -409,18 +409,19 @@ impl Skill {
     /// column.
     pub fn plan(&self, query: &[f32], delta: &[f32], dt: f64) -> Result<Plan, Error> {
         let file = self.movement(query, delta)?;
+        let (prepared, mut steps) = file
+            .steps(dt as f32, None, None, None)
+            .map_err(|e| Error::Movement(format!("integrating the movement: {e}")))?;
+        let (samples, dof) = (steps.size_hint().0, self.names.len());
         let mut plan = Plan {
             space: self.space,
-            t: Vec::new(),
-            rows: Vec::new(),
-            dof: self.names.len(),
+            t: Vec::with_capacity(samples),
+            rows: Vec::with_capacity(samples * dof),
+            dof,
         };
-        let steps = file
-            .run(dt as f32, None, None, None)
-            .map_err(|e| Error::Movement(format!("integrating the movement: {e}")))?;
-        for (time, row) in steps {
+        while let Some((time, position)) = steps.next_position() {
             plan.t.push(f64::from(time));
-            plan.rows.extend(row.iter().map(|v| f64::from(*v)));
+            prepared.each_column(position, |v| plan.rows.push(f64::from(v)));
         }
         Ok(plan)
     }
