@@ -1,6 +1,6 @@
 """CMA-ES (pycma) on primo's pouring cell, against primo's PoWER.
 
-Usage: python bench/cmaes.py PRIMO_BINARY [--runs 20] [--budget 401] [--out FILE.md]
+Usage: python bench/cmaes.py PRIMO_BINARY [--runs 20] [--budget 401] [--space joint] [--out FILE.md]
 
 The cell is `primo experiment power`'s (joint space, small glass, 0.5 l
 bottle, 0.2 l target, 30 kernels: 219 parameters), reached through
@@ -36,9 +36,9 @@ THRESHOLDS = (0.95, 0.99)
 class Server:
     """One `primo rollout --serve` process."""
 
-    def __init__(self, primo, seed):
+    def __init__(self, primo, seed, space):
         self.proc = subprocess.Popen(
-            [primo, "rollout", "--serve", "--seed", str(seed)],
+            [primo, "rollout", "--serve", "--seed", str(seed), "--space", space],
             stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True, bufsize=1)
 
     def __call__(self, x):
@@ -53,9 +53,9 @@ class Server:
         self.proc.wait()
 
 
-def run(primo, start, std, seed, budget, popsize, sigma0, diagonal):
+def run(primo, space, start, std, seed, budget, popsize, sigma0, diagonal):
     """One CMA-ES run: per roll-out (number, reward, is the mean)."""
-    server = Server(primo, seed)
+    server = Server(primo, seed, space)
     options = {"seed": seed, "verbose": -9, "popsize": popsize,
                "CMA_diagonal": diagonal}
     es = cma.CMAEvolutionStrategy(np.zeros(len(start)), sigma0, options)
@@ -130,9 +130,13 @@ def main():
     ap.add_argument("primo")
     ap.add_argument("--runs", type=int, default=20)
     ap.add_argument("--budget", type=int, default=401)
+    ap.add_argument("--space", choices=["joint", "cartesian"], default="joint",
+                    help="the cell's space; PoWER's rows come from `primo experiment power`, "
+                         "which is joint space only (Cartesian: bench/power_sweep.py)")
     ap.add_argument("--out")
     a = ap.parse_args()
-    start_info = json.loads(subprocess.run([a.primo, "rollout", "--print-start"], check=True,
+    start_info = json.loads(subprocess.run([a.primo, "rollout", "--print-start", "--space",
+                                            a.space], check=True,
                                            capture_output=True, text=True).stdout)
     start, std = np.array(start_info["start"]), np.array(start_info["std"])
     n = len(start)
@@ -149,11 +153,13 @@ def main():
              f"{start_info['bottle']} l bottle, {start_info['target']} l target, {n} parameters; "
              f"budget {a.budget} roll-outs; {a.runs} seeds; medians with bootstrap 90 % intervals "
              f"(a run that never reached a level counts as the budget).", "", header]
-    for name, runs in power_runs(a.primo, a.runs, a.budget).items():
-        lines.append(row(f"primo PoWER, {name}", runs, a.budget))
+    if a.space == "joint":
+        for name, runs in power_runs(a.primo, a.runs, a.budget).items():
+            lines.append(row(f"primo PoWER, {name}", runs, a.budget))
     with ThreadPoolExecutor(max_workers=os.cpu_count() or 2) as pool:
         for name, pop, sigma0, diagonal in settings:
-            logs = pool.map(lambda s: run(a.primo, start, std, s, a.budget, pop, sigma0, diagonal),
+            logs = pool.map(lambda s: run(a.primo, a.space, start, std, s, a.budget, pop, sigma0,
+                                          diagonal),
                             range(1, a.runs + 1))
             lines.append(row(name, [summarize(l, a.budget) for l in logs], a.budget))
             print(lines[-1], file=sys.stderr, flush=True)

@@ -525,6 +525,31 @@ fn the_secant_learner_runs_on_the_emulated_mcu() {
     );
 }
 
+#[test]
+fn power_with_an_error_learned_query_runs_on_the_emulated_mcu() {
+    let file = task("copro-el", "throw-power-el.toml", |t| {
+        t.replace("max_rollouts = 40", "max_rollouts = 9")
+    });
+    let (mcu, host) = (tmp("out-copro-el-mcu"), tmp("out-copro-el-host"));
+    let (code, on_mcu, err) = learn(&file, &mcu, &["--coprocessor", "qemu"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(on_mcu.contains("learner: firmware"), "{on_mcu}");
+    let (code, _, err) = learn(&file, &host, &[]);
+    assert_eq!(code, 0, "{err}");
+    // Every roll-out's query (error-learned) and Δθ, bit for bit.
+    let csv = std::fs::read_to_string(host.join("rollouts.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 10, "{csv}");
+    assert_eq!(
+        std::fs::read_to_string(mcu.join("rollouts.csv")).unwrap(),
+        csv
+    );
+    let log = |d: &Path| std::fs::read_to_string(d.join("run.log")).unwrap();
+    assert_eq!(
+        log(&mcu).lines().skip(1).collect::<Vec<_>>(),
+        log(&host).lines().skip(1).collect::<Vec<_>>()
+    );
+}
+
 /// A task whose tool turns about z to a yaw on either side of 180°:
 /// columns `x, qw, qx, qy, qz` (the quaternion's sign flipped on every
 /// third row, as some recorders write it), the query the final yaw in

@@ -61,7 +61,9 @@ fn golden_section_never_overflows_the_glass() {
     ]);
     assert_eq!(code, 2);
     assert!(
-        err.contains("--glass-holds 0.1: must be a volume in litres above the target's 0.2"),
+        err.contains(
+            "--target 0.2 with --glass-holds 0.100: the glass holds no more than the target"
+        ),
         "{err}"
     );
 }

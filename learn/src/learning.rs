@@ -225,27 +225,10 @@ impl Settings {
     /// flag and what it must be.
     pub fn validate(&self) -> Result<(), Error> {
         let bad = |m: String| Err(Error::Invalid(m));
-        if let Some(holds) = self.glass_holds
-            && !(holds.is_finite() && holds > self.target)
-        {
-            return bad(format!(
-                "--glass-holds {holds}: must be a volume in litres above the target's {}",
-                self.target
-            ));
-        }
         let [low, high] = self.search;
         if !(low.is_finite() && high.is_finite() && 0.0 < low && low < high) {
             return bad(format!(
                 "--search {low},{high}: must be two volumes in litres, 0 < low < high"
-            ));
-        }
-        let [low, high] = self.search_bounds();
-        if low >= high && !self.method.is_power() {
-            return bad(format!(
-                "--search {},{high} with --glass-holds {}: a query below {low} l would \
-                 overflow the glass, which leaves nothing to search",
-                self.search[0],
-                self.glass_holds.unwrap_or(f64::NAN),
             ));
         }
         if !(self.bottle.is_finite() && self.bottle > 0.0) {
@@ -264,6 +247,23 @@ impl Settings {
             ));
         }
         check_target(self.bottle, self.target)?;
+        if let Some(holds) = self.glass_holds {
+            if !(holds.is_finite() && holds > 0.0) {
+                return bad(format!(
+                    "--glass-holds {holds}: must be a positive volume in litres"
+                ));
+            }
+            if holds <= self.target {
+                return bad(format!(
+                    "--target {} with --glass-holds {holds:.3}: the glass holds no more than \
+                     the target",
+                    self.target
+                ));
+            }
+        }
+        // The glass raises the search's low end to bottle + target − holds,
+        // below the bottle (the glass holds more than the target): the
+        // bottle, where error learning starts, stays inside.
         if !(self.precision.is_finite() && self.precision > 0.0) {
             return bad(format!(
                 "--precision {}: must be a positive volume in litres",
