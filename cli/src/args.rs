@@ -6,7 +6,7 @@ use clap::ValueEnum;
 /// `--space`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum Space {
-    /// Bottle pose: mouth position (m) and rotation vector (rad).
+    /// Bottle pose: mouth position (m) and orientation (unit quaternion).
     Cartesian,
     /// The arm's seven joint angles (rad).
     Joint,

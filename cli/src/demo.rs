@@ -14,7 +14,9 @@ use crate::output::{check_out_file, emit};
 #[derive(Debug, clap::Subcommand)]
 pub enum DemoCommand {
     /// A scripted, slightly imperfect expert pours on the simulated cell;
-    /// the movement is written as CSV (`t,x,y,z,rx,ry,rz` or `t,a1..a7`).
+    /// the movement is written as CSV (`t,x,y,z,qw,qx,qy,qz`: the mouth and
+    /// the bottle's orientation, a sign-continuous unit quaternion; or
+    /// `t,a1..a7`).
     Synth {
         /// Record the bottle pose or the joint angles.
         #[arg(long, value_enum, default_value_t = Space::Cartesian)]

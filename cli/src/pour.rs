@@ -29,8 +29,10 @@ pub struct SkillArgs {
     /// for `primo rollout`, as `primo experiment power`].
     #[arg(long, value_enum)]
     pub glass: Option<Glass>,
-    /// Demonstrations `FILE=VOLUME` (repeat; CSV in the space's columns).
-    /// Default: the built-in pair from 0.3 l and 1.0 l bottles.
+    /// Demonstrations `FILE=VOLUME` (repeat; CSV in the space's columns:
+    /// t,x,y,z,qw,qx,qy,qz or t,a1..a7; the earlier t,x,y,z,rx,ry,rz are
+    /// converted, saying so). Default: the built-in pair from 0.3 l and
+    /// 1.0 l bottles.
     #[arg(long = "demo", value_name = "FILE=VOLUME")]
     pub demos: Vec<String>,
 }
@@ -363,6 +365,10 @@ fn show(event: Event, progress: &mut Progress) -> Result<(), Error> {
                 s.bottle,
                 s.target,
             )
+        }
+        Event::Converted(c) => {
+            eprintln!("primo pour: {c}");
+            return Ok(());
         }
         Event::Cell { spec, scale_serial } => format!(
             "cell: robot {}, scale {} (serial {scale_serial}){}",

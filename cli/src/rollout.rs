@@ -5,7 +5,7 @@ use std::io::{BufRead, Write};
 use std::path::PathBuf;
 
 use primo_learn::learning::check_target;
-use primo_learn::objective::{LAYOUT, Objective, Start};
+use primo_learn::objective::{Objective, Start, layout};
 use primo_learn::trial::Trial;
 
 use crate::args::{Glass, Space};
@@ -17,8 +17,11 @@ use crate::pour::SkillArgs;
 #[derive(Debug, clap::Args)]
 pub struct RolloutArgs {
     /// JSON array `[weights (dof×kernels, row by row), goals (dof), τ,
-    /// q̂]`: θ is absolute; the movement executed is θ + G(q̂) − G(bottle).
-    /// `--print-start`'s output is accepted too (its `start`).
+    /// q̂]` (in Cartesian space the DoFs are x, y, z and the orientation's
+    /// three log coordinates, its goal a rotation vector from the
+    /// demonstrated goals' mean): θ is absolute; the movement executed is
+    /// θ + G(q̂) − G(bottle). `--print-start`'s output is accepted too (its
+    /// `start`).
     #[arg(long, conflicts_with_all = ["serve", "print_start"])]
     params: Option<PathBuf>,
     /// Answer every line on stdin with one JSON line: a roll-out for a
@@ -98,6 +101,9 @@ pub fn run(args: &RolloutArgs) -> Result<(), CliError> {
     }
     let spec = args.skill.spec(Space::Joint, Glass::Small)?;
     let objective = Objective::new(&spec, args.bottle, args.target)?;
+    for c in objective.converted() {
+        eprintln!("primo rollout: {c}");
+    }
     if args.print_start {
         return print_start(&objective, spec.glass);
     }
@@ -128,7 +134,7 @@ fn print_start(o: &Objective, glass: primo_sim::cell::GlassKind) -> Result<(), C
     let out = serde_json::json!({
         "glass": glass,
         "target": o.target(),
-        "layout": LAYOUT,
+        "layout": layout(o.space()),
         "space": o.space(),
         "dof": o.skill().dof(),
         "kernels": o.skill().kernels(),

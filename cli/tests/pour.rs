@@ -171,7 +171,7 @@ fn rollout_prints_the_start_and_serves_json_lines() {
 fn demo_synth_writes_a_demonstration_csv() {
     let file = tmp("demo.csv");
     for (space, header) in [
-        ("cartesian", "t,x,y,z,rx,ry,rz"),
+        ("cartesian", "t,x,y,z,qw,qx,qy,qz"),
         ("joint", "t,a1,a2,a3,a4,a5,a6,a7"),
     ] {
         let (code, _, err) = primo(&[
@@ -224,6 +224,53 @@ fn demo_synth_writes_a_demonstration_csv() {
     ]);
     assert_eq!(code, 0, "{err}");
     assert!(out.contains("converged"), "{out}");
+    // The same demonstration in the earlier columns x,y,z,rx,ry,rz, its
+    // rotation vector wrapped by 2π from row 300 on (the same rotations),
+    // is converted, saying so, and learns the same.
+    let text = std::fs::read_to_string(&cart).unwrap();
+    let mut old = String::from("t,x,y,z,rx,ry,rz\n");
+    for (i, line) in text.lines().skip(1).enumerate() {
+        let v: Vec<f64> = line.split(',').map(|x| x.parse().unwrap()).collect();
+        let n = (v[5] * v[5] + v[6] * v[6] + v[7] * v[7]).sqrt();
+        let angle = 2.0 * n.atan2(v[4]);
+        let angle = if i + 1 >= 300 {
+            angle - std::f64::consts::TAU
+        } else {
+            angle
+        };
+        let r: Vec<String> = (5..8).map(|k| (angle * v[k] / n).to_string()).collect();
+        old += &format!("{},{},{},{},{}\n", v[0], v[1], v[2], v[3], r.join(","));
+    }
+    let old_file = tmp("demo3-rotation-vector.csv");
+    std::fs::write(&old_file, old).unwrap();
+    let (code, out_old, err) = primo(&[
+        "pour",
+        "--demo",
+        &format!("{}=0.3", other.display()),
+        "--demo",
+        &format!("{}=1.0", old_file.display()),
+        "--out",
+        tmp("own-old").to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains(&format!(
+            "{}: columns x,y,z,rx,ry,rz (a rotation vector) read as x,y,z,qw,qx,qy,qz (its \
+             quaternion, sign-continuous); the 2π jump at row 300 unwrapped",
+            old_file.display()
+        )),
+        "{err}"
+    );
+    let verdict = |out: &str| {
+        out.lines()
+            .last()
+            .unwrap()
+            .split(';')
+            .next()
+            .unwrap()
+            .to_string()
+    };
+    assert_eq!(verdict(&out_old), verdict(&out), "{out_old}");
     // A demo that is not there, or not a CSV, is an input error.
     let (code, _, err) = primo(&["pour", "--demo", "/nonexistent.csv=0.3"]);
     assert_eq!(code, 2, "{err}");
@@ -441,7 +488,7 @@ fn pour_writes_the_best_rollouts_time_series() {
     let text = std::fs::read_to_string(dir.join("series.csv")).unwrap();
     check_series(
         &text,
-        "x,y,z,rx,ry,rz",
+        "x,y,z,qw,qx,qy,qz",
         0.5,
         best["poured"].as_f64().unwrap(),
     );

@@ -487,6 +487,7 @@ pub fn power_skill(glass: GlassKind, kernels: usize) -> Result<(CellConfig, Skil
         demos: Vec::new(),
     }
     .build()
+    .map(|b| (b.cell, b.skill))
 }
 
 /// One seeded run of the power experiment (Figs. 5 and 6): `variant`

@@ -11,12 +11,25 @@ use primo_skill::{Skill, Space};
 
 use crate::Error;
 use crate::learning::{QUERY_DECAY, check_target, power_blocks};
-use crate::pour::SkillSpec;
+use crate::pour::{Built, SkillSpec};
+use crate::pouring::Converted;
 use crate::rig::{Rig, Simulated};
 use crate::trial::Trial;
 
-/// What the vector holds, in order.
-pub const LAYOUT: &str = "weights (dof x kernels, row by row), goals (dof), tau (s), query (l)";
+/// What the vector holds, in order, in `space`: in Cartesian space the
+/// DoFs are x, y, z and the orientation's three log coordinates (a
+/// `qw,qx,qy,qz` group is one orientation DMP), and the orientation's goal
+/// is its rotation vector from the demonstrated goals' mean.
+pub fn layout(space: Space) -> &'static str {
+    match space {
+        Space::Joint => "weights (dof x kernels, row by row), goals (dof), tau (s), query (l)",
+        Space::Cartesian => {
+            "weights (dof x kernels, row by row; dof: x, y, z, then the orientation's 3 log \
+             coordinates), goals (x, y, z in m; the orientation's goal as a rotation vector \
+             from the demonstrated goals' mean, rad), tau (s), query (l)"
+        }
+    }
+}
 
 /// PoWER's exploration scales behind [`Objective::start`]'s std: the
 /// paper's s1 (query) and s2 (Δθ).
@@ -32,6 +45,7 @@ pub struct Objective {
     base: Vec<f32>,
     bottle: f64,
     target: f64,
+    converted: Vec<Converted>,
 }
 
 /// Where an optimizer starts: the generalized movement for the bottle and
@@ -49,7 +63,11 @@ impl Objective {
     /// holding `bottle`.
     pub fn new(spec: &SkillSpec, bottle: f64, target: f64) -> Result<Objective, Error> {
         check_target(bottle, target)?;
-        let (cell, skill) = spec.build()?;
+        let Built {
+            cell,
+            skill,
+            converted,
+        } = spec.build()?;
         // The rig's own seed numbers learning runs' roll-outs; every
         // roll-out here is given its seed.
         let rig = Simulated::new(cell, bottle, 0)?;
@@ -61,7 +79,13 @@ impl Objective {
             base,
             bottle,
             target,
+            converted,
         })
+    }
+
+    /// The demonstration files converted from rotation vectors.
+    pub fn converted(&self) -> &[Converted] {
+        &self.converted
     }
 
     /// The space the movement is in.

@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use primo_sim::cell::{CellConfig, GlassKind};
-use primo_skill::csv::{check_rotation_vectors, parse_demo};
+use primo_skill::csv::parse_demo;
 use primo_skill::{MAX_KERNELS, Skill, Space};
 use serde::{Deserialize, Serialize};
 
@@ -23,15 +23,18 @@ use crate::learning::{
     Entry, Learner, Record, Settings, best, check_examples, examples_crc, learn_logged, pour_setup,
 };
 use crate::output::{check_dir, create_dir};
-use crate::pouring::built_in_skill;
+use crate::pouring::{Converted, built_in_skill, upgrade};
 use crate::report::{PourSummary, RolloutSummary};
 use crate::rig::{Instruments, InstrumentsSpec, Operator, Rig, Simulated, roll_out};
 use crate::runlog::{RunEvent, RunLog};
 use crate::trial::Measured;
 use crate::weigh::ScaleSpec;
 
-/// The log format's version.
-pub const VERSION: u32 = 2;
+/// The log format's version. Version 3: Cartesian movements are the
+/// mouth's position and the bottle's orientation as a quaternion (version
+/// 2's were a rotation vector, a different skill and `Δθ`); a version 2 log
+/// of a joint-space run is the same and still resumes.
+pub const VERSION: u32 = 3;
 
 /// A demonstration file and the query (bottle volume, l) it shows.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -94,25 +97,57 @@ impl SkillSpec {
         Ok(())
     }
 
-    /// The cell and the fitted skill.
-    pub fn build(&self) -> Result<(CellConfig, Skill), Error> {
+    /// The cell and the fitted skill. A Cartesian demonstration in the
+    /// rotation-vector columns of earlier versions is converted
+    /// ([`upgrade`]) and said so in [`Built::converted`].
+    pub fn build(&self) -> Result<Built, Error> {
         self.validate()?;
         let cell = CellConfig::standard(self.glass);
         if self.demos.is_empty() {
             let skill = built_in_skill(&cell, self.space, self.kernels)?;
-            return Ok((cell, skill));
+            return Ok(Built {
+                cell,
+                skill,
+                converted: Vec::new(),
+            });
         }
         let mut demos = Vec::new();
+        let mut converted = Vec::new();
         for d in &self.demos {
             let text = std::fs::read_to_string(&d.file)
                 .map_err(|e| Error::Invalid(format!("{}: cannot read: {e}", d.file.display())))?;
             let name = d.file.display().to_string();
-            let demo = parse_demo(&name, &text)?;
-            check_rotation_vectors(&name, &demo)?;
+            let mut demo = parse_demo(&name, &text)?;
+            if self.space == Space::Cartesian
+                && let Some((quaternions, wraps)) = upgrade(&demo)
+            {
+                demo = quaternions;
+                converted.push(Converted {
+                    file: d.file.clone(),
+                    wraps,
+                });
+            }
             demos.push((name, d.volume, demo));
         }
-        Ok((cell, crate::pouring::fit(self.space, &demos, self.kernels)?))
+        let skill = crate::pouring::fit(self.space, &demos, self.kernels)?;
+        Ok(Built {
+            cell,
+            skill,
+            converted,
+        })
     }
+}
+
+/// A skill built: the cell, the fitted skill, and the demonstrations
+/// converted from rotation vectors.
+#[derive(Debug, Clone)]
+pub struct Built {
+    /// The cell.
+    pub cell: CellConfig,
+    /// The skill.
+    pub skill: Skill,
+    /// The demonstration files read in the earlier Cartesian columns.
+    pub converted: Vec<Converted>,
 }
 
 /// Where the roll-outs happen.
@@ -238,6 +273,9 @@ pub enum Event<'a> {
         /// Parameters learned.
         parameters: usize,
     },
+    /// A demonstration file in the earlier Cartesian columns was
+    /// converted to the quaternion columns.
+    Converted(&'a Converted),
     /// The real cell's instruments are open.
     Cell {
         /// Where they are.
@@ -321,7 +359,7 @@ pub fn pour(
             skill,
             cell,
         } => {
-            let (_, fitted) = skill.build()?;
+            let fitted = skill.build()?.skill;
             let header = Header {
                 version: VERSION,
                 settings,
@@ -336,7 +374,10 @@ pub fn pour(
         Start::Resume { dir, instruments } => {
             let opened = RunLog::resume::<Header, Entry>(
                 &dir,
-                |h| h.version,
+                |h| match (h.version, h.skill.space) {
+                    (2, Space::Joint) => VERSION,
+                    (v, _) => v,
+                },
                 VERSION,
                 |e| event(Event::Run(e)),
             )?;
@@ -364,7 +405,14 @@ pub fn pour(
         on_primo_scale(&header.cell).map_err(fail)?;
     }
     let s = header.settings;
-    let (cell, skill) = header.skill.build().map_err(fail)?;
+    let Built {
+        cell,
+        skill,
+        converted,
+    } = header.skill.build().map_err(fail)?;
+    for c in &converted {
+        event(Event::Converted(c)).map_err(fail)?;
+    }
     check_examples(&skill, header.examples, &dir).map_err(fail)?;
     let space = header.skill.space;
     event(Event::Learning {
@@ -562,4 +610,70 @@ pub(crate) fn open_learner(
             )
         }
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::learning::Algorithm;
+
+    struct Nobody;
+
+    impl Operator for Nobody {
+        fn reset(&mut self, _: u32, _: f64) -> Result<(), Error> {
+            Ok(())
+        }
+
+        fn warn(&mut self, _: u32, _: &str) {}
+    }
+
+    /// A version 2 log of a Cartesian run (rotation-vector movements) is
+    /// refused by its version; one of a joint-space run is the same in
+    /// version 3 and resumes.
+    #[test]
+    fn a_version_2_log_resumes_in_joint_space_only() {
+        for space in [Space::Cartesian, Space::Joint] {
+            let dir = std::env::temp_dir()
+                .join(format!("primo-pour-v2-{space:?}-{}", std::process::id()));
+            let _ = std::fs::remove_dir_all(&dir);
+            std::fs::create_dir_all(&dir).unwrap();
+            let mut settings = Settings::paper(Algorithm::Golden, 0.5, 0.2, 1);
+            settings.max_rollouts = 1;
+            let skill = SkillSpec {
+                space,
+                glass: GlassKind::Normal,
+                kernels: 10,
+                demos: Vec::new(),
+            };
+            let header = Header {
+                version: 2,
+                settings,
+                examples: examples_crc(&skill.build().unwrap().skill),
+                skill,
+                cell: CellSpec::Simulated,
+            };
+            RunLog::create(&dir, &header, false).unwrap();
+            let resume = Start::Resume {
+                dir: dir.clone(),
+                instruments: None,
+            };
+            let run = pour(
+                resume,
+                &LearnerSpec::default(),
+                Box::new(Nobody),
+                |_| Ok(()),
+            );
+            match space {
+                Space::Cartesian => {
+                    let e = run.unwrap_err().to_string();
+                    assert!(
+                        e.contains("run.log: run log version 2, this primo reads version 3"),
+                        "{e}"
+                    );
+                }
+                Space::Joint => assert!(run.is_ok(), "{:?}", run.err()),
+            }
+            std::fs::remove_dir_all(&dir).unwrap();
+        }
+    }
 }

@@ -5,11 +5,61 @@ use primo_core::generalize::Method as Regression;
 use primo_robot::{CartesianLimits, Gate};
 use primo_sim::cell::CellConfig;
 use primo_sim::expert::{BUILT_IN, Recording, rest_configuration, synthesize};
-use primo_skill::csv::Demo;
+use primo_skill::csv::{Demo, rotation_vectors_as_quaternions};
 use primo_skill::skill::same_columns;
 use primo_skill::{Skill, Space};
 
 use crate::Error;
+
+/// The Cartesian columns before the orientation was a quaternion: the
+/// mouth's position and the bottle's rotation vector.
+pub const ROTATION_VECTOR_NAMES: [&str; 6] = ["x", "y", "z", "rx", "ry", "rz"];
+
+/// A Cartesian demonstration in [`ROTATION_VECTOR_NAMES`] as one in the
+/// quaternion columns ([`rotation_vectors_as_quaternions`]: every row's
+/// rotation exactly, the 2π wraps undone), and the rows where the vector
+/// wrapped; `None` for any other columns.
+pub fn upgrade(demo: &Demo) -> Option<(Demo, Vec<usize>)> {
+    ROTATION_VECTOR_NAMES
+        .iter()
+        .eq(&demo.names)
+        .then(|| rotation_vectors_as_quaternions(demo))
+        .flatten()
+}
+
+/// A demonstration file read in [`ROTATION_VECTOR_NAMES`] and converted.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Converted {
+    /// The file.
+    pub file: std::path::PathBuf,
+    /// The data rows (from 1) where its rotation vector wrapped by 2π.
+    pub wraps: Vec<usize>,
+}
+
+impl std::fmt::Display for Converted {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{}: columns {} (a rotation vector) read as {} (its quaternion, sign-continuous)",
+            self.file.display(),
+            ROTATION_VECTOR_NAMES.join(","),
+            Space::Cartesian.names().join(",")
+        )?;
+        match self.wraps.as_slice() {
+            [] => Ok(()),
+            [row] => write!(f, "; the 2π jump at row {row} unwrapped"),
+            rows => write!(
+                f,
+                "; {} 2π jumps unwrapped (rows {})",
+                rows.len(),
+                rows.iter()
+                    .map(|r| r.to_string())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+        }
+    }
+}
 
 /// The pouring cell's gate, the same for the simulated and the real cell:
 /// the cell's arm holding the bottle (its grasp), the mouth as the

@@ -173,7 +173,8 @@ impl RunLog {
         let found = version(&opened.header);
         if found != expected {
             return Err(Error::Log(format!(
-                "{}: run log version {found}, this primo reads version {expected}",
+                "{}: run log version {found}, this primo reads version {expected}: the run \
+                 cannot continue here; start a new one (the log and its reports stay as they are)",
                 dir.join(FILE).display()
             )));
         }

@@ -14,7 +14,7 @@
 //! let trial = roll_out(&mut rig, &skill, 0.2, 1, &[0.5], &[])?;
 //! let series = trial.series.expect("the cell recorded");
 //! let csv = series.to_csv();
-//! assert!(csv.starts_with("t,x,y,z,rx,ry,rz,tilt_rad,"));
+//! assert!(csv.starts_with("t,x,y,z,qw,qx,qy,qz,tilt_rad,"));
 //! assert_eq!(csv.lines().count(), series.samples.len() + 1);
 //! # Ok::<(), primo_learn::Error>(())
 //! ```
@@ -148,7 +148,7 @@ mod tests {
         // The mouth the cell recorded is where the commanded joints put it.
         for (s, q) in series.samples.iter().zip(series.commands.chunks_exact(7)) {
             let pose = arm.forward(&std::array::from_fn(|j| q[j]));
-            let (mouth, _) = cell.mouth_and_rotation(&pose);
+            let (mouth, _) = cell.mouth_and_orientation(&pose);
             assert_eq!(mouth, s.mouth, "t {}", s.t);
         }
         let dt = series.samples[1].t - series.samples[0].t;

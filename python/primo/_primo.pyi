@@ -263,7 +263,9 @@ class Cell:
     @property
     def seed(self) -> int: ...
     @property
-    def names(self) -> list[str]: ...
+    def names(self) -> list[str]:
+        """The commanded columns: ``a1..a7``, or in Cartesian space the
+        mouth and the bottle's orientation, ``x, y, z, qw, qx, qy, qz``."""
     def start(self) -> dict[str, Any]:
         """``primo rollout --print-start``: layout, space, glass, bottle,
         target, dof, kernels, start and std."""

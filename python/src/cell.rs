@@ -8,7 +8,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 
 use primo_learn::experiment::parallel;
-use primo_learn::objective::{LAYOUT, Objective};
+use primo_learn::objective::{Objective, layout};
 use primo_learn::pour::{DemoFile, SkillSpec};
 use primo_learn::series::{MEASURED, Series, measured};
 use primo_learn::trial::Trial;
@@ -209,7 +209,7 @@ impl Cell {
     fn start<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let s = self.objective.start().map_err(learn)?;
         let dict = PyDict::new(py);
-        dict.set_item("layout", LAYOUT)?;
+        dict.set_item("layout", layout(self.objective.space()))?;
         dict.set_item("space", &self.space)?;
         dict.set_item("glass", &self.glass)?;
         dict.set_item("bottle", self.objective.bottle())?;

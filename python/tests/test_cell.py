@@ -29,6 +29,20 @@ def test_start_is_print_start(cell, run_primo):
     assert len(cell) == cell.size == 7 * 10 + 7 + 1 + 1
 
 
+def test_the_cartesian_cell_moves_the_mouth_and_a_quaternion(run_primo):
+    cart = primo.Cell(**{**SETTINGS, "space": "cartesian"})
+    assert cart.names == ["x", "y", "z", "qw", "qx", "qy", "qz"]
+    cli = json.loads(run_primo("rollout", "--print-start", "--space", "cartesian", *FLAGS))
+    ours = cart.start()
+    # One orientation DMP: 6 DoFs, its goal a rotation vector.
+    assert ours["dof"] == cli["dof"] == 6 and len(cart) == 6 * 10 + 6 + 1 + 1
+    assert ours["layout"] == cli["layout"] and "log coordinates" in ours["layout"]
+    np.testing.assert_array_equal(ours["start"], np.array(cli["start"], dtype=np.float32))
+    series = cart.rollout(ours["start"], series=True)["series"]
+    q = np.column_stack([series[n] for n in ["qw", "qx", "qy", "qz"]])
+    np.testing.assert_allclose(np.linalg.norm(q, axis=1), 1.0, atol=1e-6)
+
+
 def test_rollout_is_the_command_lines(cell, run_primo, tmp_path):
     start = cell.start()
     rng = np.random.default_rng(1)

@@ -116,6 +116,93 @@ impl Pose {
         }
     }
 
+    /// The rotation of the quaternion `q = [w, x, y, z]`, normalized first
+    /// (it must not be zero; `q` and `−q` are the same rotation), placed at
+    /// `position`.
+    pub fn from_quaternion(position: [f64; 3], q: [f64; 4]) -> Pose {
+        let n = q.iter().map(|v| v * v).sum::<f64>().sqrt();
+        let [w, x, y, z] = q.map(|v| v / n);
+        let rotation = [
+            [
+                1.0 - 2.0 * (y * y + z * z),
+                2.0 * (x * y - w * z),
+                2.0 * (x * z + w * y),
+            ],
+            [
+                2.0 * (x * y + w * z),
+                1.0 - 2.0 * (x * x + z * z),
+                2.0 * (y * z - w * x),
+            ],
+            [
+                2.0 * (x * z - w * y),
+                2.0 * (y * z + w * x),
+                1.0 - 2.0 * (x * x + y * y),
+            ],
+        ];
+        Pose { rotation, position }
+    }
+
+    /// The rotation as a unit quaternion `[w, x, y, z]`, `w ≥ 0`: inverse
+    /// of [`Pose::from_quaternion`] up to the sign.
+    pub fn quaternion(&self) -> [f64; 4] {
+        let r = &self.rotation;
+        let trace = r[0][0] + r[1][1] + r[2][2];
+        // Shepperd: divide by the largest of 4w², 4x², 4y², 4z², never by a
+        // small one.
+        let q = if trace > r[0][0].max(r[1][1]).max(r[2][2]) {
+            let s = 2.0 * (1.0 + trace).sqrt();
+            [
+                0.25 * s,
+                (r[2][1] - r[1][2]) / s,
+                (r[0][2] - r[2][0]) / s,
+                (r[1][0] - r[0][1]) / s,
+            ]
+        } else if r[0][0] >= r[1][1] && r[0][0] >= r[2][2] {
+            let s = 2.0 * (1.0 + r[0][0] - r[1][1] - r[2][2]).sqrt();
+            [
+                (r[2][1] - r[1][2]) / s,
+                0.25 * s,
+                (r[0][1] + r[1][0]) / s,
+                (r[0][2] + r[2][0]) / s,
+            ]
+        } else if r[1][1] >= r[2][2] {
+            let s = 2.0 * (1.0 + r[1][1] - r[0][0] - r[2][2]).sqrt();
+            [
+                (r[0][2] - r[2][0]) / s,
+                (r[0][1] + r[1][0]) / s,
+                0.25 * s,
+                (r[1][2] + r[2][1]) / s,
+            ]
+        } else {
+            let s = 2.0 * (1.0 + r[2][2] - r[0][0] - r[1][1]).sqrt();
+            [
+                (r[1][0] - r[0][1]) / s,
+                (r[0][2] + r[2][0]) / s,
+                (r[1][2] + r[2][1]) / s,
+                0.25 * s,
+            ]
+        };
+        let n = q.iter().map(|v| v * v).sum::<f64>().sqrt();
+        let sign = if q[0] < 0.0 { -1.0 } else { 1.0 };
+        q.map(|v| sign * v / n)
+    }
+
+    /// The frame turned by the quaternion `q` whose z axis reaches `point`
+    /// at `reach`: a tool whose controlled point (a bottle's mouth) lies
+    /// `reach` along its z axis. Inverse of [`Pose::point_along_z`].
+    pub fn tool_at(point: [f64; 3], q: [f64; 4], reach: f64) -> Pose {
+        let mut pose = Pose::from_quaternion([0.0; 3], q);
+        let axis = pose.z_axis();
+        pose.position = std::array::from_fn(|i| point[i] - reach * axis[i]);
+        pose
+    }
+
+    /// The point `reach` along the frame's z axis.
+    pub fn point_along_z(&self, reach: f64) -> [f64; 3] {
+        let axis = self.z_axis();
+        std::array::from_fn(|i| self.position[i] + reach * axis[i])
+    }
+
     /// The inverse transform: `self.then(&self.inverse())` is the identity.
     pub fn inverse(&self) -> Pose {
         let rotation: [[f64; 3]; 3] =
@@ -658,6 +745,46 @@ mod tests {
         // Tiny angles keep full relative precision.
         let back = Pose::from_rotation_vector([0.0; 3], [3e-10, -4e-10, 0.0]).rotation_vector();
         assert!((back[0] - 3e-10).abs() < 1e-24 && (back[1] + 4e-10).abs() < 1e-24);
+    }
+
+    #[test]
+    fn quaternions_round_trip_on_every_branch() {
+        use std::f64::consts::PI;
+        // Angles near 0 and π about each axis and a skew one exercise all
+        // four of Shepperd's branches.
+        let axes = [
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, 1.0],
+            [0.48, 0.6, -0.64],
+        ];
+        for axis in axes {
+            for angle in [0.0, 1e-9, 0.3, 2.0, PI - 1e-6, PI] {
+                let pose = Pose::from_rotation_vector([0.0; 3], axis.map(|x| x * angle));
+                let q = pose.quaternion();
+                let (half, s) = (0.5 * angle, (0.5 * angle).sin());
+                let expect = [half.cos(), s * axis[0], s * axis[1], s * axis[2]];
+                let sign = if q.iter().zip(expect).map(|(a, b)| a * b).sum::<f64>() < 0.0 {
+                    -1.0
+                } else {
+                    1.0
+                };
+                assert!(q[0] >= 0.0, "{q:?}");
+                for (a, b) in q.iter().zip(expect) {
+                    assert!(
+                        (sign * a - b).abs() < 1e-12,
+                        "{angle} about {axis:?}: {q:?}"
+                    );
+                }
+                // −q is the same rotation; the norm does not matter.
+                let back = Pose::from_quaternion([0.1, 0.2, 0.3], q.map(|v| -2.0 * v));
+                assert!(distance(&back, &pose).1 < 1e-12);
+                assert_eq!(back.position, [0.1, 0.2, 0.3]);
+            }
+        }
+        let tool = Pose::tool_at([0.5, -0.1, 0.3], [0.8, 0.1, -0.5, 0.3], 0.21);
+        let point = tool.point_along_z(0.21);
+        assert!(close(point, [0.5, -0.1, 0.3]), "{point:?}");
     }
 
     #[test]

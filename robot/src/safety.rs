@@ -8,8 +8,10 @@
 //!   limits, every step within its joint velocity limits
 //!   ([`Robot::check_limits`]).
 //! - Cartesian trajectories (tool poses: the controlled point's position
-//!   and the tool's rotation vector): the point stays in the workspace box
-//!   and moves and turns no faster than the [`CartesianLimits`]; then
+//!   and the tool's orientation as a unit quaternion): the point stays in
+//!   the workspace box and moves no faster than the [`CartesianLimits`],
+//!   the tool turns (its angular speed, from consecutive quaternions) no
+//!   faster than they allow; then
 //!   every pose is converted to joint angles by the inverse kinematics,
 //!   sample by sample from a rest posture, and the joint angles pass the
 //!   joint checks. A pose the inverse kinematics cannot reach is a
@@ -34,7 +36,7 @@ use crate::{Arm, IkError, JOINTS, Pose, Robot, Violation};
 pub const WORKSPACE: [[f64; 2]; 3] = [[0.3, 1.1], [-0.5, 0.7], [0.3, 1.1]];
 /// Fastest the mouth may move, m/s.
 pub const MAX_MOUTH_SPEED: f64 = 1.0;
-/// Fastest the bottle's rotation vector may change, rad/s.
+/// Fastest the bottle may turn (its angular speed), rad/s.
 pub const MAX_TURN_RATE: f64 = 3.0;
 
 /// Why a trajectory may not move a robot.
@@ -92,6 +94,14 @@ pub enum Rejection {
         /// The limit, m/s.
         limit: f64,
     },
+    /// An orientation that is not a unit quaternion.
+    #[error("sample {sample}: the orientation quaternion's norm is {norm:.4}, not 1")]
+    NotUnit {
+        /// Sample index.
+        sample: usize,
+        /// Its norm.
+        norm: f64,
+    },
     /// Turning too fast.
     #[error("sample {sample}: turning at {rate:.2} rad/s beyond {limit} rad/s")]
     Turn {
@@ -107,8 +117,8 @@ pub enum Rejection {
     Unreachable {
         /// Sample index.
         sample: usize,
-        /// The pose `[x, y, z, rx, ry, rz]`.
-        pose: [f64; 6],
+        /// The pose `[x, y, z, qw, qx, qy, qz]`.
+        pose: [f64; 7],
         /// How close the inverse kinematics came.
         ik: IkError,
     },
@@ -227,7 +237,7 @@ pub struct CartesianLimits {
     pub workspace: [[f64; 2]; 3],
     /// Fastest it moves, m/s.
     pub max_speed: f64,
-    /// Fastest the rotation vector changes, rad/s.
+    /// Fastest the tool turns, rad/s.
     pub max_turn_rate: f64,
 }
 
@@ -260,21 +270,16 @@ pub struct Gate {
 
 impl Gate {
     /// The tool frame's pose for a controlled point at `point` and a tool
-    /// rotation vector `rotation` (a Cartesian trajectory's coordinates).
-    pub fn tool_pose(&self, point: [f64; 3], rotation: [f64; 3]) -> Pose {
-        let mut pose = Pose::from_rotation_vector([0.0; 3], rotation);
-        let axis = pose.z_axis();
-        pose.position = std::array::from_fn(|i| point[i] - self.reach * axis[i]);
-        pose
+    /// orientation `q = [w, x, y, z]` (a Cartesian trajectory's
+    /// coordinates).
+    pub fn tool_pose(&self, point: [f64; 3], q: [f64; 4]) -> Pose {
+        Pose::tool_at(point, q, self.reach)
     }
 
-    /// The controlled point and the tool's rotation vector of a tool pose.
-    pub fn point_and_rotation(&self, pose: &Pose) -> ([f64; 3], [f64; 3]) {
-        let axis = pose.z_axis();
-        (
-            std::array::from_fn(|i| pose.position[i] + self.reach * axis[i]),
-            pose.rotation_vector(),
-        )
+    /// The controlled point and the tool's orientation (`w ≥ 0`) of a tool
+    /// pose.
+    pub fn point_and_orientation(&self, pose: &Pose) -> ([f64; 3], [f64; 4]) {
+        (pose.point_along_z(self.reach), pose.quaternion())
     }
 
     /// [`check_joints`] with this gate's robot.
@@ -286,21 +291,22 @@ impl Gate {
         check_joints(self.arm.robot(), times, positions)
     }
 
-    /// Checks a Cartesian trajectory of poses `[x, y, z, rx, ry, rz]`
-    /// (the controlled point, m; the tool's rotation vector, rad): the
-    /// point's workspace and speed, then the joint angles the inverse
+    /// Checks a Cartesian trajectory of poses `[x, y, z, qw, qx, qy, qz]`
+    /// (the controlled point, m; the tool's orientation, a unit quaternion
+    /// of either sign): the point's workspace and speed, the tool's turn
+    /// rate, then the joint angles the inverse
     /// kinematics gives, tracked sample by sample from the rest posture,
     /// are checked by [`check_joints`]. Returns those joint angles.
     pub fn check_cartesian(
         &self,
         times: &[f64],
-        poses: &[[f64; 6]],
+        poses: &[[f64; 7]],
     ) -> Result<JointPath, Rejection> {
         self.check_point(times, poses)?;
         let mut q = self.rest;
         let mut joints = Vec::with_capacity(poses.len());
         for (sample, p) in poses.iter().enumerate() {
-            let pose = self.tool_pose([p[0], p[1], p[2]], [p[3], p[4], p[5]]);
+            let pose = self.tool_pose([p[0], p[1], p[2]], [p[3], p[4], p[5], p[6]]);
             q = self
                 .arm
                 .inverse(&pose, &q, &self.rest)
@@ -318,16 +324,20 @@ impl Gate {
             })
     }
 
-    /// The point stays in the workspace, moves and turns no faster than
-    /// the limits.
-    fn check_point(&self, times: &[f64], poses: &[[f64; 6]]) -> Result<(), Rejection> {
+    /// The point stays in the workspace and moves no faster than the
+    /// limits; the orientation is a unit quaternion and turns no faster.
+    fn check_point(&self, times: &[f64], poses: &[[f64; 7]]) -> Result<(), Rejection> {
         const AXES: [&str; 3] = ["x", "y", "z"];
         let limits = &self.limits;
         aligned(times.len(), poses.len())?;
-        let mut last: Option<(f64, &[f64; 6])> = None;
+        let mut last: Option<(f64, &[f64; 7])> = None;
         for (sample, (&t, row)) in times.iter().zip(poses).enumerate() {
             if !t.is_finite() || row.iter().any(|v| !v.is_finite()) {
                 return Err(Rejection::NonFinite { sample });
+            }
+            let norm = row[3..].iter().map(|v| v * v).sum::<f64>().sqrt();
+            if (norm - 1.0).abs() > UNIT {
+                return Err(Rejection::NotUnit { sample, norm });
             }
             for ((axis, v), [low, high]) in AXES.iter().zip(row).zip(limits.workspace) {
                 if *v < low || *v > high {
@@ -345,14 +355,13 @@ impl Gate {
                 if dt <= 0.0 {
                     return Err(Rejection::TimeOrder { sample, time: t });
                 }
-                let dist = |a: &[f64], b: &[f64]| {
-                    a.iter()
-                        .zip(b)
-                        .map(|(x, y)| (x - y) * (x - y))
-                        .sum::<f64>()
-                        .sqrt()
-                };
-                let speed = dist(&row[..3], &r0[..3]) / dt;
+                let speed = row[..3]
+                    .iter()
+                    .zip(&r0[..3])
+                    .map(|(x, y)| (x - y) * (x - y))
+                    .sum::<f64>()
+                    .sqrt()
+                    / dt;
                 if speed > limits.max_speed {
                     return Err(Rejection::Speed {
                         sample,
@@ -360,7 +369,7 @@ impl Gate {
                         limit: limits.max_speed,
                     });
                 }
-                let rate = dist(&row[3..], &r0[3..]) / dt;
+                let rate = turn(&r0[3..], &row[3..]) / dt;
                 if rate > limits.max_turn_rate {
                     return Err(Rejection::Turn {
                         sample,
@@ -373,6 +382,31 @@ impl Gate {
         }
         Ok(())
     }
+}
+
+/// How far from 1 an orientation's norm may be: a plan's f32 quaternions
+/// are unit to rounding; anything further is not an orientation.
+const UNIT: f64 = 1e-3;
+
+/// The angle of the rotation from orientation `a` to `b` (quaternions
+/// `[w, x, y, z]` of norm about 1, either sign), rad, in [0, π]:
+/// `2·atan2(|v|, |w|)` of `a* ⊗ b`, accurate for small steps too.
+fn turn(a: &[f64], b: &[f64]) -> f64 {
+    let (aw, av) = (a[0], [a[1], a[2], a[3]]);
+    let (bw, bv) = (b[0], [b[1], b[2], b[3]]);
+    let w = aw * bw + av[0] * bv[0] + av[1] * bv[1] + av[2] * bv[2];
+    // The vector part of a* ⊗ b: aw·bv − bw·av − av × bv.
+    let cross = [
+        av[1] * bv[2] - av[2] * bv[1],
+        av[2] * bv[0] - av[0] * bv[2],
+        av[0] * bv[1] - av[1] * bv[0],
+    ];
+    let v: f64 = (0..3)
+        .map(|i| aw * bv[i] - bw * av[i] - cross[i])
+        .map(|x| x * x)
+        .sum::<f64>()
+        .sqrt();
+    2.0 * v.atan2(w.abs())
 }
 
 /// At least one sample, and one time per sample.
@@ -406,13 +440,20 @@ mod tests {
         Robot::lwr4()
     }
 
-    /// A slow straight move of the mouth over the glass, tilting a little.
-    fn poses(from: [f64; 6], to: [f64; 6], n: usize) -> (Vec<f64>, Vec<[f64; 6]>) {
+    /// A pose `[x, y, z, qw, qx, qy, qz]` of a point and a rotation vector.
+    fn pose(p: [f64; 6]) -> [f64; 7] {
+        let q = Pose::from_rotation_vector([0.0; 3], [p[3], p[4], p[5]]).quaternion();
+        [p[0], p[1], p[2], q[0], q[1], q[2], q[3]]
+    }
+
+    /// A slow straight move of the mouth over the glass, turning about a
+    /// fixed axis (the rotation vector interpolated).
+    fn poses(from: [f64; 6], to: [f64; 6], n: usize) -> (Vec<f64>, Vec<[f64; 7]>) {
         let t = (0..n).map(|i| i as f64 * 0.01).collect();
         let p = (0..n)
             .map(|i| {
                 let s = i as f64 / (n - 1) as f64;
-                std::array::from_fn(|k| from[k] + (to[k] - from[k]) * s)
+                pose(std::array::from_fn(|k| from[k] + (to[k] - from[k]) * s))
             })
             .collect();
         (t, p)
@@ -437,8 +478,9 @@ mod tests {
         );
         let path = cfg.check_cartesian(&t, &p).unwrap();
         for (q, pose) in path.positions().iter().zip(&p) {
-            let (mouth, _) = cfg.point_and_rotation(&cfg.arm.forward(q));
+            let (mouth, turned) = cfg.point_and_orientation(&cfg.arm.forward(q));
             assert!((0..3).all(|k| (mouth[k] - pose[k]).abs() < 1e-6));
+            assert!(turn(&turned, &pose[3..]) < 1e-6);
         }
     }
 
@@ -476,8 +518,8 @@ mod tests {
         let err = cfg.check_cartesian(&slow, &p).unwrap_err().to_string();
         assert!(
             err.starts_with(
-                "sample 247: bottle pose [0.700, 0.100, 0.400, 0.000, 0.000, 1.919]: \
-                             inverse kinematics did not converge"
+                "sample 247: bottle pose [0.700, 0.100, 0.400, 0.574, 0.000, 0.000, 0.819]: \
+                 inverse kinematics did not converge"
             ),
             "{err}"
         );
@@ -498,11 +540,37 @@ mod tests {
             cfg.check_cartesian(&t, &p).unwrap_err().to_string(),
             "sample 3: mouth speed 5.00 m/s beyond 1 m/s"
         );
-        p[3][2] = 0.35;
-        p[3][3] = 0.1;
+        p[3] = pose([0.65, 0.2, 0.35, 0.1, 0.0, 0.0]);
         assert_eq!(
             cfg.check_cartesian(&t, &p).unwrap_err().to_string(),
             "sample 3: turning at 10.00 rad/s beyond 3 rad/s"
         );
+        p[3] = pose(still);
+        p[3][3] = 1.01;
+        assert_eq!(
+            cfg.check_cartesian(&t, &p).unwrap_err().to_string(),
+            "sample 3: the orientation quaternion's norm is 1.0100, not 1"
+        );
+    }
+
+    #[test]
+    fn the_turn_rate_is_the_angular_speed_through_180_degrees_and_either_sign() {
+        let cfg = gate();
+        // Yaw from 178° to 182°, 1° per 10 ms (1.75 rad/s): the rotation
+        // vector wraps by 2π between 180° and 181°, the quaternion does
+        // not, and a recorder may flip its sign.
+        let t: Vec<f64> = (0..5).map(|i| i as f64 * 0.01).collect();
+        let p: Vec<[f64; 7]> = (0..5)
+            .map(|i| {
+                let half = (178.0 + i as f64).to_radians() / 2.0;
+                let s = if i == 3 { -1.0 } else { 1.0 };
+                [0.65, 0.2, 0.35, s * half.cos(), 0.0, 0.0, s * half.sin()]
+            })
+            .collect();
+        assert_eq!(cfg.check_point(&t, &p), Ok(()));
+        for pair in p.windows(2) {
+            let rate = turn(&pair[0][3..], &pair[1][3..]) / 0.01;
+            assert!((rate - 1f64.to_radians() / 0.01).abs() < 1e-9, "{rate}");
+        }
     }
 }

@@ -139,22 +139,17 @@ impl CellConfig {
         Arm::with_tool(self.robot, &self.grasp)
     }
 
-    /// The bottle frame's pose for a mouth position and a rotation vector
-    /// (the Cartesian trajectory's coordinates).
-    pub fn bottle_pose(&self, mouth: [f64; 3], rotation: [f64; 3]) -> Pose {
-        let mut pose = Pose::from_rotation_vector([0.0; 3], rotation);
-        let axis = pose.z_axis();
-        pose.position = std::array::from_fn(|i| mouth[i] - self.bottle.length * axis[i]);
-        pose
+    /// The bottle frame's pose for a mouth position and an orientation, a
+    /// unit quaternion `[w, x, y, z]` (the Cartesian trajectory's
+    /// coordinates).
+    pub fn bottle_pose(&self, mouth: [f64; 3], q: [f64; 4]) -> Pose {
+        Pose::tool_at(mouth, q, self.bottle.length)
     }
 
-    /// The mouth position and the bottle's rotation vector of a bottle pose.
-    pub fn mouth_and_rotation(&self, pose: &Pose) -> ([f64; 3], [f64; 3]) {
-        let axis = pose.z_axis();
-        (
-            std::array::from_fn(|i| pose.position[i] + self.bottle.length * axis[i]),
-            pose.rotation_vector(),
-        )
+    /// The mouth position and the bottle's orientation (`w ≥ 0`) of a
+    /// bottle pose.
+    pub fn mouth_and_orientation(&self, pose: &Pose) -> ([f64; 3], [f64; 4]) {
+        (pose.point_along_z(self.bottle.length), pose.quaternion())
     }
 }
 
@@ -391,7 +386,7 @@ impl Cell {
     }
 
     fn record(&mut self, pose: &Pose) {
-        let (mouth, _) = self.cfg.mouth_and_rotation(pose);
+        let mouth = pose.point_along_z(self.cfg.bottle.length);
         let reading = self.scale.reading();
         self.series.push(Sample {
             t: self.time,
@@ -445,7 +440,8 @@ mod tests {
     /// A bottle pose with the mouth at `mouth`, tilted by `tilt` about the
     /// y axis (mouth towards +x).
     fn tilted(cfg: &CellConfig, mouth: [f64; 3], tilt: f64) -> Pose {
-        cfg.bottle_pose(mouth, [0.0, tilt, 0.0])
+        let half = 0.5 * tilt;
+        cfg.bottle_pose(mouth, [half.cos(), 0.0, half.sin(), 0.0])
     }
 
     fn over_glass(cfg: &CellConfig) -> [f64; 3] {
@@ -599,10 +595,15 @@ mod tests {
     fn cartesian_coordinates_round_trip() {
         let cfg = CellConfig::standard(GlassKind::Normal);
         let mouth = [0.5, -0.1, 0.3];
-        let r = [0.2, 1.1, -0.3];
-        let (m, r2) = cfg.mouth_and_rotation(&cfg.bottle_pose(mouth, r));
+        // Any sign and norm: the orientation comes back unit, w ≥ 0.
+        let q = [-0.8, 0.1, -0.5, 0.3];
+        let n = q.iter().map(|v: &f64| v * v).sum::<f64>().sqrt();
+        let (m, q2) = cfg.mouth_and_orientation(&cfg.bottle_pose(mouth, q.map(|v| 2.0 * v)));
         for i in 0..3 {
-            assert!((m[i] - mouth[i]).abs() < 1e-12 && (r2[i] - r[i]).abs() < 1e-12);
+            assert!((m[i] - mouth[i]).abs() < 1e-12);
+        }
+        for i in 0..4 {
+            assert!((q2[i] + q[i] / n).abs() < 1e-12, "{q2:?}");
         }
     }
 }

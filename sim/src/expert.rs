@@ -9,12 +9,13 @@
 //! it tilts back), and retreats. It is imperfect: it misjudges the volume in
 //! the glass by a few per cent and its hand trembles by a millimetre and a
 //! few milliradians. The movement is recorded at 100 Hz both as the bottle
-//! pose (mouth position and rotation vector) and as joint angles: the
+//! pose (mouth position and orientation, a unit quaternion kept
+//! sign-continuous from sample to sample) and as joint angles: the
 //! robot's redundancy lets each demonstration hold the elbow differently,
 //! as two people guiding the arm would.
 
 use crate::Error;
-use primo_robot::JOINTS;
+use primo_robot::{JOINTS, Pose};
 
 use crate::bottle::Bottle;
 use crate::cell::{Cell, CellConfig};
@@ -35,8 +36,10 @@ pub struct Style {
 pub struct Recording {
     /// Sample times, s, from 0 at 100 Hz.
     pub t: Vec<f64>,
-    /// Mouth position (m) and bottle rotation vector (rad) per sample.
-    pub cartesian: Vec<[f64; 6]>,
+    /// Mouth position (m) and bottle orientation (a unit quaternion
+    /// `[w, x, y, z]`, each sample's sign the one nearer the previous
+    /// sample's) per sample.
+    pub cartesian: Vec<[f64; 7]>,
     /// Joint angles (rad) per sample.
     pub joints: Vec<[f64; JOINTS]>,
     /// Volume in the glass at the end, l.
@@ -236,26 +239,32 @@ pub fn synthesize(
                 "the expert did not finish pouring {target} l from {volume} l within 60 s"
             )));
         }
-        // What the hand actually does: the plan plus tremor.
+        // What the hand actually does: the plan plus tremor, the tilt
+        // about the base's x axis and the tremor's turn as a rotation
+        // vector.
         let shake = |k: usize, a: f64| a * tremor.at(k, t);
-        let actual: [f64; 6] = [
+        let actual = [
             mouth[0] + shake(0, 0.001),
             mouth[1] + shake(1, 0.001),
             mouth[2] + shake(2, 0.001),
-            tilt + shake(3, 0.004),
-            shake(4, 0.003),
-            shake(5, 0.003),
         ];
-        let pose = cfg.bottle_pose(
-            [actual[0], actual[1], actual[2]],
-            [actual[3], actual[4], actual[5]],
-        );
+        let turned = [tilt + shake(3, 0.004), shake(4, 0.003), shake(5, 0.003)];
+        let mut orientation = Pose::from_rotation_vector([0.0; 3], turned).quaternion();
+        if let Some(last) = demo.cartesian.last() {
+            let dot: f64 = (0..4).map(|i| last[3 + i] * orientation[i]).sum();
+            if dot < 0.0 {
+                orientation = orientation.map(|v| -v);
+            }
+        }
+        let pose = cfg.bottle_pose(actual, orientation);
         if step.is_multiple_of(every) {
             q = arm
                 .inverse(&pose, &q, &rest)
                 .map_err(|e| Error::Invalid(format!("demonstration at t = {t:.2} s: {e}")))?;
             demo.t.push(t);
-            demo.cartesian.push(actual);
+            let [w, x, y, z] = orientation;
+            demo.cartesian
+                .push([actual[0], actual[1], actual[2], w, x, y, z]);
             demo.joints.push(q);
         }
         cell.step_pose(&pose);
@@ -287,7 +296,12 @@ mod tests {
         for (volume, style) in BUILT_IN {
             let started = std::time::Instant::now();
             let demo = synthesize(&cfg, volume, 0.2, &style).unwrap();
-            let tilt = demo.cartesian.iter().map(|c| c[3]).fold(0.0, f64::max);
+            // The tilt is the turn about x: 2·atan2(qx, qw).
+            let tilt = demo
+                .cartesian
+                .iter()
+                .map(|c| 2.0 * c[4].atan2(c[3]))
+                .fold(0.0, f64::max);
             println!(
                 "{volume} l: poured {:.4} l, spilled {:.5} l, {:.2} s, max tilt {:.1} deg, {:?}",
                 demo.poured,
@@ -301,10 +315,19 @@ mod tests {
             // The joint recording is the same movement.
             let arm = cfg.arm();
             for (c, q) in demo.cartesian.iter().zip(&demo.joints) {
-                let (m, r) = cfg.mouth_and_rotation(&arm.forward(q));
+                let (m, o) = cfg.mouth_and_orientation(&arm.forward(q));
                 for i in 0..3 {
-                    assert!((m[i] - c[i]).abs() < 1e-6 && (r[i] - c[3 + i]).abs() < 1e-6);
+                    assert!((m[i] - c[i]).abs() < 1e-6);
                 }
+                // Unit, and the same orientation (of either sign).
+                let norm = c[3..].iter().map(|v| v * v).sum::<f64>();
+                let dot: f64 = (0..4).map(|i| o[i] * c[3 + i]).sum();
+                assert!((norm - 1.0).abs() < 1e-12 && dot.abs() > 1.0 - 1e-12);
+            }
+            // Sign-continuous: neighbouring samples' quaternions agree.
+            for pair in demo.cartesian.windows(2) {
+                let dot: f64 = (3..7).map(|i| pair[0][i] * pair[1][i]).sum();
+                assert!(dot > 0.99, "{pair:?}");
             }
         }
     }

@@ -2,6 +2,8 @@
 //! sample, `t` in seconds and strictly increasing, one column per DoF.
 //! Errors name the file, line and column.
 
+use primo_core::quaternion::Quaternion;
+
 use crate::Error;
 
 /// A parsed demonstration.
@@ -128,6 +130,18 @@ pub fn parse_demo(file: &str, text: &str) -> Result<Demo, Error> {
     })
 }
 
+/// The adjacent rotation-vector column groups `<p>rx,<p>ry,<p>rz`: each
+/// group's first column and its prefix.
+fn rotation_vector_groups(names: &[String]) -> Vec<(usize, &str)> {
+    (0..names.len().saturating_sub(2))
+        .filter_map(|c| {
+            let prefix = names[c].strip_suffix("rx")?;
+            (names[c + 1] == format!("{prefix}ry") && names[c + 2] == format!("{prefix}rz"))
+                .then_some((c, prefix))
+        })
+        .collect()
+}
+
 /// Refuses a recording whose rotation-vector columns (`<p>rx,<p>ry,<p>rz`,
 /// adjacent) jump between two rows by more than the rotation between them
 /// (by over 1 rad): a rotation vector wraps by 2π as the angle passes 180°,
@@ -135,16 +149,8 @@ pub fn parse_demo(file: &str, text: &str) -> Result<Demo, Error> {
 /// message names the row and says to record a quaternion instead.
 pub fn check_rotation_vectors(file: &str, demo: &Demo) -> Result<(), Error> {
     let width = demo.names.len();
-    for c in 0..width.saturating_sub(2) {
-        let Some(prefix) = demo.names[c].strip_suffix("rx") else {
-            continue;
-        };
-        if demo.names[c + 1] != format!("{prefix}ry") || demo.names[c + 2] != format!("{prefix}rz")
-        {
-            continue;
-        }
-        let rotation =
-            |row: &[f32]| primo_core::quaternion::Quaternion::exp([row[c], row[c + 1], row[c + 2]]);
+    for (c, prefix) in rotation_vector_groups(&demo.names) {
+        let rotation = |row: &[f32]| Quaternion::exp([row[c], row[c + 1], row[c + 2]]);
         for (i, pair) in demo
             .positions
             .chunks_exact(width)
@@ -175,6 +181,71 @@ pub fn check_rotation_vectors(file: &str, demo: &Demo) -> Result<(), Error> {
         }
     }
     Ok(())
+}
+
+/// The recording with its rotation-vector columns (`<p>rx,<p>ry,<p>rz`,
+/// adjacent) as quaternion columns `<p>qw,<p>qx,<p>qy,<p>qz`: every row's
+/// rotation exactly, its sign the one nearer the previous row's. Where a
+/// rotation vector wraps by 2π (its angle passing 180°) its quaternion
+/// flips sign; keeping the sign continuous undoes the wrap. `None` without
+/// such columns; else the recording and the data rows (from 1) where a
+/// vector wrapped, each the later row of its pair.
+pub fn rotation_vectors_as_quaternions(demo: &Demo) -> Option<(Demo, Vec<usize>)> {
+    let groups = rotation_vector_groups(&demo.names);
+    if groups.is_empty() {
+        return None;
+    }
+    // Copies the columns between the groups, and each group's quaternion.
+    fn convert<T: Clone>(
+        from: &[T],
+        groups: &[(usize, &str)],
+        mut group: impl FnMut(usize, &[T]) -> [T; 4],
+        out: &mut Vec<T>,
+    ) {
+        let mut c = 0;
+        for (j, (start, _)) in groups.iter().enumerate() {
+            out.extend_from_slice(&from[c..*start]);
+            out.extend(group(j, &from[*start..start + 3]));
+            c = start + 3;
+        }
+        out.extend_from_slice(&from[c..]);
+    }
+    let mut names = Vec::new();
+    convert(
+        &demo.names,
+        &groups,
+        |j, _| ["qw", "qx", "qy", "qz"].map(|n| format!("{}{n}", groups[j].1)),
+        &mut names,
+    );
+    let mut last: Vec<Option<Quaternion>> = vec![None; groups.len()];
+    let mut sign = vec![1.0f32; groups.len()];
+    let mut wraps = Vec::new();
+    let mut positions = Vec::new();
+    for (row, values) in demo.positions.chunks_exact(demo.names.len()).enumerate() {
+        convert(
+            values,
+            &groups,
+            |j, r| {
+                let q = Quaternion::exp([r[0], r[1], r[2]]);
+                if last[j].is_some_and(|p| p.dot(&q) < 0.0) {
+                    sign[j] = -sign[j];
+                    wraps.push(row + 1);
+                }
+                last[j] = Some(q);
+                q.to_array().map(|v| sign[j] * v)
+            },
+            &mut positions,
+        );
+    }
+    wraps.dedup();
+    Some((
+        Demo {
+            names,
+            times: demo.times.clone(),
+            positions,
+        },
+        wraps,
+    ))
 }
 
 /// A time in seconds to the microsecond, without trailing zeros: 9·0.1
@@ -366,6 +437,30 @@ mod tests {
         let text = format!("t,rx,ry,rz\n0,0,0,0\n0.1,0,0,1.5\n0.2,0,0,{a}\n");
         let demo = parse_demo("d.csv", &text).unwrap();
         assert!(check_rotation_vectors("d.csv", &demo).is_ok());
+    }
+
+    #[test]
+    fn rotation_vectors_become_sign_continuous_quaternions() {
+        // Yaw 178°, 179°, then −180° and −179° (the vector wrapped).
+        let yaws = [178f32, 179.0, -180.0, -179.0].map(f32::to_radians);
+        let rows: String = (yaws.iter().enumerate())
+            .map(|(i, yaw)| format!("0.{i},1,0,0,{yaw},2\n"))
+            .collect();
+        let demo = parse_demo("d.csv", &format!("t,x,rx,ry,rz,y\n{rows}")).unwrap();
+        assert!(check_rotation_vectors("d.csv", &demo).is_err());
+        let (q, wraps) = rotation_vectors_as_quaternions(&demo).unwrap();
+        assert_eq!(q.names, ["x", "qw", "qx", "qy", "qz", "y"]);
+        assert_eq!(wraps, [3]);
+        let rows: Vec<&[f32]> = q.positions.chunks_exact(6).collect();
+        for (row, yaw) in rows.iter().zip([178f32, 179.0, 180.0, 181.0]) {
+            let half = yaw.to_radians() / 2.0;
+            let expect = [1.0, half.cos(), 0.0, 0.0, half.sin(), 2.0];
+            for (a, b) in row.iter().zip(expect) {
+                assert!((a - b).abs() < 1e-6, "{yaw}: {row:?}");
+            }
+        }
+        let plain = parse_demo("d.csv", "t,x\n0,1\n1,2\n2,3\n").unwrap();
+        assert!(rotation_vectors_as_quaternions(&plain).is_none());
     }
 
     #[test]

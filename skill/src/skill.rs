@@ -31,8 +31,8 @@ use crate::dmpfile::{DmpFile, FORMAT, Orientation, VERSION, orientation_groups};
 use crate::{Error, HOST_MAX_DOF, HostDmp, MAX_KERNELS};
 
 /// Names of the Cartesian columns: the controlled point (m) and the tool's
-/// rotation vector (rad).
-pub const CARTESIAN_NAMES: [&str; 6] = ["x", "y", "z", "rx", "ry", "rz"];
+/// orientation, a unit quaternion (one orientation group: three DMP DoFs).
+pub const CARTESIAN_NAMES: [&str; 7] = ["x", "y", "z", "qw", "qx", "qy", "qz"];
 /// Names of the joint columns.
 pub const JOINT_NAMES: [&str; JOINTS] = ["a1", "a2", "a3", "a4", "a5", "a6", "a7"];
 
@@ -50,7 +50,7 @@ type Gen = Generalizer<MAX_EXAMPLES, MAX_QUERY, MAX_PARAMS>;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Space {
-    /// Bottle pose: mouth position (m) and rotation vector (rad).
+    /// Bottle pose: mouth position (m) and orientation (unit quaternion).
     Cartesian,
     /// The arm's seven joint angles (rad).
     Joint,
