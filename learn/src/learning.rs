@@ -95,6 +95,15 @@ impl Algorithm {
         self != Algorithm::Power
     }
 
+    /// PoWER's default query exploration scale s1: the paper's 0.2, and 0
+    /// when the error moves the query instead.
+    pub fn default_s1(self) -> f32 {
+        match self {
+            Algorithm::PowerEl => 0.0,
+            _ => 0.2,
+        }
+    }
+
     /// PoWER's error-learning gain on the query for `gain` (0: plain PoWER).
     pub fn query_gain(self, gain: f32) -> f32 {
         match self {
@@ -199,10 +208,7 @@ impl Settings {
             search: [0.1, 1.5],
             glass_holds: None,
             gain: 1.0,
-            s1: match method {
-                Algorithm::PowerEl => 0.0,
-                _ => 0.2,
-            },
+            s1: method.default_s1(),
             s2: 0.05,
         }
     }

@@ -868,15 +868,7 @@ fn learner(
         method,
         max_rollouts,
         gain,
-        s1: unit(
-            &l.s1,
-            "[learner] s1",
-            match method {
-                Algorithm::PowerEl => 0.0,
-                _ => 0.2,
-            },
-            false,
-        )?,
+        s1: unit(&l.s1, "[learner] s1", method.default_s1(), false)?,
         s2: unit(&l.s2, "[learner] s2", 0.05, false)?,
         sampler,
         rollouts_per_update,

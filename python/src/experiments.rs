@@ -199,7 +199,7 @@ pub fn golden_run<'py>(
     precision: f64,
 ) -> PyResult<Bound<'py, PyDict>> {
     let algorithm: Algorithm = parse("method", method, METHODS)?;
-    if algorithm == Algorithm::Power {
+    if algorithm.is_power() {
         return Err(invalid(format!("method: `{method}`, expected {METHODS}")));
     }
     let seed = seed.map_or(Ok(1), |s| seed_of("seed", &s))?;

@@ -140,6 +140,7 @@ def test_bad_input_is_a_value_error(tmp_path, capsys):
         (lambda: golden_run(5.0), "volume 5: --bottle 5: error learning searches the query"),
         (lambda: golden_run(1.2), "volume 1.2: the cell's bottle holds 1.056 l"),
         (lambda: golden_run(0.5, method="power"), "method: `power`"),
+        (lambda: golden_run(0.5, method="power-el"), "method: `power-el`"),
         (lambda: golden_run(0.5, seed=-1), "seed"),
         (lambda: golden_run(0.5, precision=0.0), "--precision 0"),
         (lambda: power_run(updates=0), "--updates 0"),
