@@ -169,10 +169,8 @@ where
     /// pulses in all (25: DRDY/DOUT forced high; 26: and a calibration).
     fn shift_out(&mut self, pulses: u8) -> Result<u32, Error> {
         let (p, delay) = (&mut self.pins, &mut self.delay);
-        let bits = crate::shift(&mut p.sclk, &mut p.dout, delay, 24, PULSE_NS, PULSE_NS)?;
         let extra = pulses.saturating_sub(24);
-        crate::shift(&mut p.sclk, &mut p.dout, delay, extra, PULSE_NS, PULSE_NS)?;
-        Ok(bits)
+        crate::transfer(&mut p.sclk, &mut p.dout, delay, extra, PULSE_NS)
     }
 }
 

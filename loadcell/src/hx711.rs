@@ -141,8 +141,7 @@ impl<SCK: OutputPin, DOUT: InputPin, D: DelayNs> LoadCell for Hx711<SCK, DOUT, D
         // DOUT fell at least 0.1 µs before the first rising edge.
         self.delay.delay_ns(PULSE_NS);
         let (sck, dout, delay) = (&mut self.sck, &mut self.dout, &mut self.delay);
-        let bits = crate::shift(sck, dout, delay, 24, PULSE_NS, PULSE_NS)?;
-        crate::shift(sck, dout, delay, self.gain.extra(), PULSE_NS, PULSE_NS)?;
+        let bits = crate::transfer(sck, dout, delay, self.gain.extra(), PULSE_NS)?;
         if self.skip > 0 {
             self.skip -= 1;
             return Ok(None);

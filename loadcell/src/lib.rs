@@ -100,24 +100,26 @@ pub fn counts(bits: u32) -> Result<i32, Error> {
     Ok(counts)
 }
 
-/// Clocks `pulses` pulses of `high_ns` high and `low_ns` low on `clock`,
-/// shifting in `data` after each rising edge, MSB first; both chips' read.
-fn shift<C: OutputPin, D: InputPin, W: embedded_hal::delay::DelayNs>(
+/// Both chips' read: 24 pulses on `clock`, each `pulse_ns` high then
+/// `pulse_ns` low, shifting in `data` after each rising edge, MSB first,
+/// then `extra` more pulses (what they select is the chip's); the 24 bits.
+fn transfer<C: OutputPin, D: InputPin, W: embedded_hal::delay::DelayNs>(
     clock: &mut C,
     data: &mut D,
     delay: &mut W,
-    pulses: u8,
-    high_ns: u32,
-    low_ns: u32,
+    extra: u8,
+    pulse_ns: u32,
 ) -> Result<u32, Error> {
     let mut bits = 0u32;
-    for _ in 0..pulses {
+    for i in 0..24 + u32::from(extra) {
         clock.set_high().map_err(pin)?;
-        delay.delay_ns(high_ns);
+        delay.delay_ns(pulse_ns);
         let bit = data.is_high().map_err(pin)?;
         clock.set_low().map_err(pin)?;
-        delay.delay_ns(low_ns);
-        bits = bits << 1 | u32::from(bit);
+        delay.delay_ns(pulse_ns);
+        if i < 24 {
+            bits = bits << 1 | u32::from(bit);
+        }
     }
     Ok(bits)
 }
