@@ -4,12 +4,11 @@ use std::io::{BufRead, Write};
 use std::path::PathBuf;
 
 use primo_learn::Error;
-use primo_learn::learning::Settings;
+use primo_learn::learning::{Algorithm, Settings};
 use primo_learn::pour::{CellSpec, DemoFile, Event, Failure, LearnerSpec, SkillSpec, Start};
 use primo_learn::report::rollout_line;
 use primo_learn::rig::{InstrumentsSpec, Operator};
 use primo_learn::runlog::RunEvent;
-use primo_sim::cell::CellConfig;
 
 use crate::args::{Glass, Method, Space};
 use crate::error::CliError;
@@ -41,7 +40,7 @@ impl SkillArgs {
     /// The skill these options describe; `space` and `glass` fall back to
     /// the given defaults. Demonstration paths become absolute, so a run
     /// log names them from anywhere.
-    pub fn spec(&self, space: Space, glass: Glass) -> Result<SkillSpec, CliError> {
+    pub fn spec(&self, space: primo_skill::Space, glass: Glass) -> Result<SkillSpec, CliError> {
         let mut demos = Vec::new();
         for arg in &self.demos {
             let (file, volume) = arg
@@ -60,7 +59,7 @@ impl SkillArgs {
             demos.push(DemoFile { file, volume });
         }
         Ok(SkillSpec {
-            space: self.space.unwrap_or(space).into(),
+            space: self.space.map_or(space, Into::into),
             glass: self.glass.unwrap_or(glass).into(),
             kernels: self.kernels,
             demos,
@@ -222,24 +221,18 @@ pub fn run(args: &PourArgs) -> Result<(), CliError> {
             instruments,
         },
         None => {
-            let space = match args.method {
-                Method::Power | Method::PowerEl => Space::Joint,
-                _ => Space::Cartesian,
-            };
-            let mut settings =
-                Settings::paper(args.method.into(), args.bottle, args.target, args.seed);
+            let method: Algorithm = args.method.into();
+            let mut settings = Settings::paper(method, args.bottle, args.target, args.seed);
             settings.precision = args.precision;
             settings.gain = args.gain;
             settings.search = args.search;
             if let Some(n) = args.max_rollouts {
                 settings.max_rollouts = n;
             }
-            let skill = args.skill.spec(space, Glass::Normal)?;
-            settings.glass_holds = args.glass_holds.or_else(|| {
-                instruments
-                    .is_none()
-                    .then(|| CellConfig::standard(skill.glass).glass_litres())
-            });
+            let skill = args.skill.spec(method.default_space(), Glass::Normal)?;
+            settings.glass_holds = args
+                .glass_holds
+                .or_else(|| instruments.is_none().then(|| skill.cell().glass_litres()));
             Start::New {
                 out: args.out.clone(),
                 force: args.force,

@@ -8,7 +8,7 @@ use primo_learn::learning::check_target;
 use primo_learn::objective::{Objective, Start, layout};
 use primo_learn::trial::Trial;
 
-use crate::args::{Glass, Space};
+use crate::args::Glass;
 use crate::error::CliError;
 use crate::output::{check_out_file, read};
 use crate::pour::SkillArgs;
@@ -99,7 +99,7 @@ pub fn run(args: &RolloutArgs) -> Result<(), CliError> {
     if let Some(series) = &args.series {
         check_out_file("--series", series)?;
     }
-    let spec = args.skill.spec(Space::Joint, Glass::Small)?;
+    let spec = args.skill.spec(primo_skill::Space::Joint, Glass::Small)?;
     let objective = Objective::new(&spec, args.bottle, args.target)?;
     for c in objective.converted() {
         eprintln!("primo rollout: {c}");

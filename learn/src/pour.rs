@@ -97,12 +97,17 @@ impl SkillSpec {
         Ok(())
     }
 
+    /// The simulated cell with this glass.
+    pub fn cell(&self) -> CellConfig {
+        CellConfig::standard(self.glass)
+    }
+
     /// The cell and the fitted skill. A Cartesian demonstration in the
     /// rotation-vector columns of earlier versions is converted
     /// ([`upgrade`]) and said so in [`Built::converted`].
     pub fn build(&self) -> Result<Built, Error> {
         self.validate()?;
-        let cell = CellConfig::standard(self.glass);
+        let cell = self.cell();
         if self.demos.is_empty() {
             let skill = built_in_skill(&cell, self.space, self.kernels)?;
             return Ok(Built {
@@ -229,7 +234,7 @@ impl Start {
             } => {
                 settings.validate()?;
                 skill.validate()?;
-                let capacity = CellConfig::standard(skill.glass).bottle_litres();
+                let capacity = skill.cell().bottle_litres();
                 if settings.bottle > capacity {
                     return Err(Error::Invalid(format!(
                         "--bottle {}: the cell's bottle holds {capacity:.3} l",

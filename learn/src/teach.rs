@@ -333,6 +333,19 @@ impl Task {
         let bottle = f64::from(self.goal.desired.first().copied().unwrap_or(0.0));
         let defaults = crate::learning::Settings::paper(method, bottle, p.target, seed);
         let error_learning = !method.is_power();
+        let skill = crate::pour::SkillSpec {
+            space: p.space.unwrap_or(method.default_space()),
+            glass: p.glass,
+            kernels: self.kernels,
+            demos: self
+                .demos
+                .iter()
+                .map(|d| crate::pour::DemoFile {
+                    file: d.file.clone(),
+                    volume: d.query.first().copied().unwrap_or(0.0),
+                })
+                .collect(),
+        };
         let settings = crate::learning::Settings {
             max_rollouts: self.learner.max_rollouts,
             gain: self.learner.gain,
@@ -352,29 +365,14 @@ impl Task {
             s1: self.learner.s1,
             s2: self.learner.s2,
             // The simulated glass, as `primo pour` has it.
-            glass_holds: Some(primo_sim::cell::CellConfig::standard(p.glass).glass_litres()),
+            glass_holds: Some(skill.cell().glass_litres()),
             ..defaults
         };
         Some(crate::pour::Start::New {
             out,
             force,
             settings,
-            skill: crate::pour::SkillSpec {
-                space: p.space.unwrap_or(match method {
-                    m if m.is_power() => primo_skill::Space::Joint,
-                    _ => primo_skill::Space::Cartesian,
-                }),
-                glass: p.glass,
-                kernels: self.kernels,
-                demos: self
-                    .demos
-                    .iter()
-                    .map(|d| crate::pour::DemoFile {
-                        file: d.file.clone(),
-                        volume: d.query.first().copied().unwrap_or(0.0),
-                    })
-                    .collect(),
-            },
+            skill,
             cell: crate::pour::CellSpec::Simulated,
         })
     }
