@@ -24,7 +24,7 @@
 //! rather than misread. Version 1 files (no orientations) still load. The
 //! fields of `dmp` are those of [`primo_core::dmp::Dmp`] (see the README).
 
-use primo_core::dmp::{FitOptions, Scaling, Trajectory};
+use primo_core::dmp::{DEFAULT_OVERLAP, FitOptions, Scaling, Trajectory};
 use primo_core::orientation::{from_log, log_coordinates, nearest_log};
 use primo_core::quaternion::Quaternion;
 use primo_core::rhythmic::{RhythmicDmp, RhythmicRun};
@@ -346,17 +346,19 @@ impl DmpFile {
     /// Fits a DMP of `kernels` kernels per DoF to a demonstration (`file`
     /// names it in errors); orientations as the module docs say.
     pub fn fit(file: &str, demo: &Demo, kernels: usize) -> Result<Self, Error> {
-        DmpFile::fit_with(file, demo, kernels, None)
+        DmpFile::fit_with(file, demo, kernels, None, DEFAULT_OVERLAP)
     }
 
     /// [`DmpFile::fit`] with the amplitude-scaled DoFs given (bit `d`:
-    /// DMP DoF `d`), as a skill fits every demonstration like its first;
-    /// `None` decides per column, an orientation's never scaled.
+    /// DMP DoF `d`), as a skill fits every demonstration like its first
+    /// (`None` decides per column, an orientation's never scaled), and the
+    /// kernels' overlap.
     pub fn fit_with(
         file: &str,
         demo: &Demo,
         kernels: usize,
         scaled: Option<u32>,
+        overlap: f32,
     ) -> Result<Self, Error> {
         if !(2..=MAX_KERNELS).contains(&kernels) {
             return Err(Error::File(format!(
@@ -416,6 +418,7 @@ impl DmpFile {
         }
         let options = FitOptions {
             scaling: scaled.map_or(Scaling::AutoWhere(scaled_mask), Scaling::Mask),
+            overlap,
             ..FitOptions::default()
         };
         let dmp = HostDmp::fit(&demo.times, &positions, dof, kernels, &options).map_err(|e| {

@@ -20,6 +20,7 @@
 //! in its place among the DoFs, and as its three goals the goal's rotation
 //! vector from that mean (rad, world frame): `Δθ` there turns the goal. A
 //! plan writes the four columns back, unit-norm.
+use primo_core::dmp::LEARNING_OVERLAP;
 use primo_core::generalize::{Generalizer, Method};
 use primo_core::orientation::{from_log, nearest_log};
 use primo_core::quaternion::Quaternion;
@@ -138,8 +139,9 @@ pub struct Plan {
 
 impl Skill {
     /// Fits one DMP per demonstration `(q_i, demo_i)` (as
-    /// [`DmpFile::fit`]: orientations as the module docs say), all with the
-    /// same amplitude scaling (decided on the first: interpolating weights
+    /// [`DmpFile::fit`]: orientations as the module docs say, but with the
+    /// narrower kernels of [`LEARNING_OVERLAP`]), all with the same
+    /// amplitude scaling (decided on the first: interpolating weights
     /// only makes sense when every example scales them alike), and
     /// generalizes over the queries ([`Skill::from_files`]). Every
     /// demonstration has the first one's columns, by name and in order.
@@ -157,7 +159,7 @@ impl Skill {
             same_columns(&first.names, &demo.names)
                 .map_err(|why| Error::Demonstrations(format!("demonstration {}: {why}", i + 1)))?;
             let label = format!("demonstration {} (q = {q:?})", i + 1);
-            let file = DmpFile::fit_with(&label, demo, kernels, scaled)
+            let file = DmpFile::fit_with(&label, demo, kernels, scaled, LEARNING_OVERLAP)
                 .map_err(|e| Error::Demonstrations(e.to_string()))?;
             let dmp = &file.dmp;
             scaled.get_or_insert(
