@@ -20,13 +20,21 @@ cargo clippy -p primo-core --target thumbv7em-none-eabihf --locked -- -D warning
 cargo build -p primo-core --target thumbv7em-none-eabihf --release --locked
 RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --locked
 log=$(mktemp)
-# The firmware: its own build, lints, on-target tests under QEMU, and the
-# release ELF the hardware-in-the-loop tests boot.
+# The firmware: its own build, lints, on-target tests under QEMU, the
+# release ELF the hardware-in-the-loop tests boot, and the board image.
 (
   cd firmware
   cargo fmt --check
   cargo clippy --release --all-targets --locked -- -D warnings
   cargo test --release --locked
+  # The NUCLEO-G431RB's scale image (its own build, boards/nucleo-g431):
+  # lints here, built and measured by footprint.sh; no board to run it on
+  # (its flash sequence is tested on the host, device/tests/flash.rs).
+  (
+    cd boards/nucleo-g431
+    cargo fmt --check
+    cargo clippy --release --locked -- -D warnings
+  )
   ./footprint.sh
 ) 2>&1 | tee "$log"
 cargo test --workspace --locked 2>&1 | tee -a "$log"

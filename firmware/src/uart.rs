@@ -118,3 +118,13 @@ impl Uart {
 pub fn sleep() {
     cortex_m::asm::wfi();
 }
+
+impl primo_device::Port for Uart {
+    fn try_read_byte(&mut self) -> Option<u8> {
+        Uart::try_read_byte(self)
+    }
+
+    fn write_all(&mut self, bytes: &[u8]) {
+        Uart::write_all(self, bytes);
+    }
+}
