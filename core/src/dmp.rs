@@ -789,19 +789,21 @@ pub(crate) fn transition(alpha: f32, u: f32) -> [f32; 4] {
     [e * (1.0 + au), e * u, -e * a * au, e * (1.0 - au)]
 }
 
-/// [`transition`] with `Φ00 − 1` in place of `Φ00`, computed in `f64`:
-/// at 1 kHz `Φ00` is within 1e−4 of 1, so `Φ00` in `f32` would keep only
-/// three digits of the spring's pull per step.
+/// [`transition`] with `Φ00 − 1` in place of `Φ00`: at 1 kHz `Φ00` is
+/// within 1e−4 of 1, so `Φ00 − 1` from `Φ00` in `f32` would keep only three
+/// digits of the spring's pull per step.
 pub(crate) fn transition_step(alpha: f32, u: f32) -> [f32; 4] {
     let mut p = transition(alpha, u);
-    let au = 0.5 * f64::from(alpha) * f64::from(u);
+    let x = 0.5 * alpha * u;
     if let Some(p00) = p.first_mut() {
-        // e^−x (1 + x) − 1 = expm1(−x) + x e^−x, without cancellation for
-        // small x in f64; −1 once the spring has settled (Φ00 = 0).
-        *p00 = if au < 80.0 {
-            (libm::expm1(-au) + au * libm::exp(-au)) as f32
+        // e^−x (1 + x) − 1 = Σ_{n≥2} (−1)^n (1 − n) xⁿ/n!: the series for
+        // small x (the next term is below 1e−9 of the first at x = 0.25),
+        // the closed form, with little cancellation, beyond.
+        *p00 = if x < 0.25 {
+            let tail = 1.0 / 144.0 - x * (1.0 / 840.0 - x / 5760.0);
+            -x * x * (0.5 - x * (1.0 / 3.0 - x * (0.125 - x * (1.0 / 30.0 - x * tail))))
         } else {
-            -1.0
+            *p00 - 1.0
         };
     }
     p
@@ -1098,6 +1100,32 @@ mod tests {
             }
         }
         assert!(worst <= 1e-6, "windowed forcing differs by {worst}");
+    }
+
+    #[test]
+    fn the_springs_pull_per_step_keeps_f32_precision() {
+        for u in [
+            1e-7f32, 1e-5, 1e-3, 0.004, 0.02, 0.0199, 0.0201, 0.1, 1.0, 7.0,
+        ] {
+            let x = 0.5 * 25.0 * f64::from(u);
+            // The series in f64 where the closed form would cancel.
+            let exact = if x < 1.0 {
+                let (mut sum, mut term) = (0.0, 1.0);
+                for n in 1..30 {
+                    term *= -x / f64::from(n);
+                    sum += term * f64::from(1 - n);
+                }
+                sum
+            } else {
+                libm::exp(-x) * (1.0 + x) - 1.0
+            };
+            let got = f64::from(transition_step(25.0, u)[0]);
+            assert!(
+                ((got - exact) / exact).abs() < 1e-6,
+                "u = {u}: {got} vs {exact}"
+            );
+        }
+        assert_eq!(transition_step(25.0, 1e3)[0], -1.0);
     }
 
     #[test]

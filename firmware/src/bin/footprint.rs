@@ -123,6 +123,39 @@ fn turn() -> OrientationDmp<KERNELS> {
     OrientationDmp::from_parts(log, Quaternion::IDENTITY).unwrap_or_else(|_| fail("turn"))
 }
 
+/// Ticks of [`STEPS`] steps of [`reach`] and of [`turn`]. A function of
+/// its own, so its runs are off the stack when the service's is measured.
+#[inline(never)]
+fn step_costs(syst: &mut SYST, dmp: &Dmp<MAX_DOF, KERNELS>) -> (u64, u64) {
+    let Ok(mut run) = dmp.start(&dmp.execution()) else {
+        fail("start")
+    };
+    let mut ok = true;
+    let dmp_ticks = ticks(syst, || {
+        for _ in 0..STEPS {
+            ok &= run.step(dmp, 0.001).is_ok();
+        }
+    });
+    if !ok {
+        fail("step");
+    }
+    let orientation = turn();
+    let Ok(mut turning) = orientation.start(&orientation.execution()) else {
+        fail("turn start")
+    };
+    let mut w: f32 = 0.0;
+    let turn_ticks = ticks(syst, || {
+        for _ in 0..STEPS {
+            ok &= turning.step(&orientation, 0.001).is_ok();
+            w += turning.orientation().w;
+        }
+    });
+    if !ok || !w.is_finite() {
+        fail("turn step");
+    }
+    (dmp_ticks, turn_ticks)
+}
+
 /// PoWER over `[q̂, Δθ]` of 219 parameters through the service: two
 /// examples, every roll-out's `Δθ` fetched and its movement streamed.
 /// Returns the ticks spent in the tells that completed an update.
@@ -277,32 +310,7 @@ fn main() -> ! {
     let instructions = |ticks: u64, n: u32| ticks * calib_instr / calib_ticks / u64::from(n);
 
     let dmp = reach();
-    let Ok(mut run) = dmp.start(&dmp.execution()) else {
-        fail("start")
-    };
-    let mut ok = true;
-    let dmp_ticks = ticks(&mut p.SYST, || {
-        for _ in 0..STEPS {
-            ok &= run.step(&dmp, 0.001).is_ok();
-        }
-    });
-    if !ok {
-        fail("step");
-    }
-    let orientation = turn();
-    let Ok(mut turning) = orientation.start(&orientation.execution()) else {
-        fail("turn start")
-    };
-    let mut w: f32 = 0.0;
-    let turn_ticks = ticks(&mut p.SYST, || {
-        for _ in 0..STEPS {
-            ok &= turning.step(&orientation, 0.001).is_ok();
-            w += turning.orientation().w;
-        }
-    });
-    if !ok || !w.is_finite() {
-        fail("turn step");
-    }
+    let (dmp_ticks, turn_ticks) = step_costs(&mut p.SYST, &dmp);
     let mut update_ticks = 0;
     let stack = primo_firmware::stack_used_by(|| {
         update_ticks = power_run(SERVICE, &mut p.SYST, &dmp);
