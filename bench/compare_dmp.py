@@ -35,7 +35,7 @@ from datetime import date
 
 import numpy as np
 import movement_primitives
-from movement_primitives.dmp import DMP
+from movement_primitives.dmp import DMP, CartesianDMP
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 DT = 0.001  # replay step of both libraries (1 kHz control)
@@ -94,6 +94,84 @@ CASES = [  # name, function, duration (s), DoF names
     ("loop 3-D", loop, 1.5, ["x", "y", "z"]),
     ("min-jerk+bump", bump, 1.0, ["x"]),
 ]
+
+
+# --- Cartesian movements: position + unit quaternion (w, x, y, z) -------------
+
+def quat_zyx(yaw, pitch, roll):
+    """Unit quaternions (w, x, y, z) of Z-Y-X Euler angles, one per row,
+    signs made continuous along the rows."""
+    cy, sy = np.cos(yaw / 2), np.sin(yaw / 2)
+    cp, sp = np.cos(pitch / 2), np.sin(pitch / 2)
+    cr, sr = np.cos(roll / 2), np.sin(roll / 2)
+    q = np.column_stack([cr * cp * cy + sr * sp * sy, sr * cp * cy - cr * sp * sy,
+                         cr * sp * cy + sr * cp * sy, cr * cp * sy - sr * sp * cy])
+    for i in range(1, len(q)):
+        if q[i] @ q[i - 1] < 0:
+            q[i] = -q[i]
+    return q
+
+
+def sweep(t):
+    """2 s: yaw 120° -> 240° (through 180°, where rotation vectors and
+    Euler angles jump), pitch up 25° and back, a 10° roll wobble; the
+    position moves 0.2 m along a curve."""
+    u = mj(t / 2.0)
+    q = quat_zyx(np.radians(120 + 120 * u), np.radians(25) * np.sin(np.pi * u),
+                 np.radians(10) * np.sin(2 * np.pi * u))
+    return np.column_stack([0.5 + 0.2 * u, 0.1 * np.sin(np.pi * u), 0.3 + 0.1 * u, q])
+
+
+def tilt(t):
+    """3 s, a pour's wrist: tilt 0 -> 110° about an axis 20° off x while
+    the hand moves in, hold, tilt back to 30°."""
+    a = np.radians(110) * mj(t / 1.2) - np.radians(80) * mj((t - 2.0) / 1.0)
+    axis = np.array([np.cos(np.radians(20)), np.sin(np.radians(20)), 0.0])
+    q = np.column_stack([np.cos(a / 2), np.outer(np.sin(a / 2), axis)])
+    u = mj(t / 3.0)
+    return np.column_stack([0.4 + 0.15 * u, -0.1 + 0.2 * mj(t / 1.2), 0.35 - 0.05 * u, q])
+
+
+CARTESIAN = [  # name, function, duration (s)
+    ("yaw sweep through 180°", sweep, 2.0),
+    ("pour tilt 110°", tilt, 3.0),
+]
+POSE = ["x", "y", "z", "qw", "qx", "qy", "qz"]
+
+
+def pose_errors(t, y, truth, tau):
+    """(position RMSE, max) in m and (angle RMSE, max) in rad."""
+    keep = t <= tau + 1e-9
+    exact = truth(np.minimum(t[keep], tau))
+    dp = np.linalg.norm(y[keep, :3] - exact[:, :3], axis=1)
+    q = y[keep, 3:] / np.linalg.norm(y[keep, 3:], axis=1, keepdims=True)
+    dot = np.abs(np.sum(q * exact[:, 3:], axis=1))
+    angle = 2 * np.arccos(np.minimum(dot, 1.0))
+    rms = lambda e: float(np.sqrt(np.mean(e**2)))
+    return (rms(dp), float(dp.max())), (rms(angle), float(angle.max()))
+
+
+def cartesian_accuracy(primo, quick):
+    rows = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for name, fn, tau in CARTESIAN:
+            for rate in RATES[:2] if quick else RATES:
+                t = np.arange(round(tau * rate) + 1) / rate
+                demo = os.path.join(tmp, "demo.csv")
+                write_csv(demo, t, fn(t), POSE)
+                for k in (30, 10):
+                    pr = pose_errors(*primo_replay(primo, demo, k, tmp), fn, tau)
+                    dmp = CartesianDMP(execution_time=tau, dt=DT, n_weights_per_dim=k,
+                                       int_dt=MP_INT_DT)
+                    dmp.imitate(t, fn(t))
+                    mp = pose_errors(*dmp.open_loop(step_function="euler-cython",
+                                                    quaternion_step_function="cython"),
+                                     fn, tau)
+                    rows.append(dict(case=name, rate=rate, k=k, primo=pr, mp=mp))
+                    print(f"{name:24} {rate:>6} Hz K={k:<3} primo {pr[0][0]:.2e} m "
+                          f"{pr[1][0]:.2e} rad | mp {mp[0][0]:.2e} m {mp[1][0]:.2e} rad",
+                          flush=True)
+    return rows
 
 
 def write_csv(path, t, y, names):
@@ -243,7 +321,7 @@ def profile(cmd, tmp):
 
 # --- report -------------------------------------------------------------------
 
-def report(rows, tm, primo):
+def report(rows, cartesian, tm, primo):
     version = subprocess.run([primo, "--version"], capture_output=True, text=True).stdout.strip()
     mp_fast = min(("mp euler-cython", "mp rk4-cython"), key=lambda s: tm[s])
     lines = [
@@ -277,6 +355,29 @@ def report(rows, tm, primo):
             f"| {r['case']} | {r['rate']} Hz | {r['k']} | {r['primo'][0]:.2e} | "
             f"{r['primo'][1]:.2e} | {r['mp'][0]:.2e} | {r['mp'][1]:.2e} | "
             f"{r['mp'][0] / r['primo'][0]:.2g} | {r['rk4'][0]:.2e} |")
+    lines += [
+        "",
+        "## Accuracy: position + orientation (movement_primitives' CartesianDMP)",
+        "",
+        "A pose per row (x, y, z and a unit quaternion w, x, y, z, signs "
+        "continuous); primo fits the position columns as a DMP and the "
+        "quaternion columns as one orientation DMP (`primo dmp fit`), "
+        "movement_primitives as a `CartesianDMP` (`imitate`, then `open_loop` "
+        f"with 'euler-cython' and its 'cython' quaternion step, int_dt = {MP_INT_DT} s). "
+        "Errors against the exact pose at the replay's times: position in m, "
+        "orientation as the angle between the quaternions in rad; ratio = "
+        "movement_primitives' RMSE / primo's.",
+        "",
+        "| case | rate | K | primo position RMSE | primo angle RMSE | primo angle max | "
+        "mp position RMSE | mp angle RMSE | mp angle max | ratio position | ratio angle |",
+        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
+    ]
+    for r in cartesian:
+        (pp, pa), (mp, ma) = r["primo"], r["mp"]
+        lines.append(
+            f"| {r['case']} | {r['rate']} Hz | {r['k']} | {pp[0]:.2e} | {pa[0]:.2e} | "
+            f"{pa[1]:.2e} | {mp[0]:.2e} | {ma[0]:.2e} | {ma[1]:.2e} | "
+            f"{mp[0] / pp[0]:.2g} | {ma[0] / pa[0]:.2g} |")
     ratio = tm[mp_fast] / tm["primo"]
     lines += [
         "",
@@ -328,9 +429,10 @@ def main():
     primo = os.path.abspath(sys.argv[1])
     quick = "--quick" in sys.argv
     rows = accuracy(primo, quick)
+    cartesian = cartesian_accuracy(primo, quick)
     tm = timing(primo, quick)
     print(json.dumps({k: v for k, v in tm.items() if k != "profile"}, indent=1))
-    text = report(rows, tm, primo)
+    text = report(rows, cartesian, tm, primo)
     print(text)
     if not quick:
         os.makedirs(os.path.join(HERE, "results"), exist_ok=True)
