@@ -14,7 +14,7 @@ use primo_mtsics::quote;
 use primo_robot::envelope::joint_index;
 use primo_robot::safety::check_joints;
 use primo_robot::{JOINTS, JointPath, Robot};
-use primo_sim::krc::{CellHandle, KrcConfig, SimKrc};
+use primo_sim::krc::{CellHandle, KrcConfig, LATE_SEND, SimKrc};
 use primo_skill::csv::parse_demo;
 use primo_skill::skill::JOINT_NAMES;
 
@@ -375,6 +375,12 @@ fn sim_krc(cfg: KrcConfig, scale: bool, load_cell: bool) -> Result<(), CliError>
         report.dropped,
         report.stale,
         report.malformed
+    ))?;
+    say(&format!(
+        "primo robot sim-krc: {} sends late by more than {:.2} ms (its own lateness), the latest by {:.2} ms",
+        report.late_sends,
+        cfg.cycle.as_secs_f64() * 1e3 * LATE_SEND,
+        report.max_send_delay * 1e3
     ))?;
     for why in &report.rejections {
         say(&format!("primo robot sim-krc: malformed datagram: {why}"))?;

@@ -57,17 +57,24 @@ pub fn enter() -> Realtime {
         0 => Ok(()),
         _ => Err(os_error()),
     };
+    Realtime {
+        fifo: schedule(),
+        locked,
+    }
+}
+
+/// Asks for `SCHED_FIFO` at [`PRIORITY`] for the calling thread: the
+/// priority, or why not.
+#[cfg(target_os = "linux")]
+pub fn schedule() -> Result<i32, String> {
     let param = libc::sched_param {
         sched_priority: PRIORITY,
     };
     // SAFETY: the calling thread's own handle and a valid parameter.
-    let fifo = match unsafe {
-        libc::pthread_setschedparam(libc::pthread_self(), libc::SCHED_FIFO, &param)
-    } {
+    match unsafe { libc::pthread_setschedparam(libc::pthread_self(), libc::SCHED_FIFO, &param) } {
         0 => Ok(PRIORITY),
         errno => Err(std::io::Error::from_raw_os_error(errno).to_string()),
-    };
-    Realtime { fifo, locked }
+    }
 }
 
 /// Unlocks the memory [`enter`] locked (the thread's scheduling ends with
@@ -80,6 +87,39 @@ pub fn leave(realtime: &Realtime) {
     }
 }
 
+/// The first `n` CPUs the process may run on (fewer if it may use fewer;
+/// none if that cannot be known).
+#[cfg(target_os = "linux")]
+pub fn cpus(n: usize) -> Vec<usize> {
+    // SAFETY: an all-zero cpu_set_t is an empty set.
+    let mut set: libc::cpu_set_t = unsafe { std::mem::zeroed() };
+    // SAFETY: the calling process, a set of the size given.
+    if unsafe { libc::sched_getaffinity(0, std::mem::size_of_val(&set), &mut set) } != 0 {
+        return Vec::new();
+    }
+    (0..libc::CPU_SETSIZE as usize)
+        // SAFETY: a valid set and an index within its size.
+        .filter(|&cpu| unsafe { libc::CPU_ISSET(cpu, &set) })
+        .take(n)
+        .collect()
+}
+
+/// Pins the calling thread to `cpu`.
+#[cfg(target_os = "linux")]
+pub fn pin(cpu: usize) -> Result<(), String> {
+    // SAFETY: an all-zero cpu_set_t is an empty set.
+    let mut set: libc::cpu_set_t = unsafe { std::mem::zeroed() };
+    // SAFETY: CPU_SET checks the index against the set's size.
+    unsafe { libc::CPU_SET(cpu, &mut set) };
+    // SAFETY: the calling thread's own handle and a set of the size given.
+    match unsafe {
+        libc::pthread_setaffinity_np(libc::pthread_self(), std::mem::size_of_val(&set), &set)
+    } {
+        0 => Ok(()),
+        errno => Err(std::io::Error::from_raw_os_error(errno).to_string()),
+    }
+}
+
 /// Not implemented off Linux: says so.
 #[cfg(not(target_os = "linux"))]
 pub fn enter() -> Realtime {
@@ -88,6 +128,24 @@ pub fn enter() -> Realtime {
         fifo: Err(why()),
         locked: Err(why()),
     }
+}
+
+/// Not implemented off Linux: says so.
+#[cfg(not(target_os = "linux"))]
+pub fn schedule() -> Result<i32, String> {
+    Err("implemented on Linux only".to_string())
+}
+
+/// Not known off Linux: none.
+#[cfg(not(target_os = "linux"))]
+pub fn cpus(_: usize) -> Vec<usize> {
+    Vec::new()
+}
+
+/// Not implemented off Linux.
+#[cfg(not(target_os = "linux"))]
+pub fn pin(_: usize) -> Result<(), String> {
+    Err("implemented on Linux only".to_string())
 }
 
 /// Nothing to undo off Linux.

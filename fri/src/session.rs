@@ -355,7 +355,6 @@ impl Session {
         self.dt = dt;
         // A negative or NaN time saturates to no standstill.
         self.weighing = (self.cfg.weigh / dt).ceil() as usize;
-        self.setpoints = vec![measured; self.weighing];
         let approach = approach(
             measured,
             self.path.start(),
@@ -364,9 +363,13 @@ impl Session {
             &self.path.robot().velocity_limits_deg,
         );
         self.approach = approach.len();
-        self.setpoints.extend(approach);
-        self.setpoints
-            .extend(resample(&self.path, dt).into_iter().skip(1));
+        let trajectory = resample(&self.path, dt);
+        // One allocation, filled in place: this runs inside a cycle.
+        let mut setpoints = Vec::with_capacity(self.weighing + self.approach + trajectory.len());
+        setpoints.resize(self.weighing, measured);
+        setpoints.extend(approach);
+        setpoints.extend(trajectory.skip(1));
+        self.setpoints = setpoints;
         self.phase = Phase::Streaming;
     }
 
@@ -448,46 +451,49 @@ fn approach(
     dt: f64,
     speed: f64,
     limits_deg: &[f64; JOINTS],
-) -> Vec<[f64; JOINTS]> {
+) -> impl ExactSizeIterator<Item = [f64; JOINTS]> {
     // Minimum jerk peaks at 1.875·Δ/T.
     let duration = (0..JOINTS)
         .map(|j| 1.875 * (to[j] - from[j]).abs() / (speed * limits_deg[j].to_radians()))
         .fold(0.0, f64::max);
     let steps = (duration / dt).ceil().max(1.0) as usize;
-    (0..=steps)
-        .map(|k| {
-            let s = k as f64 / steps as f64;
-            let blend = s * s * s * (10.0 - 15.0 * s + 6.0 * s * s);
-            std::array::from_fn(|j| from[j] + (to[j] - from[j]) * blend)
-        })
-        .collect()
+    (0..steps + 1).map(move |k| {
+        let s = k as f64 / steps as f64;
+        let blend = s * s * s * (10.0 - 15.0 * s + 6.0 * s * s);
+        std::array::from_fn(|j| from[j] + (to[j] - from[j]) * blend)
+    })
 }
 
 /// The path linearly interpolated every `dt` from its first sample, ending
 /// exactly on its last.
-fn resample(path: &JointPath, dt: f64) -> Vec<[f64; JOINTS]> {
+fn resample(path: &JointPath, dt: f64) -> impl ExactSizeIterator<Item = [f64; JOINTS]> {
     let (times, q) = (path.times(), path.positions());
     let t0 = times.first().copied().unwrap_or(0.0);
+    // A checked path has a sample at least.
+    let last = q.last().copied().unwrap_or([0.0; JOINTS]);
     // Grid points strictly before the end (to rounding), then the end.
     let steps = (path.duration() / dt - 1e-9).ceil().max(0.0) as usize;
-    let mut out = Vec::with_capacity(steps + 1);
     let mut i = 0;
-    for n in 0..steps {
+    (0..steps + 1).map(move |n| {
         let t = t0 + n as f64 * dt;
         while times.get(i + 1).is_some_and(|&next| next <= t) {
             i += 1;
         }
-        match (times.get(i), times.get(i + 1), q.get(i), q.get(i + 1)) {
-            (Some(&ta), Some(&tb), Some(a), Some(b)) => {
+        match (
+            n < steps,
+            times.get(i),
+            times.get(i + 1),
+            q.get(i),
+            q.get(i + 1),
+        ) {
+            (true, Some(&ta), Some(&tb), Some(a), Some(b)) => {
                 let s = (t - ta) / (tb - ta);
-                out.push(std::array::from_fn(|j| a[j] + (b[j] - a[j]) * s));
+                std::array::from_fn(|j| a[j] + (b[j] - a[j]) * s)
             }
-            (_, _, Some(a), _) => out.push(*a),
-            _ => break,
+            (true, _, _, Some(a), _) => *a,
+            _ => last,
         }
-    }
-    out.extend(q.last());
-    out
+    })
 }
 
 #[cfg(test)]
@@ -813,7 +819,8 @@ mod tests {
         let t = vec![0.5, 0.52, 0.535];
         let p = check_joints(t, vec![[0.0; JOINTS], [0.02; JOINTS], [0.035; JOINTS]]).unwrap();
         let r = resample(&p, 0.01);
-        let first: Vec<f64> = r.iter().map(|q| q[0]).collect();
+        assert_eq!(r.len(), 5);
+        let first: Vec<f64> = r.map(|q| q[0]).collect();
         assert_eq!(first.len(), 5);
         for (a, b) in first.iter().zip([0.0, 0.01, 0.02, 0.03, 0.035]) {
             assert!((a - b).abs() < 1e-12, "{first:?}");

@@ -66,6 +66,9 @@ pub const STAT_WINDOW: usize = 100;
 pub const RAMP: u64 = 10;
 /// Consecutive on-time echoes in monitor mode before command mode.
 pub const HANDSHAKE: usize = 20;
+/// The fraction of a cycle after which a send counts as late
+/// ([`KrcReport::late_sends`]).
+pub const LATE_SEND: f64 = 0.25;
 /// How often the KRC looks for the answer within a cycle.
 const POLL: Duration = Duration::from_micros(100);
 /// Time constant of the joint position servo, s.
@@ -243,6 +246,12 @@ pub struct KrcReport {
     pub stale: u64,
     /// Datagrams that are not command packets.
     pub malformed: u64,
+    /// Measurements sent more than [`LATE_SEND`] of a cycle after they
+    /// were due: the simulator's own lateness (a real KRC sends on a
+    /// real-time clock), which leaves the remote less time to answer.
+    pub late_sends: u64,
+    /// The latest send after it was due, s.
+    pub max_send_delay: f64,
     /// Commands in command mode faster than the velocity limits.
     pub too_fast: u64,
     /// Commands in command mode beyond the position limits (clamped).
@@ -261,6 +270,14 @@ pub struct KrcReport {
     pub rejections: Vec<String>,
     /// Every cycle, if recording.
     pub log: Vec<CycleRecord>,
+}
+
+impl KrcReport {
+    /// Notes a measurement sent `delay` after it was due.
+    fn sent_after(&mut self, delay: Duration, cycle: Duration) {
+        self.late_sends += u64::from(delay > cycle.mul_f64(LATE_SEND));
+        self.max_send_delay = self.max_send_delay.max(delay.as_secs_f64());
+    }
 }
 
 /// The simulated KRC, bound and ready to run.
@@ -471,6 +488,8 @@ impl SimKrc {
             (m.data.est_ext_tcp_ft, m.data.est_ext_jnt_trq) = robot.external_load(liquid, noise);
             let sent = rng.next_u32() >= drop_below;
             let sent_at = Instant::now();
+            let due = anchor + cfg.cycle.mul_f64((k - anchor_k) as f64);
+            report.sent_after(sent_at.saturating_duration_since(due), cfg.cycle);
             if sent {
                 self.socket
                     .send_to(&m.encode(), cfg.remote)
@@ -781,6 +800,19 @@ mod tests {
             w.push(None);
         }
         assert_eq!(w.quality(THRESHOLDS), Quality::Unacceptable);
+    }
+
+    #[test]
+    fn sends_later_than_a_quarter_cycle_count_as_late() {
+        let cycle = Duration::from_millis(2);
+        let mut report = KrcReport::default();
+        report.sent_after(Duration::from_micros(20), cycle);
+        report.sent_after(Duration::from_micros(500), cycle);
+        assert_eq!(report.late_sends, 0);
+        report.sent_after(Duration::from_micros(1500), cycle);
+        report.sent_after(Duration::from_micros(700), cycle);
+        assert_eq!(report.late_sends, 2);
+        assert!((report.max_send_delay - 1.5e-3).abs() < 1e-12);
     }
 
     #[test]
