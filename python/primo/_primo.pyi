@@ -127,7 +127,12 @@ class DmpRun:
 
 class Generalizer:
     """``G(q)`` over examples ``(query, dmp)``: LWR or GPR on the DMPs'
-    parameter vectors, the start generalized alike."""
+    parameter vectors, the start generalized alike. Every example is a
+    discrete DMP with the first one's columns, in order; orientation groups
+    (``<p>qw,<p>qx,<p>qy,<p>qz``) are generalized as ``primo learn`` does:
+    goals and starts as rotation vectors at the mean of the examples' goals,
+    so each ``generalize(q)`` runs with unit quaternions and equals each
+    example at its query where the regression interpolates."""
 
     def __init__(
         self,
@@ -139,7 +144,8 @@ class Generalizer:
     def generalize(self, q: Union[float, ArrayLike]) -> Dmp:
         """The DMP for query ``q``."""
     def params(self, q: Union[float, ArrayLike]) -> Array:
-        """``G(q)``, the parameter vector."""
+        """``G(q)``, the parameter vector (an orientation group's three goal
+        values: its goal's rotation vector from the examples' mean goal)."""
     @property
     def query_dim(self) -> int: ...
     @property

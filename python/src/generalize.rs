@@ -1,6 +1,8 @@
 //! `Generalizer`: DMPs at task queries, `G(q)` → a DMP for a new query
 //! (`primo_skill::Skill::from_files`: LWR or GPR over the parameter
-//! vectors, the start generalized with the same coefficients).
+//! vectors, the start generalized with the same coefficients; orientation
+//! groups in the tangent space at their goals' mean, as the skill layer
+//! and `primo learn` generalize them).
 
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
@@ -17,7 +19,14 @@ use crate::errors::{invalid, skill};
 /// values): LWR (`method="lwr"`, `bandwidth`) or GPR (`"gpr"`,
 /// `bandwidth` as length scale, `noise`) on the DMPs' parameter vectors,
 /// the start generalized with the same coefficients. With two examples
-/// both are the straight line through them.
+/// both are the straight line through them. Every example is a discrete
+/// DMP with the first one's columns; orientation groups
+/// (`<p>qw,<p>qx,<p>qy,<p>qz`) are generalized as `primo learn` does: goals
+/// and starts as rotation vectors at the mean of the examples' goals (in
+/// `params`, a group's three goal values are its goal's rotation vector
+/// from that mean), weights as they are, so every `generalize(q)` is an
+/// orientation DMP whose quaternions are unit-norm, equal to each example
+/// at its query where the regression interpolates.
 ///
 /// >>> import numpy as np, primo
 /// >>> t = np.linspace(0.0, 1.0, 101)
@@ -64,6 +73,21 @@ fn method(name: &str, bandwidth: Option<f64>, noise: f64) -> PyResult<Method> {
     }
 }
 
+/// A DMP file's columns for a message, its orientation groups named.
+fn columns(file: &DmpFile) -> String {
+    let groups: Vec<String> = file
+        .orientations
+        .iter()
+        .map(|o| o.columns.join(","))
+        .collect();
+    let orientations = match groups.as_slice() {
+        [] => "no orientation".to_string(),
+        [one] => format!("orientation {one}"),
+        more => format!("orientations {}", more.join("; ")),
+    };
+    format!("[{}] ({orientations})", file.names.join(", "))
+}
+
 #[pymethods]
 impl Generalizer {
     #[new]
@@ -75,42 +99,36 @@ impl Generalizer {
         noise: f64,
     ) -> PyResult<Generalizer> {
         let regression = self::method(method, bandwidth, noise)?;
-        let mut kept = Vec::new();
+        let mut kept: Vec<(Vec<f32>, Dmp)> = Vec::new();
+        let mut files: Vec<&DmpFile> = Vec::new();
         for (i, (q, dmp)) in examples.iter().enumerate() {
             let query = vector(&format!("examples[{i}] query"), q, true)?;
-            match &dmp.fitted {
-                Fitted::Discrete(f) if f.orientations.is_empty() => {}
-                _ => {
-                    return Err(invalid(format!(
-                        "examples[{i}]: generalization takes discrete DMPs without orientation \
-                         columns"
-                    )));
-                }
+            let Fitted::Discrete(file) = &dmp.fitted else {
+                return Err(invalid(format!(
+                    "examples[{i}]: a rhythmic DMP; generalization takes discrete DMPs"
+                )));
+            };
+            if let Some(first) = files.first()
+                && first.names != file.names
+            {
+                return Err(invalid(format!(
+                    "examples[{i}]: columns {}, the first example's are {}: every example needs \
+                     the same columns, in the same order",
+                    columns(file),
+                    columns(first)
+                )));
             }
+            files.push(file);
             kept.push((query, dmp.clone()));
         }
-        let Some((
-            _,
-            Dmp {
-                fitted: Fitted::Discrete(first),
-            },
-        )) = kept.first()
-        else {
+        if files.is_empty() {
             return Err(invalid("examples: give at least one (query, dmp) pair"));
-        };
-        let names = &first.names;
-        let mut files: Vec<(&[f32], &DmpFile)> = Vec::new();
-        for (i, (q, dmp)) in kept.iter().enumerate() {
-            if let Fitted::Discrete(f) = &dmp.fitted {
-                if &f.names != names {
-                    return Err(invalid(format!(
-                        "examples[{i}]: columns {:?}, the first example's are {names:?}",
-                        f.names
-                    )));
-                }
-                files.push((q, f));
-            }
         }
+        let files: Vec<(&[f32], &DmpFile)> = kept
+            .iter()
+            .zip(files)
+            .map(|((q, _), f)| (&q[..], f))
+            .collect();
         let skill = Skill::from_files(&files, regression).map_err(skill)?;
         Ok(Generalizer {
             skill,

@@ -41,3 +41,86 @@ def test_vector_queries_and_errors():
         primo.Generalizer([(0.1, dmps[0])], method="knn")
     with pytest.raises(ValueError, match="at least one"):
         primo.Generalizer([])
+
+
+POSE = ["x", "y", "z", "qw", "qx", "qy", "qz"]
+
+
+def yaw(deg):
+    """The unit quaternion [w, x, y, z] of a turn by `deg` about z."""
+    half = np.radians(deg) / 2
+    return np.stack([np.cos(half), 0 * half, 0 * half, np.sin(half)], axis=-1)
+
+
+def pose_demo(reach, start_yaw, goal_yaw, names=POSE):
+    """A tool's pose: its point from the origin to `reach` along x (y and z
+    on arcs), its yaw from `start_yaw` to `goal_yaw` degrees, the
+    quaternion's sign flipped on every third row (as some recorders do)."""
+    t = np.linspace(0.0, 1.0, 201)
+    s = t * t * (3 - 2 * t)
+    q = yaw(start_yaw + (goal_yaw - start_yaw) * s)
+    q[1::3] *= -1
+    point = np.column_stack([reach * s, 0.1 * np.sin(np.pi * s), 0.2 + 0.1 * s])
+    return primo.Dmp.fit(t, np.column_stack([point, q]), names=names)
+
+
+def same_rows(a, b, atol):
+    """Rows equal, each quaternion up to its sign."""
+    sign = np.sign(np.sum(a[:, 3:] * b[:, 3:], axis=1))[:, None]
+    np.testing.assert_allclose(a[:, :3], b[:, :3], atol=atol)
+    np.testing.assert_allclose(a[:, 3:], sign * b[:, 3:], atol=atol)
+
+
+@pytest.mark.parametrize("method", ["lwr", "gpr"])
+def test_orientations_are_generalized_in_the_tangent_space(method):
+    # Goal yaws 170° and 190°: the blend must pass through 180°, not turn
+    # the long way round through 0°.
+    examples = [(0.0, pose_demo(0.3, 120.0, 170.0)), (1.0, pose_demo(0.5, 140.0, 190.0))]
+    g = primo.Generalizer(examples, method=method)
+    assert g.names == POSE and g.query_dim == 1
+    for q, example in examples:
+        dmp = g.generalize(q)
+        assert dmp.names == POSE and dmp.orientations == [["qw", "qx", "qy", "qz"]]
+        assert len(dmp.params) == 6 * dmp.kernels + 6 + 1  # the orientation: 3 DoFs
+        t, rows = dmp.run(dt=0.01)
+        t_example, rows_example = example.run(dt=0.01)
+        np.testing.assert_array_equal(t, t_example)
+        same_rows(rows, rows_example, atol=1e-6)
+    for q in (0.25, 0.5, 0.75):
+        _, rows = g.generalize(q).run(dt=0.01)
+        np.testing.assert_allclose(np.linalg.norm(rows[:, 3:], axis=1), 1.0, atol=1e-5)
+        end = 170.0 + 20.0 * q
+        assert abs(rows[-1, 3:] @ yaw(end)) > 1.0 - 1e-6, (q, rows[-1])
+        start = 120.0 + 20.0 * q
+        assert abs(rows[0, 3:] @ yaw(start)) > 1.0 - 1e-6, (q, rows[0])
+        assert rows[-1, 0] == pytest.approx(0.3 + 0.2 * q, abs=1e-4)
+    # A generalized DMP is an ordinary one: it pickles, steps and saves.
+    copy = pickle.loads(pickle.dumps(g))
+    assert copy.generalize(0.5) == g.generalize(0.5)
+    dmp = g.generalize(0.5)
+    assert pickle.loads(pickle.dumps(dmp)) == dmp
+    assert primo.Dmp.from_json(dmp.to_json()) == dmp
+    stepper = dmp.stepper()
+    np.testing.assert_array_equal(stepper.step(0.01), dmp.run(dt=0.01)[1][1])
+
+
+def test_examples_with_other_orientation_columns_are_refused():
+    first = pose_demo(0.3, 120.0, 170.0)
+    renamed = pose_demo(0.5, 140.0, 190.0, names=["x", "y", "z", "tool_qw", "tool_qx", "tool_qy", "tool_qz"])
+    with pytest.raises(ValueError, match=r"examples\[1\]: columns .*tool_qw.*\(orientation tool_qw"):
+        primo.Generalizer([(0.0, first), (1.0, renamed)])
+    t = np.linspace(0.0, 1.0, 201)
+    y = np.column_stack([yaw(np.linspace(120.0, 170.0, 201)), t, 0 * t, 0.2 + 0 * t])
+    reordered = primo.Dmp.fit(t, y, names=["qw", "qx", "qy", "qz", "x", "y", "z"])
+    with pytest.raises(ValueError, match=r"examples\[1\]: .*the same order"):
+        primo.Generalizer([(0.0, first), (1.0, reordered)])
+    plain = primo.Dmp.fit(t, np.column_stack([t, 0 * t, 0.2 + 0 * t]), names=["x", "y", "z"])
+    with pytest.raises(ValueError, match=r"examples\[1\]: columns \[x, y, z\] \(no orientation\)"):
+        primo.Generalizer([(0.0, first), (1.0, plain)])
+    with pytest.raises(ValueError, match=r"examples\[2\]: .*\(no orientation\)"):
+        primo.Generalizer([(0.0, first), (0.5, first), (1.0, plain)])
+    with pytest.raises(ValueError, match=r"examples\[1\]: .*\(orientation qw,qx,qy,qz\)"):
+        primo.Generalizer([(0.0, plain), (1.0, first)])
+    rhythmic = primo.Dmp.fit_rhythmic(t, np.sin(2 * np.pi * t), names=["x"])
+    with pytest.raises(ValueError, match=r"examples\[0\]: a rhythmic DMP"):
+        primo.Generalizer([(0.0, rhythmic)])
