@@ -332,8 +332,8 @@ impl Qemu {
         load_cell: &str,
         settings: &primo_core::scale::Settings,
     ) -> Result<Qemu, Error> {
-        let mut buf = [0u8; MAX_FRAME];
-        let frame = wire::encode(0, settings, &mut buf)
+        let mut buf = [0u8; primo_device::page::IMAGE];
+        let image = primo_device::page::encode(settings, &mut buf)
             .map_err(|e| Error::Coprocessor(format!("the scale's settings page: {e}")))?;
         // One file per boot of this process.
         static BOOTS: AtomicU32 = AtomicU32::new(0);
@@ -342,7 +342,7 @@ impl Qemu {
             std::process::id(),
             BOOTS.fetch_add(1, Ordering::Relaxed)
         ));
-        std::fs::write(&page, frame).map_err(Error::io(&page))?;
+        std::fs::write(&page, image).map_err(Error::io(&page))?;
         let loader = format!(
             "loader,file={},addr={SETTINGS_PAGE:#x},force-raw=on",
             page.display()
