@@ -2,6 +2,7 @@
 
 use std::path::{Path, PathBuf};
 
+use primo_core::dmp::Margin;
 use primo_skill::MAX_KERNELS;
 use primo_skill::csv::{parse_demo, write_rows};
 use primo_skill::dmpfile::{self, Change, DmpFile, Fitted, MAX_ROWS, RhythmicFile};
@@ -28,6 +29,12 @@ pub enum DmpCommand {
         /// the whole demonstration is one period).
         #[arg(long, requires = "rhythmic")]
         period: Option<f32>,
+        /// Kernel spacings the outer kernels lie beyond the movement's ends
+        /// (0: on them), or `auto`: whichever of 0 and 1 reproduces the
+        /// demonstration better. DMPs to be generalized together need the
+        /// same margin.
+        #[arg(long, default_value = "auto", conflicts_with = "rhythmic")]
+        margin: String,
         /// Output JSON file (stdout when absent).
         #[arg(long)]
         out: Option<PathBuf>,
@@ -84,8 +91,15 @@ pub fn run(command: DmpCommand) -> Result<(), CliError> {
             kernels,
             rhythmic,
             period,
+            margin,
             out,
-        } => fit(&demo, kernels, rhythmic.then_some(period), out.as_deref()),
+        } => fit(
+            &demo,
+            kernels,
+            rhythmic.then_some(period),
+            &margin,
+            out.as_deref(),
+        ),
         DmpCommand::Run {
             dmp,
             dt,
@@ -150,6 +164,7 @@ fn fit(
     demo_path: &Path,
     kernels: usize,
     rhythmic: Option<Option<f32>>,
+    margin: &str,
     out: Option<&Path>,
 ) -> Result<(), CliError> {
     let file = demo_path.display().to_string();
@@ -158,6 +173,7 @@ fn fit(
             "--kernels: {kernels} is outside 2..={MAX_KERNELS}"
         )));
     }
+    let margin = parse_margin(margin, kernels)?;
     if let Some(Some(period)) = rhythmic
         && !(period.is_finite() && period > 0.0)
     {
@@ -170,11 +186,27 @@ fn fit(
     }
     let demo = parse_demo(&file, &read(demo_path)?)?;
     let json = match rhythmic {
-        None => DmpFile::fit(&file, &demo, kernels)?.to_json(),
+        None => DmpFile::fit(&file, &demo, kernels, margin)?.to_json(),
         Some(period) => RhythmicFile::fit(&file, &demo, kernels, period)?.to_json(),
     }
     .map_err(|e| CliError::other(format!("cannot serialize the DMP: {e}")))?;
     emit(out, format!("{json}\n").as_bytes())
+}
+
+/// `--margin`: `auto`, or a number of kernel spacings that leaves at least
+/// one spacing between the movement's ends.
+fn parse_margin(text: &str, kernels: usize) -> Result<Margin, CliError> {
+    if text == "auto" {
+        return Ok(Margin::Auto);
+    }
+    let most = (kernels as f32 - 2.0) / 2.0;
+    match text.parse::<f32>() {
+        Ok(m) if (0.0..=most).contains(&m) => Ok(Margin::Spacings(m)),
+        _ => Err(CliError::input(format!(
+            "--margin: `{text}` is neither `auto` nor a number of kernel spacings from 0 to \
+             {most} (with --kernels {kernels}, one spacing must stay between the ends)"
+        ))),
+    }
 }
 
 /// Parses `a,b,...` with exactly one value per DoF.

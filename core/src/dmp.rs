@@ -10,7 +10,7 @@
 //! τ ż = α (β (g − y) − z) + a · f(s),   τ ẏ = z,   β = α / 4
 //! s   = min(t / τ, 1)                              (phase)
 //! f(s) = Σ ψ_k(s) w_k / Σ ψ_k(s) for s < 1, 0 for s ≥ 1
-//! ψ_k(s) = exp(−h (s − c_k)²),  c_k = k / (K − 1)
+//! ψ_k(s) = exp(−h (s − c_k)²),  c_k = (k − m) / (K − 1 − 2m)
 //! a   = g − y0  (amplitude-scaled DoF)  or  1  (loop-like DoF)
 //! ```
 //!
@@ -26,6 +26,13 @@
 //!   afterwards: no Pastor-style `x(T) ≠ 0` residue pulling away from the goal.
 //! - The kernels are uniform in `s`, so only the few within reach of the
 //!   current phase are evaluated (see [`Dmp::forcing`]).
+//! - The outer kernels may lie `m` spacings beyond the movement's ends
+//!   ([`Margin`]). With `m = 0` the first and last kernels sit on the ends,
+//!   where the normalized kernels can hardly bend: once a movement is
+//!   resolved (enough kernels) that is where most of a fit's error is, and
+//!   one spacing beyond each end reproduces it up to 30× better. With few
+//!   kernels the interior's resolution counts more, so a fit tries both
+//!   and keeps the better ([`Margin::Auto`]).
 //! - The spring-damper is critically damped and linear, so a step with the
 //!   forcing held at its mid-step value is integrated exactly (matrix
 //!   exponential), not by Euler: any `dt` is stable and the error is
@@ -114,6 +121,22 @@ pub const MAX_ALPHA: f32 = 1e4;
 /// fraction of the demonstration's range on that DoF.
 pub const AUTO_SCALING_MIN_FRACTION: f32 = 0.1;
 
+/// Where a fit puts its outer kernels.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
+pub enum Margin {
+    /// Fits with [`AUTO_MARGIN`] spacings and with none, and keeps the one
+    /// that reproduces the demonstration better (time-weighted squared
+    /// error over all DoFs). The fit takes about twice as long.
+    #[default]
+    Auto,
+    /// This many kernel spacings beyond each end (0: the first kernel on the
+    /// start, the last on the end; at most `(K − 2)/2`).
+    Spacings(f32),
+}
+
+/// The margin [`Margin::Auto`] tries besides none, in kernel spacings.
+pub const AUTO_MARGIN: f32 = 1.0;
+
 /// Which DoFs scale their forcing term by the amplitude `g − y0`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
 pub enum Scaling {
@@ -139,10 +162,31 @@ pub struct FitOptions {
     pub alpha: f32,
     /// Kernel overlap `h·Δc² > 0`; larger means narrower kernels.
     pub overlap: f32,
-    /// Ridge regularization, relative to the mean diagonal of the Gram matrix.
+    /// Ridge regularization, relative to the mean diagonal of the Gram
+    /// matrix. The default 1e−9 only guards the `f64` solve: 1e−6 kept a
+    /// margin's outer kernels from fitting (the helix of
+    /// `bench/compare_dmp.sh` 10× worse) and cost up to 40 % without one.
     pub ridge: f32,
     /// Which DoFs are amplitude-scaled.
     pub scaling: Scaling,
+    /// Where the outer kernels go.
+    pub margin: Margin,
+}
+
+impl FitOptions {
+    /// The fit of the DMPs of skills that are learned (the pour, task
+    /// files): the narrower kernels of [`LEARNING_OVERLAP`], none beyond
+    /// the ends and a ridge of 1e−6, the fit PoWER's roll-out counts were
+    /// measured with. The margin is fixed because the examples of one
+    /// skill must share their kernels to be generalized (an automatic
+    /// choice may differ between them).
+    pub const LEARNING: FitOptions = FitOptions {
+        alpha: DEFAULT_ALPHA,
+        overlap: LEARNING_OVERLAP,
+        ridge: 1e-6,
+        scaling: Scaling::Auto,
+        margin: Margin::Spacings(0.0),
+    };
 }
 
 impl Default for FitOptions {
@@ -150,8 +194,9 @@ impl Default for FitOptions {
         Self {
             alpha: DEFAULT_ALPHA,
             overlap: DEFAULT_OVERLAP,
-            ridge: 1e-6,
+            ridge: 1e-9,
             scaling: Scaling::Auto,
+            margin: Margin::Auto,
         }
     }
 }
@@ -164,6 +209,7 @@ pub struct Dmp<const D: usize, const K: usize> {
     tau: f32,
     alpha: f32,
     width: f32,
+    margin: f32,
     start: Vec<f32, D>,
     goal: Vec<f32, D>,
     scaled: Vec<bool, D>,
@@ -176,6 +222,9 @@ struct DmpFields<const D: usize, const K: usize> {
     tau: f32,
     alpha: f32,
     width: f32,
+    /// Absent from DMPs saved before margins existed: none.
+    #[serde(default)]
+    margin: f32,
     start: Vec<f32, D>,
     goal: Vec<f32, D>,
     scaled: Vec<bool, D>,
@@ -205,10 +254,12 @@ impl<const D: usize, const K: usize> TryFrom<DmpFields<D, K>> for Dmp<D, K> {
         check_tau(f.tau, "tau must be finite and >= MIN_TAU")?;
         check_alpha(f.alpha)?;
         check_positive(f.width, "width must be finite and > 0")?;
+        check_margin(f.margin, k)?;
         Ok(Dmp {
             tau: f.tau,
             alpha: f.alpha,
             width: f.width,
+            margin: f.margin,
             start: f.start,
             goal: f.goal,
             scaled: f.scaled,
@@ -223,6 +274,23 @@ pub(crate) fn check_positive(v: f32, what: &'static str) -> Result<(), Error> {
     } else {
         Err(Error::OutOfRange(what))
     }
+}
+
+/// A margin of `m` spacings leaves `K − 1 − 2m ≥ 1` spacings between the
+/// ends.
+fn check_margin(m: f32, kernels: usize) -> Result<(), Error> {
+    if m >= 0.0 && m.is_finite() && span(kernels, m) >= 1.0 {
+        Ok(())
+    } else {
+        Err(Error::OutOfRange(
+            "margin must be finite, >= 0 and leave one kernel spacing between the ends",
+        ))
+    }
+}
+
+/// Kernel spacings between the movement's ends: `K − 1 − 2m`.
+fn span(kernels: usize, margin: f32) -> f32 {
+    kernels.saturating_sub(1) as f32 - 2.0 * margin
 }
 
 pub(crate) fn check_tau(tau: f32, what: &'static str) -> Result<(), Error> {
@@ -253,6 +321,8 @@ pub struct Shape {
     pub alpha: f32,
     /// Kernel width `h`.
     pub width: f32,
+    /// Kernels beyond each end, in spacings ([`Margin::Spacings`]).
+    pub margin: f32,
     /// Bit `d` set: DoF `d`'s forcing term is scaled by its amplitude.
     pub scaled: u32,
 }
@@ -266,6 +336,14 @@ pub struct Execution<const D: usize> {
     pub start: Vec<f32, D>,
     /// Goal position, one value per DoF.
     pub goal: Vec<f32, D>,
+}
+
+/// One layout's fit, for [`Margin::Auto`] to choose from.
+struct Fitted<const D: usize, const K: usize> {
+    residual: f64,
+    width: f32,
+    margin: f32,
+    weights: Vec<Vec<f32, K>, D>,
 }
 
 /// One point of an executed trajectory.
@@ -428,9 +506,6 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
             })?;
         }
 
-        let spacing = 1.0 / (kernels - 1) as f32;
-        let width = options.overlap / (spacing * spacing);
-        check_positive(width, "overlap too large for this many kernels")?;
         let alpha = options.alpha;
         let mut amplitude = [1.0f32; D];
         for (d, a) in amplitude.iter_mut().enumerate().take(dof) {
@@ -438,44 +513,72 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
                 *a = goal.get(d).copied().unwrap_or(0.0) - start.get(d).copied().unwrap_or(0.0);
             }
         }
-        let mut fitted = [[0.0f32; K]; D];
-        fit::weights(
-            &fit::Demonstration {
-                times,
-                rows,
-                dof,
-                kernels,
-                alpha,
-                width,
-                ridge: options.ridge,
-                start: &start,
-                goal: &goal,
-                amplitude: &amplitude,
-            },
-            &mut fitted,
-        )?;
-        let mut weights: Vec<Vec<f32, K>, D> = Vec::new();
-        for w in fitted.iter().take(dof) {
-            let row: Vec<f32, K> = w.iter().copied().take(kernels).collect();
-            check_bounded(
-                &row,
-                MAX_ABS_WEIGHT,
-                "fitted weights beyond MAX_ABS_WEIGHT (demo too short or too noisy for the kernels?)",
+        let fit_with = |margin: f32| -> Result<Fitted<D, K>, Error> {
+            let spacing = 1.0 / span(kernels, margin);
+            let width = options.overlap / (spacing * spacing);
+            check_positive(width, "overlap too large for this many kernels")?;
+            let mut fitted = [[0.0f32; K]; D];
+            let residual = fit::weights(
+                &fit::Demonstration {
+                    times,
+                    rows,
+                    dof,
+                    kernels,
+                    alpha,
+                    width,
+                    margin,
+                    ridge: options.ridge,
+                    start: &start,
+                    goal: &goal,
+                    amplitude: &amplitude,
+                },
+                &mut fitted,
             )?;
-            weights.push(row).map_err(|_| Error::Capacity {
-                what: "DoF",
-                requested: dof,
-                capacity: D,
-            })?;
-        }
+            let mut weights: Vec<Vec<f32, K>, D> = Vec::new();
+            for w in fitted.iter().take(dof) {
+                let row: Vec<f32, K> = w.iter().copied().take(kernels).collect();
+                check_bounded(
+                    &row,
+                    MAX_ABS_WEIGHT,
+                    "fitted weights beyond MAX_ABS_WEIGHT (demo too short or too noisy for the kernels?)",
+                )?;
+                weights.push(row).map_err(|_| Error::Capacity {
+                    what: "DoF",
+                    requested: dof,
+                    capacity: D,
+                })?;
+            }
+            Ok(Fitted {
+                residual,
+                width,
+                margin,
+                weights,
+            })
+        };
+        let fitted = match options.margin {
+            Margin::Spacings(m) => {
+                check_margin(m, kernels)?;
+                fit_with(m)?
+            }
+            Margin::Auto => {
+                let plain = fit_with(0.0)?;
+                // The wider layout only where it leaves a spacing between
+                // the ends and fits at all; a tie keeps the plain one.
+                match check_margin(AUTO_MARGIN, kernels).and_then(|()| fit_with(AUTO_MARGIN)) {
+                    Ok(wide) if wide.residual < plain.residual => wide,
+                    _ => plain,
+                }
+            }
+        };
         Ok(Self {
             tau,
             alpha,
-            width,
+            width: fitted.width,
+            margin: fitted.margin,
             start,
             goal,
             scaled,
-            weights,
+            weights: fitted.weights,
         })
     }
 
@@ -503,6 +606,11 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
     /// [`Dmp::set_params`]).
     pub fn goal(&self) -> &[f32] {
         &self.goal
+    }
+
+    /// Kernel spacings beyond each end of the movement ([`Margin`]).
+    pub fn margin(&self) -> f32 {
+        self.margin
     }
 
     /// Whether DoF `d`'s forcing term is scaled by its amplitude.
@@ -583,6 +691,7 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
         Shape {
             alpha: self.alpha,
             width: self.width,
+            margin: self.margin,
             scaled,
         }
     }
@@ -606,6 +715,7 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
             tau: 1.0,
             alpha: shape.alpha,
             width: shape.width,
+            margin: shape.margin,
             start: start.iter().copied().collect(),
             goal: zeros(dof).collect(),
             scaled: (0..dof)
@@ -639,7 +749,8 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
             return;
         }
         let mut psi = [0.0f32; K];
-        let (lo, hi, sum) = activations(s.max(0.0), self.width, kernels, &mut psi);
+        let layout = Layout::new(kernels, self.margin);
+        let (lo, hi, sum) = activations(s.max(0.0), self.width, &layout, &mut psi);
         let Some(active) = psi.get(lo..=hi) else {
             return;
         };
@@ -740,16 +851,51 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
     }
 }
 
-/// The kernel index range `[lo, hi]` within reach of phase `s` for kernels
-/// `0..=last`, and the nearest kernel, which it always contains.
-fn window(s: f32, width: f32, last: f32) -> (usize, usize, usize) {
-    let reach = libm::sqrtf(KERNEL_CUTOFF / width) * last;
-    let centre = s * last;
-    // `as usize` saturates, and the clamp keeps both ends inside [0, last].
-    let lo = libm::ceilf(centre - reach).clamp(0.0, last) as usize;
-    let hi = libm::floorf(centre + reach).clamp(0.0, last) as usize;
-    let nearest = libm::roundf(centre).clamp(0.0, last) as usize;
-    (lo.min(nearest), hi.max(nearest), nearest)
+/// Where the kernels are: `c_k = (k − margin)·spacing` for `k` in
+/// `0..=last`.
+pub(crate) struct Layout {
+    /// Kernel spacings between the movement's ends, `1/spacing`.
+    span: f32,
+    margin: f32,
+    last: f32,
+}
+
+impl Layout {
+    pub(crate) fn new(kernels: usize, margin: f32) -> Self {
+        Layout {
+            span: span(kernels, margin),
+            margin,
+            last: kernels.saturating_sub(1).max(1) as f32,
+        }
+    }
+
+    /// The distance between neighbouring kernels, in phase.
+    pub(crate) fn spacing(&self) -> f32 {
+        1.0 / self.span
+    }
+
+    /// Kernel spacings between the movement's ends.
+    pub(crate) fn span(&self) -> f32 {
+        self.span
+    }
+
+    /// Kernel spacings beyond each end.
+    pub(crate) fn margin(&self) -> f32 {
+        self.margin
+    }
+
+    /// The kernel index range `[lo, hi]` within reach of phase `s`, and
+    /// the nearest kernel, which it always contains.
+    pub(crate) fn window(&self, s: f32, width: f32) -> (usize, usize, usize) {
+        let last = self.last;
+        let reach = libm::sqrtf(KERNEL_CUTOFF / width) * self.span;
+        let centre = s * self.span + self.margin;
+        // `as usize` saturates, and the clamp keeps both ends inside [0, last].
+        let lo = libm::ceilf(centre - reach).clamp(0.0, last) as usize;
+        let hi = libm::floorf(centre + reach).clamp(0.0, last) as usize;
+        let nearest = libm::roundf(centre).clamp(0.0, last) as usize;
+        (lo.min(nearest), hi.max(nearest), nearest)
+    }
 }
 
 /// Activations of the kernels within reach of phase `s`, relative to the
@@ -758,17 +904,16 @@ fn window(s: f32, width: f32, last: f32) -> (usize, usize, usize) {
 fn activations<const K: usize>(
     s: f32,
     width: f32,
-    kernels: usize,
+    layout: &Layout,
     psi: &mut [f32; K],
 ) -> (usize, usize, f32) {
-    let last = kernels.saturating_sub(1).max(1) as f32;
-    let spacing = 1.0 / last;
-    let (lo, hi, nearest) = window(s, width, last);
-    let d0 = s - nearest as f32 * spacing;
+    let spacing = layout.spacing();
+    let (lo, hi, nearest) = layout.window(s, width);
+    let d0 = s - (nearest as f32 - layout.margin) * spacing;
     let base = d0 * d0;
     let mut sum = 0.0;
     for (k, p) in (lo..=hi).zip(psi.iter_mut().skip(lo)) {
-        let ds = s - k as f32 * spacing;
+        let ds = s - (k as f32 - layout.margin) * spacing;
         *p = libm::expf(-width * (ds * ds - base));
         sum += *p;
     }
@@ -1047,10 +1192,10 @@ mod tests {
     /// windowed [`Dmp::forcing`].
     fn forcing_full<const D: usize, const K: usize>(dmp: &Dmp<D, K>, s: f32, out: &mut [f32]) {
         let k = dmp.kernels();
-        let spacing = 1.0 / (k - 1) as f32;
+        let spacing = 1.0 / ((k - 1) as f32 - 2.0 * dmp.margin);
         let psi: std::vec::Vec<f32> = (0..k)
             .map(|i| {
-                let ds = s - i as f32 * spacing;
+                let ds = s - (i as f32 - dmp.margin) * spacing;
                 libm::expf(-dmp.width * ds * ds)
             })
             .collect();
@@ -1068,12 +1213,20 @@ mod tests {
 
     #[test]
     fn windowed_forcing_matches_full_sum() {
+        for margin in [0.0, AUTO_MARGIN, 2.5] {
+            windowed_forcing_matches_full_sum_with(margin);
+        }
+    }
+
+    fn windowed_forcing_matches_full_sum_with(margin: f32) {
         // Weights in [-1, 1]: the forcing term is a convex combination of
         // them, so an absolute tolerance of 1e-6 is a relative one too.
+        let span = 29.0 - 2.0 * margin;
         let mut dmp: Dmp<7, 30> = Dmp {
             tau: 1.0,
             alpha: DEFAULT_ALPHA,
-            width: DEFAULT_OVERLAP * 29.0 * 29.0,
+            width: DEFAULT_OVERLAP * span * span,
+            margin,
             start: Vec::from_slice(&[0.0; 7]).unwrap(),
             goal: Vec::from_slice(&[1.0; 7]).unwrap(),
             scaled: Vec::from_slice(&[true; 7]).unwrap(),
@@ -1099,7 +1252,10 @@ mod tests {
                 worst = worst.max((x - y).abs());
             }
         }
-        assert!(worst <= 1e-6, "windowed forcing differs by {worst}");
+        assert!(
+            worst <= 1e-6,
+            "windowed forcing differs by {worst} (margin {margin})"
+        );
     }
 
     #[test]
@@ -1131,11 +1287,16 @@ mod tests {
     #[test]
     fn window_is_small_and_covers_nearest() {
         // Within reach: |s − c| ≤ √(cutoff/overlap) spacings either side.
-        for (overlap, most) in [(DEFAULT_OVERLAP, 13), (LEARNING_OVERLAP, 8)] {
-            let width = overlap * 29.0 * 29.0;
+        for (overlap, margin, most) in [
+            (DEFAULT_OVERLAP, 0.0, 13),
+            (DEFAULT_OVERLAP, AUTO_MARGIN, 13),
+            (LEARNING_OVERLAP, 0.0, 8),
+        ] {
+            let layout = Layout::new(30, margin);
+            let width = overlap * layout.span() * layout.span();
             for i in 0..=1000 {
                 let s = i as f32 / 1000.0;
-                let (lo, hi, nearest) = window(s, width, 29.0);
+                let (lo, hi, nearest) = layout.window(s, width);
                 assert!(lo <= nearest && nearest <= hi);
                 assert!(lo <= hi && hi < 30);
                 assert!(hi - lo < most, "window {lo}..={hi} at overlap {overlap}");

@@ -60,8 +60,9 @@ use crate::secant::SecantConfig;
 /// Protocol version; a coprocessor speaking another one refuses to work.
 /// 3: the scale's messages; 4: the scale's weighing modes, among them the
 /// next stable reading, answered when it is ready, and PoWER's
-/// error-learned query (`PowerConfig::query_gain`).
-pub const VERSION: u16 = 4;
+/// error-learned query (`PowerConfig::query_gain`); 5: the kernel margin
+/// in a DMP's shape (`Shape::margin`).
+pub const VERSION: u16 = 5;
 /// Largest frame on the line, in bytes, the 0x00 delimiter included.
 pub const MAX_FRAME: usize = 160;
 /// Values per chunk of a long vector.
@@ -574,6 +575,7 @@ mod tests {
                 shape: Shape {
                     alpha: 25.0,
                     width: 1.0,
+                    margin: 1.0,
                     scaled: u32::MAX,
                 },
                 kernels: u8::MAX,

@@ -1,5 +1,5 @@
 //! The DMP properties the issue asks for, on the demos it names.
-use primo_core::dmp::{Dmp, FitOptions, MIN_ALPHA, MIN_TAU, Scaling, Shape};
+use primo_core::dmp::{AUTO_MARGIN, Dmp, FitOptions, MIN_ALPHA, MIN_TAU, Margin, Scaling, Shape};
 use std::f32::consts::PI;
 
 fn min_jerk(t: f32) -> f32 {
@@ -268,6 +268,51 @@ fn parameters_and_serde_round_trip() {
     theta[0] = f32::NAN;
     assert!(dmp.set_params(&theta).is_err());
     assert_eq!(back, dmp, "failed set_params leaves the DMP unchanged");
+    // Saved before margins existed: none. A margin leaving no spacing
+    // between the ends is refused.
+    let margin = format!("\"margin\":{:?},", dmp.margin());
+    assert!(json.contains(&margin), "{json}");
+    let old: Dmp<2, 30> = serde_json::from_str(&json.replace(&margin, "")).unwrap();
+    assert_eq!(old.margin(), 0.0);
+    for bad in ["\"margin\":14.5,", "\"margin\":-1.0,"] {
+        assert!(serde_json::from_str::<Dmp<2, 30>>(&json.replace(&margin, bad)).is_err());
+    }
+}
+
+/// RMSE of a `K`-kernel fit of `demo_2d` with `margin`, replayed at 1 ms.
+fn rmse_with<const K: usize>(margin: Margin) -> (f32, f32) {
+    let (t, y) = demo_2d();
+    let options = FitOptions {
+        margin,
+        ..FitOptions::default()
+    };
+    let dmp = Dmp::<2, K>::fit(&t, &y, 2, K, &options).unwrap();
+    let out = positions(&dmp, &dmp.execution(), 0.001);
+    let sse: f32 = out
+        .iter()
+        .zip(y.chunks(2))
+        .map(|(p, d)| (p[0] - d[0]).powi(2) + (p[1] - d[1]).powi(2))
+        .sum();
+    ((sse / (2.0 * out.len() as f32)).sqrt(), dmp.margin())
+}
+
+#[test]
+fn kernels_beyond_the_ends_fit_a_resolved_movement_better_and_auto_keeps_the_better() {
+    let (none, _) = rmse_with::<30>(Margin::Spacings(0.0));
+    let (one, _) = rmse_with::<30>(Margin::Spacings(AUTO_MARGIN));
+    let (auto, chosen) = rmse_with::<30>(Margin::Auto);
+    println!("30 kernels: RMSE {none:.2e} on the ends, {one:.2e} one beyond, auto {auto:.2e}");
+    // Resolved by 30 kernels, the movement's error is at its ends.
+    assert!(one < 0.5 * none, "{one} vs {none}");
+    assert_eq!((auto, chosen), (one, AUTO_MARGIN));
+    // Whichever is better, Auto keeps it.
+    let (none, _) = rmse_with::<6>(Margin::Spacings(0.0));
+    let (one, _) = rmse_with::<6>(Margin::Spacings(AUTO_MARGIN));
+    let (auto, _) = rmse_with::<6>(Margin::Auto);
+    println!("6 kernels: RMSE {none:.2e} on the ends, {one:.2e} one beyond, auto {auto:.2e}");
+    assert_eq!(auto, none.min(one));
+    // Three kernels leave no spacing between the ends with a margin of 1.
+    assert_eq!(rmse_with::<3>(Margin::Auto).1, 0.0);
 }
 
 #[test]
@@ -310,6 +355,16 @@ fn bad_input_is_an_error_not_a_panic() {
         Dmp::<1, 5>::fit(&t, &[0.0, 1.0, 0.0], 1, 2, &o2).is_err(),
         "scaled loop"
     );
+    for margin in [-0.5, f32::NAN, f32::INFINITY, 1.0] {
+        let o = FitOptions {
+            margin: Margin::Spacings(margin),
+            ..o
+        };
+        assert!(
+            Dmp::<1, 5>::fit(&t, &[0.0, 1.0, 2.0], 1, 3, &o).is_err(),
+            "margin {margin} with 3 kernels"
+        );
+    }
     let dmp = Dmp::<1, 5>::fit(&t, &[0.0, 1.0, 2.0], 1, 3, &o).unwrap();
     let mut exec = dmp.execution();
     assert!(dmp.trajectory(&exec, 0.0).is_err());
@@ -386,6 +441,7 @@ fn fuzz_findings_stay_fixed() {
     let shape = |alpha| Shape {
         alpha,
         width: 3.914_819e-11,
+        margin: 0.0,
         scaled: 1,
     };
     let theta = [

@@ -36,6 +36,7 @@ fn orientation(w: &[f32], turn: [f32; 3], goal: Quaternion, tau: f32) -> Orienta
     let shape = Shape {
         alpha: 25.0,
         width: 2.0 * 25.0,
+        margin: 0.0,
         scaled: 0,
     };
     let theta: Vec<f32> = w.iter().copied().chain([0.0; 3]).chain([tau]).collect();

@@ -213,7 +213,7 @@ proptest! {
         // Weights over every decade up to the bound.
         let w: Vec<f32> = weights.iter().map(|w| w * 10f32.powi(scale)).collect();
         let theta: Vec<f32> = w.iter().copied().chain([0.0; 3]).chain([tau]).collect();
-        let shape = Shape { alpha: 25.0, width: 2.0 * 49.0, scaled: 0 };
+        let shape = Shape { alpha: 25.0, width: 2.0 * 49.0, margin: 0.0, scaled: 0 };
         let log = Dmp::<3, 8>::from_shape(&shape, 3, 8, &[0.0; 3], &theta).unwrap();
         let dmp = OrientationDmp::from_parts(log, Quaternion::IDENTITY).unwrap();
         let exec = OrientationExecution { tau, start, goal };

@@ -44,7 +44,7 @@ proptest! {
         tau in MIN_TAU..10.0f32,
         scaled in 0u32..4,
     ) {
-        let shape = Shape { alpha, width: 2.0 * 11.0 * 11.0, scaled };
+        let shape = Shape { alpha, width: 2.0 * 11.0 * 11.0, margin: 0.0, scaled };
         let theta: Vec<f32> = weights.iter().chain(&goal).chain([&tau]).copied().collect();
         let dmp = Dmp::<2, 12>::from_shape(&shape, 2, 12, &start, &theta).unwrap();
         let mut run = dmp.start(&dmp.execution()).unwrap();

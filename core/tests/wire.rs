@@ -127,11 +127,15 @@ fn setup() -> impl Strategy<Value = Setup> {
 }
 
 fn request() -> impl Strategy<Value = Request> {
-    let shape = (float(), float(), any::<u32>()).prop_map(|(alpha, width, scaled)| Shape {
-        alpha,
-        width,
-        scaled,
-    });
+    let shape =
+        (float(), float(), float(), any::<u32>()).prop_map(|(alpha, width, margin, scaled)| {
+            Shape {
+                alpha,
+                width,
+                margin,
+                scaled,
+            }
+        });
     prop_oneof![
         any::<u16>().prop_map(|version| Request::Hello { version }),
         setup().prop_map(Request::Configure),

@@ -8,7 +8,7 @@
 use arbitrary::{Result, Unstructured};
 use libfuzzer_sys::fuzz_target;
 use primo_core::dmp::{
-    Dmp, Execution, FitOptions, MAX_ABS_POSITION, MAX_ABS_WEIGHT, Scaling, Shape,
+    Dmp, Execution, FitOptions, MAX_ABS_POSITION, MAX_ABS_WEIGHT, Margin, Scaling, Shape,
 };
 use primo_fuzz::{num, positive};
 
@@ -47,6 +47,20 @@ fn options(u: &mut Unstructured) -> Result<FitOptions> {
             3 => Scaling::AutoWhere(u.arbitrary()?),
             _ => Scaling::Mask(u.arbitrary()?),
         },
+        margin: match u.int_in_range(0..=1)? {
+            0 => Margin::Auto,
+            _ => Margin::Spacings(margin(u)?),
+        },
+    })
+}
+
+/// Kernel spacings beyond each end: none, the automatic one, or any
+/// (negative, too wide and non-finite ones too: they must be refused).
+fn margin(u: &mut Unstructured) -> Result<f32> {
+    Ok(match u.int_in_range(0..=2)? {
+        0 => 0.0,
+        1 => 1.0,
+        _ => f32::from_bits(u.arbitrary()?),
     })
 }
 
@@ -87,6 +101,7 @@ fn shaped(u: &mut Unstructured) -> Result<Option<Dmp<D, K>>> {
     let shape = Shape {
         alpha: positive(u, 100.0)?,
         width: positive(u, 1000.0)?,
+        margin: margin(u)?,
         scaled: u.arbitrary()?,
     };
     let (dof, kernels) = (u.int_in_range(0..=D + 1)?, u.int_in_range(0..=K + 1)?);

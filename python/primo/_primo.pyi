@@ -20,10 +20,17 @@ class Dmp:
 
     @staticmethod
     def fit(
-        t: ArrayLike, y: ArrayLike, names: Optional[Sequence[str]] = None, kernels: int = 30
+        t: ArrayLike,
+        y: ArrayLike,
+        names: Optional[Sequence[str]] = None,
+        kernels: int = 30,
+        margin: Optional[float] = None,
     ) -> Dmp:
         """Fits ``y`` (n × columns, or n) sampled at times ``t`` (n, strictly
-        increasing): least squares on the positions, ``kernels`` (2–128) per DoF."""
+        increasing): least squares on the positions, ``kernels`` (2–128) per DoF.
+        ``margin``: kernel spacings the outer kernels lie beyond the movement's
+        ends (0 to (kernels − 2)/2); ``None`` tries 0 and 1 and keeps the one
+        that reproduces ``y`` better. DMPs generalized together need the same."""
     @staticmethod
     def fit_rhythmic(
         t: ArrayLike,

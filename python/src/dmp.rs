@@ -6,6 +6,7 @@ use numpy::{PyArray1, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
 
+use primo_core::dmp::Margin;
 use primo_skill::HostDmp;
 use primo_skill::csv::Demo;
 use primo_skill::dmpfile::{self, Change, DmpFile, Fitted, MAX_ROWS, Prepared, RhythmicFile};
@@ -155,16 +156,28 @@ impl Dmp {
 #[pymethods]
 impl Dmp {
     #[staticmethod]
-    #[pyo3(signature = (t, y, names=None, kernels=30))]
+    #[pyo3(signature = (t, y, names=None, kernels=30, margin=None))]
     fn fit(
         t: Array<'_>,
         y: Array<'_>,
         names: Option<Vec<String>>,
         kernels: usize,
+        margin: Option<f32>,
     ) -> PyResult<Dmp> {
+        let margin = match margin {
+            None => Margin::Auto,
+            Some(m) if (0.0..=(kernels as f32 - 2.0) / 2.0).contains(&m) => Margin::Spacings(m),
+            Some(m) => {
+                return Err(invalid(format!(
+                    "margin: {m} is not a number of kernel spacings from 0 to {} (with \
+                     kernels={kernels}, one spacing must stay between the ends)",
+                    (kernels as f32 - 2.0) / 2.0
+                )));
+            }
+        };
         let demo = demo(&t, &y, names)?;
         Ok(Dmp::from_file(
-            DmpFile::fit("the demonstration", &demo, kernels).map_err(skill)?,
+            DmpFile::fit("the demonstration", &demo, kernels, margin).map_err(skill)?,
         ))
     }
 

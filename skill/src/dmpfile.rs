@@ -2,9 +2,9 @@
 //! fit and run behind `primo dmp`.
 //!
 //! ```json
-//! { "format": "primo-dmp", "version": 2, "names": ["x", "qw", "qx", "qy", "qz"],
+//! { "format": "primo-dmp", "version": 3, "names": ["x", "qw", "qx", "qy", "qz"],
 //!   "orientations": [{ "columns": ["qw", "qx", "qy", "qz"], "goal": [1, 0, 0, 0] }],
-//!   "dmp": { "tau": 1.0, "alpha": 25.0, "width": 1682.0,
+//!   "dmp": { "tau": 1.0, "alpha": 25.0, "width": 1682.0, "margin": 1.0,
 //!            "start": [0, 0.5, 0, 0], "goal": [1, 0, 0, 0], "scaled": [true, false, false, false],
 //!            "weights": [[...], [...], [...], [...]] } }
 //! ```
@@ -21,10 +21,11 @@
 //! `orientations`: one period, replayed at any frequency and amplitude.
 //!
 //! `format` and `version` are checked on load; a newer version is refused
-//! rather than misread. Version 1 files (no orientations) still load. The
-//! fields of `dmp` are those of [`primo_core::dmp::Dmp`] (see the README).
+//! rather than misread. Version 1 files (no orientations) and version 2
+//! files (no `margin`: none) still load. The fields of `dmp` are those of
+//! [`primo_core::dmp::Dmp`] (see the README).
 
-use primo_core::dmp::{DEFAULT_OVERLAP, FitOptions, Scaling, Trajectory};
+use primo_core::dmp::{FitOptions, Margin, Scaling, Trajectory};
 use primo_core::orientation::{from_log, log_coordinates, nearest_log};
 use primo_core::quaternion::Quaternion;
 use primo_core::rhythmic::{RhythmicDmp, RhythmicRun};
@@ -39,8 +40,9 @@ pub const MAX_ROWS: usize = 10_000_000;
 
 /// The `format` field's value.
 pub const FORMAT: &str = "primo-dmp";
-/// The version this primo writes; it reads this one and version 1.
-pub const VERSION: u32 = 2;
+/// The version this primo writes; it reads versions 1 to this one.
+/// 2: orientations; 3: the kernels' `margin`.
+pub const VERSION: u32 = 3;
 
 /// An orientation among the columns.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -344,21 +346,26 @@ fn dmp_dof(layout: &[Slot]) -> usize {
 
 impl DmpFile {
     /// Fits a DMP of `kernels` kernels per DoF to a demonstration (`file`
-    /// names it in errors); orientations as the module docs say.
-    pub fn fit(file: &str, demo: &Demo, kernels: usize) -> Result<Self, Error> {
-        DmpFile::fit_with(file, demo, kernels, None, DEFAULT_OVERLAP)
+    /// names it in errors), its outer kernels placed by `margin`;
+    /// orientations as the module docs say.
+    pub fn fit(file: &str, demo: &Demo, kernels: usize, margin: Margin) -> Result<Self, Error> {
+        let options = FitOptions {
+            margin,
+            ..FitOptions::default()
+        };
+        DmpFile::fit_with(file, demo, kernels, None, &options)
     }
 
     /// [`DmpFile::fit`] with the amplitude-scaled DoFs given (bit `d`:
     /// DMP DoF `d`), as a skill fits every demonstration like its first
     /// (`None` decides per column, an orientation's never scaled), and the
-    /// kernels' overlap.
+    /// fit's other `options`.
     pub fn fit_with(
         file: &str,
         demo: &Demo,
         kernels: usize,
         scaled: Option<u32>,
-        overlap: f32,
+        options: &FitOptions,
     ) -> Result<Self, Error> {
         if !(2..=MAX_KERNELS).contains(&kernels) {
             return Err(Error::File(format!(
@@ -418,8 +425,7 @@ impl DmpFile {
         }
         let options = FitOptions {
             scaling: scaled.map_or(Scaling::AutoWhere(scaled_mask), Scaling::Mask),
-            overlap,
-            ..FitOptions::default()
+            ..*options
         };
         let dmp = HostDmp::fit(&demo.times, &positions, dof, kernels, &options).map_err(|e| {
             Error::File(format!(

@@ -20,7 +20,7 @@
 //! in its place among the DoFs, and as its three goals the goal's rotation
 //! vector from that mean (rad, world frame): `Δθ` there turns the goal. A
 //! plan writes the four columns back, unit-norm.
-use primo_core::dmp::LEARNING_OVERLAP;
+use primo_core::dmp::FitOptions;
 use primo_core::generalize::{Generalizer, Method};
 use primo_core::orientation::{from_log, nearest_log};
 use primo_core::quaternion::Quaternion;
@@ -140,7 +140,7 @@ pub struct Plan {
 impl Skill {
     /// Fits one DMP per demonstration `(q_i, demo_i)` (as
     /// [`DmpFile::fit`]: orientations as the module docs say, but with the
-    /// narrower kernels of [`LEARNING_OVERLAP`]), all with the same
+    /// fit of [`FitOptions::LEARNING`]: narrower kernels, none beyond the ends), all with the same
     /// amplitude scaling (decided on the first: interpolating weights
     /// only makes sense when every example scales them alike), and
     /// generalizes over the queries ([`Skill::from_files`]). Every
@@ -159,7 +159,7 @@ impl Skill {
             same_columns(&first.names, &demo.names)
                 .map_err(|why| Error::Demonstrations(format!("demonstration {}: {why}", i + 1)))?;
             let label = format!("demonstration {} (q = {q:?})", i + 1);
-            let file = DmpFile::fit_with(&label, demo, kernels, scaled, LEARNING_OVERLAP)
+            let file = DmpFile::fit_with(&label, demo, kernels, scaled, &FitOptions::LEARNING)
                 .map_err(|e| Error::Demonstrations(e.to_string()))?;
             let dmp = &file.dmp;
             scaled.get_or_insert(
@@ -205,7 +205,8 @@ impl Skill {
             {
                 return Err(Error::Demonstrations(format!(
                     "demonstration {}: its DMP has {} DoF and {} kernels, demonstration 1's {} \
-                     and {}, and both must have the same gains and amplitude scaling",
+                     and {}, and both must have the same gains, kernel layout (width and \
+                     margin: fit them with the same --margin) and amplitude scaling",
                     i + 1,
                     dmp.dof(),
                     dmp.kernels(),

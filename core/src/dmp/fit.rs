@@ -46,6 +46,8 @@ pub(super) struct Demonstration<'a> {
     pub kernels: usize,
     pub alpha: f32,
     pub width: f32,
+    /// Kernel spacings beyond each end.
+    pub margin: f32,
     pub ridge: f32,
     /// Per DoF: start, goal, forcing amplitude (`g − y0` or 1).
     pub start: &'a [f32],
@@ -66,22 +68,22 @@ fn transition(alpha: f64, h: f64) -> [f64; 4] {
 
 /// The normalized kernels `φ_k(u)` (zero for `u ≥ 1`), over the same
 /// window of kernels as the execution's forcing term.
-fn basis<const K: usize>(u: f64, width: f32, kernels: usize, phi: &mut [f64; K]) {
+fn basis<const K: usize>(u: f64, width: f32, layout: &super::Layout, phi: &mut [f64; K]) {
     for p in phi.iter_mut() {
         *p = 0.0;
     }
     if !(u < 1.0) {
         return;
     }
-    let last = kernels.saturating_sub(1).max(1) as f32;
-    let (lo, hi, nearest) = super::window(u as f32, width, last);
-    let spacing = 1.0 / f64::from(last);
-    let d0 = u - nearest as f64 * spacing;
+    let (lo, hi, nearest) = layout.window(u as f32, width);
+    let spacing = 1.0 / f64::from(layout.span());
+    let margin = f64::from(layout.margin());
+    let d0 = u - (nearest as f64 - margin) * spacing;
     let base = d0 * d0;
     let width = f64::from(width);
     let mut sum = 0.0;
     for (k, p) in (lo..=hi).zip(phi.iter_mut().skip(lo)) {
-        let ds = u - k as f64 * spacing;
+        let ds = u - (k as f64 - margin) * spacing;
         *p = libm::exp(-width * (ds * ds - base));
         sum += *p;
     }
@@ -197,6 +199,8 @@ impl<const K: usize> Responses<K> {
 pub(crate) struct Normal<'a, const D: usize, const K: usize> {
     gram: &'a mut [[f64; K]; K],
     rhs: &'a mut [[f64; K]; D],
+    /// Per DoF, `Σ q·target²`: with the solution, the fit's residual.
+    energy: [f64; D],
     kernels: usize,
     dof: usize,
 }
@@ -212,6 +216,7 @@ impl<'a, const D: usize, const K: usize> Normal<'a, D, K> {
         Normal {
             gram,
             rhs,
+            energy: [0.0; D],
             kernels,
             dof,
         }
@@ -220,15 +225,24 @@ impl<'a, const D: usize, const K: usize> Normal<'a, D, K> {
     /// Adds a sample of weight `q` with responses `r`; `target(d)` is the
     /// value DoF `d`'s weighted responses should reach there.
     pub fn add(&mut self, q: f64, r: &[f64; K], target: impl Fn(usize) -> f64) {
-        for (a, gram_row) in self.gram.iter_mut().enumerate().take(self.kernels) {
+        // The kernels the phase has not reached yet have not moved the
+        // spring: their responses are exactly zero, and so are their terms
+        // (early in a discrete movement that is most of them).
+        let reached = r
+            .iter()
+            .take(self.kernels)
+            .rposition(|x| *x != 0.0)
+            .map_or(0, |k| k + 1);
+        for (a, gram_row) in self.gram.iter_mut().enumerate().take(reached) {
             let qa = q * r.get(a).copied().unwrap_or(0.0);
             for (g, rb) in gram_row.iter_mut().zip(r).take(a + 1) {
                 *g += qa * rb;
             }
         }
-        for (d, b) in self.rhs.iter_mut().enumerate().take(self.dof) {
+        for ((b, e), d) in self.rhs.iter_mut().zip(&mut self.energy).zip(0..self.dof) {
             let forced = target(d);
-            for (bk, rk) in b.iter_mut().zip(r).take(self.kernels) {
+            *e += q * forced * forced;
+            for (bk, rk) in b.iter_mut().zip(r).take(reached) {
                 *bk += q * rk * forced;
             }
         }
@@ -237,15 +251,32 @@ impl<'a, const D: usize, const K: usize> Normal<'a, D, K> {
     /// Solves with a ridge of `ridge` times the Gram matrix's mean
     /// diagonal; the weights go to `out[d][..kernels]`.
     pub fn solve(&mut self, ridge: f32, out: &mut [[f32; K]; D]) -> Result<(), Error> {
-        solve(self.gram, self.rhs, self.kernels, self.dof, ridge, out)
+        solve(self.gram, self.rhs, self.kernels, self.dof, ridge, out).map(|_| ())
+    }
+
+    /// [`Normal::solve`], returning each DoF's residual: the weighted sum
+    /// of squared misfits `Σ q (target − r·w)²` at the solution.
+    pub fn solve_with_residual(
+        &mut self,
+        ridge: f32,
+        out: &mut [[f32; K]; D],
+    ) -> Result<[f64; D], Error> {
+        let explained = solve(self.gram, self.rhs, self.kernels, self.dof, ridge, out)?;
+        let mut residual = self.energy;
+        for (r, e) in residual.iter_mut().zip(explained) {
+            *r = (*r - e).max(0.0);
+        }
+        Ok(residual)
     }
 }
 
 /// Fits the weights of every DoF into `out[d][..kernels]`.
+/// Returns the residual: the time-weighted sum of squared position errors
+/// at the samples, over all DoFs (in the demonstration's units).
 pub(super) fn weights<const D: usize, const K: usize>(
     demo: &Demonstration,
     out: &mut [[f32; K]; D],
-) -> Result<(), Error> {
+) -> Result<f64, Error> {
     let kernels = demo.kernels.min(K);
     let dof = demo.dof.min(D);
     let (Some(&t0), Some(&t_end)) = (demo.times.first(), demo.times.last()) else {
@@ -255,12 +286,13 @@ pub(super) fn weights<const D: usize, const K: usize>(
     };
     let (t0, tau) = (f64::from(t0), f64::from(t_end) - f64::from(t0));
     let alpha = f64::from(demo.alpha);
-    let spacing = 1.0 / kernels.saturating_sub(1).max(1) as f64;
+    let layout = super::Layout::new(kernels, demo.margin);
+    let spacing = 1.0 / f64::from(layout.span());
     let h_max = spacing / SUBSTEPS_PER_SPACING;
     let (mut gram, mut rhs) = ([[0.0f64; K]; K], [[0.0f64; K]; D]);
     let mut normal = Normal::new(&mut gram, &mut rhs, kernels, dof);
     let mut responses = Responses::<K>::new(alpha, kernels, h_max);
-    let mut basis = |u: f64, phi: &mut [f64; K]| basis(u, demo.width, kernels, phi);
+    let mut basis = |u: f64, phi: &mut [f64; K]| basis(u, demo.width, &layout, phi);
     let mut i = 0usize;
     (demo.rows)(&mut |row: &[f32]| {
         let time = |j: usize| demo.times.get(j).map(|t| f64::from(*t));
@@ -283,12 +315,21 @@ pub(super) fn weights<const D: usize, const K: usize>(
         });
         i += 1;
     });
-    normal.solve(demo.ridge, out)
+    let residual = normal.solve_with_residual(demo.ridge, out)?;
+    // The targets were divided by the amplitudes.
+    Ok(residual
+        .iter()
+        .zip(demo.amplitude)
+        .take(dof)
+        .map(|(r, a)| r * f64::from(*a) * f64::from(*a))
+        .sum())
 }
 
 /// Solves the normal equations `G w_d = b_d` of every DoF, `G` given by its
-/// lower triangle, with a ridge of `ridge` times `G`'s mean diagonal; the
-/// weights go to `out[d][..kernels]`.
+/// lower triangle, with a ridge `λ` of `ridge` times `G`'s mean diagonal;
+/// the weights go to `out[d][..kernels]`. Returns per DoF what the fit
+/// explains, `b·w + λ|w|²`: at the solution of `(G + λ)w = b` the residual
+/// `Σq(t − r·w)² = Σqt² − 2b·w + w·Gw` is `Σqt²` minus that.
 fn solve<const D: usize, const K: usize>(
     gram: &mut [[f64; K]; K],
     rhs: &mut [[f64; K]; D],
@@ -296,7 +337,7 @@ fn solve<const D: usize, const K: usize>(
     dof: usize,
     ridge: f32,
     out: &mut [[f32; K]; D],
-) -> Result<(), Error> {
+) -> Result<[f64; D], Error> {
     for a in 0..kernels {
         for b in 0..a {
             let lower = gram
@@ -319,11 +360,19 @@ fn solve<const D: usize, const K: usize>(
         }
     }
     crate::linalg::cholesky(gram, kernels, "DMP fit (too few samples for the kernels?)")?;
-    for (b, w) in rhs.iter_mut().zip(out.iter_mut()).take(dof) {
+    let mut explained = [0.0; D];
+    for ((b, w), e) in rhs
+        .iter_mut()
+        .zip(out.iter_mut())
+        .zip(&mut explained)
+        .take(dof)
+    {
+        let given = *b;
         crate::linalg::cholesky_solve(gram, kernels, b);
-        for (wk, bk) in w.iter_mut().zip(b.iter()).take(kernels) {
+        for ((wk, bk), gk) in w.iter_mut().zip(b.iter()).zip(&given).take(kernels) {
             *wk = *bk as f32;
+            *e += bk * (gk + lambda * bk);
         }
     }
-    Ok(())
+    Ok(explained)
 }

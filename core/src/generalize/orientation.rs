@@ -33,7 +33,7 @@
 //! use primo_core::orientation::OrientationDmp;
 //! use primo_core::quaternion::Quaternion;
 //! let yaw = |deg: f32| Quaternion::exp([0.0, 0.0, deg.to_radians()]);
-//! let shape = Shape { alpha: 25.0, width: 50.0, scaled: 0 };
+//! let shape = Shape { alpha: 25.0, width: 50.0, margin: 0.0, scaled: 0 };
 //! // Two examples, goals 170° and −170° yaw, a start 30° before each.
 //! let example = |deg: f32| {
 //!     let mut theta = [0.0; 19]; // 15 weights, goal 0, τ

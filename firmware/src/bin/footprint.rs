@@ -99,6 +99,7 @@ fn reach() -> Dmp<MAX_DOF, KERNELS> {
     let shape = Shape {
         alpha: DEFAULT_ALPHA,
         width,
+        margin: 0.0,
         scaled: 0x7F,
     };
     Dmp::from_shape(&shape, MAX_DOF, KERNELS, &[0.0; MAX_DOF], &theta)
@@ -116,6 +117,7 @@ fn turn() -> OrientationDmp<KERNELS> {
     let shape = Shape {
         alpha: DEFAULT_ALPHA,
         width: DEFAULT_OVERLAP * ((KERNELS - 1) * (KERNELS - 1)) as f32,
+        margin: 0.0,
         scaled: 0,
     };
     let start = [0.9, -0.6, 0.8];
