@@ -33,7 +33,12 @@ pub enum DmpCommand {
         /// (0: on them), or `auto`: whichever of 0 and 1 reproduces the
         /// demonstration better. DMPs to be generalized together need the
         /// same margin.
-        #[arg(long, default_value = "auto", conflicts_with = "rhythmic")]
+        #[arg(
+            long,
+            default_value = "auto",
+            conflicts_with = "rhythmic",
+            allow_hyphen_values = true
+        )]
         margin: String,
         /// Output JSON file (stdout when absent).
         #[arg(long)]

@@ -141,19 +141,41 @@ fn malformed_input_gets_a_one_line_error_and_status_2() {
     assert_eq!(code, 2);
     assert!(err.contains("broken.json:2:"), "{err}");
     let written = std::fs::read_to_string(&json).unwrap();
-    let future = written.replace("\"version\": 2", "\"version\": 3");
+    let future = written.replace("\"version\": 3", "\"version\": 4");
     std::fs::write(&broken, future).unwrap();
     let (code, _, err) = primo(&["dmp", "run", broken.to_str().unwrap()]);
     assert_eq!(code, 2);
-    assert!(err.contains("unsupported version 3"), "{err}");
-    // A version 1 file (no orientations) still runs, as before.
-    let v1 = written
+    assert!(err.contains("unsupported version 4"), "{err}");
+    // Version 2 (no margin) and version 1 (no orientations either) files
+    // still run, with no kernels beyond the ends.
+    let margin = written
+        .lines()
+        .find(|l| l.trim_start().starts_with("\"margin\":"))
+        .unwrap();
+    let v2 = written
+        .replace("\"version\": 3", "\"version\": 2")
+        .replace(&format!("{margin}\n"), "");
+    let v1 = v2
         .replace("\"version\": 2", "\"version\": 1")
         .replace("  \"orientations\": [],\n", "");
-    assert!(!v1.contains("orientations"), "{v1}");
-    std::fs::write(&broken, v1).unwrap();
-    let (code, _, err) = primo(&["dmp", "run", broken.to_str().unwrap()]);
+    assert!(
+        !v1.contains("orientations") && !v2.contains("margin"),
+        "{v1}"
+    );
+    for old in [v2, v1] {
+        std::fs::write(&broken, old).unwrap();
+        let (code, _, err) = primo(&["dmp", "run", broken.to_str().unwrap()]);
+        assert_eq!(code, 0, "{err}");
+    }
+    // A margin that leaves no kernel spacing between the ends, or no number.
+    for bad in ["14.5", "-1", "nan", "wide"] {
+        let (code, _, err) = primo(&["dmp", "fit", "--demo", &demo_path(), "--margin", bad]);
+        assert_eq!((code, err.lines().count()), (2, 1), "{err}");
+        assert!(err.contains(&format!("--margin: `{bad}`")), "{err}");
+    }
+    let (code, out, err) = primo(&["dmp", "fit", "--demo", &demo_path(), "--margin", "0"]);
     assert_eq!(code, 0, "{err}");
+    assert!(out.contains("\"margin\": 0.0"), "{out}");
 }
 
 #[test]
@@ -252,7 +274,7 @@ fn orientation_columns_fit_and_run_as_a_quaternion_dmp() {
     assert_eq!(code, 0, "{err}");
     let file: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
-    assert_eq!(file["version"], 2);
+    assert_eq!(file["version"], 3);
     assert_eq!(
         file["orientations"][0]["columns"],
         serde_json::json!(["qw", "qx", "qy", "qz"])

@@ -40,6 +40,15 @@ def test_fit_and_run_equal_the_command_line(run_primo, tmp_path):
     assert np.abs(replay - y).max() < 1e-4
 
 
+def test_margin_is_chosen_or_given():
+    t, y = reach()
+    for margin in (0, 1, 2.5):
+        dmp = primo.Dmp.fit(t, y, names=["x", "z"], margin=margin)
+        assert json.loads(dmp.to_json())["dmp"]["margin"] == margin
+    chosen = json.loads(primo.Dmp.fit(t, y, names=["x", "z"]).to_json())["dmp"]["margin"]
+    assert chosen in (0, 1)
+
+
 def test_step_by_step_equals_the_whole_run():
     t, y = reach()
     dmp = primo.Dmp.fit(t, y, kernels=20)
@@ -115,6 +124,9 @@ def test_rhythmic():
         ([[0, 1, 2]], [0, 1, 2], {}, "expected a 1-D array"),
         ([0, 1, 2], np.zeros((3, 2, 2)), {}, "expected a 2-D array"),
         ([0, 1, 2], [1e40, 0, 0], {}, "out of f32 range"),
+        ([0, 1, 2], [0, 1, 2], {"kernels": 10, "margin": 4.5}, "margin: 4.5 is not a number of kernel spacings from 0 to 4"),
+        ([0, 1, 2], [0, 1, 2], {"margin": -1}, "margin: -1"),
+        ([0, 1, 2], [0, 1, 2], {"margin": float("nan")}, "margin: NaN"),
     ],
 )
 def test_bad_input_is_a_value_error(t, y, kwargs, message):

@@ -37,6 +37,8 @@ def test_vector_queries_and_errors():
         primo.Generalizer([([0.1, 0.0], dmps[0]), (0.2, dmps[1])])
     with pytest.raises(ValueError, match="columns"):
         primo.Generalizer([(0.1, dmps[0]), (0.2, primo.Dmp.fit(*demo(0.2), names=["a", "b"]))])
+    with pytest.raises(ValueError, match="margin"):
+        primo.Generalizer([(0.1, primo.Dmp.fit(*demo(0.1), margin=0)), (0.2, primo.Dmp.fit(*demo(0.2), margin=1))])
     with pytest.raises(ValueError, match="method"):
         primo.Generalizer([(0.1, dmps[0])], method="knn")
     with pytest.raises(ValueError, match="at least one"):

@@ -206,7 +206,7 @@ impl Skill {
                 return Err(Error::Demonstrations(format!(
                     "demonstration {}: its DMP has {} DoF and {} kernels, demonstration 1's {} \
                      and {}, and both must have the same gains, kernel layout (width and \
-                     margin: fit them with the same --margin) and amplitude scaling",
+                     margin: fit them with one fixed margin) and amplitude scaling",
                     i + 1,
                     dmp.dof(),
                     dmp.kernels(),

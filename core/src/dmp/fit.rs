@@ -48,6 +48,8 @@ pub(super) struct Demonstration<'a> {
     pub width: f32,
     /// Kernel spacings beyond each end.
     pub margin: f32,
+    /// Fit to every `stride`-th sample and the last (1: all).
+    pub stride: usize,
     pub ridge: f32,
     /// Per DoF: start, goal, forcing amplitude (`g − y0` or 1).
     pub start: &'a [f32],
@@ -293,17 +295,29 @@ pub(super) fn weights<const D: usize, const K: usize>(
     let mut normal = Normal::new(&mut gram, &mut rhs, kernels, dof);
     let mut responses = Responses::<K>::new(alpha, kernels, h_max);
     let mut basis = |u: f64, phi: &mut [f64; K]| basis(u, demo.width, &layout, phi);
+    let (n, stride) = (demo.times.len(), demo.stride.max(1));
     let mut i = 0usize;
     (demo.rows)(&mut |row: &[f32]| {
+        let last = i + 1 == n;
+        if i % stride != 0 && !last {
+            i += 1;
+            return;
+        }
         let time = |j: usize| demo.times.get(j).map(|t| f64::from(*t));
         let ti = time(i).unwrap_or(t0);
         let u = (ti - t0) / tau;
         let r = responses.sample(u, &mut basis);
-        // The sample's share of the time axis.
-        let prev = time(i.wrapping_sub(1)).unwrap_or(ti);
-        let next = time(i + 1).unwrap_or(ti);
+        // The sample's share of the time axis, between the kept neighbours.
+        let prev = match i {
+            0 => ti,
+            _ => time((i - 1) / stride * stride).unwrap_or(ti),
+        };
+        let next = match last {
+            true => ti,
+            false => time((i + stride).min(n - 1)).unwrap_or(ti),
+        };
         let mut q = 0.5 * (next - prev) / tau;
-        if i + 1 == demo.times.len() {
+        if last {
             q += END_WEIGHT * spacing;
         }
         // The unforced spring from rest at y0: y_h = g + (y0 − g)(1 + αu/2)e^(−αu/2).
