@@ -299,7 +299,7 @@ pub(super) fn weights<const D: usize, const K: usize>(
     let mut i = 0usize;
     (demo.rows)(&mut |row: &[f32]| {
         let last = i + 1 == n;
-        if i % stride != 0 && !last {
+        if !i.is_multiple_of(stride) && !last {
             i += 1;
             return;
         }
