@@ -343,12 +343,38 @@ pub struct Execution<const D: usize> {
     pub goal: Vec<f32, D>,
 }
 
-/// One layout's fit, for [`Margin::Auto`] to choose from.
-struct Fitted<const D: usize, const K: usize> {
-    residual: f64,
-    width: f32,
+/// Fits `demo`'s weights into `out` with the kernels `margin` spacings
+/// beyond the ends at `overlap`, on every `stride`-th sample; returns the
+/// residual and the kernel width. Never inlined: [`Margin::Auto`] calls it
+/// up to three times, and on the M4F one frame must serve them all.
+#[inline(never)]
+fn fit_layout<const D: usize, const K: usize>(
+    demo: &fit::Demonstration,
+    overlap: f32,
     margin: f32,
-    weights: Vec<Vec<f32, K>, D>,
+    stride: usize,
+    out: &mut [[f32; K]; D],
+) -> Result<(f64, f32), Error> {
+    let spacing = 1.0 / span(demo.kernels, margin);
+    let width = overlap / (spacing * spacing);
+    check_positive(width, "overlap too large for this many kernels")?;
+    let residual = fit::weights(
+        &fit::Demonstration {
+            width,
+            margin,
+            stride,
+            ..*demo
+        },
+        out,
+    )?;
+    for row in out.iter().take(demo.dof) {
+        check_bounded(
+            row.get(..demo.kernels).unwrap_or(&[]),
+            MAX_ABS_WEIGHT,
+            "fitted weights beyond MAX_ABS_WEIGHT (demo too short or too noisy for the kernels?)",
+        )?;
+    }
+    Ok((residual, width))
 }
 
 /// One point of an executed trajectory.
@@ -518,82 +544,65 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
                 *a = goal.get(d).copied().unwrap_or(0.0) - start.get(d).copied().unwrap_or(0.0);
             }
         }
-        let fit_with = |margin: f32, stride: usize| -> Result<Fitted<D, K>, Error> {
-            let spacing = 1.0 / span(kernels, margin);
-            let width = options.overlap / (spacing * spacing);
-            check_positive(width, "overlap too large for this many kernels")?;
-            let mut fitted = [[0.0f32; K]; D];
-            let residual = fit::weights(
-                &fit::Demonstration {
-                    times,
-                    rows,
-                    dof,
-                    kernels,
-                    alpha,
-                    width,
-                    margin,
-                    stride,
-                    ridge: options.ridge,
-                    start: &start,
-                    goal: &goal,
-                    amplitude: &amplitude,
-                },
-                &mut fitted,
-            )?;
-            let mut weights: Vec<Vec<f32, K>, D> = Vec::new();
-            for w in fitted.iter().take(dof) {
-                let row: Vec<f32, K> = w.iter().copied().take(kernels).collect();
-                check_bounded(
-                    &row,
-                    MAX_ABS_WEIGHT,
-                    "fitted weights beyond MAX_ABS_WEIGHT (demo too short or too noisy for the kernels?)",
-                )?;
-                weights.push(row).map_err(|_| Error::Capacity {
-                    what: "DoF",
-                    requested: dof,
-                    capacity: D,
-                })?;
-            }
-            Ok(Fitted {
-                residual,
-                width,
-                margin,
-                weights,
-            })
+        let demo = fit::Demonstration {
+            times,
+            rows,
+            dof,
+            kernels,
+            alpha,
+            width: 0.0,
+            margin: 0.0,
+            stride: 1,
+            ridge: options.ridge,
+            start: &start,
+            goal: &goal,
+            amplitude: &amplitude,
         };
-        let fitted = match options.margin {
+        let layout = |margin: f32, stride: usize, out: &mut [[f32; K]; D]| {
+            fit_layout(&demo, options.overlap, margin, stride, out)
+        };
+        let mut weights = [[0.0f32; K]; D];
+        let (width, margin) = match options.margin {
             Margin::Spacings(m) => {
                 check_margin(m, kernels)?;
-                fit_with(m, 1)?
+                (layout(m, 1, &mut weights)?.1, m)
             }
             Margin::Auto => {
                 // Chosen on a sparser recording where it is dense (the
                 // choice costs a fifth of the fit at 1 kHz, not a fit).
                 let stride = (n / (AUTO_SAMPLES_PER_SPACING * kernels)).max(1);
-                let plain = fit_with(0.0, stride)?;
+                let (plain, plain_width) = layout(0.0, stride, &mut weights)?;
                 // The wider layout only where it leaves a spacing between
                 // the ends and fits at all; a tie keeps the plain one.
+                let mut wider = [[0.0f32; K]; D];
                 let wide = check_margin(AUTO_MARGIN, kernels)
-                    .and_then(|()| fit_with(AUTO_MARGIN, stride))
+                    .and_then(|()| layout(AUTO_MARGIN, stride, &mut wider))
                     .ok()
-                    .filter(|wide| wide.residual < plain.residual);
+                    .filter(|(residual, _)| *residual < plain);
                 match (wide, stride) {
-                    (Some(wide), 1) => wide,
-                    (Some(_), _) => fit_with(AUTO_MARGIN, 1)?,
-                    (None, 1) => plain,
-                    (None, _) => fit_with(0.0, 1)?,
+                    (Some((_, width)), 1) => {
+                        weights = wider;
+                        (width, AUTO_MARGIN)
+                    }
+                    (Some(_), _) => (layout(AUTO_MARGIN, 1, &mut weights)?.1, AUTO_MARGIN),
+                    (None, 1) => (plain_width, 0.0),
+                    (None, _) => (layout(0.0, 1, &mut weights)?.1, 0.0),
                 }
             }
         };
         Ok(Self {
             tau,
             alpha,
-            width: fitted.width,
-            margin: fitted.margin,
+            width,
+            margin,
             start,
             goal,
             scaled,
-            weights: fitted.weights,
+            weights: weights
+                .iter()
+                .take(dof)
+                .map(|w| w.iter().copied().take(kernels).collect())
+                .collect(),
         })
     }
 

@@ -39,6 +39,7 @@ pub(crate) const SUBSTEPS_PER_SPACING: f64 = 64.0;
 const END_WEIGHT: f64 = 0.5;
 
 /// What the weights are fitted to.
+#[derive(Clone, Copy)]
 pub(super) struct Demonstration<'a> {
     pub times: &'a [f32],
     pub rows: &'a super::Rows<'a>,
