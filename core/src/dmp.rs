@@ -933,11 +933,14 @@ fn activations<const K: usize>(
 ) -> (usize, usize, f32) {
     let spacing = layout.spacing();
     let (lo, hi, nearest) = layout.window(s, width);
-    let d0 = s - (nearest as f32 - layout.margin) * spacing;
+    // The phase from kernel 0's centre (s itself without a margin, so
+    // those DMPs move bit for bit as before margins existed).
+    let from_first = s + layout.margin * spacing;
+    let d0 = from_first - nearest as f32 * spacing;
     let base = d0 * d0;
     let mut sum = 0.0;
     for (k, p) in (lo..=hi).zip(psi.iter_mut().skip(lo)) {
-        let ds = s - (k as f32 - layout.margin) * spacing;
+        let ds = from_first - k as f32 * spacing;
         *p = libm::expf(-width * (ds * ds - base));
         sum += *p;
     }
