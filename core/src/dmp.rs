@@ -982,7 +982,7 @@ pub(crate) fn transition_step(alpha: f32, u: f32) -> [f32; 4] {
 }
 
 /// `sum += inc`, Kahan-compensated: `carry` holds what the sum lost.
-fn add_compensated(sum: &mut f32, carry: &mut f32, inc: f32) {
+pub(crate) fn add_compensated(sum: &mut f32, carry: &mut f32, inc: f32) {
     let inc = inc - *carry;
     let t = *sum + inc;
     *carry = (t - *sum) - inc;

@@ -62,7 +62,8 @@ use serde::{Deserialize, Serialize};
 use crate::Error;
 use crate::dmp::fit::{Normal, Responses, SUBSTEPS_PER_SPACING};
 use crate::dmp::{
-    FitOptions, MAX_ABS_POSITION, MAX_ABS_WEIGHT, check_alpha, check_positive, transition_step,
+    FitOptions, MAX_ABS_POSITION, MAX_ABS_WEIGHT, add_compensated, check_alpha, check_positive,
+    transition_step,
 };
 use crate::error::{check_bounded, check_capacity, check_finite, check_len};
 
@@ -314,14 +315,6 @@ impl<const D: usize, const K: usize> RhythmicDmp<D, K> {
         }
         Ok(run)
     }
-}
-
-/// `sum += inc`, Kahan-compensated: `carry` holds what the sum lost.
-fn add_compensated(sum: &mut f32, carry: &mut f32, inc: f32) {
-    let inc = inc - *carry;
-    let t = *sum + inc;
-    *carry = (t - *sum) - inc;
-    *sum = t;
 }
 
 /// A rhythmic execution in progress.
