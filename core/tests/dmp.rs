@@ -2,6 +2,9 @@
 use primo_core::dmp::{AUTO_MARGIN, Dmp, FitOptions, MIN_ALPHA, MIN_TAU, Margin, Scaling, Shape};
 use std::f32::consts::PI;
 
+mod common;
+use common::{assert_no_worse_when_denser, hash, stamps};
+
 fn min_jerk(t: f32) -> f32 {
     t * t * t * (10.0 - 15.0 * t + 6.0 * t * t)
 }
@@ -496,49 +499,27 @@ fn reproduction_error(times: &[f32], noise: &dyn Fn(usize) -> f32) -> f32 {
         .fold(0.0, f32::max)
 }
 
-/// A reproducible uniform number in [−0.5, 0.5) from `i`.
-fn hash(i: usize, salt: u64) -> f32 {
-    let mut x = (i as u64 ^ salt).wrapping_mul(0x9E37_79B9_7F4A_7C15);
-    x ^= x >> 31;
-    x = x.wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    x ^= x >> 29;
-    (x >> 40) as f32 / (1u64 << 24) as f32 - 0.5
-}
-
 #[test]
 fn a_denser_recording_fits_as_well_or_better() {
     let none = |_: usize| 0.0;
     let rates = [100usize, 1_000, 10_000, 100_000];
     let mut errors = Vec::new();
     for n in rates {
-        let even: Vec<f32> = (0..=n).map(|i| i as f32 / n as f32).collect();
-        // Recorder jitter: every inner stamp off by up to ±20 % of a period.
-        let jittered: Vec<f32> = (0..=n)
-            .map(|i| match i {
-                0 => 0.0,
-                i if i == n => 1.0,
-                i => (i as f32 + 0.4 * hash(i, 7)) / n as f32,
-            })
-            .collect();
-        let (e, j) = (
-            reproduction_error(&even, &none),
-            reproduction_error(&jittered, &none),
-        );
+        // Even, and with recorder jitter: every inner stamp off by up to
+        // ±20 % of a period.
+        let [e, j] = [0.0, 0.2].map(|jitter| reproduction_error(&stamps(n, jitter), &none));
         println!("{n} Hz: max error {e:.2e} even, {j:.2e} jittered");
-        errors.push(e.max(j));
+        errors.push(f64::from(e.max(j)));
     }
     // At 100 Hz already within 1e-5; no denser rate does worse (beyond
     // f32 rounding of the replay).
-    assert!(errors[0] < 1e-5, "{errors:?}");
-    for e in &errors[1..] {
-        assert!(*e <= errors[0] * 1.05 + 1e-7, "{errors:?}");
-    }
+    assert_no_worse_when_denser(&errors, "max error by rate");
 }
 
 #[test]
 fn measurement_noise_averages_out_with_more_samples() {
     // 0.1 mm of uniform noise on every recorded position.
-    let noisy = |i: usize| 2e-4 * hash(i, 11);
+    let noisy = |i: usize| (2e-4 * hash(i, 11)) as f32;
     let error = |n: usize| {
         let t: Vec<f32> = (0..=n).map(|i| i as f32 / n as f32).collect();
         reproduction_error(&t, &noisy)
