@@ -2,7 +2,7 @@
 
 use std::path::{Path, PathBuf};
 
-use primo_core::dmp::Margin;
+use primo_core::dmp::{Margin, max_margin};
 use primo_skill::MAX_KERNELS;
 use primo_skill::csv::{parse_demo, write_rows};
 use primo_skill::dmpfile::{self, Change, DmpFile, Fitted, MAX_ROWS, RhythmicFile};
@@ -204,7 +204,7 @@ fn parse_margin(text: &str, kernels: usize) -> Result<Margin, CliError> {
     if text == "auto" {
         return Ok(Margin::Auto);
     }
-    let most = (kernels as f32 - 2.0) / 2.0;
+    let most = max_margin(kernels);
     match text.parse::<f32>() {
         Ok(m) if (0.0..=most).contains(&m) => Ok(Margin::Spacings(m)),
         _ => Err(CliError::input(format!(

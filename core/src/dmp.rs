@@ -281,10 +281,15 @@ pub(crate) fn check_positive(v: f32, what: &'static str) -> Result<(), Error> {
     }
 }
 
-/// A margin of `m` spacings leaves `K − 1 − 2m ≥ 1` spacings between the
-/// ends.
+/// The widest margin `kernels` kernels allow: `(K − 2)/2` spacings leave
+/// `K − 1 − 2m = 1` spacing between the ends.
+pub fn max_margin(kernels: usize) -> f32 {
+    (kernels as f32 - 2.0) / 2.0
+}
+
+/// A margin in `[0, max_margin]` (NaN and infinities are not).
 fn check_margin(m: f32, kernels: usize) -> Result<(), Error> {
-    if m >= 0.0 && m.is_finite() && span(kernels, m) >= 1.0 {
+    if (0.0..=max_margin(kernels)).contains(&m) {
         Ok(())
     } else {
         Err(Error::OutOfRange(

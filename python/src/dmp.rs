@@ -6,7 +6,7 @@ use numpy::{PyArray1, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
 
-use primo_core::dmp::Margin;
+use primo_core::dmp::{Margin, max_margin};
 use primo_skill::HostDmp;
 use primo_skill::csv::Demo;
 use primo_skill::dmpfile::{self, Change, DmpFile, Fitted, MAX_ROWS, Prepared, RhythmicFile};
@@ -166,12 +166,12 @@ impl Dmp {
     ) -> PyResult<Dmp> {
         let margin = match margin {
             None => Margin::Auto,
-            Some(m) if (0.0..=(kernels as f32 - 2.0) / 2.0).contains(&m) => Margin::Spacings(m),
+            Some(m) if (0.0..=max_margin(kernels)).contains(&m) => Margin::Spacings(m),
             Some(m) => {
                 return Err(invalid(format!(
                     "margin: {m} is not a number of kernel spacings from 0 to {} (with \
                      kernels={kernels}, one spacing must stay between the ends)",
-                    (kernels as f32 - 2.0) / 2.0
+                    max_margin(kernels)
                 )));
             }
         };
