@@ -154,23 +154,20 @@ def pose_errors(t, y, truth, tau):
 def cartesian_accuracy(primo, quick):
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
-        for name, fn, tau in CARTESIAN:
-            for rate in RATES[:2] if quick else RATES:
-                t = np.arange(round(tau * rate) + 1) / rate
-                demo = os.path.join(tmp, "demo.csv")
-                write_csv(demo, t, fn(t), POSE)
-                for k in (30, 10):
-                    pr = pose_errors(*primo_replay(primo, demo, k, tmp), fn, tau)
-                    dmp = CartesianDMP(execution_time=tau, dt=DT, n_weights_per_dim=k,
-                                       int_dt=MP_INT_DT)
-                    dmp.imitate(t, fn(t))
-                    mp = pose_errors(*dmp.open_loop(step_function="euler-cython",
-                                                    quaternion_step_function="cython"),
-                                     fn, tau)
-                    rows.append(dict(case=name, rate=rate, k=k, primo=pr, mp=mp))
-                    print(f"{name:24} {rate:>6} Hz K={k:<3} primo {pr[0][0]:.2e} m "
-                          f"{pr[1][0]:.2e} rad | mp {mp[0][0]:.2e} m {mp[1][0]:.2e} rad",
-                          flush=True)
+        cases = [(name, fn, tau, POSE) for name, fn, tau in CARTESIAN]
+        for name, fn, tau, rate, t, demo in recorded(cases, quick, tmp):
+            for k in (30, 10):
+                pr = pose_errors(*primo_replay(primo, demo, k, tmp), fn, tau)
+                dmp = CartesianDMP(execution_time=tau, dt=DT, n_weights_per_dim=k,
+                                   int_dt=MP_INT_DT)
+                dmp.imitate(t, fn(t))
+                mp = pose_errors(*dmp.open_loop(step_function="euler-cython",
+                                                quaternion_step_function="cython"),
+                                 fn, tau)
+                rows.append(dict(case=name, rate=rate, k=k, primo=pr, mp=mp))
+                print(f"{name:24} {rate:>6} Hz K={k:<3} primo {pr[0][0]:.2e} m "
+                      f"{pr[1][0]:.2e} rad | mp {mp[0][0]:.2e} m {mp[1][0]:.2e} rad",
+                      flush=True)
     return rows
 
 
@@ -204,23 +201,30 @@ def mp_fit(demo, k, tau):
     return dmp
 
 
+def recorded(cases, quick, tmp):
+    """Each case `(name, fn, tau, columns)` sampled at each rate into
+    tmp/demo.csv: yields (name, fn, tau, rate, times, path)."""
+    demo = os.path.join(tmp, "demo.csv")
+    for name, fn, tau, columns in cases:
+        for rate in RATES[:2] if quick else RATES:
+            t = np.arange(round(tau * rate) + 1) / rate
+            write_csv(demo, t, fn(t), columns)
+            yield name, fn, tau, rate, t, demo
+
+
 def accuracy(primo, quick):
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
-        for name, fn, tau, names in CASES:
-            for rate in RATES[:2] if quick else RATES:
-                t = np.arange(round(tau * rate) + 1) / rate
-                demo = os.path.join(tmp, "demo.csv")
-                write_csv(demo, t, fn(t), names)
-                for k in (30, 10):
-                    pr = errors(*primo_replay(primo, demo, k, tmp), fn, tau)
-                    dmp = mp_fit(demo, k, tau)
-                    mp = errors(*dmp.open_loop(step_function="euler-cython"), fn, tau)
-                    rk4 = errors(*dmp.open_loop(step_function="rk4-cython"), fn, tau)
-                    rows.append(dict(case=name, rate=rate, k=k, primo=pr, mp=mp, rk4=rk4))
-                    print(f"{name:14} {rate:>6} Hz K={k:<3} primo RMSE {pr[0]:.2e} "
-                          f"max {pr[1]:.2e} | mp RMSE {mp[0]:.2e} max {mp[1]:.2e} "
-                          f"| mp rk4 RMSE {rk4[0]:.2e}", flush=True)
+        for name, fn, tau, rate, t, demo in recorded(CASES, quick, tmp):
+            for k in (30, 10):
+                pr = errors(*primo_replay(primo, demo, k, tmp), fn, tau)
+                dmp = mp_fit(demo, k, tau)
+                mp = errors(*dmp.open_loop(step_function="euler-cython"), fn, tau)
+                rk4 = errors(*dmp.open_loop(step_function="rk4-cython"), fn, tau)
+                rows.append(dict(case=name, rate=rate, k=k, primo=pr, mp=mp, rk4=rk4))
+                print(f"{name:14} {rate:>6} Hz K={k:<3} primo RMSE {pr[0]:.2e} "
+                      f"max {pr[1]:.2e} | mp RMSE {mp[0]:.2e} max {mp[1]:.2e} "
+                      f"| mp rk4 RMSE {rk4[0]:.2e}", flush=True)
     return rows
 
 
