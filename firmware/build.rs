@@ -37,5 +37,5 @@ fn main() {
         fs::write(out.join(file), format!("{digest:#018x}")).expect("OUT_DIR is writable");
     }
     println!("cargo:rerun-if-changed=checks/numerics.rs");
-    println!("cargo:rerun-if-changed=../core/src");
+    println!("cargo:rerun-if-changed=../core/core/src");
 }

@@ -259,10 +259,11 @@ impl Image {
 /// Where the scale image keeps its settings (`firmware/src/settings.rs`).
 const SETTINGS_PAGE: u32 = 0x0001_F800;
 
-/// The firmware's sources, `firmware/` beside this crate.
+/// The firmware's sources, `firmware/` at the top of the source tree
+/// (this crate is `host/learn/`).
 fn firmware_source() -> PathBuf {
     let learn = Path::new(env!("CARGO_MANIFEST_DIR"));
-    learn.parent().unwrap_or(learn).join("firmware")
+    learn.ancestors().nth(2).unwrap_or(learn).join("firmware")
 }
 
 /// A firmware image running in QEMU's `mps2-an386` (a Cortex-M4F) with

@@ -11,7 +11,7 @@ use std::time::{Duration, Instant};
 use common::{primo, primo_with_input, tmp};
 
 fn examples() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples")
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples")
 }
 
 fn throw_dir() -> PathBuf {

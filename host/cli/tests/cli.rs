@@ -6,7 +6,7 @@ use common::{primo, tmp};
 
 fn demo_path() -> String {
     Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../examples/reach.csv")
+        .join("../../examples/reach.csv")
         .display()
         .to_string()
 }

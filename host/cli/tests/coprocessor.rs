@@ -111,7 +111,7 @@ fn the_firmware_is_found_at_run_time_or_the_build_command_is_named() {
     let empty = tmp("copro-empty");
     std::fs::create_dir_all(&empty).unwrap();
     let cli = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let firmware = cli.parent().unwrap().join("firmware");
+    let firmware = cli.ancestors().nth(2).unwrap().join("firmware");
     let in_tree = firmware.join("target/thumbv7em-none-eabihf/release/primo-firmware");
     let (status, stdout, stderr) = pour_with_target_dir(&exe, &empty);
     if in_tree.is_file() {
