@@ -8,10 +8,10 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 
 use primo_learn::experiment::parallel;
-use primo_learn::objective::{Objective, layout};
+use primo_learn::pour::objective::{Objective, layout};
 use primo_learn::pour::{DemoFile, SkillSpec};
-use primo_learn::series::{MEASURED, Series, measured};
-use primo_learn::trial::Trial;
+use primo_learn::pour::series::{MEASURED, Series, measured};
+use primo_learn::pour::trial::Trial;
 use primo_sim::cell::GlassKind;
 use primo_skill::Space;
 

@@ -17,10 +17,11 @@ use primo_learn::experiment::{
     PowerCurves, PowerRun, SearchRun, THRESHOLDS, Variant, golden_run as golden_seeded,
     golden_skill, power_run as power_seeded, power_skill,
 };
-use primo_learn::learning::{Algorithm, Record};
+use primo_learn::algorithm::Algorithm;
+use primo_learn::rollouts::Record;
 use primo_learn::output::{check_dir, create_dir};
-use primo_learn::report::{PowerSetup, write_golden as golden_files, write_power_experiment};
-use primo_learn::trial::Trial;
+use primo_learn::experiment::{PowerSetup, write_golden as golden_files, write_power_experiment};
+use primo_learn::pour::trial::Trial;
 use primo_sim::cell::CellConfig;
 use primo_skill::Skill;
 
@@ -79,10 +80,10 @@ const FLOATS: [&str; 5] = ["query", "poured", "spilled", "error", "reward"];
 /// A run's roll-outs as columns: `rollout`, `update`, `mean`, `query`,
 /// `poured`, `spilled`, `error`, `reward` (NumPy arrays) and `rejected`
 /// (a list: why the gate refused the movement, or None).
-fn columns<'py>(py: Python<'py>, records: &[Record]) -> PyResult<Bound<'py, PyDict>> {
+fn columns<'py>(py: Python<'py>, records: &[Record<Trial>]) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     let ints =
-        |f: fn(&Record) -> u32| -> Vec<i64> { records.iter().map(|r| i64::from(f(r))).collect() };
+        |f: fn(&Record<Trial>) -> u32| -> Vec<i64> { records.iter().map(|r| i64::from(f(r))).collect() };
     d.set_item(
         "rollout",
         numpy::PyArray1::from_vec(py, ints(|r| r.rollout)),
@@ -90,7 +91,7 @@ fn columns<'py>(py: Python<'py>, records: &[Record]) -> PyResult<Bound<'py, PyDi
     d.set_item("update", numpy::PyArray1::from_vec(py, ints(|r| r.update)))?;
     let mean: Vec<bool> = records.iter().map(|r| r.mean).collect();
     d.set_item("mean", numpy::PyArray1::from_vec(py, mean))?;
-    let values: [fn(&Record) -> f64; 5] = [
+    let values: [fn(&Record<Trial>) -> f64; 5] = [
         |r| f64::from(r.volume()),
         |r| r.trial.poured,
         |r| r.trial.spilled,
@@ -138,7 +139,7 @@ where
 }
 
 /// The roll-outs of a run's `rollouts` columns (see [`columns`]).
-fn records_of(what: &str, run: &Bound<'_, PyAny>) -> PyResult<Vec<Record>> {
+fn records_of(what: &str, run: &Bound<'_, PyAny>) -> PyResult<Vec<Record<Trial>>> {
     let what = format!("{what}[\"rollouts\"]");
     let c: Bound<'_, PyAny> = field(&what, run, "rollouts")?;
     let rollout: Vec<u32> = field(&what, &c, "rollout")?;
@@ -150,7 +151,7 @@ fn records_of(what: &str, run: &Bound<'_, PyAny>) -> PyResult<Vec<Record>> {
         FLOATS.map(|key| column::<f64>(&what, &c, key, n));
     let (query, poured, spilled, error, reward) = (query?, poured?, spilled?, error?, reward?);
     Ok((0..n)
-        .map(|i| Record {
+        .map(|i| Record<Trial> {
             rollout: rollout[i],
             update: update[i],
             mean: mean[i],
@@ -397,7 +398,7 @@ pub fn write_power(
         parameters: shared(&runs, "parameters")?,
         glass: glass_kind(&shared::<String>(&runs, "glass")?)?,
     };
-    let mut by_variant: [Vec<(u64, Vec<Record>)>; 3] = Default::default();
+    let mut by_variant: [Vec<(u64, Vec<Record<Trial>>)>; 3] = Default::default();
     for (i, run) in runs.iter().enumerate() {
         let what = format!("runs[{i}]");
         let variant: String = field(&what, run, "variant")?;

@@ -12,7 +12,7 @@ use pyo3::types::PyTuple;
 use primo_core::golden::{ErrorLearner, SearchConfig, Status};
 use primo_core::power::{Block, PowerConfig};
 use primo_core::secant::{Rule, SecantConfig};
-use primo_learn::learning::MAX_EXTENDED;
+use primo_learn::learner::MAX_EXTENDED;
 use primo_skill::MAX_QUERY;
 
 use crate::arrays::{Array, out, out2, vector};

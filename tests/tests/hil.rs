@@ -13,9 +13,14 @@ use primo_core::scale::{
     CalibrationPoint, ScaleRequest, Settings as ScaleSettings, Unit, WeighMode,
 };
 use primo_learn::coprocessor::{Image, Link, Qemu};
-use primo_learn::learning::{Algorithm as Method, Learner, Record, Settings, learn};
-use primo_learn::pouring::built_in_skill;
-use primo_learn::weigh::PrimoScale;
+use primo_learn::algorithm::Algorithm as Method;
+use primo_learn::learner::Learner;
+use primo_learn::pour::settings::Settings;
+use primo_learn::pour::simulate::learn;
+use primo_learn::rollouts::Record;
+use primo_learn::pour::trial::Trial;
+use primo_learn::pour::skill::built_in_skill;
+use primo_learn::pour::weigh::PrimoScale;
 use primo_sim::cell::{CellConfig, GlassKind};
 use primo_sim::load_cell::{LoadCellModel, LoadCellServer};
 use primo_sim::scale_device::LoadHandle;
@@ -23,7 +28,7 @@ use primo_skill::Space;
 use relay::{PTY, Relay};
 
 /// Parameters, query and reward bits of every roll-out.
-fn bits(records: &[Record]) -> Vec<(u32, u32, u64, u64)> {
+fn bits(records: &[Record<Trial>]) -> Vec<(u32, u32, u64, u64)> {
     records
         .iter()
         .map(|r| {
@@ -43,7 +48,7 @@ fn run(
     kernels: usize,
     rollouts: u32,
     learner: &mut Learner,
-) -> Vec<Record> {
+) -> Vec<Record<Trial>> {
     let cell = CellConfig::standard(GlassKind::Normal);
     let skill = built_in_skill(&cell, space, kernels).unwrap();
     let mut s = Settings::paper(method, 0.5, 0.2, 7);
@@ -52,7 +57,7 @@ fn run(
 }
 
 /// The paper's golden-section search on the built-in pour.
-fn golden(learner: &mut Learner) -> Vec<Record> {
+fn golden(learner: &mut Learner) -> Vec<Record<Trial>> {
     run(Method::Golden, Space::Cartesian, 30, 30, learner)
 }
 

@@ -61,9 +61,9 @@ pub enum Method {
     PowerEl,
 }
 
-impl From<Method> for primo_learn::learning::Algorithm {
+impl From<Method> for primo_learn::algorithm::Algorithm {
     fn from(m: Method) -> Self {
-        use primo_learn::learning::Algorithm;
+        use primo_learn::algorithm::Algorithm;
         match m {
             Method::Golden => Algorithm::Golden,
             Method::Illinois => Algorithm::Illinois,

@@ -60,7 +60,7 @@ pub fn run(command: DemoCommand) -> Result<(), CliError> {
         demo.spilled * 1e3,
         demo.t.last().copied().unwrap_or(0.0)
     );
-    let csv = primo_learn::pouring::to_csv_demo(&demo, space.into());
+    let csv = primo_learn::pour::skill::to_csv_demo(&demo, space.into());
     let mut buf = Vec::new();
     let dof = csv.names.len();
     write_rows(

@@ -62,15 +62,68 @@ impl fmt::Display for CliError {
     }
 }
 
+/// The flag of a learning setting.
+fn flag(setting: primo_learn::Setting) -> String {
+    format!("--{}", setting.name().replace('_', "-"))
+}
+
+impl CliError {
+    /// A learning library's error from `primo COMMAND`: settings named
+    /// by their flags, with the advice what to do next.
+    pub fn learning(command: &str, e: primo_learn::Error) -> Self {
+        use primo_learn::Error;
+        match e {
+            Error::Occupied {
+                ref log,
+                finished: false,
+                ..
+            } => {
+                let dir = log.parent().unwrap_or(log);
+                Self::input(format!(
+                    "{e}: continue it with `primo {command} --resume {}`, or choose another --out",
+                    dir.display()
+                ))
+            }
+            Error::OtherKind { ref kind, .. } => {
+                let other = if kind == "pour" { "pour" } else { "learn" };
+                Self::input(format!("{e}: continue it with `primo {other} --resume`"))
+            }
+            e => e.into(),
+        }
+    }
+}
+
 impl From<primo_learn::Error> for CliError {
     fn from(e: primo_learn::Error) -> Self {
+        use primo_learn::Error;
         match e {
-            primo_learn::Error::Io { ref source, .. }
-                if source.kind() == std::io::ErrorKind::BrokenPipe =>
-            {
+            Error::Setting {
+                setting,
+                value,
+                why,
+            } => Self::input(format!("{} {value}: {why}", flag(setting))),
+            Error::NotADirectory { out, blocking } => Self::input(format!(
+                "--out {}: {} is not a directory",
+                out.display(),
+                blocking.display()
+            )),
+            Error::Occupied {
+                finished: true, ..
+            } => Self::input(format!(
+                "{e}: choose another --out, or give --force to replace it and its reports"
+            )),
+            Error::Occupied { .. } => Self::input(format!(
+                "{e}: continue it with --resume, or choose another --out"
+            )),
+            Error::NoLog(ref log) => Self::input(format!(
+                "--resume {}: no run log ({}) there",
+                log.parent().unwrap_or(log).display(),
+                primo_learn::runlog::FILE
+            )),
+            Error::Io { ref source, .. } if source.kind() == std::io::ErrorKind::BrokenPipe => {
                 Self::stdout(std::io::Error::from(std::io::ErrorKind::BrokenPipe))
             }
-            primo_learn::Error::Interrupted => Self {
+            Error::Interrupted => Self {
                 message: "interrupted".into(),
                 status: INTERRUPTED,
             },

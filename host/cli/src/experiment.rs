@@ -6,9 +6,9 @@ use std::sync::Mutex;
 use primo_learn::experiment::{
     Done, THRESHOLDS, Variant, golden_settings, golden_skill, power_skill,
 };
-use primo_learn::learning::{Algorithm, ERROR_LEARNERS};
+use primo_learn::algorithm::{Algorithm, ERROR_LEARNERS};
 use primo_learn::output::{check_dir, create_dir};
-use primo_learn::report::{PowerSetup, median_rollouts, write_golden, write_power_experiment};
+use primo_learn::experiment::{PowerSetup, median_rollouts, write_golden, write_power_experiment};
 use primo_learn::stats::Estimate;
 
 use crate::args::Glass;
@@ -100,7 +100,7 @@ fn with_runs<T>(name: &str, experiment: impl FnOnce(&(dyn Fn(Done) + Sync)) -> T
 
 fn golden(volumes: &[f64], precision: f64, seed: u64, out: &Path) -> Result<(), CliError> {
     let started = std::time::Instant::now();
-    check_dir("--out", out)?;
+    check_dir(out)?;
     if !(precision.is_finite() && precision > 0.0) {
         return Err(CliError::input(format!(
             "--precision {precision}: must be a positive volume in litres"
@@ -177,7 +177,7 @@ fn power(
     if runs == 0 || updates == 0 {
         return Err(CliError::input("--runs and --updates must be at least 1"));
     }
-    check_dir("--out", out)?;
+    check_dir(out)?;
     let (cell, skill) = power_skill(glass.into(), kernels)?;
     let curves = with_runs("power", |progress| {
         primo_learn::experiment::power(&skill, &cell, runs, updates, seed, progress)

@@ -6,11 +6,12 @@ use std::io::{BufRead, Write};
 use std::path::PathBuf;
 
 use primo_learn::Error;
-use primo_learn::evaluator::Prompt;
-use primo_learn::learning::query_text;
-use primo_learn::pour::{CellSpec, Start as PourStart};
+use primo_learn::pour::run::{CellSpec, Pour};
+use primo_learn::rollouts::query_text;
+use primo_learn::run::{Event, Start, logged_kind};
+use primo_learn::task::evaluator::Prompt;
+use primo_learn::task::run::{TaskRun, rollout_line};
 use primo_learn::task::{Evaluate, Task};
-use primo_learn::teach::{Event, Logged, Start, logged_kind, rollout_line};
 
 use crate::error::CliError;
 use crate::pour::{
@@ -56,17 +57,20 @@ pub fn run(args: &LearnArgs) -> Result<(), CliError> {
     let instruments = args.cell.instruments();
     let learner = args.learner.spec();
     let start = match (&args.resume, &args.task) {
-        (Some(dir), _) => match logged_kind(dir)? {
-            Logged::Pour => {
-                let start = PourStart::Resume {
+        (Some(dir), _) => match logged_kind(dir).map_err(|e| CliError::learning("learn", e))? {
+            kind if kind == "pour" => {
+                let start = Start::<Pour>::Resume {
                     dir: dir.clone(),
-                    instruments,
+                    moved: instruments,
                 };
                 return execute(start, &learner, "learn");
             }
-            Logged::Task => {
+            _ => {
                 refuse_cell(&instruments)?;
-                Start::Resume { dir: dir.clone() }
+                Start::Resume {
+                    dir: dir.clone(),
+                    moved: (),
+                }
             }
         },
         (None, Some(file)) => {
@@ -78,29 +82,28 @@ pub fn run(args: &LearnArgs) -> Result<(), CliError> {
                 task.learner.max_rollouts = n;
             }
             if let Some(mut start) = task.pour_start(args.out.clone(), args.force, args.seed) {
-                if let (PourStart::New { cell, .. }, Some(spec)) = (&mut start, instruments) {
-                    *cell = CellSpec::Instruments(spec);
+                if let (Start::New { run, .. }, Some(spec)) = (&mut start, instruments) {
+                    run.cell = CellSpec::Instruments(spec);
                 }
                 return execute(start, &learner, "learn");
             }
             refuse_cell(&instruments)?;
             Start::New {
-                task: Box::new(task),
                 out: args.out.clone(),
                 force: args.force,
-                seed: args.seed,
+                run: TaskRun {
+                    task,
+                    seed: args.seed,
+                },
             }
         }
         (None, None) => return Err(CliError::input("give --task TASK.toml or --resume DIR")),
     };
-    let dir = match &start {
-        Start::New { out, .. } => out.clone(),
-        Start::Resume { dir } => dir.clone(),
-    };
+    let dir = start.dir().to_path_buf();
     finish(
         "learn",
         with_progress(&dir, "learn", |progress| {
-            primo_learn::teach::learn(start, &learner, Box::new(Terminal), |event| {
+            primo_learn::run::run(start, &learner, Box::new(Terminal), |event| {
                 show(event, progress)
             })
         }),
@@ -108,7 +111,9 @@ pub fn run(args: &LearnArgs) -> Result<(), CliError> {
 }
 
 /// --robot and --scale are the built-in pour's instruments.
-fn refuse_cell(instruments: &Option<primo_learn::rig::InstrumentsSpec>) -> Result<(), CliError> {
+fn refuse_cell(
+    instruments: &Option<primo_learn::pour::rig::InstrumentsSpec>,
+) -> Result<(), CliError> {
     match instruments {
         Some(_) => Err(CliError::input(
             "--robot/--scale: the task's own evaluator executes its roll-outs; the real cell's \
@@ -119,13 +124,15 @@ fn refuse_cell(instruments: &Option<primo_learn::rig::InstrumentsSpec>) -> Resul
 }
 
 /// Prints what the run reports; a closed stdout or Ctrl-C ends the run.
-fn show(event: Event, progress: &mut Progress) -> Result<(), Error> {
+fn show(event: Event<TaskRun>, progress: &mut Progress) -> Result<(), Error> {
     let line = match event {
         Event::Run(e) => match run_line("learn", e) {
             Some(line) => line,
             None => return Ok(()),
         },
-        Event::Learning { task, parameters } => {
+        Event::Note(never) => match never {},
+        Event::Learning { run, parameters } => {
+            let task = &run.task;
             progress.total = task.learner.max_rollouts.max(1);
             let evaluator = match &task.evaluate {
                 Evaluate::Command { argv, .. } => format!("evaluator `{}`", argv.join(" ")),
@@ -133,8 +140,9 @@ fn show(event: Event, progress: &mut Progress) -> Result<(), Error> {
                 Evaluate::Pour(_) => "the built-in pouring cell".into(),
             };
             format!(
-                "primo learn: {} toward q = {}, {} demonstrations, {parameters} learned \
+                "primo learn: {} ({}) toward q = {}, {} demonstrations, {parameters} learned \
                  parameter(s), {evaluator}",
+                task.learner.method,
                 task.learner.method.name(),
                 query_text(&task.goal.desired),
                 task.demos.len(),

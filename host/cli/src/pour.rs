@@ -4,10 +4,13 @@ use std::io::{BufRead, Write};
 use std::path::PathBuf;
 
 use primo_learn::Error;
-use primo_learn::learning::{Algorithm, Settings};
-use primo_learn::pour::{CellSpec, DemoFile, Event, Failure, LearnerSpec, SkillSpec, Start};
-use primo_learn::report::rollout_line;
-use primo_learn::rig::{InstrumentsSpec, Operator};
+use primo_learn::algorithm::Algorithm;
+use primo_learn::pour::report::rollout_line;
+use primo_learn::pour::rig::{InstrumentsSpec, Operator};
+use primo_learn::pour::run::{CellSpec, Note, Pour};
+use primo_learn::pour::settings::Settings;
+use primo_learn::pour::skill::{DemoFile, SkillSpec};
+use primo_learn::run::{Event, Failure, LearnerSpec, Start};
 use primo_learn::runlog::RunEvent;
 
 use crate::args::{Glass, Method, Space};
@@ -218,7 +221,7 @@ pub fn run(args: &PourArgs) -> Result<(), CliError> {
     let start = match &args.resume {
         Some(dir) => Start::Resume {
             dir: dir.clone(),
-            instruments,
+            moved: instruments,
         },
         None => {
             let method: Algorithm = args.method.into();
@@ -236,9 +239,11 @@ pub fn run(args: &PourArgs) -> Result<(), CliError> {
             Start::New {
                 out: args.out.clone(),
                 force: args.force,
-                settings,
-                skill,
-                cell: instruments.map_or(CellSpec::Simulated, CellSpec::Instruments),
+                run: Pour {
+                    settings,
+                    skill,
+                    cell: instruments.map_or(CellSpec::Simulated, CellSpec::Instruments),
+                },
             }
         }
     };
@@ -247,15 +252,12 @@ pub fn run(args: &PourArgs) -> Result<(), CliError> {
 
 /// Runs a pour (`primo pour`, or `primo learn` of the built-in pour task:
 /// `command` names which, for the messages).
-pub fn execute(start: Start, learner: &LearnerSpec, command: &str) -> Result<(), CliError> {
-    let dir = match &start {
-        Start::New { out, .. } => out.clone(),
-        Start::Resume { dir, .. } => dir.clone(),
-    };
+pub fn execute(start: Start<Pour>, learner: &LearnerSpec, command: &str) -> Result<(), CliError> {
+    let dir = start.dir().to_path_buf();
     finish(
         command,
         with_progress(&dir, command, |progress| {
-            primo_learn::pour::pour(start, learner, Box::new(Terminal), |event| {
+            primo_learn::run::run(start, learner, Box::new(Terminal), |event| {
                 show(event, progress)
             })
         }),
@@ -283,7 +285,7 @@ pub fn finish(
     match result? {
         Ok(()) => Ok(()),
         Err(failure) => {
-            let mut e = CliError::from(*failure.error);
+            let mut e = CliError::learning(command, *failure.error);
             if let Some(dir) = failure.resumable
                 && e.status != 2
             {
@@ -340,30 +342,29 @@ pub fn run_line(command: &str, event: RunEvent) -> Option<String> {
 }
 
 /// Prints what the run reports; a closed stdout or Ctrl-C ends the run.
-fn show(event: Event, progress: &mut Progress) -> Result<(), Error> {
+fn show(event: Event<Pour>, progress: &mut Progress) -> Result<(), Error> {
     let line = match event {
         Event::Run(e) => match run_line("pour", e) {
             Some(line) => line,
             None => return Ok(()),
         },
-        Event::Learning {
-            settings: s,
-            space,
-            parameters,
-        } => {
+        Event::Learning { run, parameters } => {
+            let s = &run.settings;
             progress.total = s.max_rollouts.max(1);
             format!(
-                "primo pour: {} from a {} l bottle, target {} l, {space:?} space, {parameters} learned parameter(s)",
+                "primo pour: {} ({}) from a {} l bottle, target {} l, {:?} space, {parameters} learned parameter(s)",
+                s.method,
                 s.method.name(),
                 s.bottle,
                 s.target,
+                run.skill.space,
             )
         }
-        Event::Converted(c) => {
+        Event::Note(Note::Converted(c)) => {
             eprintln!("primo pour: {c}");
             return Ok(());
         }
-        Event::Cell { spec, scale_serial } => format!(
+        Event::Note(Note::Cell { spec, scale_serial }) => format!(
             "cell: robot {}, scale {} (serial {scale_serial}){}",
             spec.robot,
             spec.scale,

@@ -4,9 +4,9 @@
 use std::io::{BufRead, Write};
 use std::path::PathBuf;
 
-use primo_learn::learning::check_target;
-use primo_learn::objective::{Objective, Start, layout};
-use primo_learn::trial::Trial;
+use primo_learn::pour::settings::check_target;
+use primo_learn::pour::objective::{Objective, Start, layout};
+use primo_learn::pour::trial::Trial;
 
 use crate::args::Glass;
 use crate::error::CliError;
@@ -120,7 +120,7 @@ pub fn run(args: &RolloutArgs) -> Result<(), CliError> {
         roll_out(&objective, &x, args.seed, args.series.is_some()).map_err(CliError::input)?;
     crate::output::say(&answer.to_string())?;
     match &args.series {
-        Some(file) => Ok(primo_learn::series::write_csv(
+        Some(file) => Ok(primo_learn::pour::series::write_csv(
             file,
             objective.space(),
             trial.series.as_ref(),

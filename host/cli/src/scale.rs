@@ -8,7 +8,7 @@ use clap::{Args, Subcommand, ValueEnum};
 
 use primo_core::scale::{CalibrationPoint, Reading, ScaleRequest, Unit as ScaleUnit, WeighMode};
 use primo_learn::coprocessor::{Image, Qemu};
-use primo_learn::weigh::{PrimoScale, ScaleSpec};
+use primo_learn::pour::weigh::{PrimoScale, ScaleSpec};
 use primo_mtsics::{Client, ClientConfig, Density, Unit, quote};
 use primo_sim::load_cell::{LoadCellModel, LoadCellServer};
 use primo_sim::scale::ScaleModel;
@@ -370,7 +370,13 @@ fn open(args: &ScaleArgs) -> Result<Opened, CliError> {
         let scale = PrimoScale::boot(&Qemu::find(Image::Scale)?, cell.path(), settle)?;
         return Ok(Opened::Primo(scale, Some(cell)));
     }
-    Ok(match ScaleSpec::parse("--port", &args.port)? {
+    let spec = ScaleSpec::parse(&args.port).map_err(|e| match e {
+        primo_learn::Error::Setting { value, why, .. } => {
+            CliError::input(format!("--port {value}: {why}"))
+        }
+        e => e.into(),
+    })?;
+    Ok(match spec {
         ScaleSpec::Postcard(port) => Opened::Primo(PrimoScale::open(&port, settle)?, None),
         ScaleSpec::Qemu(cell) => Opened::Primo(
             PrimoScale::boot(&Qemu::find(Image::Scale)?, &cell, settle)?,

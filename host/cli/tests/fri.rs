@@ -23,10 +23,10 @@ use primo_core::service::SAMPLER;
 use primo_fri::packet::{Measurement, Quality, State};
 use primo_fri::session::{SessionConfig, Stop};
 use primo_fri::udp::{Ended, Event, PlayConfig, PlayResult, play};
-use primo_learn::learning::{MAX_EXTENDED, power_blocks};
-use primo_learn::pouring::built_in_skill;
-use primo_learn::pouring::gate;
-use primo_learn::rig::{Simulated, roll_out};
+use primo_learn::learner::{MAX_EXTENDED, power_blocks};
+use primo_learn::pour::skill::built_in_skill;
+use primo_learn::pour::skill::gate;
+use primo_learn::pour::rig::{Simulated, roll_out};
 use primo_mtsics::{Client, ClientConfig};
 use primo_robot::JOINTS;
 use primo_robot::safety::check_joints;
@@ -473,7 +473,7 @@ fn power_exploration_that_crosses_a_limit_never_reaches_the_robot() {
     let cell = CellConfig::standard(GlassKind::Normal);
     let skill = built_in_skill(&cell, Space::Joint, 10).unwrap();
     // PoWER exploring Δθ with 100 times the paper's variance.
-    let blocks = power_blocks(&skill, 0.2, 5.0, primo_learn::learning::QUERY_DECAY).unwrap();
+    let blocks = power_blocks(&skill, 0.2, 5.0, primo_learn::learner::QUERY_DECAY).unwrap();
     let mut start = vec![0.0f32; skill.param_len() + 1];
     start[0] = 0.5;
     let cfg = PowerConfig::paper(&blocks).unwrap();

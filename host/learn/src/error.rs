@@ -8,6 +8,51 @@ pub enum Error {
     /// A setting out of range or settings that contradict each other.
     #[error("{0}")]
     Invalid(String),
+    /// A run's setting that cannot be used: which, as given, and why.
+    #[error("{} {value}: {why}", setting.name())]
+    Setting {
+        /// Which.
+        setting: Setting,
+        /// As given.
+        value: String,
+        /// Why not.
+        why: String,
+    },
+    /// An output directory that cannot be one: something else is in its
+    /// way.
+    #[error("{}: {} is not a directory", out.display(), blocking.display())]
+    NotADirectory {
+        /// The directory asked for.
+        out: PathBuf,
+        /// What is in the way (`out` or one of its parents).
+        blocking: PathBuf,
+    },
+    /// A run is logged in the directory a new run was to be logged in.
+    #[error(
+        "{}: {} run ({rollouts} roll-outs) is logged here",
+        log.display(),
+        if *finished { "a finished" } else { "an unfinished" }
+    )]
+    Occupied {
+        /// The log.
+        log: PathBuf,
+        /// Its roll-outs.
+        rollouts: usize,
+        /// It is complete (a new run may replace it when forced); an
+        /// unfinished run is never replaced, only continued.
+        finished: bool,
+    },
+    /// No run log where a run was to be continued: the log's path.
+    #[error("{}: not found: there is no run to continue", .0.display())]
+    NoLog(PathBuf),
+    /// The run logged in `dir` is of another kind than the one asked for.
+    #[error("the run logged in {} is a {kind} run", dir.display())]
+    OtherKind {
+        /// Its directory.
+        dir: PathBuf,
+        /// Its kind's name.
+        kind: String,
+    },
     /// Demonstrations, DMP files, and the skill made of them.
     #[error(transparent)]
     Skill(#[from] primo_skill::Error),
@@ -63,6 +108,11 @@ impl Error {
         matches!(
             self,
             Error::Invalid(_)
+                | Error::Setting { .. }
+                | Error::NotADirectory { .. }
+                | Error::Occupied { .. }
+                | Error::NoLog(_)
+                | Error::OtherKind { .. }
                 | Error::Skill(_)
                 | Error::Address(_)
                 | Error::Log(_)
@@ -70,9 +120,80 @@ impl Error {
         )
     }
 
+    /// A refused `setting` given as `value`, and why.
+    pub fn setting(setting: Setting, value: impl ToString, why: impl Into<String>) -> Error {
+        Error::Setting {
+            setting,
+            value: value.to_string(),
+            why: why.into(),
+        }
+    }
+
     /// An I/O error on `path`.
     pub fn io(path: impl Into<PathBuf>) -> impl FnOnce(std::io::Error) -> Error {
         let path = path.into();
         move |source| Error::Io { path, source }
+    }
+}
+
+/// A setting of a run or an experiment, as the library names it (the
+/// command line names its flag, the Python package its parameter).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Setting {
+    /// The output directory.
+    Out,
+    /// Kernels per DoF.
+    Kernels,
+    /// A demonstration file and its query.
+    Demo,
+    /// Liquid in the bottle, l.
+    Bottle,
+    /// Volume to pour, l.
+    Target,
+    /// Error learning's query bounds.
+    Search,
+    /// What the glass holds, l.
+    GlassHolds,
+    /// Error learning's precision.
+    Precision,
+    /// The roll-out budget.
+    MaxRollouts,
+    /// The error learners' gain.
+    Gain,
+    /// PoWER updates per run of the power experiment.
+    Updates,
+    /// Where the learner runs.
+    Coprocessor,
+    /// The real cell's scale.
+    Scale,
+    /// An MT-SICS scale's baud rate.
+    Baud,
+    /// The liquid's density, g/ml.
+    Density,
+    /// A task file.
+    Task,
+}
+
+impl Setting {
+    /// Its name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Setting::Out => "out",
+            Setting::Kernels => "kernels",
+            Setting::Demo => "demo",
+            Setting::Bottle => "bottle",
+            Setting::Target => "target",
+            Setting::Search => "search",
+            Setting::GlassHolds => "glass_holds",
+            Setting::Precision => "precision",
+            Setting::MaxRollouts => "max_rollouts",
+            Setting::Gain => "gain",
+            Setting::Updates => "updates",
+            Setting::Coprocessor => "coprocessor",
+            Setting::Scale => "scale",
+            Setting::Baud => "baud",
+            Setting::Density => "density",
+            Setting::Task => "task",
+        }
     }
 }

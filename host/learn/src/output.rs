@@ -95,20 +95,27 @@ fn replace(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     result
 }
 
-/// Checks, before any work, that `out` (given as `flag`) is a directory
-/// or can be made one: nothing that is not a directory in its way.
-pub fn check_dir(flag: &str, out: &Path) -> Result<(), Error> {
+/// Writes `value` as pretty JSON and a newline to `path`, atomically.
+pub fn write_json(path: &Path, value: &impl serde::Serialize) -> Result<(), Error> {
+    let mut text = serde_json::to_string_pretty(value)
+        .map_err(|e| Error::Report(format!("{}: {e}", path.display())))?;
+    text.push('\n');
+    write_file(path, text.as_bytes())
+}
+
+/// Checks, before any work, that `out` is a directory or can be made one:
+/// nothing that is not a directory in its way.
+pub fn check_dir(out: &Path) -> Result<(), Error> {
     let mut at = Some(out);
     while let Some(p) = at {
         if let Ok(meta) = std::fs::metadata(p) {
             if meta.is_dir() {
                 return Ok(());
             }
-            return Err(Error::Invalid(format!(
-                "{flag} {}: {} is not a directory",
-                out.display(),
-                p.display()
-            )));
+            return Err(Error::NotADirectory {
+                out: out.to_path_buf(),
+                blocking: p.to_path_buf(),
+            });
         }
         at = p.parent().filter(|p| !p.as_os_str().is_empty());
     }

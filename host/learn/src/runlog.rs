@@ -1,6 +1,6 @@
 //! The run log: a learning run's header and every roll-out, appended and
 //! synced to disk before the next roll-out begins, so a run that crashed or
-//! was killed continues where it stopped (`primo pour --resume DIR`).
+//! was killed continues where it stopped (resumed, [`crate::run`]).
 //!
 //! `DIR/run.log` holds one record per line: the CRC-32C of the JSON as 8
 //! hex digits, a space, the JSON. The first record is the run's header,
@@ -104,22 +104,12 @@ impl RunLog {
         match scan::<IgnoredAny, IgnoredAny>(&path, &bytes) {
             Ok(old) if old.entries.is_empty() => Ok(()),
             Ok(old) if old.ended && force => Ok(()),
-            Ok(old) if old.ended => Err(Error::Log(format!(
-                "{}: a finished run ({} roll-outs) is logged here: choose another --out, \
-                 or give --force to replace it and its reports",
-                path.display(),
-                old.entries.len()
-            ))),
-            Ok(old) => Err(Error::Log(format!(
-                "{}: an unfinished run ({} roll-outs) is logged here: continue it with \
-                 `primo pour --resume {}`, or choose another --out",
-                path.display(),
-                old.entries.len(),
-                dir.display()
-            ))),
-            Err(e) => Err(Error::Log(format!(
-                "{e}; not overwriting it: choose another --out"
-            ))),
+            Ok(old) => Err(Error::Occupied {
+                log: path,
+                rollouts: old.entries.len(),
+                finished: old.ended,
+            }),
+            Err(e) => Err(Error::Log(format!("{e}; not overwriting it"))),
         }
     }
 
@@ -468,18 +458,12 @@ mod tests {
         let e = RunLog::create(&d, &json!({"seed": 8}), true)
             .unwrap_err()
             .to_string();
-        assert!(
-            e.contains("unfinished run (3 roll-outs)") && e.contains("--resume"),
-            "{e}"
-        );
+        assert!(e.contains("an unfinished run (3 roll-outs)"), "{e}");
         open(&d).unwrap().log.end().unwrap();
         let e = RunLog::create(&d, &json!({"seed": 8}), false)
             .unwrap_err()
             .to_string();
-        assert!(
-            e.contains("finished run (3 roll-outs)") && e.contains("--force"),
-            "{e}"
-        );
+        assert!(e.contains("a finished run (3 roll-outs)"), "{e}");
         RunLog::create(&d, &json!({"seed": 8}), true).unwrap();
         let o = open(&d).unwrap();
         assert_eq!((o.header, o.entries.len()), (json!({"seed": 8}), 0));

@@ -346,25 +346,118 @@ pub fn push_f32(out: &mut Vec<u8>, v: f32) {
     }
 }
 
+/// CSV text as every file primo writes has it: fields separated by
+/// commas, rows ended by `\n`, a field holding a comma, a quote or a line
+/// break enclosed in quotes with its quotes doubled (RFC 4180).
+///
+/// ```
+/// use primo_skill::csv::Csv;
+/// let mut csv = Csv::new();
+/// csv.text("t").text("why");
+/// csv.end_row();
+/// csv.seconds(0.5).text("a \"limit\", exceeded");
+/// csv.end_row();
+/// assert_eq!(csv.as_bytes(), b"t,why\n0.5,\"a \"\"limit\"\", exceeded\"\n");
+/// ```
+#[derive(Debug, Clone, Default)]
+pub struct Csv {
+    out: Vec<u8>,
+    /// A field was written on the current row.
+    open: bool,
+}
+
+impl Csv {
+    /// Empty.
+    pub fn new() -> Csv {
+        Csv::default()
+    }
+
+    fn separate(&mut self) {
+        if self.open {
+            self.out.push(b',');
+        }
+        self.open = true;
+    }
+
+    /// A field of text, quoted where it must be.
+    pub fn text(&mut self, text: &str) -> &mut Csv {
+        self.separate();
+        if text.contains([',', '"', '\n', '\r']) {
+            self.out.push(b'"');
+            self.out.extend_from_slice(text.replace('"', "\"\"").as_bytes());
+            self.out.push(b'"');
+        } else {
+            self.out.extend_from_slice(text.as_bytes());
+        }
+        self
+    }
+
+    /// A field as `value` displays (a number, a name), quoted where it
+    /// must be.
+    pub fn display(&mut self, value: impl std::fmt::Display) -> &mut Csv {
+        self.text(&value.to_string())
+    }
+
+    /// An `f32` with the shortest digits that read back as it
+    /// ([`push_f32`]).
+    pub fn f32(&mut self, v: f32) -> &mut Csv {
+        self.separate();
+        push_f32(&mut self.out, v);
+        self
+    }
+
+    /// A time in seconds ([`seconds`]).
+    pub fn seconds(&mut self, t: f64) -> &mut Csv {
+        self.separate();
+        push_seconds(&mut self.out, t);
+        self
+    }
+
+    /// Ends the row.
+    pub fn end_row(&mut self) {
+        self.out.push(b'\n');
+        self.open = false;
+    }
+
+    /// The text so far.
+    pub fn as_bytes(&self) -> &[u8] {
+        &self.out
+    }
+
+    /// Empties it, for the next rows.
+    pub fn clear(&mut self) {
+        self.out.clear();
+        self.open = false;
+    }
+
+    /// The text.
+    pub fn into_bytes(self) -> Vec<u8> {
+        self.out
+    }
+}
+
 /// Writes a trajectory CSV: header `t,<names>` then one row per sample.
 pub fn write_rows<V: IntoIterator<Item = f32>>(
     out: &mut impl std::io::Write,
     names: &[String],
     rows: impl Iterator<Item = (f32, V)>,
 ) -> std::io::Result<()> {
-    writeln!(out, "t,{}", names.join(","))?;
-    let mut line = Vec::new();
-    for (t, values) in rows {
-        line.clear();
-        push_seconds(&mut line, f64::from(t));
-        for v in values {
-            line.push(b',');
-            push_f32(&mut line, v);
-        }
-        line.push(b'\n');
-        out.write_all(&line)?;
+    let mut csv = Csv::new();
+    csv.text("t");
+    for name in names {
+        csv.text(name);
     }
-    Ok(())
+    csv.end_row();
+    for (t, values) in rows {
+        csv.seconds(f64::from(t));
+        for v in values {
+            csv.f32(v);
+        }
+        csv.end_row();
+        out.write_all(csv.as_bytes())?;
+        csv.clear();
+    }
+    out.write_all(csv.as_bytes())
 }
 
 #[cfg(test)]

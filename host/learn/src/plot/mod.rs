@@ -12,6 +12,7 @@
 
 mod axis;
 mod legend;
+pub mod panels;
 mod style;
 
 use std::sync::OnceLock;

@@ -16,6 +16,7 @@ use primo_mtsics::{Client, ClientConfig};
 use primo_sim::load_cell::LoadCellModel;
 
 use crate::Error;
+use crate::error::Setting;
 use crate::coprocessor::{Image, Link, Qemu};
 
 /// Where a scale is.
@@ -30,12 +31,11 @@ pub enum ScaleSpec {
 }
 
 impl ScaleSpec {
-    /// `postcard:PORT`, `qemu:LOAD_CELL`, or an MT-SICS scale's port, as
-    /// option `flag` gave it.
-    pub fn parse(flag: &str, text: &str) -> Result<ScaleSpec, Error> {
+    /// `postcard:PORT`, `qemu:LOAD_CELL`, or an MT-SICS scale's port.
+    pub fn parse(text: &str) -> Result<ScaleSpec, Error> {
         let named = |rest: &str, what: &str| {
             if rest.is_empty() {
-                Err(Error::Invalid(format!("{flag} {text}: {what}")))
+                Err(Error::setting(Setting::Scale, text, what))
             } else {
                 Ok(rest.to_string())
             }
@@ -47,10 +47,12 @@ impl ScaleSpec {
                 "name the load cell's port (`primo robot sim-krc --load-cell` prints it)",
             )?),
             _ if text == "qemu" => {
-                return Err(Error::Invalid(format!(
-                    "{flag} qemu: name the load cell's port, qemu:PATH (`primo robot sim-krc \
-                     --load-cell` prints it)"
-                )));
+                return Err(Error::setting(
+                    Setting::Scale,
+                    text,
+                    "name the load cell's port, qemu:PATH (`primo robot sim-krc --load-cell` \
+                     prints it)",
+                ));
             }
             _ => ScaleSpec::MtSics(named(text, "name the serial port")?),
         })

@@ -10,11 +10,12 @@ use std::borrow::Cow;
 use primo_skill::{Skill, Space};
 
 use crate::Error;
-use crate::learning::{QUERY_DECAY, check_target, power_blocks};
-use crate::pour::{Built, SkillSpec};
-use crate::pouring::Converted;
-use crate::rig::{Rig, Simulated};
-use crate::trial::Trial;
+use crate::learner::{QUERY_DECAY, power_blocks};
+
+use super::rig::{Rig, Simulated};
+use super::settings::check_target;
+use super::skill::{Built, Converted, SkillSpec};
+use super::trial::Trial;
 
 /// What the vector holds, in order, in `space`: in Cartesian space the
 /// DoFs are x, y, z and the orientation's three log coordinates (a

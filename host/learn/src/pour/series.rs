@@ -19,12 +19,11 @@
 //! # Ok::<(), primo_learn::Error>(())
 //! ```
 
-use std::fmt::Write as _;
 use std::path::Path;
 
 use primo_sim::cell::Sample;
 use primo_skill::Space;
-use primo_skill::csv::seconds;
+use primo_skill::csv::Csv;
 
 use crate::Error;
 use crate::output::write_file;
@@ -96,26 +95,30 @@ impl Series {
     /// computed, the measurements as exactly as `f64` prints (flow in l/s,
     /// volumes in l), the scale's display in g as its digits; `stable` is
     /// 1 or 0.
-    pub fn to_csv(&self) -> String {
+    pub fn to_csv(&self) -> Vec<u8> {
         let dof = self.space.names().len();
-        let mut out = self.header();
-        out.push('\n');
+        let mut csv = Csv::new();
+        csv.text("t");
+        for name in self.space.names().iter().copied().chain(MEASURED.split(',')) {
+            csv.text(name);
+        }
+        csv.end_row();
         for (s, command) in self.samples.iter().zip(self.commands.chunks_exact(dof)) {
-            out += &seconds(s.t);
+            csv.seconds(s.t);
             // The plan is f32 (the DMP's): printed as f32, no false digits.
             for v in command {
-                let _ = write!(out, ",{}", *v as f32);
+                csv.display(*v as f32);
             }
             let m = measured(s);
             for v in &m[..9] {
                 // + 0.0 turns an empty sum's -0 into 0.
-                let _ = write!(out, ",{}", v + 0.0);
+                csv.display(v + 0.0);
             }
             // The display's digits (198.98, not 198.98000000000002).
-            let scale = m[9] as f32 + 0.0;
-            let _ = writeln!(out, ",{scale},{}", u8::from(s.stable));
+            csv.display(m[9] as f32 + 0.0).display(u8::from(s.stable));
+            csv.end_row();
         }
-        out
+        csv.into_bytes()
     }
 }
 
@@ -126,14 +129,14 @@ pub fn write_csv(path: &Path, space: Space, series: Option<&Series>) -> Result<(
         Some(s) => s.to_csv(),
         None => Series::new(space, &[], 0, 1, Vec::new()).to_csv(),
     };
-    write_file(path, csv.as_bytes())
+    write_file(path, &csv)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::pouring::built_in_skill;
-    use crate::rig::{Simulated, roll_out};
+    use crate::pour::rig::{Simulated, roll_out};
+    use crate::pour::skill::built_in_skill;
     use primo_sim::cell::{CellConfig, GlassKind};
 
     #[test]

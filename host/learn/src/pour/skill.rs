@@ -1,15 +1,144 @@
-//! The built-in pouring task: the pouring cell's safety gate, and the
-//! expert's demonstrations fitted as a skill.
+//! The pour's skill: demonstrations of pouring (the files given, or the
+//! expert's built-in pair) fitted and generalized over the bottle's
+//! volume, and the pouring cell's safety gate.
+
+use std::path::PathBuf;
 
 use primo_core::generalize::Method as Regression;
 use primo_robot::{CartesianLimits, Gate};
-use primo_sim::cell::CellConfig;
+use primo_sim::cell::{CellConfig, GlassKind};
 use primo_sim::expert::{BUILT_IN, Recording, rest_configuration, synthesize};
-use primo_skill::csv::{Demo, rotation_vectors_as_quaternions};
+use primo_skill::csv::{Demo, parse_demo, rotation_vectors_as_quaternions};
 use primo_skill::skill::same_columns;
-use primo_skill::{Skill, Space};
+use primo_skill::{MAX_KERNELS, Skill, Space};
+use serde::{Deserialize, Serialize};
 
 use crate::Error;
+use crate::error::Setting;
+
+/// A demonstration file and the query (bottle volume, l) it shows.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct DemoFile {
+    /// The CSV file (absolute in a run log).
+    pub file: PathBuf,
+    /// Its query.
+    pub volume: f32,
+}
+
+/// The skill a run learns: demonstrations fitted and generalized.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SkillSpec {
+    /// Coordinates of the movement.
+    pub space: Space,
+    /// The glass on the scale (the simulated cell's; on a real cell, the
+    /// arm's model and the workspace are the same).
+    pub glass: GlassKind,
+    /// Kernels per DoF.
+    pub kernels: usize,
+    /// The demonstrations; empty for the built-in pair.
+    pub demos: Vec<DemoFile>,
+}
+
+impl SkillSpec {
+    /// Checks the settings without reading a file: the kernel count, and
+    /// at least two demonstrations at distinct, positive volumes.
+    pub fn validate(&self) -> Result<(), Error> {
+        if !(2..=MAX_KERNELS).contains(&self.kernels) {
+            return Err(Error::setting(
+                Setting::Kernels,
+                self.kernels,
+                format!("must be in 2..={MAX_KERNELS}"),
+            ));
+        }
+        if self.demos.len() == 1 {
+            return Err(Error::setting(
+                Setting::Demo,
+                self.demos[0].file.display(),
+                "one demonstration cannot be generalized; give at least two, at different \
+                 volumes (or none for the built-in pair)",
+            ));
+        }
+        for (i, d) in self.demos.iter().enumerate() {
+            if !(d.volume.is_finite() && d.volume > 0.0) {
+                return Err(Error::setting(
+                    Setting::Demo,
+                    format!("{}={}", d.file.display(), d.volume),
+                    "the volume must be a positive number of litres",
+                ));
+            }
+            if let Some(same) = self.demos[..i].iter().find(|e| e.volume == d.volume) {
+                return Err(Error::setting(
+                    Setting::Demo,
+                    format!("{}={}", d.file.display(), d.volume),
+                    format!(
+                        "{} shows the same volume; the demonstrations must show different \
+                         volumes to generalize over",
+                        same.file.display()
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// The simulated cell with this glass.
+    pub fn cell(&self) -> CellConfig {
+        CellConfig::standard(self.glass)
+    }
+
+    /// The cell and the fitted skill. A Cartesian demonstration in the
+    /// rotation-vector columns of earlier versions is converted
+    /// ([`upgrade`]) and said so in [`Built::converted`].
+    pub fn build(&self) -> Result<Built, Error> {
+        self.validate()?;
+        let cell = self.cell();
+        if self.demos.is_empty() {
+            let skill = built_in_skill(&cell, self.space, self.kernels)?;
+            return Ok(Built {
+                cell,
+                skill,
+                converted: Vec::new(),
+            });
+        }
+        let mut demos = Vec::new();
+        let mut converted = Vec::new();
+        for d in &self.demos {
+            let text = std::fs::read_to_string(&d.file)
+                .map_err(|e| Error::Invalid(format!("{}: cannot read: {e}", d.file.display())))?;
+            let name = d.file.display().to_string();
+            let mut demo = parse_demo(&name, &text)?;
+            if self.space == Space::Cartesian
+                && let Some((quaternions, wraps)) = upgrade(&demo)
+            {
+                demo = quaternions;
+                converted.push(Converted {
+                    file: d.file.clone(),
+                    wraps,
+                });
+            }
+            demos.push((name, d.volume, demo));
+        }
+        let skill = fit(self.space, &demos, self.kernels)?;
+        Ok(Built {
+            cell,
+            skill,
+            converted,
+        })
+    }
+}
+
+/// A skill built: the cell, the fitted skill, and the demonstrations
+/// converted from rotation vectors.
+#[derive(Debug, Clone)]
+pub struct Built {
+    /// The cell.
+    pub cell: CellConfig,
+    /// The skill.
+    pub skill: Skill,
+    /// The demonstration files read in the earlier Cartesian columns.
+    pub converted: Vec<Converted>,
+}
+
 
 /// The Cartesian columns before the orientation was a quaternion: the
 /// mouth's position and the bottle's rotation vector.

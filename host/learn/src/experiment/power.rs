@@ -1,195 +1,30 @@
-//! The paper's experiments on the simulated cell.
-//!
-//! - [`golden`] (Fig. 3): error learning for several bottle volumes, with
-//!   the paper's golden section and with Illinois, in Cartesian space.
-//! - [`power`] (Figs. 5 and 6): extended against ordinary PoWER in joint
-//!   space, many seeded runs: per update the mean, std and the range of
-//!   the middle 90 % of runs.
-//!
-//! Runs are independent and seeded, and spread over all cores; the results
-//! do not depend on how many cores there are. One seeded run of each is
-//! one function ([`golden_run`], [`power_run`]): the command line's
-//! parallel loops and the Python package's sweeps (local processes or
-//! Ray) call the same.
+//! The power experiment (the paper's Figs. 5 and 6): extended against
+//! ordinary PoWER in joint space, and PoWER with the query learned from
+//! the error, over many seeded runs; and what it writes.
 
-use std::sync::Mutex;
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::path::Path;
 
+use primo_sim::cell::{CellConfig, GlassKind};
+use primo_skill::csv::Csv;
+use primo_skill::{Skill, Space};
 use serde::{Deserialize, Serialize};
 
 use crate::Error;
-use crate::learning::{Algorithm, ERROR_LEARNERS, Learner, Record, Settings, learn};
-use crate::pour::SkillSpec;
-use crate::pouring::built_in_skill;
+use crate::algorithm::Algorithm;
+use crate::error::Setting;
+use crate::learner::Learner;
+use crate::output::{write_file, write_json};
+use crate::plot::panels::write_png;
+use crate::plot::{Line, Panel};
+use crate::pour::report::{ERROR_FLOOR_ML, SPILL_FLOOR_ML};
+use crate::pour::settings::Settings;
+use crate::pour::simulate::learn;
+use crate::pour::skill::SkillSpec;
+use crate::pour::trial::Trial;
+use crate::rollouts::Record;
 use crate::stats::{Estimate, bootstrap, mean, median, quantile};
-use primo_sim::cell::{CellConfig, GlassKind};
-use primo_skill::{Skill, Space};
 
-/// Runs `job(0..n)` on all cores; results in index order.
-pub fn parallel<T: Send>(n: usize, job: impl Fn(usize) -> T + Sync) -> Vec<T> {
-    parallel_reporting(n, job, |_| {})
-}
-
-/// [`parallel`], calling `done` with the number of jobs finished as each
-/// finishes (from the worker that finished it).
-pub fn parallel_reporting<T: Send>(
-    n: usize,
-    job: impl Fn(usize) -> T + Sync,
-    done: impl Fn(usize) + Sync,
-) -> Vec<T> {
-    let threads = std::thread::available_parallelism()
-        .map_or(1, |n| n.get())
-        .min(n.max(1));
-    let next = AtomicUsize::new(0);
-    let finished = AtomicUsize::new(0);
-    let results: Mutex<Vec<Option<T>>> = Mutex::new((0..n).map(|_| None).collect());
-    std::thread::scope(|scope| {
-        for _ in 0..threads {
-            scope.spawn(|| {
-                loop {
-                    let i = next.fetch_add(1, Ordering::Relaxed);
-                    if i >= n {
-                        break;
-                    }
-                    let value = job(i);
-                    if let Ok(mut r) = results.lock() {
-                        r[i] = Some(value);
-                    }
-                    done(finished.fetch_add(1, Ordering::Relaxed) + 1);
-                }
-            });
-        }
-    });
-    results
-        .into_inner()
-        .unwrap_or_default()
-        .into_iter()
-        .flatten()
-        .collect()
-}
-
-/// How far an experiment is: reported as each of its runs finishes.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Done {
-    /// Runs finished.
-    pub runs: usize,
-    /// Runs in all.
-    pub of: usize,
-}
-
-/// One learning run of the golden experiment.
-#[derive(Debug, Clone, Serialize)]
-pub struct SearchRun {
-    /// Liquid in the bottle, l.
-    pub volume: f64,
-    /// The learner.
-    pub method: Algorithm,
-    /// First roll-out with |error| below the precision, if any.
-    pub rollouts_to_precision: Option<u32>,
-    /// The most poured beyond the target in any roll-out, l (0 if never):
-    /// what a search spills over the glass's mark on a real cell.
-    pub worst_overpour: f64,
-    /// Per roll-out: query and error (l).
-    #[serde(skip)]
-    pub records: Vec<Record>,
-}
-
-impl SearchRun {
-    /// The figures of a run's roll-outs, to `precision` (l).
-    pub fn of(volume: f64, method: Algorithm, precision: f64, records: Vec<Record>) -> SearchRun {
-        SearchRun {
-            volume,
-            method,
-            rollouts_to_precision: records
-                .iter()
-                .find(|r| r.trial.error.abs() < precision)
-                .map(|r| r.rollout),
-            worst_overpour: records.iter().map(|r| r.trial.error).fold(0.0, f64::max),
-            records,
-        }
-    }
-}
-
-/// The golden experiment's cell and skill: the normal glass, Cartesian
-/// space, 30 kernels per DoF, fitted to the built-in demonstrations.
-pub fn golden_skill() -> Result<(CellConfig, Skill), Error> {
-    let cell = CellConfig::standard(GlassKind::Normal);
-    let skill = built_in_skill(&cell, Space::Cartesian, 30)?;
-    Ok((cell, skill))
-}
-
-/// The settings of one golden-experiment run, checked: the paper's for
-/// the error learner `method` pouring 0.2 l from `volume` l in `cell`,
-/// to `precision` (l), the scale's noise from `seed`. The message of a
-/// refused volume does not name it (callers do).
-pub fn golden_settings(
-    cell: &CellConfig,
-    volume: f64,
-    method: Algorithm,
-    precision: f64,
-    seed: u64,
-) -> Result<Settings, Error> {
-    if !ERROR_LEARNERS.contains(&method) {
-        return Err(Error::Invalid(format!(
-            "{}: not an error learner",
-            method.name()
-        )));
-    }
-    let mut s = Settings::paper(method, volume, 0.2, seed);
-    s.precision = precision;
-    s.validate()?;
-    let capacity = cell.bottle_litres();
-    if volume > capacity {
-        return Err(Error::Invalid(format!(
-            "the cell's bottle holds {capacity:.3} l"
-        )));
-    }
-    Ok(s)
-}
-
-/// One seeded run of the golden experiment (Fig. 3): `method` learns to
-/// pour 0.2 l from `volume` l ([`golden_settings`]) on the skill of
-/// [`golden_skill`]. [`golden`] runs it for every volume and learner.
-pub fn golden_run(
-    skill: &Skill,
-    cell: &CellConfig,
-    volume: f64,
-    method: Algorithm,
-    precision: f64,
-    seed: u64,
-) -> Result<SearchRun, Error> {
-    let s = golden_settings(cell, volume, method, precision, seed)?;
-    let records = learn(skill, cell, &s, &mut Learner::local(), |_| {})?;
-    Ok(SearchRun::of(volume, method, precision, records))
-}
-
-/// Fig. 3: every error learner ([`ERROR_LEARNERS`]: golden section,
-/// Illinois, secant, and the paper's fixed-gain rules) for every volume,
-/// volume by volume; `progress` hears of every run finished.
-pub fn golden(
-    skill: &Skill,
-    cell: &CellConfig,
-    volumes: &[f64],
-    precision: f64,
-    seed: u64,
-    progress: impl Fn(Done) + Sync,
-) -> Result<Vec<SearchRun>, Error> {
-    let jobs: Vec<(f64, Algorithm)> = volumes
-        .iter()
-        .flat_map(|v| ERROR_LEARNERS.map(|m| (*v, m)))
-        .collect();
-    let of = jobs.len();
-    parallel_reporting(
-        of,
-        |i| {
-            let (volume, method) = jobs[i];
-            golden_run(skill, cell, volume, method, precision, seed)
-        },
-        |runs| progress(Done { runs, of }),
-    )
-    .into_iter()
-    .collect()
-}
+use super::parallel::{Done, parallel_reporting};
 
 /// The share of runs between a [`Curve`]'s `low` and `high`.
 pub const SPREAD: f64 = 0.90;
@@ -282,7 +117,7 @@ pub struct PowerRun {
 
 impl PowerRun {
     /// The figures of the run of `seed` from its roll-outs ([`power_run`]).
-    pub fn of(seed: u64, records: &[Record]) -> PowerRun {
+    pub fn of(seed: u64, records: &[Record<Trial>]) -> PowerRun {
         let reached = |level: f64| {
             records
                 .iter()
@@ -470,10 +305,11 @@ pub fn power_budget(updates: u32) -> Result<u32, Error> {
         .and_then(|n| n.checked_add(1))
         .filter(|_| updates > 0)
         .ok_or_else(|| {
-            Error::Invalid(format!(
-                "--updates {updates}: must be at least 1 and at most {}",
-                (u32::MAX - 1) / PER_UPDATE
-            ))
+            Error::setting(
+                Setting::Updates,
+                updates,
+                format!("must be at least 1 and at most {}", (u32::MAX - 1) / PER_UPDATE),
+            )
         })
 }
 
@@ -501,7 +337,7 @@ pub fn power_run(
     variant: Variant,
     updates: u32,
     seed: u64,
-) -> Result<Vec<Record>, Error> {
+) -> Result<Vec<Record<Trial>>, Error> {
     let mut s = variant.settings(seed);
     s.max_rollouts = power_budget(updates)?;
     learn(skill, cell, &s, &mut Learner::local(), |_| {})
@@ -510,14 +346,14 @@ pub fn power_run(
 impl PowerCurves {
     /// The curves of one variant's runs, each its seed and roll-outs
     /// ([`power_run`]), in the order given.
-    pub fn of(runs: &[(u64, Vec<Record>)]) -> PowerCurves {
+    pub fn of(runs: &[(u64, Vec<Record<Trial>>)]) -> PowerCurves {
         let mut curves = PowerCurves::default();
         let mut error = Vec::new();
         let mut spilled = Vec::new();
         let mut reward = Vec::new();
         for (seed, records) in runs {
             curves.runs.push(PowerRun::of(*seed, records));
-            let means: Vec<&Record> = records.iter().filter(|r| r.mean).collect();
+            let means: Vec<&Record<Trial>> = records.iter().filter(|r| r.mean).collect();
             error.push(means.iter().map(|r| r.trial.error.abs()).collect());
             spilled.push(means.iter().map(|r| r.trial.spilled).collect());
             reward.push(means.iter().map(|r| r.trial.reward).collect());
@@ -564,51 +400,225 @@ pub fn power(
     )
     .into_iter()
     .collect::<Result<Vec<_>, Error>>()?;
-    let mut by_variant: [Vec<(u64, Vec<Record>)>; 3] = Default::default();
+    let mut by_variant: [Vec<(u64, Vec<Record<Trial>>)>; 3] = Default::default();
     for (i, run) in results.into_iter().enumerate() {
         by_variant[i % Variant::ALL.len()].push(run);
     }
     Ok(by_variant.map(|runs| PowerCurves::of(&runs)))
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
+/// `summary.json` of `primo experiment power`.
+#[derive(Debug, Serialize)]
+pub struct PowerSummary<'a> {
+    /// Runs per variant.
+    pub runs: usize,
+    /// Updates per run (4 roll-outs each; the curves have `updates + 1`
+    /// points, the start's and one after each update).
+    pub updates: u32,
+    /// DMP kernels per joint.
+    pub kernels: usize,
+    /// Learned parameters `[q̂, Δθ]`.
+    pub parameters: usize,
+    /// The glass.
+    pub glass: primo_sim::cell::GlassKind,
+    /// s1 = 0.2, s2 = 0.05.
+    pub extended: &'a PowerCurves,
+    /// s1 = 0, s2 = 0.05.
+    pub ordinary: &'a PowerCurves,
+    /// The query error-learned (gain 1), s1 = 0, s2 = 0.05.
+    pub error_learned: &'a PowerCurves,
+    /// The per-seed figures compared, with bootstrap intervals: roll-outs
+    /// to reward thresholds, regret, final error and spill, and the
+    /// ordinary/extended ratios.
+    pub comparison: &'a PowerComparison,
+    /// Wall-clock time, s.
+    pub seconds: f64,
+}
 
-    #[test]
-    fn one_seeded_run_is_the_experiments_run_of_that_seed() {
-        let (cell, skill) = power_skill(GlassKind::Small, 4).unwrap();
-        let heard = Mutex::new(Vec::new());
-        let hear = |d: Done| heard.lock().unwrap().push(d);
-        let curves = power(&skill, &cell, 2, 1, 7, hear).unwrap();
-        let mut heard = heard.into_inner().unwrap();
-        heard.sort_by_key(|d| d.runs);
-        let all: Vec<Done> = (1..=6).map(|runs| Done { runs, of: 6 }).collect();
-        assert_eq!(heard, all, "every run finished is reported once");
-        for (variant, curves) in Variant::ALL.iter().zip(curves) {
-            let alone = power_run(&skill, &cell, *variant, 1, 8).unwrap();
-            assert_eq!(alone.len(), 5);
-            assert_eq!(curves.runs[1], PowerRun::of(8, &alone));
-        }
-        let (cell, skill) = golden_skill().unwrap();
-        let runs = golden(&skill, &cell, &[0.5], 0.002, 3, |_| {}).unwrap();
-        let alone = golden_run(&skill, &cell, 0.5, Algorithm::Secant, 0.002, 3).unwrap();
-        assert_eq!(runs[2].records, alone.records);
+impl PowerSummary<'_> {
+    /// Each variant's curves, in the order of [`Variant::ALL`].
+    pub fn variants(&self) -> [(Variant, &PowerCurves); 3] {
+        let [e, o, l] = Variant::ALL;
+        [
+            (e, self.extended),
+            (o, self.ordinary),
+            (l, self.error_learned),
+        ]
     }
+}
 
-    #[test]
-    fn settings_out_of_range_are_refused() {
-        assert_eq!(power_budget(100).unwrap(), 401);
-        for updates in [0, u32::MAX / 2] {
-            assert!(matches!(power_budget(updates), Err(Error::Invalid(_))));
-        }
-        let cell = CellConfig::standard(GlassKind::Normal);
-        for (volume, method) in [(0.5, Algorithm::Power), (1.2, Algorithm::Golden)] {
-            let refused = golden_settings(&cell, volume, method, 0.002, 1);
-            assert!(
-                matches!(refused, Err(Error::Invalid(_))),
-                "{volume} {method:?}"
-            );
+/// The settings of a power experiment, for its summary.
+#[derive(Debug, Clone, Copy)]
+pub struct PowerSetup {
+    /// Updates per run.
+    pub updates: u32,
+    /// DMP kernels per joint.
+    pub kernels: usize,
+    /// Learned parameters `[q̂, Δθ]`.
+    pub parameters: usize,
+    /// The glass.
+    pub glass: primo_sim::cell::GlassKind,
+}
+
+/// Writes what `primo experiment power` writes ([`write_power`]) for the
+/// curves of the variants' runs (in the order of [`Variant::ALL`], the
+/// same seeds, in order), compared seed by seed; `seconds` of wall-clock
+/// time. Returns the comparison.
+pub fn write_power_experiment(
+    dir: &Path,
+    setup: PowerSetup,
+    [extended, ordinary, error_learned]: &[PowerCurves; 3],
+    seconds: f64,
+) -> Result<PowerComparison, Error> {
+    let comparison = PowerComparison::of(
+        [&extended.runs, &ordinary.runs, &error_learned.runs],
+        power_budget(setup.updates)?,
+    );
+    write_power(
+        dir,
+        &PowerSummary {
+            runs: [extended, ordinary, error_learned]
+                .iter()
+                .map(|c| c.runs.len())
+                .max()
+                .unwrap_or(0),
+            updates: setup.updates,
+            kernels: setup.kernels,
+            parameters: setup.parameters,
+            glass: setup.glass,
+            extended,
+            ordinary,
+            error_learned,
+            comparison: &comparison,
+            seconds,
+        },
+    )?;
+    Ok(comparison)
+}
+
+/// A curve's points and its band, `(low, high)` per point.
+type Band = (Vec<(f64, f64)>, Vec<(f64, f64)>);
+
+/// Writes `power.csv`, `power_runs.csv` (one row per variant and seed),
+/// `power.png` and `summary.json` into `dir`.
+pub fn write_power(dir: &Path, s: &PowerSummary) -> Result<(), Error> {
+    let mut runs = Csv::new();
+    runs.text("variant").text("seed");
+    for level in THRESHOLDS {
+        runs.display(format_args!("rollouts_to_{level}"))
+            .display(format_args!("updates_to_{level}"));
+    }
+    for column in ["regret", "final_error_l", "final_spilled_l", "final_reward"] {
+        runs.text(column);
+    }
+    runs.end_row();
+    let count = |v: Option<u32>| v.map_or(String::new(), |v| v.to_string());
+    for (name, c) in s.variants().map(|(v, c)| (v.name(), c)) {
+        for r in &c.runs {
+            runs.text(name).display(r.seed);
+            for k in 0..THRESHOLDS.len() {
+                runs.text(&count(r.rollouts_to[k]))
+                    .text(&count(r.updates_to[k]));
+            }
+            runs.display(format_args!("{:.4}", r.regret));
+            for v in [r.error, r.spilled, r.reward] {
+                runs.display(format_args!("{v:.6}"));
+            }
+            runs.end_row();
         }
     }
+    write_file(&dir.join("power_runs.csv"), runs.as_bytes())?;
+    let mut csv = Csv::new();
+    for column in [
+        "update",
+        "variant",
+        "error_mean_l",
+        "error_std_l",
+        "spilled_mean_l",
+        "spilled_std_l",
+        "reward_mean",
+        "reward_std",
+        "error_p05_l",
+        "error_p95_l",
+        "spilled_p05_l",
+        "spilled_p95_l",
+        "reward_p05",
+        "reward_p95",
+    ] {
+        csv.text(column);
+    }
+    csv.end_row();
+    for (name, c) in s.variants().map(|(v, c)| (v.name(), c)) {
+        for u in 0..c.error.mean.len() {
+            csv.display(u).text(name);
+            for q in [&c.error, &c.spilled, &c.reward] {
+                csv.display(format_args!("{:.6}", q.mean[u]))
+                    .display(format_args!("{:.6}", q.std[u]));
+            }
+            for q in [&c.error, &c.spilled, &c.reward] {
+                csv.display(format_args!("{:.6}", q.low[u]))
+                    .display(format_args!("{:.6}", q.high[u]));
+            }
+            csv.end_row();
+        }
+    }
+    write_file(&dir.join("power.csv"), csv.as_bytes())?;
+    write_json(&dir.join("summary.json"), s)?;
+    // Against the roll-outs made (the cost on a cell): the mean policy's
+    // roll-out after `u` updates is roll-out PER_UPDATE · u + 1.
+    let x = |u: usize| (u as f64) * f64::from(PER_UPDATE) + 1.0;
+    let curve = |c: &Curve, scale: f64| -> Band {
+        let at = |v: &[f64]| -> Vec<f64> { v.iter().map(|v| v * scale).collect() };
+        let (mean, low, high) = (at(&c.mean), at(&c.low), at(&c.high));
+        (
+            mean.iter().enumerate().map(|(u, m)| (x(u), *m)).collect(),
+            low.into_iter().zip(high).collect(),
+        )
+    };
+    let pick = |f: &dyn Fn(&PowerCurves) -> Band| s.variants().map(|(_, c)| f(c));
+    let error = pick(&|c| curve(&c.error, 1e3));
+    let spilled = pick(&|c| curve(&c.spilled, 1e3));
+    let reward = pick(&|c| curve(&c.reward, 1.0));
+    fn lines(d: &[Band; 3]) -> [Line<'_>; 3] {
+        std::array::from_fn(|i| Line {
+            band: Some(&d[i].1),
+            ..Line::new(Variant::ALL[i].label(), &d[i].0)
+        })
+    }
+    let (e, sp, r) = (lines(&error), lines(&spilled), lines(&reward));
+    let of_runs = format!(
+        "mean, shaded: middle {:.0} % of runs (n = {} seeds)",
+        SPREAD * 100.0,
+        s.runs
+    );
+    let titles = ["Pouring error", "Spilled", "Reward"].map(|t| format!("{t}: {of_runs}"));
+    let x_label = "roll-outs (4 per update)";
+    let panels = [
+        Panel {
+            title: &titles[0],
+            x_label,
+            y_label: "|error| [ml]",
+            series: &e,
+            log_y: true,
+            floor: Some(ERROR_FLOOR_ML),
+            hline: None,
+        },
+        Panel {
+            title: &titles[1],
+            x_label,
+            y_label: "spilled [ml]",
+            series: &sp,
+            log_y: true,
+            floor: Some(SPILL_FLOOR_ML),
+            hline: None,
+        },
+        Panel {
+            title: &titles[2],
+            x_label,
+            y_label: "reward of the mean policy",
+            series: &r,
+            ..Panel::default()
+        },
+    ];
+    write_png(&dir.join("power.png"), &panels, 1000)
 }

@@ -3,7 +3,9 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::series::Series;
+use crate::rollouts::{Record, Scored};
+
+use super::series::Series;
 
 /// What a rig measured in one roll-out.
 #[derive(Debug, Clone, PartialEq)]
@@ -76,6 +78,35 @@ impl Trial {
             series: None,
             readings: None,
         }
+    }
+}
+
+impl Scored for Trial {
+    fn error(&self) -> Vec<f32> {
+        vec![self.error as f32]
+    }
+
+    fn reward(&self) -> f64 {
+        self.reward
+    }
+
+    fn rejected(&self) -> Option<&str> {
+        self.rejected.as_deref()
+    }
+
+    fn worst_error(&self) -> Option<f64> {
+        Some(self.error.abs())
+    }
+
+    fn lighten(&mut self) {
+        self.series = None;
+    }
+}
+
+impl Record<Trial> {
+    /// The query's one value: the bottle's volume, l.
+    pub fn volume(&self) -> f32 {
+        self.query.first().copied().unwrap_or(f32::NAN)
     }
 }
 

@@ -1,6 +1,6 @@
 //! A task file: what `primo learn` teaches, from the lab's own
 //! demonstrations, query, limits and evaluator. TOML, versioned; every key
-//! is documented in the README ("Teach your own skill"), an unknown key is
+//! is documented in the book's task file reference, an unknown key is
 //! refused, and every check runs before anything moves: the message names
 //! the file, the line and the key.
 //!
@@ -23,7 +23,13 @@ use serde::{Deserialize, Serialize};
 use toml::Spanned;
 
 use crate::Error;
-use crate::learning::{Algorithm, QUERY_DECAY};
+use crate::algorithm::Algorithm;
+use crate::error::Setting;
+use crate::learner::QUERY_DECAY;
+
+pub mod evaluator;
+pub mod report;
+pub mod run;
 
 /// The task file format's version.
 pub const VERSION: u32 = 1;
@@ -375,10 +381,11 @@ impl Task {
     /// Reads and checks the task file at `path`: every key, every value,
     /// the demonstrations' files named (they are read by [`Task::build`]).
     pub fn load(path: &Path) -> Result<Task, Error> {
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| Error::Invalid(format!("--task {}: cannot read: {e}", path.display())))?;
+        let text = std::fs::read_to_string(path).map_err(|e| {
+            Error::setting(Setting::Task, path.display(), format!("cannot read: {e}"))
+        })?;
         let file = std::path::absolute(path)
-            .map_err(|e| Error::Invalid(format!("--task {}: {e}", path.display())))?;
+            .map_err(|e| Error::setting(Setting::Task, path.display(), e.to_string()))?;
         Task::parse(&file, &text)
     }
 

@@ -17,9 +17,12 @@ use serde::{Deserialize, Serialize};
 
 use crate::Error;
 use crate::coprocessor::Link;
-use crate::series::Series;
-use crate::trial::{Measured, Readings, Trial};
-use crate::weigh::{ScaleSpec, Weigher};
+use crate::error::Setting;
+
+use super::series::Series;
+use super::skill::gate;
+use super::trial::{Measured, Readings, Trial};
+use super::weigh::{ScaleSpec, Weigher};
 
 /// Standard gravity, m/s².
 const G: f64 = 9.80665;
@@ -70,7 +73,7 @@ impl Simulated {
     pub fn new(cell: CellConfig, bottle: f64, seed: u64) -> Result<Simulated, Error> {
         cell.validate()?;
         Ok(Simulated {
-            gate: crate::pouring::gate(&cell),
+            gate: gate(&cell),
             cell,
             bottle,
             seed,
@@ -157,16 +160,17 @@ impl InstrumentsSpec {
     /// Checks the settings without touching an instrument.
     pub fn validate(&self) -> Result<(), Error> {
         if !(self.density.is_finite() && self.density > 0.0) {
-            return Err(Error::Invalid(format!(
-                "--density {}: must be a positive number of g/ml",
-                self.density
-            )));
+            return Err(Error::setting(
+                Setting::Density,
+                self.density,
+                "must be a positive number of g/ml",
+            ));
         }
         if self.baud == 0 {
-            return Err(Error::Invalid("--baud 0: must be a positive rate".into()));
+            return Err(Error::setting(Setting::Baud, 0, "must be a positive rate"));
         }
         parse_robot(&self.robot)?;
-        ScaleSpec::parse("--scale", &self.scale)?;
+        ScaleSpec::parse(&self.scale)?;
         Ok(())
     }
 }
@@ -226,13 +230,13 @@ impl Instruments {
         let socket = bind(parse_robot(&spec.robot)?)?;
         // The liquid in the glass may still be moving: SETTLE_LIMIT.
         let scale = Weigher::open(
-            &ScaleSpec::parse("--scale", &spec.scale)?,
+            &ScaleSpec::parse(&spec.scale)?,
             spec.baud,
             SETTLE_LIMIT,
         )?;
         Ok(Instruments {
             spec,
-            gate: crate::pouring::gate(cell),
+            gate: gate(cell),
             dt: cell.dt,
             bottle,
             socket,

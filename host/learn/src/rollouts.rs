@@ -1,0 +1,268 @@
+//! The roll-out loop: the learner asks, the task rolls out, the learner is
+//! told ([`learn_on`]); each roll-out's [`Record`] and what the run log
+//! keeps of it ([`Entry`]); a resumed run's learner checked against its
+//! log ([`verify_replayed`]). It knows no task: a roll-out is whatever
+//! [`Scored`] the caller's `roll` returns.
+
+use primo_core::wire::{LearnerSetup, Outcome, Reply, Request, Rollout, Setup, Status};
+use primo_skill::Skill;
+use serde::{Deserialize, Serialize};
+
+use crate::Error;
+use crate::learner::{Learner, wire_query};
+use crate::runlog::RunLog;
+
+/// What a roll-out gave, as the learners see it.
+pub trait Scored {
+    /// The error `ε` told to the error learners, one value per query
+    /// dimension; `ε_i > 0` asks for a larger `q_i`.
+    fn error(&self) -> Vec<f32>;
+    /// The reward, ≥ 0, told to PoWER.
+    fn reward(&self) -> f64;
+    /// Why the movement never left primo (the limits rejected it), if so.
+    fn rejected(&self) -> Option<&str>;
+    /// The largest `|ε_i|` measured, if the roll-out measured an error:
+    /// error learning has converged once it is below the precision.
+    fn worst_error(&self) -> Option<f64>;
+    /// Drops what a run does not keep in memory (a recorded series).
+    fn lighten(&mut self) {}
+}
+
+/// One roll-out of a learning run.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Record<T> {
+    /// Roll-out number, from 1.
+    pub rollout: u32,
+    /// PoWER updates completed before this roll-out (0 for error learning).
+    pub update: u32,
+    /// This roll-out executed PoWER's current mean (no exploration).
+    pub mean: bool,
+    /// The query `q̂` rolled out.
+    pub query: Vec<f32>,
+    /// What happened.
+    pub trial: T,
+}
+
+/// The query as people write it: `0.5`, or `[1.5, 0.3]`.
+pub fn query_text(query: &[f32]) -> String {
+    match query {
+        [q] => q.to_string(),
+        q => format!(
+            "[{}]",
+            q.iter().map(f32::to_string).collect::<Vec<_>>().join(", ")
+        ),
+    }
+}
+
+/// A roll-out as the run log keeps it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Entry<T> {
+    /// The roll-out and what happened.
+    #[serde(flatten)]
+    pub record: Record<T>,
+    /// The learner's `Δθ` (empty for the error learners).
+    pub delta: Vec<f32>,
+    /// The learner's state after it was told the outcome.
+    pub status: Status,
+    /// CRC-32C of what the learner asked (the roll-out and `Δθ`) and of its
+    /// status, bit for bit: a resumed run checks its learner against it.
+    pub check: u32,
+}
+
+/// The CRC of [`Entry::check`].
+fn check(asked: &Rollout, delta: &[f32], status: &Status) -> Result<u32, Error> {
+    let bytes = postcard::to_allocvec(&(asked, delta, status))
+        .map_err(|e| Error::Learner(format!("learner state: {e}")))?;
+    Ok(crc::Crc::<u32>::new(&crc::CRC_32_ISCSI).checksum(&bytes))
+}
+
+/// Runs the learner of `setup` on `skill` for at most `max_rollouts`:
+/// `roll(i, q̂, Δθ)` makes roll-out `i` (on a rig, through an evaluator),
+/// and `each` is called after every roll-out (with `true` for a replayed
+/// one) before the next begins; returns all roll-outs. An error from
+/// `roll` (an instrument failed) or `each` (the run log could not be
+/// written, the output closed) ends the run. An error learner cannot learn
+/// from a movement the limits rejected: that ends the run too.
+///
+/// `logged` are the roll-outs of an interrupted run of the same settings:
+/// the learner is told their outcomes again instead of rolling them out,
+/// and [`verify_replayed`] checks it asks for exactly the logged roll-outs
+/// and reaches exactly the logged states, so the run goes on as if it had
+/// never stopped.
+pub fn learn_on<T: Scored + Clone>(
+    skill: &Skill,
+    setup: Setup,
+    max_rollouts: u32,
+    learner: &mut Learner,
+    logged: &[Entry<T>],
+    mut roll: impl FnMut(u32, &[f32], &[f32]) -> Result<T, Error>,
+    mut each: impl FnMut(&Entry<T>, bool) -> Result<(), Error>,
+) -> Result<Vec<Entry<T>>, Error> {
+    let error_learning = !matches!(setup.learner, LearnerSetup::Power { .. });
+    learner.configure(skill, setup)?;
+    let mut run = Vec::new();
+    for i in 1..=max_rollouts {
+        let asked = match learner.call(&Request::Ask)? {
+            Reply::Rollout(r) => r,
+            Reply::Finished(_) => break,
+            other => {
+                return Err(Error::Learner(format!(
+                    "learner: asked for a roll-out, got {other:?}"
+                )));
+            }
+        };
+        let delta = learner.delta(asked.delta_len)?;
+        let query = asked.query.to_vec();
+        let before = logged.get(run.len());
+        let trial = match before {
+            Some(e) => e.record.trial.clone(),
+            None => roll(i, &query, &delta)?,
+        };
+        if let (Some(why), true) = (trial.rejected(), error_learning) {
+            return Err(Error::Invalid(format!(
+                "roll-out {i} (q = {}) rejected: {why}",
+                query_text(&query)
+            )));
+        }
+        learner.call(&Request::Tell(Outcome {
+            error: wire_query(&trial.error())?,
+            reward: trial.reward() as f32,
+        }))?;
+        let status = match learner.call(&Request::Status)? {
+            Reply::Status(status) => status,
+            other => {
+                return Err(Error::Learner(format!(
+                    "learner: asked for its status, got {other:?}"
+                )));
+            }
+        };
+        let mut entry = Entry {
+            check: check(&asked, &delta, &status)?,
+            record: Record {
+                rollout: i,
+                update: asked.update,
+                mean: asked.mean,
+                query,
+                trial,
+            },
+            delta,
+            status,
+        };
+        if let Some(logged) = before {
+            verify_replayed(logged, &entry)?;
+        }
+        each(&entry, before.is_some())?;
+        // A series (megabytes) is not kept: the best one is replayed.
+        entry.record.trial.lighten();
+        run.push(entry);
+    }
+    if run.len() < logged.len() {
+        return Err(Error::Log(format!(
+            "the run log has {} roll-outs, the learner finished after {}: the log is of \
+             another learner, seed or skill",
+            logged.len(),
+            run.len()
+        )));
+    }
+    Ok(run)
+}
+
+/// [`learn_on`] for a logged run: every new roll-out is appended to the
+/// `log` before `show` is told of it, and the log ended after the last;
+/// a run whose log is already `ended` is only told again.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn learn_logged<T: Scored + Clone + Serialize>(
+    skill: &Skill,
+    setup: Setup,
+    max_rollouts: u32,
+    learner: &mut Learner,
+    logged: &[Entry<T>],
+    (log, ended): (&mut RunLog, bool),
+    roll: impl FnMut(u32, &[f32], &[f32]) -> Result<T, Error>,
+    mut show: impl FnMut(&Entry<T>, bool) -> Result<(), Error>,
+) -> Result<Vec<Entry<T>>, Error> {
+    let run = learn_on(
+        skill,
+        setup,
+        max_rollouts,
+        learner,
+        logged,
+        roll,
+        |entry, replayed| {
+            if !(replayed || ended) {
+                log.append(entry)?;
+            }
+            show(entry, replayed)
+        },
+    )?;
+    if !ended {
+        log.end()?;
+    }
+    Ok(run)
+}
+
+/// A replayed roll-out must be the logged one: the learner asked for the
+/// same roll-out and `Δθ` and reached the same state, bit for bit.
+pub fn verify_replayed<T>(logged: &Entry<T>, replayed: &Entry<T>) -> Result<(), Error> {
+    if logged.check != replayed.check || logged.record.rollout != replayed.record.rollout {
+        return Err(Error::Log(format!(
+            "the run log's roll-out {} is not what the learner asks for and reaches \
+             as roll-out {} (q = {}, logged q = {}): the log is of another \
+             learner, seed or skill",
+            logged.record.rollout,
+            replayed.record.rollout,
+            query_text(&replayed.record.query),
+            query_text(&logged.record.query)
+        )));
+    }
+    Ok(())
+}
+
+/// The best executed roll-out: the highest reward, the later of equals
+/// (the more learned).
+pub fn best<T: Scored>(run: &[Entry<T>]) -> Option<&Entry<T>> {
+    run.iter()
+        .filter(|e| e.record.trial.rejected().is_none())
+        .fold(None, |best: Option<&Entry<T>>, e| match best {
+            Some(b) if b.record.trial.reward() > e.record.trial.reward() => Some(b),
+            _ => Some(e),
+        })
+}
+
+/// How a run ended, from its roll-outs: what every kind reports.
+#[derive(Debug)]
+pub struct Ending<'a, T> {
+    /// The last roll-out (PoWER: the last roll-out of the mean).
+    pub last: &'a Record<T>,
+    /// Error learning reached the precision at this roll-out (never for
+    /// PoWER, which learns from rewards).
+    pub converged_at: Option<u32>,
+    /// The best executed roll-out ([`best`]).
+    pub best: Option<&'a Entry<T>>,
+}
+
+impl<'a, T: Scored> Ending<'a, T> {
+    /// The outcome of `run`, learned with PoWER (`power`) or by error
+    /// learning to `precision`.
+    pub fn of(run: &'a [Entry<T>], power: bool, precision: f64) -> Result<Self, Error> {
+        let last = run
+            .iter()
+            .rev()
+            .map(|e| &e.record)
+            .find(|r| r.mean)
+            .ok_or_else(|| Error::Learner("no roll-out was made".into()))?;
+        let converged_at = match power {
+            true => None,
+            false => run
+                .iter()
+                .map(|e| &e.record)
+                .find(|r| r.trial.worst_error().is_some_and(|e| e < precision))
+                .map(|r| r.rollout),
+        };
+        Ok(Ending {
+            last,
+            converged_at,
+            best: best(run),
+        })
+    }
+}

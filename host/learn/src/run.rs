@@ -1,0 +1,417 @@
+//! One learning run, whatever its task: start or resume it, connect the
+//! learner, log every roll-out as it is made, and report. A task [`Kind`]
+//! (the built-in pour, a task file) says what is learned, how a roll-out is
+//! made and what its reports are; everything else is this module's, so
+//! every kind resumes, logs and ends the same way.
+//!
+//! The run log's first record is the run's [`Header`]: the format
+//! [`VERSION`], the kind's name, what the kind logs of itself (its
+//! settings, its seed), and a CRC of the skill's examples, so changed
+//! demonstration files are caught on resume.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use primo_skill::Skill;
+use serde::de::DeserializeOwned;
+use serde::{Deserialize, Serialize};
+
+use crate::Error;
+use crate::algorithm::Algorithm;
+use crate::coprocessor::{Image, Link, Qemu};
+use crate::learner::{Learner, check_examples, examples_crc};
+use crate::output::{check_dir, create_dir};
+use crate::rollouts::{Entry, Scored, learn_logged};
+use crate::runlog::{self, RunEvent, RunLog};
+use primo_core::wire::Setup;
+
+/// The run log's format version, one for every kind. Version 4: the
+/// header names its kind. Earlier logs (a pour's version 2 and 3, a task
+/// file's version 1) resume as their kind reads them ([`Kind::reads`]).
+pub const VERSION: u32 = 4;
+
+/// A kind of task a run learns.
+pub trait Kind: Clone + Serialize + DeserializeOwned {
+    /// Its name in the run log.
+    const NAME: &'static str;
+    /// What a roll-out gave.
+    type Trial: Scored + Clone + Serialize + DeserializeOwned + std::fmt::Debug;
+    /// The skill fitted, and what else the kind rolls out with.
+    type Built;
+    /// The person at the cell, for what only a person can do.
+    type Person;
+    /// Where a resumed run's instruments are now, if they moved.
+    type Moved: Default;
+    /// What the kind reports beside the run's own events.
+    type Note: std::fmt::Debug;
+    /// How a run of the kind ended, as it reports it.
+    type Finished: std::fmt::Debug;
+
+    /// Checks every setting, and that the learner can be where `learner`
+    /// puts it, before anything is created or connected.
+    fn validate(&self, learner: &LearnerSpec) -> Result<(), Error>;
+    /// Checks where a resumed run's instruments moved to.
+    fn check_moved(moved: &Self::Moved) -> Result<(), Error>;
+    /// Whether this primo continues a log of format `version` without a
+    /// kind's name (a log from before [`VERSION`] 4) holding `logged`.
+    fn reads(version: u32, logged: &Self) -> bool;
+    /// Applies where a resumed run's instruments moved to.
+    fn resume(&mut self, moved: Self::Moved, dir: &Path) -> Result<(), Error>;
+    /// Fits the skill; `note` hears what was read differently than given.
+    fn build(&self, note: &mut dyn FnMut(Self::Note) -> Result<(), Error>)
+    -> Result<Self::Built, Error>;
+    /// The skill of what [`Kind::build`] made.
+    fn skill(built: &Self::Built) -> &Skill;
+    /// The learner.
+    fn method(&self) -> Algorithm;
+    /// The learner's setup on the built skill.
+    fn setup(&self, built: &Self::Built) -> Result<Setup, Error>;
+    /// The roll-out budget.
+    fn max_rollouts(&self) -> u32;
+    /// Opens what makes the roll-outs of a run in `dir` (not a complete
+    /// one): `learner` may move onto an instrument's line.
+    fn execution<'a>(
+        &'a self,
+        built: &'a Self::Built,
+        at: Cell<'_, Self>,
+    ) -> Result<Box<dyn Execute<Self::Trial> + 'a>, Error>;
+    /// Writes the reports of the run's roll-outs into `dir`; `seconds`
+    /// of wall-clock time.
+    fn report(
+        &self,
+        built: &Self::Built,
+        dir: &Path,
+        run: &[Entry<Self::Trial>],
+        seconds: f64,
+    ) -> Result<Self::Finished, Error>;
+}
+
+/// Makes roll-outs: `roll(i, q̂, Δθ)` is roll-out `i` (from 1).
+pub trait Execute<T> {
+    /// Roll-out `rollout` of `θ = G(query) + Δθ`. An error means it could
+    /// not be made or measured, and the run stops (unlogged: a resumed run
+    /// makes it again).
+    fn roll(&mut self, rollout: u32, query: &[f32], delta: &[f32]) -> Result<T, Error>;
+}
+
+/// Where [`Kind::execution`] opens a run's roll-outs.
+pub struct Cell<'c, K: Kind> {
+    /// The run's directory.
+    pub dir: &'c Path,
+    /// The learner; the kind may move it (onto its scale's line).
+    pub learner: &'c mut Learner,
+    /// Where the learner was asked to run.
+    pub spec: &'c LearnerSpec,
+    /// The person at the cell.
+    pub person: K::Person,
+    /// The run's events.
+    pub event: &'c mut dyn FnMut(Event<'_, K>) -> Result<(), Error>,
+}
+
+/// The first record of a run log.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Header<K> {
+    /// The log's format, [`VERSION`].
+    pub version: u32,
+    /// The kind's name ([`Kind::NAME`]); absent before version 4.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub kind: Option<String>,
+    /// What the kind logs of itself.
+    #[serde(flatten)]
+    pub run: K,
+    /// CRC-32C of the skill's examples `(q_i, θ_i)`, bit for bit.
+    pub examples: u32,
+}
+
+/// The coprocessor that is the cell's scale: the learner runs on primo's
+/// scale, over the scale's own line.
+pub const ON_SCALE: &str = "scale";
+
+/// Where the learner runs.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct LearnerSpec {
+    /// A coprocessor's serial port, `qemu`, or [`ON_SCALE`]; in this
+    /// process if `None`.
+    pub coprocessor: Option<String>,
+    /// With `qemu`: the firmware ELF.
+    pub firmware: Option<PathBuf>,
+}
+
+impl LearnerSpec {
+    /// The learner runs on the cell's scale.
+    pub fn on_scale(&self) -> bool {
+        self.coprocessor.as_deref() == Some(ON_SCALE)
+    }
+}
+
+/// A new run, or the continuation of one.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Start<K: Kind> {
+    /// A new run logged in `out`.
+    New {
+        /// The output directory.
+        out: PathBuf,
+        /// Replace a finished run logged in `out`.
+        force: bool,
+        /// What it learns.
+        run: K,
+    },
+    /// Continue the run logged in `dir`.
+    Resume {
+        /// Its directory.
+        dir: PathBuf,
+        /// Where its instruments are now, if not where the log says.
+        moved: K::Moved,
+    },
+}
+
+impl<K: Kind> Start<K> {
+    /// The run's directory.
+    pub fn dir(&self) -> &Path {
+        match self {
+            Start::New { out, .. } => out,
+            Start::Resume { dir, .. } => dir,
+        }
+    }
+
+    /// Checks every setting, and that the output may be written, without
+    /// creating anything or touching an instrument.
+    pub fn validate(&self, learner: &LearnerSpec) -> Result<(), Error> {
+        match self {
+            Start::New { out, force, run } => {
+                run.validate(learner)?;
+                check_dir(out)?;
+                RunLog::check_free(out, *force)
+            }
+            Start::Resume { dir, moved } => {
+                K::check_moved(moved)?;
+                let log = dir.join(runlog::FILE);
+                if !log.is_file() {
+                    return Err(Error::NoLog(log));
+                }
+                Ok(())
+            }
+        }
+    }
+}
+
+/// What a run reports as it goes.
+#[derive(Debug)]
+pub enum Event<'a, K: Kind> {
+    /// The learner and the log.
+    Run(RunEvent<'a>),
+    /// What is learned.
+    Learning {
+        /// The run.
+        run: &'a K,
+        /// Parameters learned.
+        parameters: usize,
+    },
+    /// The kind's own news.
+    Note(K::Note),
+    /// A roll-out, made now or (`logged`) replayed from the log.
+    Rollout {
+        /// It.
+        entry: &'a Entry<K::Trial>,
+        /// Replayed from the log.
+        logged: bool,
+    },
+    /// The run is complete and its reports are written.
+    Finished(&'a K::Finished),
+}
+
+/// A failed run: why, and whether a run log keeps what was made (then the
+/// run continues from it).
+#[derive(Debug, thiserror::Error)]
+#[error("{error}")]
+pub struct Failure {
+    /// Why.
+    pub error: Box<Error>,
+    /// The run's directory, once its log exists.
+    pub resumable: Option<PathBuf>,
+}
+
+impl From<Error> for Failure {
+    fn from(error: Error) -> Self {
+        Failure {
+            error: Box::new(error),
+            resumable: None,
+        }
+    }
+}
+
+/// The kind of run `dir`'s log holds: its [`Header::kind`], or for a log
+/// from before version 4, `task` if it logged a task file, else `pour`.
+pub fn logged_kind(dir: &Path) -> Result<String, Error> {
+    let file = dir.join(runlog::FILE);
+    let text = match std::fs::read_to_string(&file) {
+        Ok(text) => text,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Err(Error::NoLog(file)),
+        Err(e) => return Err(Error::io(&file)(e)),
+    };
+    // The header is the first record, `CRC JSON`; the log's own checks
+    // come when it is opened.
+    let first = text.lines().next().unwrap_or("");
+    let json = first.split_once(' ').map_or("", |(_, json)| json);
+    let header: serde_json::Value = serde_json::from_str(json).unwrap_or_default();
+    Ok(match header.get("kind").and_then(|k| k.as_str()) {
+        Some(kind) => kind.to_string(),
+        None if header.get("task").is_some() => "task".into(),
+        None => "pour".into(),
+    })
+}
+
+/// Runs `start`: checks the settings, connects the learner of `learner`,
+/// learns, logging every roll-out, and writes the reports; `person` is
+/// asked what only a person can do, `event` told what happens. An error
+/// from `event` (the output is gone) ends the run.
+pub fn run<K: Kind>(
+    start: Start<K>,
+    learner: &LearnerSpec,
+    person: K::Person,
+    mut event: impl FnMut(Event<K>) -> Result<(), Error>,
+) -> Result<(), Failure> {
+    let started = Instant::now();
+    start.validate(learner)?;
+    // QEMU (when asked for) lives until the run ends.
+    let (_qemu, mut connected, place) = open_learner(learner)?;
+    if let Some(what) = place {
+        event(Event::Run(RunEvent::Learner(what)))?;
+    }
+    let (dir, header, logged, mut log, ended, built) = match start {
+        Start::New { out, force, run } => {
+            let built = run.build(&mut |n| event(Event::Note(n)))?;
+            run.setup(&built)?;
+            let header = Header {
+                version: VERSION,
+                kind: Some(K::NAME.into()),
+                examples: examples_crc(K::skill(&built)),
+                run,
+            };
+            create_dir(&out)?;
+            let log = RunLog::create(&out, &header, force)?;
+            (out, header, Vec::new(), log, false, Some(built))
+        }
+        Start::Resume { dir, moved } => {
+            let kind = logged_kind(&dir)?;
+            if kind != K::NAME {
+                return Err(Error::OtherKind { dir, kind }.into());
+            }
+            let opened = RunLog::resume::<Header<K>, Entry<K::Trial>>(
+                &dir,
+                |h| match h.kind {
+                    None if K::reads(h.version, &h.run) => VERSION,
+                    _ => h.version,
+                },
+                VERSION,
+                |e| event(Event::Run(e)),
+            )?;
+            let mut header = opened.header;
+            header.run.resume(moved, &dir)?;
+            (
+                dir,
+                header,
+                opened.entries,
+                opened.log,
+                opened.ended,
+                None,
+            )
+        }
+    };
+    let fail = |error: Error| Failure {
+        error: Box::new(error),
+        resumable: Some(dir.clone()),
+    };
+    let run = &header.run;
+    if !ended {
+        run.validate(learner).map_err(fail)?;
+    }
+    let built = match built {
+        Some(built) => built,
+        None => run.build(&mut |n| event(Event::Note(n))).map_err(fail)?,
+    };
+    let skill = K::skill(&built);
+    check_examples(skill, header.examples, &dir).map_err(fail)?;
+    event(Event::Learning {
+        run,
+        parameters: run.method().learned_parameters(skill),
+    })
+    .map_err(fail)?;
+    let mut execution: Box<dyn Execute<K::Trial>> = match ended {
+        // A complete run is only told again: nothing is executed.
+        true => Box::new(Complete),
+        false => run
+            .execution(
+                &built,
+                Cell {
+                    dir: &dir,
+                    learner: &mut connected,
+                    spec: learner,
+                    person,
+                    event: &mut event,
+                },
+            )
+            .map_err(fail)?,
+    };
+    let setup = run.setup(&built).map_err(fail)?;
+    let rollouts = learn_logged(
+        skill,
+        setup,
+        run.max_rollouts(),
+        &mut connected,
+        &logged,
+        (&mut log, ended),
+        |i, query, delta| execution.roll(i, query, delta),
+        |entry, logged| event(Event::Rollout { entry, logged }),
+    )
+    .map_err(fail)?;
+    drop(execution);
+    let finished = run
+        .report(&built, &dir, &rollouts, started.elapsed().as_secs_f64())
+        .map_err(fail)?;
+    event(Event::Finished(&finished)).map_err(fail)
+}
+
+/// The execution of a complete run: it is told its logged roll-outs again
+/// and makes none.
+struct Complete;
+
+impl<T> Execute<T> for Complete {
+    fn roll(&mut self, rollout: u32, _: &[f32], _: &[f32]) -> Result<T, Error> {
+        Err(Error::Log(format!(
+            "the logged run is complete, yet the learner asks for roll-out {rollout}"
+        )))
+    }
+}
+
+/// Connects the learner of `spec`: in this process, on a coprocessor, or
+/// on the firmware booted in QEMU (returned: it lives until the run ends);
+/// with where it is, unless in this process. On the scale, the learner is
+/// in this process until the scale's line takes it over.
+pub fn open_learner(spec: &LearnerSpec) -> Result<(Option<Qemu>, Learner, Option<String>), Error> {
+    Ok(match spec.coprocessor.as_deref() {
+        None | Some(ON_SCALE) => (None, Learner::local(), None),
+        Some("qemu") => {
+            let elf = match &spec.firmware {
+                Some(elf) => elf.clone(),
+                None => Qemu::find(Image::Coprocessor)?,
+            };
+            let qemu = Qemu::start(&elf)?;
+            let link = Link::open(qemu.pty())?;
+            let what = format!(
+                "learner: firmware {} on QEMU mps2-an386, {}",
+                elf.display(),
+                qemu.pty()
+            );
+            (Some(qemu), Learner::Remote(link), Some(what))
+        }
+        Some(port) => {
+            let link = Link::open(port)?;
+            (
+                None,
+                Learner::Remote(link),
+                Some(format!("learner: coprocessor on {port}")),
+            )
+        }
+    })
+}

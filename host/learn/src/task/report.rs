@@ -1,0 +1,165 @@
+//! What a task file's run writes: its roll-out table (`rollouts.csv`),
+//! its summary (`summary.json`) and its convergence chart
+//! (`convergence.png`), each written atomically.
+
+use std::path::Path;
+
+use primo_skill::Skill;
+use primo_skill::csv::Csv;
+use serde::Serialize;
+
+use crate::Error;
+use crate::algorithm::Algorithm;
+use crate::output::{write_file, write_json};
+use crate::plot::panels::{PANEL_HEIGHT, per_rollout, reward_lines, rewards, write_png};
+use crate::plot::{Line, Panel, grid};
+use crate::rollouts::{Ending, Entry, Record, Scored};
+
+use super::Task;
+use super::run::{Finished, TaskTrial};
+
+/// `summary.json`.
+#[derive(Debug, Serialize)]
+struct Summary<'a> {
+    task: &'a Path,
+    method: Algorithm,
+    query_dim: usize,
+    desired: &'a [f32],
+    parameters: usize,
+    rollouts: usize,
+    converged_at: Option<u32>,
+    last: &'a Record<TaskTrial>,
+    best: Option<&'a Record<TaskTrial>>,
+    seconds: f64,
+}
+
+/// Writes `rollouts.csv`, `summary.json` and `convergence.png` of the
+/// run of `task` on `skill` into `dir`; `seconds` of wall-clock time.
+pub fn write_task(
+    dir: &Path,
+    task: &Task,
+    skill: &Skill,
+    run: &[Entry<TaskTrial>],
+    seconds: f64,
+) -> Result<Finished, Error> {
+    let ending = Ending::of(run, task.learner.method.is_power(), task.goal.precision)?;
+    let records: Vec<&Record<TaskTrial>> = run.iter().map(|e| &e.record).collect();
+    let dim = task.query_dim();
+    write_file(&dir.join("rollouts.csv"), &rollouts_csv(&records, dim))?;
+    let best = ending.best.map(|e| &e.record);
+    let summary = Summary {
+        task: &task.file,
+        method: task.learner.method,
+        query_dim: dim,
+        desired: &task.goal.desired,
+        parameters: task.learner.method.learned_parameters(skill),
+        rollouts: records.len(),
+        converged_at: ending.converged_at,
+        last: ending.last,
+        best,
+        seconds,
+    };
+    write_json(&dir.join("summary.json"), &summary)?;
+    write_chart(dir, task, &records)?;
+    Ok(Finished {
+        last: ending.last.clone(),
+        converged_at: ending.converged_at,
+        best: best.cloned(),
+        dir: dir.to_path_buf(),
+    })
+}
+
+/// `rollouts.csv` of a query of `dim` values: a column per value of the
+/// query, the measurement and the error (`query1`, `query2`, … when there
+/// are several), blank where a roll-out has none.
+fn rollouts_csv(records: &[&Record<TaskTrial>], dim: usize) -> Vec<u8> {
+    let mut csv = Csv::new();
+    csv.text("rollout").text("update").text("mean");
+    for name in ["query", "measured", "error"] {
+        for i in 1..=dim {
+            match dim {
+                1 => csv.text(name),
+                _ => csv.display(format_args!("{name}{i}")),
+            };
+        }
+    }
+    csv.text("reward").text("rejected").text("failed");
+    csv.end_row();
+    for r in records {
+        let t = &r.trial;
+        csv.display(r.rollout).display(r.update).display(r.mean);
+        for q in &r.query {
+            csv.display(q);
+        }
+        let error = (!t.error.is_empty()).then_some(&t.error);
+        for values in [t.measured.as_ref(), error] {
+            for i in 0..dim {
+                match values.and_then(|v| v.get(i)) {
+                    Some(v) => csv.display(v),
+                    None => csv.text(""),
+                };
+            }
+        }
+        csv.display(t.reward)
+            .text(t.rejected.as_deref().unwrap_or(""))
+            .text(t.failed.as_deref().unwrap_or(""));
+        csv.end_row();
+    }
+    csv.into_bytes()
+}
+
+/// Writes `convergence.png`: the largest error component
+/// (error learning; PoWER: of the mean policy) on a log axis, PoWER's
+/// reward of every roll-out, and the query.
+fn write_chart(dir: &Path, task: &Task, records: &[&Record<TaskTrial>]) -> Result<(), Error> {
+    let x = |r: &Record<TaskTrial>| f64::from(r.rollout);
+    let power = task.learner.method.is_power();
+    let error: Vec<(f64, f64)> = records
+        .iter()
+        .filter(|r| r.mean)
+        .filter_map(|r| Some((x(r), r.trial.worst_error()?)))
+        .collect();
+    let reward = rewards(records.iter().map(|r| (r.rollout, r.mean, r.trial.reward)));
+    let queries: Vec<Vec<(f64, f64)>> = (0..task.query_dim())
+        .map(|i| {
+            records
+                .iter()
+                .filter(|r| r.mean)
+                .filter_map(|r| Some((x(r), f64::from(*r.query.get(i)?))))
+                .collect()
+        })
+        .collect();
+    let labels: Vec<String> = (1..=queries.len()).map(|i| format!("q{i}")).collect();
+    let q: Vec<Line> = queries
+        .iter()
+        .zip(&labels)
+        .map(|(points, label)| Line::new(label, points))
+        .collect();
+    let e = [Line::new("max |error|", &error)];
+    let w = reward_lines(&reward);
+    let precision = task.goal.precision;
+    let mut panels = vec![Panel {
+        title: if power {
+            "Largest error of the mean policy"
+        } else {
+            "Largest error"
+        },
+        x_label: "roll-out",
+        y_label: "max |error|",
+        series: &e,
+        log_y: true,
+        // Far below the precision an error is as good as none (PoWER's
+        // precision may be 0: no floor).
+        floor: Some(precision * 1e-3),
+        hline: (!power).then_some((precision, "precision")),
+    }];
+    if power {
+        panels.push(per_rollout("Reward of every roll-out", "reward", &w));
+    }
+    panels.push(per_rollout("Learned query", "q", &q));
+    write_png(
+        &dir.join("convergence.png"),
+        &panels,
+        PANEL_HEIGHT * grid(panels.len()).0 as u32,
+    )
+}

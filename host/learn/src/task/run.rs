@@ -1,0 +1,407 @@
+//! A task file's run as a kind of run ([`TaskRun`]): the lab's
+//! demonstrations, query, limits and evaluator (a program of its own, or
+//! the operator). The built-in pour task is a pour ([`Task::pour_start`]).
+//!
+//! A roll-out: `θ = G(q̂) + Δθ` planned at the task's step, checked by the
+//! task's limits (a rejected movement never leaves primo: reward 0 for
+//! PoWER, the end of the run for error learning), written as a CSV file
+//! into `trajectories/` of the output directory, handed to the evaluator,
+//! scored: `ε = desired − measured`, the reward the evaluator's or made
+//! from `ε` by the task's rule. Every roll-out is logged as it is made, and
+//! a resumed run continues exactly, as every run does ([`crate::run`]).
+
+use std::path::{Path, PathBuf};
+
+use primo_core::power::PowerConfig;
+use primo_core::wire::{LearnerSetup, Setup};
+use primo_robot::envelope::Limits;
+use primo_skill::Skill;
+use primo_skill::csv::write_rows;
+use serde::{Deserialize, Serialize};
+
+use crate::Error;
+use crate::algorithm::Algorithm;
+use crate::error::Setting;
+use crate::learner::{power_blocks, setup, wire_query};
+use crate::output::{create_dir, write_file};
+use crate::pour::run::{CellSpec, Pour};
+use crate::pour::settings::Settings;
+use crate::pour::skill::{DemoFile, SkillSpec};
+use crate::rollouts::{Entry, Record, Scored, query_text};
+use crate::run::{Cell, Execute, Kind, LearnerSpec, ON_SCALE, Start};
+
+use super::evaluator::{Answer, Evaluator, Operator, Program, Prompt};
+use super::report::write_task;
+use super::{Built, Evaluate, RewardRule, Task};
+
+/// Where the roll-outs' trajectories go, in the output directory.
+pub const TRAJECTORIES: &str = "trajectories";
+
+/// A task file's run: the task, as checked when the run began, and the
+/// seed of exploration.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TaskRun {
+    /// The task.
+    pub task: Task,
+    /// Seed of exploration.
+    pub seed: u64,
+}
+
+/// What a task's roll-out gave.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TaskTrial {
+    /// The query achieved, as the evaluator measured it.
+    pub measured: Option<Vec<f64>>,
+    /// `desired − measured` (empty without a measurement).
+    pub error: Vec<f64>,
+    /// The reward.
+    pub reward: f64,
+    /// Why the limits rejected the movement, if they did.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rejected: Option<String>,
+    /// Why the evaluator said the roll-out failed, if it did.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub failed: Option<String>,
+}
+
+impl Scored for TaskTrial {
+    fn error(&self) -> Vec<f32> {
+        self.error.iter().map(|e| *e as f32).collect()
+    }
+
+    fn reward(&self) -> f64 {
+        self.reward
+    }
+
+    fn rejected(&self) -> Option<&str> {
+        self.rejected.as_deref()
+    }
+
+    fn worst_error(&self) -> Option<f64> {
+        self.error.iter().map(|e| e.abs()).reduce(f64::max)
+    }
+}
+
+
+/// How a run ended.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Finished {
+    /// The last roll-out (PoWER: the last roll-out of the mean).
+    pub last: Record<TaskTrial>,
+    /// Error learning reached the precision at this roll-out.
+    pub converged_at: Option<u32>,
+    /// The best roll-out.
+    pub best: Option<Record<TaskTrial>>,
+    /// The output directory.
+    pub dir: PathBuf,
+}
+
+
+impl Kind for TaskRun {
+    const NAME: &'static str = "task";
+    type Trial = TaskTrial;
+    type Built = Built;
+    type Person = Box<dyn Prompt>;
+    type Moved = ();
+    type Note = std::convert::Infallible;
+    type Finished = Finished;
+
+    fn validate(&self, learner: &LearnerSpec) -> Result<(), Error> {
+        if learner.on_scale() {
+            return Err(Error::setting(
+                Setting::Coprocessor,
+                ON_SCALE,
+                "a task's own evaluator weighs nothing of primo's: the learner runs on \
+                 primo's scale only in the built-in pour on a real cell",
+            ));
+        }
+        Ok(())
+    }
+
+    fn check_moved((): &()) -> Result<(), Error> {
+        Ok(())
+    }
+
+    /// Version 1 logs are the same.
+    fn reads(version: u32, _: &Self) -> bool {
+        version == 1
+    }
+
+    fn resume(&mut self, (): (), _: &Path) -> Result<(), Error> {
+        Ok(())
+    }
+
+    fn build(&self, _: &mut dyn FnMut(Self::Note) -> Result<(), Error>) -> Result<Built, Error> {
+        self.task.build()
+    }
+
+    fn skill(built: &Built) -> &Skill {
+        &built.skill
+    }
+
+    fn method(&self) -> Algorithm {
+        self.task.learner.method
+    }
+
+    fn setup(&self, built: &Built) -> Result<Setup, Error> {
+        task_setup(&self.task, &built.skill, self.seed)
+    }
+
+    fn max_rollouts(&self) -> u32 {
+        self.task.learner.max_rollouts
+    }
+
+    fn execution<'a>(
+        &'a self,
+        built: &'a Built,
+        at: Cell<'_, Self>,
+    ) -> Result<Box<dyn Execute<TaskTrial> + 'a>, Error> {
+        let trajectories = at.dir.join(TRAJECTORIES);
+        create_dir(&trajectories)?;
+        let dim = self.task.query_dim();
+        let evaluator: Box<dyn Evaluator> = match &self.task.evaluate {
+            Evaluate::Command { argv, dir, timeout } => {
+                Box::new(Program::start(argv, dir, *timeout, dim)?)
+            }
+            Evaluate::Operator => Box::new(Operator::new(at.person, dim)),
+            Evaluate::Pour(_) => {
+                return Err(Error::Invalid(
+                    "the built-in pour runs as a pour (Task::pour_start)".into(),
+                ));
+            }
+        };
+        Ok(Box::new(Rollouts {
+            task: &self.task,
+            skill: &built.skill,
+            limits: &built.limits,
+            dt: built.dt,
+            dir: trajectories,
+            evaluator,
+        }))
+    }
+
+    fn report(
+        &self,
+        built: &Built,
+        dir: &Path,
+        run: &[Entry<TaskTrial>],
+        seconds: f64,
+    ) -> Result<Finished, Error> {
+        write_task(dir, &self.task, &built.skill, run, seconds)
+    }
+}
+
+/// The learner's setup for `task` on its fitted `skill`.
+pub fn task_setup(task: &Task, skill: &Skill, seed: u64) -> Result<Setup, Error> {
+    let l = &task.learner;
+    let g = &task.goal;
+    let bounds = (&g.low[..], &g.high[..], &g.desired[..]);
+    let learner = match l
+        .method
+        .search(bounds, g.precision as f32, l.max_rollouts, l.gain)?
+    {
+        Some(learner) => learner,
+        None => {
+            let blocks = power_blocks(skill, l.s1, l.s2, l.decay)?;
+            let config = PowerConfig {
+                rollouts_per_update: l.rollouts_per_update,
+                sampler: l.sampler,
+                query_gain: l.method.query_gain(l.gain),
+                ..PowerConfig::paper(&blocks).map_err(|e| Error::Invalid(format!("PoWER: {e}")))?
+            };
+            LearnerSetup::Power {
+                config,
+                query: wire_query(&g.desired)?,
+            }
+        }
+    };
+    setup(skill, learner, seed)
+}
+
+/// The reward of an error under the task's rule.
+pub fn reward(rule: RewardRule, scale: f32, error: &[f64]) -> f64 {
+    let norm = error.iter().map(|e| e * e).sum::<f64>().sqrt() * f64::from(scale);
+    match rule {
+        RewardRule::Linear => (1.0 - norm).max(0.0),
+        RewardRule::Exp => (-norm * norm).exp(),
+    }
+}
+
+/// Scores an evaluator's answer for `task`. A failed roll-out scores 0;
+/// error learning cannot learn from it, so it ends the run (unlogged: the
+/// resumed run tries it again).
+fn score(task: &Task, rollout: u32, answer: Answer) -> Result<TaskTrial, Error> {
+    let power = task.learner.method.is_power();
+    if let Some(why) = answer.failed {
+        if !power {
+            return Err(Error::Instrument(format!(
+                "roll-out {rollout} failed ({why}); error learning needs its measurement: fix \
+                 the cause and continue the run"
+            )));
+        }
+        return Ok(TaskTrial {
+            measured: None,
+            error: Vec::new(),
+            reward: 0.0,
+            rejected: None,
+            failed: Some(why),
+        });
+    }
+    let error: Vec<f64> = match &answer.measured {
+        Some(m) => task
+            .goal
+            .desired
+            .iter()
+            .zip(m)
+            .map(|(d, m)| f64::from(*d) - m)
+            .collect(),
+        None if !task.learner.method.uses_error() => Vec::new(),
+        None => {
+            return Err(Error::Instrument(format!(
+                "roll-out {rollout}: the evaluator gave no `measured` query; {} needs it",
+                task.learner.method
+            )));
+        }
+    };
+    let reward = match answer.reward {
+        Some(r) => r,
+        None => reward(task.learner.reward, task.learner.reward_scale, &error),
+    };
+    Ok(TaskTrial {
+        measured: answer.measured,
+        error,
+        reward,
+        rejected: None,
+        failed: None,
+    })
+}
+
+/// One roll-out of `task`: plan, check, write, evaluate, score.
+struct Rollouts<'a> {
+    task: &'a Task,
+    skill: &'a Skill,
+    limits: &'a Limits,
+    dt: f64,
+    dir: PathBuf,
+    evaluator: Box<dyn Evaluator>,
+}
+
+impl Execute<TaskTrial> for Rollouts<'_> {
+    fn roll(&mut self, rollout: u32, query: &[f32], delta: &[f32]) -> Result<TaskTrial, Error> {
+        let rejected = |why: String| TaskTrial {
+            measured: None,
+            error: Vec::new(),
+            reward: 0.0,
+            rejected: Some(why),
+            failed: None,
+        };
+        let plan = match self.skill.plan(query, delta, self.dt) {
+            Ok(plan) => plan,
+            Err(why) => return Ok(rejected(why.to_string())),
+        };
+        let checked = match self.limits.check(self.skill.names(), plan.t, &plan.rows) {
+            Ok(c) => c,
+            Err(why) => return Ok(rejected(why.to_string())),
+        };
+        let mut csv = Vec::new();
+        let width = checked.names().len();
+        write_rows(
+            &mut csv,
+            checked.names(),
+            checked
+                .times()
+                .iter()
+                .zip(checked.rows().chunks_exact(width))
+                .map(|(t, row)| (*t as f32, row.iter().map(|v| *v as f32))),
+        )
+        .map_err(Error::io(&self.dir))?;
+        let file = self.dir.join(format!("rollout-{rollout:04}.csv"));
+        write_file(&file, &csv)?;
+        let answer = self.evaluator.evaluate(rollout, &file)?;
+        score(self.task, rollout, answer)
+    }
+}
+
+impl Task {
+    /// The `primo pour` run this task is, if it is the built-in pour:
+    /// the same roll-outs as `primo pour` with the same settings and seed.
+    pub fn pour_start(&self, out: PathBuf, force: bool, seed: u64) -> Option<Start<Pour>> {
+        let Evaluate::Pour(p) = &self.evaluate else {
+            return None;
+        };
+        let method = self.learner.method;
+        let bottle = f64::from(self.goal.desired.first().copied().unwrap_or(0.0));
+        let defaults = Settings::paper(method, bottle, p.target, seed);
+        let error_learning = !method.is_power();
+        let skill = SkillSpec {
+            space: p.space.unwrap_or(method.default_space()),
+            glass: p.glass,
+            kernels: self.kernels,
+            demos: self
+                .demos
+                .iter()
+                .map(|d| DemoFile {
+                    file: d.file.clone(),
+                    volume: d.query.first().copied().unwrap_or(0.0),
+                })
+                .collect(),
+        };
+        let settings = Settings {
+            max_rollouts: self.learner.max_rollouts,
+            gain: self.learner.gain,
+            precision: if error_learning {
+                self.goal.precision
+            } else {
+                defaults.precision
+            },
+            search: if error_learning {
+                [
+                    self.goal.low.first().copied().unwrap_or(0.0),
+                    self.goal.high.first().copied().unwrap_or(0.0),
+                ]
+            } else {
+                defaults.search
+            },
+            s1: self.learner.s1,
+            s2: self.learner.s2,
+            // The simulated glass, as `primo pour` has it.
+            glass_holds: Some(skill.cell().glass_litres()),
+            ..defaults
+        };
+        Some(Start::New {
+            out,
+            force,
+            run: Pour {
+                settings,
+                skill,
+                cell: CellSpec::Simulated,
+            },
+        })
+    }
+}
+
+/// A roll-out as a line of progress.
+pub fn rollout_line(r: &Record<TaskTrial>) -> String {
+    let t = &r.trial;
+    let q = query_text(&r.query);
+    if let Some(why) = &t.rejected {
+        return format!(
+            "roll-out {:>3}: q {q}  REJECTED ({why})  reward 0",
+            r.rollout
+        );
+    }
+    if let Some(why) = &t.failed {
+        return format!("roll-out {:>3}: q {q}  FAILED ({why})  reward 0", r.rollout);
+    }
+    let measured = t.measured.as_ref().map_or(String::new(), |m| {
+        let m: Vec<f32> = m.iter().map(|v| *v as f32).collect();
+        let e: Vec<f32> = t.error.iter().map(|v| *v as f32).collect();
+        format!("  measured {}  error {}", query_text(&m), query_text(&e))
+    });
+    format!(
+        "roll-out {:>3}: q {q}{measured}  reward {:.3}{}",
+        r.rollout,
+        t.reward,
+        if r.mean { "  (mean)" } else { "" }
+    )
+}
