@@ -1,13 +1,13 @@
 //! The paper's experiments on the simulated cell, at reduced sizes (the
 //! full sizes run with `primo experiment golden|power`).
-use primo_learn::experiment;
 use primo_learn::algorithm::Algorithm as Method;
+use primo_learn::experiment;
+use primo_learn::experiment::median_rollouts;
 use primo_learn::learner::Learner;
+use primo_learn::pour::rig::{Simulated, roll_out};
 use primo_learn::pour::settings::Settings;
 use primo_learn::pour::simulate::learn;
 use primo_learn::pour::skill::built_in_skill;
-use primo_learn::experiment::median_rollouts;
-use primo_learn::pour::rig::{Simulated, roll_out};
 use primo_sim::cell::{CellConfig, GlassKind};
 use primo_skill::Space;
 

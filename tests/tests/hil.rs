@@ -12,15 +12,15 @@ use std::time::{Duration, Instant};
 use primo_core::scale::{
     CalibrationPoint, ScaleRequest, Settings as ScaleSettings, Unit, WeighMode,
 };
-use primo_learn::coprocessor::{Image, Link, Qemu};
 use primo_learn::algorithm::Algorithm as Method;
+use primo_learn::coprocessor::{Image, Link, Qemu};
 use primo_learn::learner::Learner;
 use primo_learn::pour::settings::Settings;
 use primo_learn::pour::simulate::learn;
-use primo_learn::rollouts::Record;
-use primo_learn::pour::trial::Trial;
 use primo_learn::pour::skill::built_in_skill;
+use primo_learn::pour::trial::Trial;
 use primo_learn::pour::weigh::PrimoScale;
+use primo_learn::rollouts::Record;
 use primo_sim::cell::{CellConfig, GlassKind};
 use primo_sim::load_cell::{LoadCellModel, LoadCellServer};
 use primo_sim::scale_device::LoadHandle;

@@ -7,8 +7,8 @@
 //! columns do not, and the skill, the gate and the cell pour as they do in
 //! the usual frame.
 
-use primo_learn::pour::skill::{built_in_demos, fit};
 use primo_learn::pour::rig::{Simulated, roll_out};
+use primo_learn::pour::skill::{built_in_demos, fit};
 use primo_robot::Pose;
 use primo_sim::cell::{CellConfig, GlassKind};
 use primo_skill::csv::{Demo, check_rotation_vectors};

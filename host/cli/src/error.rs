@@ -107,9 +107,7 @@ impl From<primo_learn::Error> for CliError {
                 out.display(),
                 blocking.display()
             )),
-            Error::Occupied {
-                finished: true, ..
-            } => Self::input(format!(
+            Error::Occupied { finished: true, .. } => Self::input(format!(
                 "{e}: choose another --out, or give --force to replace it and its reports"
             )),
             Error::Occupied { .. } => Self::input(format!(

@@ -3,12 +3,12 @@
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
+use primo_learn::algorithm::{Algorithm, ERROR_LEARNERS};
 use primo_learn::experiment::{
     Done, THRESHOLDS, Variant, golden_settings, golden_skill, power_skill,
 };
-use primo_learn::algorithm::{Algorithm, ERROR_LEARNERS};
-use primo_learn::output::{check_dir, create_dir};
 use primo_learn::experiment::{PowerSetup, median_rollouts, write_golden, write_power_experiment};
+use primo_learn::output::{check_dir, create_dir};
 use primo_learn::stats::Estimate;
 
 use crate::args::Glass;

@@ -4,8 +4,8 @@
 use std::io::{BufRead, Write};
 use std::path::PathBuf;
 
-use primo_learn::pour::settings::check_target;
 use primo_learn::pour::objective::{Objective, Start, layout};
+use primo_learn::pour::settings::check_target;
 use primo_learn::pour::trial::Trial;
 
 use crate::args::Glass;

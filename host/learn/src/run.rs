@@ -58,8 +58,10 @@ pub trait Kind: Clone + Serialize + DeserializeOwned {
     /// Applies where a resumed run's instruments moved to.
     fn resume(&mut self, moved: Self::Moved, dir: &Path) -> Result<(), Error>;
     /// Fits the skill; `note` hears what was read differently than given.
-    fn build(&self, note: &mut dyn FnMut(Self::Note) -> Result<(), Error>)
-    -> Result<Self::Built, Error>;
+    fn build(
+        &self,
+        note: &mut dyn FnMut(Self::Note) -> Result<(), Error>,
+    ) -> Result<Self::Built, Error>;
     /// The skill of what [`Kind::build`] made.
     fn skill(built: &Self::Built) -> &Skill;
     /// The learner.
@@ -113,9 +115,10 @@ pub struct Cell<'c, K: Kind> {
 pub struct Header<K> {
     /// The log's format, [`VERSION`].
     pub version: u32,
-    /// The kind's name ([`Kind::NAME`]); absent before version 4.
+    /// The kind's name ([`Kind::NAME`]); absent before version 4. (The
+    /// log's records name their own kind: `run`, `rollout`, `end`.)
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub kind: Option<String>,
+    pub task_kind: Option<String>,
     /// What the kind logs of itself.
     #[serde(flatten)]
     pub run: K,
@@ -240,7 +243,7 @@ impl From<Error> for Failure {
     }
 }
 
-/// The kind of run `dir`'s log holds: its [`Header::kind`], or for a log
+/// The kind of run `dir`'s log holds: its [`Header::task_kind`], or for a log
 /// from before version 4, `task` if it logged a task file, else `pour`.
 pub fn logged_kind(dir: &Path) -> Result<String, Error> {
     let file = dir.join(runlog::FILE);
@@ -254,7 +257,7 @@ pub fn logged_kind(dir: &Path) -> Result<String, Error> {
     let first = text.lines().next().unwrap_or("");
     let json = first.split_once(' ').map_or("", |(_, json)| json);
     let header: serde_json::Value = serde_json::from_str(json).unwrap_or_default();
-    Ok(match header.get("kind").and_then(|k| k.as_str()) {
+    Ok(match header.get("task_kind").and_then(|k| k.as_str()) {
         Some(kind) => kind.to_string(),
         None if header.get("task").is_some() => "task".into(),
         None => "pour".into(),
@@ -284,7 +287,7 @@ pub fn run<K: Kind>(
             run.setup(&built)?;
             let header = Header {
                 version: VERSION,
-                kind: Some(K::NAME.into()),
+                task_kind: Some(K::NAME.into()),
                 examples: examples_crc(K::skill(&built)),
                 run,
             };
@@ -299,7 +302,7 @@ pub fn run<K: Kind>(
             }
             let opened = RunLog::resume::<Header<K>, Entry<K::Trial>>(
                 &dir,
-                |h| match h.kind {
+                |h| match h.task_kind {
                     None if K::reads(h.version, &h.run) => VERSION,
                     _ => h.version,
                 },
@@ -308,14 +311,7 @@ pub fn run<K: Kind>(
             )?;
             let mut header = opened.header;
             header.run.resume(moved, &dir)?;
-            (
-                dir,
-                header,
-                opened.entries,
-                opened.log,
-                opened.ended,
-                None,
-            )
+            (dir, header, opened.entries, opened.log, opened.ended, None)
         }
     };
     let fail = |error: Error| Failure {

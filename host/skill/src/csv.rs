@@ -384,7 +384,8 @@ impl Csv {
         self.separate();
         if text.contains([',', '"', '\n', '\r']) {
             self.out.push(b'"');
-            self.out.extend_from_slice(text.replace('"', "\"\"").as_bytes());
+            self.out
+                .extend_from_slice(text.replace('"', "\"\"").as_bytes());
             self.out.push(b'"');
         } else {
             self.out.extend_from_slice(text.as_bytes());

@@ -163,7 +163,9 @@ pub fn median_rollouts(runs: &[SearchRun], method: Algorithm) -> Option<f64> {
 /// Writes `golden.csv`, `golden.png` and `summary.json` into `dir`.
 pub fn write_golden(dir: &Path, runs: &[SearchRun], precision: f64) -> Result<(), Error> {
     let mut csv = Csv::new();
-    for column in ["volume_l", "method", "rollout", "query_l", "poured_l", "error_l"] {
+    for column in [
+        "volume_l", "method", "rollout", "query_l", "poured_l", "error_l",
+    ] {
         csv.text(column);
     }
     csv.end_row();
@@ -193,7 +195,8 @@ pub fn write_golden(dir: &Path, runs: &[SearchRun], precision: f64) -> Result<()
             let curves = mine
                 .iter()
                 .map(|run| {
-                    let error = |r: &Record<Trial>| (f64::from(r.rollout), r.trial.error.abs() * 1e3);
+                    let error =
+                        |r: &Record<Trial>| (f64::from(r.rollout), r.trial.error.abs() * 1e3);
                     (
                         format!("{} l", run.volume),
                         run.records.iter().map(error).collect(),
@@ -257,4 +260,3 @@ pub fn write_golden(dir: &Path, runs: &[SearchRun], precision: f64) -> Result<()
 
 /// A labelled curve.
 type Labelled = (String, Vec<(f64, f64)>);
-

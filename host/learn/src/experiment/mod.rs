@@ -16,6 +16,7 @@ pub mod golden;
 pub mod parallel;
 pub mod power;
 
+pub use golden::write_golden;
 pub use golden::{SearchRun, golden, golden_run, golden_settings, golden_skill, median_rollouts};
 pub use parallel::{Done, parallel, parallel_reporting};
 pub use power::{
@@ -23,7 +24,6 @@ pub use power::{
     PowerSummary, SPREAD, THRESHOLDS, Variant, power, power_budget, power_run, power_skill,
     write_power, write_power_experiment,
 };
-pub use golden::write_golden;
 
 #[cfg(test)]
 mod tests {

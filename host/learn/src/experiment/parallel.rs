@@ -55,4 +55,3 @@ pub struct Done {
     /// Runs in all.
     pub of: usize,
 }
-

@@ -308,7 +308,10 @@ pub fn power_budget(updates: u32) -> Result<u32, Error> {
             Error::setting(
                 Setting::Updates,
                 updates,
-                format!("must be at least 1 and at most {}", (u32::MAX - 1) / PER_UPDATE),
+                format!(
+                    "must be at least 1 and at most {}",
+                    (u32::MAX - 1) / PER_UPDATE
+                ),
             )
         })
 }

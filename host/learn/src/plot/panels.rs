@@ -44,7 +44,6 @@ pub fn reward_lines(split: &[Vec<(f64, f64)>; 2]) -> [Line<'_>; 2] {
     ]
 }
 
-
 /// Renders `panels`, 1000 px wide and `height` high, into the PNG file
 /// `path`, atomically.
 pub fn write_png(path: &Path, panels: &[Panel<'_>], height: u32) -> Result<(), Error> {

@@ -4,13 +4,13 @@
 
 use std::path::Path;
 
-use serde::Serialize;
 use primo_skill::csv::Csv;
+use serde::Serialize;
 
 use crate::Error;
 use crate::output::{write_file, write_json};
-use crate::plot::{Line, Panel, grid};
 use crate::plot::panels::{PANEL_HEIGHT, per_rollout, reward_lines, rewards, write_png};
+use crate::plot::{Line, Panel, grid};
 use crate::rollouts::Record;
 
 use super::settings::Settings;
@@ -135,7 +135,11 @@ pub const ERROR_FLOOR_ML: f64 = 1e-3;
 pub const SPILL_FLOOR_ML: f64 = 1e-2;
 
 /// Writes `rollouts.csv`, `summary.json` and `convergence.png` into `dir`.
-pub fn write_pour(dir: &Path, records: &[Record<Trial>], summary: &PourSummary) -> Result<(), Error> {
+pub fn write_pour(
+    dir: &Path,
+    records: &[Record<Trial>],
+    summary: &PourSummary,
+) -> Result<(), Error> {
     write_file(&dir.join("rollouts.csv"), &rollouts_csv(records))?;
     write_json(&dir.join("summary.json"), summary)?;
     let precision_ml = summary.settings.precision * 1e3;
@@ -192,4 +196,3 @@ pub fn write_pour(dir: &Path, records: &[Record<Trial>], summary: &PourSummary) 
         PANEL_HEIGHT * grid(panels.len()).0 as u32,
     )
 }
-

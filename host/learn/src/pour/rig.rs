@@ -229,11 +229,7 @@ impl Instruments {
         spec.validate()?;
         let socket = bind(parse_robot(&spec.robot)?)?;
         // The liquid in the glass may still be moving: SETTLE_LIMIT.
-        let scale = Weigher::open(
-            &ScaleSpec::parse(&spec.scale)?,
-            spec.baud,
-            SETTLE_LIMIT,
-        )?;
+        let scale = Weigher::open(&ScaleSpec::parse(&spec.scale)?, spec.baud, SETTLE_LIMIT)?;
         Ok(Instruments {
             spec,
             gate: gate(cell),

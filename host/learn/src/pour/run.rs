@@ -147,10 +147,7 @@ impl Kind for Pour {
         Ok(())
     }
 
-    fn build(
-        &self,
-        note: &mut dyn FnMut(Note) -> Result<(), Error>,
-    ) -> Result<Prepared, Error> {
+    fn build(&self, note: &mut dyn FnMut(Note) -> Result<(), Error>) -> Result<Prepared, Error> {
         let built = self.skill.build()?;
         for c in &built.converted {
             note(Note::Converted(c.clone()))?;
@@ -254,9 +251,7 @@ impl Kind for Pour {
             settings: *s,
             last: ending.last.clone(),
             converged_at: ending.converged_at,
-            series_of: series
-                .as_ref()
-                .and(ending.best.map(|e| e.record.rollout)),
+            series_of: series.as_ref().and(ending.best.map(|e| e.record.rollout)),
             simulated: matches!(self.cell, CellSpec::Simulated),
             dir: dir.to_path_buf(),
         })
@@ -342,7 +337,7 @@ mod tests {
             };
             let header = Header {
                 version: 2,
-                kind: None,
+                task_kind: None,
                 examples: examples_crc(&skill.build().unwrap().skill),
                 run: Pour {
                     settings,

@@ -99,7 +99,13 @@ impl Series {
         let dof = self.space.names().len();
         let mut csv = Csv::new();
         csv.text("t");
-        for name in self.space.names().iter().copied().chain(MEASURED.split(',')) {
+        for name in self
+            .space
+            .names()
+            .iter()
+            .copied()
+            .chain(MEASURED.split(','))
+        {
             csv.text(name);
         }
         csv.end_row();

@@ -139,7 +139,6 @@ pub struct Built {
     pub converted: Vec<Converted>,
 }
 
-
 /// The Cartesian columns before the orientation was a quaternion: the
 /// mouth's position and the bottle's rotation vector.
 pub const ROTATION_VECTOR_NAMES: [&str; 6] = ["x", "y", "z", "rx", "ry", "rz"];

@@ -16,8 +16,8 @@ use primo_mtsics::{Client, ClientConfig};
 use primo_sim::load_cell::LoadCellModel;
 
 use crate::Error;
-use crate::error::Setting;
 use crate::coprocessor::{Image, Link, Qemu};
+use crate::error::Setting;
 
 /// Where a scale is.
 #[derive(Debug, Clone, PartialEq, Eq)]

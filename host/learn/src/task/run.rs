@@ -82,7 +82,6 @@ impl Scored for TaskTrial {
     }
 }
 
-
 /// How a run ended.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Finished {
@@ -95,7 +94,6 @@ pub struct Finished {
     /// The output directory.
     pub dir: PathBuf,
 }
-
 
 impl Kind for TaskRun {
     const NAME: &'static str = "task";
