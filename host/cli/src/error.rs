@@ -102,6 +102,17 @@ impl From<primo_learn::Error> for CliError {
                 value,
                 why,
             } => Self::input(format!("{} {value}: {why}", flag(setting))),
+            Error::Conflict {
+                setting,
+                value,
+                other,
+                other_value,
+                why,
+            } => Self::input(format!(
+                "{} {value} with {} {other_value}: {why}",
+                flag(setting),
+                flag(other)
+            )),
             Error::NotADirectory { out, blocking } => Self::input(format!(
                 "--out {}: {} is not a directory",
                 out.display(),

@@ -18,6 +18,20 @@ pub enum Error {
         /// Why not.
         why: String,
     },
+    /// Two settings that contradict each other: which, as given, and why.
+    #[error("{} {value} with {} {other_value}: {why}", setting.name(), other.name())]
+    Conflict {
+        /// The setting refused.
+        setting: Setting,
+        /// As given.
+        value: String,
+        /// The setting it contradicts.
+        other: Setting,
+        /// As given.
+        other_value: String,
+        /// Why.
+        why: String,
+    },
     /// An output directory that cannot be one: something else is in its
     /// way.
     #[error("{}: {} is not a directory", out.display(), blocking.display())]
@@ -109,6 +123,7 @@ impl Error {
             self,
             Error::Invalid(_)
                 | Error::Setting { .. }
+                | Error::Conflict { .. }
                 | Error::NotADirectory { .. }
                 | Error::Occupied { .. }
                 | Error::NoLog(_)

@@ -2,8 +2,8 @@
 //! measured at every recorded control step, and its CSV form.
 //!
 //! ```
-//! use primo_learn::pouring::built_in_skill;
-//! use primo_learn::rig::{Simulated, roll_out};
+//! use primo_learn::pour::rig::{Simulated, roll_out};
+//! use primo_learn::pour::skill::built_in_skill;
 //! use primo_sim::cell::{CellConfig, GlassKind};
 //! use primo_skill::Space;
 //!
@@ -13,7 +13,7 @@
 //! let mut rig = Simulated::new(cell, 0.5, 1)?.recording(1);
 //! let trial = roll_out(&mut rig, &skill, 0.2, 1, &[0.5], &[])?;
 //! let series = trial.series.expect("the cell recorded");
-//! let csv = series.to_csv();
+//! let csv = String::from_utf8(series.to_csv()).unwrap();
 //! assert!(csv.starts_with("t,x,y,z,qw,qx,qy,qz,tilt_rad,"));
 //! assert_eq!(csv.lines().count(), series.samples.len() + 1);
 //! # Ok::<(), primo_learn::Error>(())

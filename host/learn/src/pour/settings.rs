@@ -122,11 +122,13 @@ impl Settings {
                 );
             }
             if holds <= self.target {
-                return bad(
-                    Setting::Target,
-                    &self.target,
-                    format!("the glass holds {holds:.3} l, no more than the target"),
-                );
+                return Err(Error::Conflict {
+                    setting: Setting::Target,
+                    value: self.target.to_string(),
+                    other: Setting::GlassHolds,
+                    other_value: format!("{holds:.3}"),
+                    why: "the glass holds no more than the target".into(),
+                });
             }
         }
         // The glass raises the search's low end to bottle + target − holds,
