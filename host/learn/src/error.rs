@@ -70,10 +70,6 @@ pub enum Error {
     /// Demonstrations, DMP files, and the skill made of them.
     #[error(transparent)]
     Skill(#[from] primo_skill::Error),
-    /// The simulated cell refused a setting or a movement, or one of its
-    /// devices failed.
-    #[error(transparent)]
-    Sim(#[from] primo_sim::Error),
     /// A robot address that cannot be used.
     #[error(transparent)]
     Address(#[from] primo_fri::AddressError),
@@ -131,7 +127,6 @@ impl Error {
                 | Error::Skill(_)
                 | Error::Address(_)
                 | Error::Log(_)
-                | Error::Sim(primo_sim::Error::Invalid(_))
         )
     }
 

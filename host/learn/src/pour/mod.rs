@@ -21,3 +21,15 @@ pub mod simulate;
 pub mod skill;
 pub mod trial;
 pub mod weigh;
+
+/// The simulated cell and its devices report in the library's terms: a
+/// refused setting or movement is bad input, a failed device a failure
+/// while running.
+impl From<primo_sim::Error> for crate::Error {
+    fn from(e: primo_sim::Error) -> Self {
+        match e {
+            primo_sim::Error::Invalid(why) => crate::Error::Invalid(why),
+            primo_sim::Error::Io(why) => crate::Error::Instrument(why),
+        }
+    }
+}

@@ -30,6 +30,7 @@ use crate::learner::QUERY_DECAY;
 pub mod evaluator;
 pub mod report;
 pub mod run;
+pub mod trial;
 
 /// The task file format's version.
 pub const VERSION: u32 = 1;

@@ -2,7 +2,7 @@
 //! its summary (`summary.json`) and its convergence chart
 //! (`convergence.png`), each written atomically.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use primo_skill::Skill;
 use primo_skill::csv::Csv;
@@ -16,7 +16,20 @@ use crate::plot::{Line, Panel, grid};
 use crate::rollouts::{Ending, Entry, Record, Scored};
 
 use super::Task;
-use super::run::{Finished, TaskTrial};
+use super::trial::TaskTrial;
+
+/// How a run ended.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Finished {
+    /// The last roll-out (PoWER: the last roll-out of the mean).
+    pub last: Record<TaskTrial>,
+    /// Error learning reached the precision at this roll-out.
+    pub converged_at: Option<u32>,
+    /// The best roll-out.
+    pub best: Option<Record<TaskTrial>>,
+    /// The output directory.
+    pub dir: PathBuf,
+}
 
 /// `summary.json`.
 #[derive(Debug, Serialize)]
