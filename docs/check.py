@@ -5,7 +5,8 @@
   CHANGELOG.md, python/README.md, bench/results/*.md and the book
   (docs/src) resolves: the file or directory exists, the anchor is a
   heading of the target Markdown file (GitHub's and mdBook's ids) or an
-  `id` of the target HTML file. Links under `target/` (rustdoc, built by
+  `id` of the target HTML file (for the book's pages, also of the page
+  `mdbook build docs` made, when docs/book exists). Links under `target/` (rustdoc, built by
   `cargo doc --workspace --no-deps`) are looked up in cargo's target
   directory. Every page of docs/src is listed in SUMMARY.md.
 - Command lines: every `primo ...` command in a `sh` block, and every
@@ -31,6 +32,7 @@ import shlex
 import subprocess
 import sys
 import tempfile
+import time
 import tomllib
 from pathlib import Path
 
@@ -39,11 +41,12 @@ FENCE = re.compile(r"^(\s*)(```+|~~~+)\s*([^\s`]*)")
 HEADING = re.compile(r"^(#{1,6})\s+(.*?)\s*#*\s*$")
 LINK = re.compile(r"!?\[(?:[^\[\]]|\[[^\]]*\])*\]\(\s*<?([^)\s>]*)>?(?:\s+\"[^\"]*\")?\s*\)")
 REFDEF = re.compile(r"^\s{0,3}\[[^\]]+\]:\s*<?(\S+?)>?(?:\s+\"[^\"]*\")?\s*$")
-MARKER = re.compile(r"<!--\s*check:\s*([\w-]+)\s*-->")
+MARKER = re.compile(r"<!--\s*check:\s*([\w-]+)[^>]*-->")
 CODE_SPAN = re.compile(r"(`+)(.+?)\1")
 FLAG = re.compile(r"(?<![\w-])--[a-z][a-z0-9-]*")
 
 problems: list[str] = []
+runs: list[tuple[float, str]] = []  # seconds, what ran
 
 
 def problem(where: str, what: str) -> None:
@@ -129,6 +132,14 @@ def target_dir() -> Path:
 
 DOCS: dict[Path, Doc] = {}
 HTML_IDS: dict[Path, set[str]] = {}
+BOOK_SRC = ROOT / "docs" / "src"
+BOOK_OUT = ROOT / "docs" / "book"  # mdbook build docs
+
+
+def html_ids(path: Path) -> set[str]:
+    if path not in HTML_IDS:
+        HTML_IDS[path] = set(re.findall(r'\bid="([^"]+)"', path.read_text(encoding="utf-8")))
+    return HTML_IDS[path]
 
 
 def doc(path: Path) -> Doc:
@@ -162,10 +173,11 @@ def check_links(d: Doc, target: Path) -> None:
         if dest.suffix == ".md":
             if anchor not in doc(dest).anchors:
                 problem(where, f"link `{link}`: no heading `#{anchor}` in {rel(dest)}")
+            rendered = BOOK_OUT / dest.relative_to(BOOK_SRC).with_suffix(".html") if BOOK_SRC in dest.parents else None
+            if rendered and rendered.exists() and anchor not in html_ids(rendered):
+                problem(where, f"link `{link}`: mdBook made no id `{anchor}` in {rel(rendered)}")
         elif dest.suffix == ".html":
-            if dest not in HTML_IDS:
-                HTML_IDS[dest] = set(re.findall(r'\bid="([^"]+)"', dest.read_text(encoding="utf-8")))
-            if anchor not in HTML_IDS[dest]:
+            if anchor not in html_ids(dest):
                 problem(where, f"link `{link}`: no id `{anchor}` in {rel(dest)}")
         else:
             problem(where, f"link `{link}`: an anchor into a file that has none")
@@ -321,7 +333,7 @@ def check_commands(d: Doc, help: Help) -> None:
 
 
 def check_blocks(d: Doc, python: str | None, bindir: str | None) -> None:
-    runs = []
+    scripts = []
     for start, lang, text, marker in d.blocks:
         where = f"{rel(d.path)}:{start}"
         if lang == "python":
@@ -347,10 +359,10 @@ def check_blocks(d: Doc, python: str | None, bindir: str | None) -> None:
                     except json.JSONDecodeError as e:
                         problem(where, f"JSON does not parse: {e}: {line}")
         elif lang in ("sh", "bash") and marker == "run":
-            runs.append(text)
-    if runs and bindir:
+            scripts.append(text)
+    if scripts and bindir:
         run_in_scratch(f"{rel(d.path)} (its `check: run` blocks)",
-                       ["bash", "-euo", "pipefail", "-c", "\n".join(runs)], bindir)
+                       ["bash", "-euo", "pipefail", "-c", "\n".join(scripts)], bindir)
 
 
 def run_in_scratch(where: str, argv: list[str], bindir: str | None) -> None:
@@ -358,11 +370,14 @@ def run_in_scratch(where: str, argv: list[str], bindir: str | None) -> None:
     if bindir:
         env["PATH"] = bindir + os.pathsep + env.get("PATH", "")
     with tempfile.TemporaryDirectory(prefix="primo-docs-") as scratch:
+        began = time.monotonic()
         try:
             run = subprocess.run(argv, cwd=scratch, env=env, capture_output=True, text=True, timeout=300)
         except subprocess.TimeoutExpired:
             problem(where, "did not finish within 300 s")
             return
+        finally:
+            runs.append((time.monotonic() - began, where))
         if run.returncode != 0:
             tail = "\n    ".join((run.stdout + run.stderr).strip().split("\n")[-15:])
             problem(where, f"failed (exit status {run.returncode}):\n    {tail}")
@@ -393,6 +408,9 @@ def main() -> int:
     check_summary(book)
     for p in problems:
         print(p)
+    if runs:
+        slowest = ", ".join(f"{w} {t:.1f} s" for t, w in sorted(runs, reverse=True)[:3])
+        print(f"docs/check.py: ran {len(runs)} blocks in {sum(t for t, _ in runs):.1f} s; slowest: {slowest}")
     print(f"docs/check.py: {len(files)} files, {sum(len(doc(f).links) for f in files if f.exists())} links, "
           f"{sum(len(doc(f).blocks) for f in files if f.exists())} code blocks: "
           + (f"{len(problems)} problem(s)" if problems else "all good"))
