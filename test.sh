@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Every check of primo, from a fresh machine: installs what it needs, then
 # formatting, lints (host and Cortex-M4F), the embedded build, docs, the
-# firmware's on-target tests under QEMU, the hardware-in-the-loop tests.
+# firmware's on-target tests under QEMU, the hardware-in-the-loop tests,
+# the Python package, the book and its checks, fuzzing.
 set -euo pipefail
 cd "$(dirname "$0")"
 
@@ -56,6 +57,19 @@ PATH="$PWD/$venv/bin:$PATH" CARGO_TARGET_DIR="$PWD/target/python" \
   "$venv/bin/pip" install -q --disable-pip-version-check --no-build-isolation ./python
 PRIMO_BIN="$PWD/target/debug/primo" "$venv/bin/pytest" -q -p no:cacheprovider python/tests \
   --doctest-modules --pyargs primo 2>&1 | tee -a "$log"
+# The book (docs/, mdBook; installed where missing, search only: about two
+# minutes of build), then docs/check.py over it and the README,
+# ARCHITECTURE.md, CHANGELOG.md, python/README.md and bench/results/:
+# every relative link and #anchor resolves (rustdoc's in the docs built
+# above), every `primo ...` command line names real subcommands and flags
+# (the binary built above), Python blocks compile and run in the package's
+# environment, the README's five-minute path runs in a scratch directory.
+mdbook --version 2>/dev/null | grep -q '^mdbook v0\.5\.' ||
+  cargo install mdbook --locked --version '^0.5.4' --no-default-features --features search
+mdbook build docs
+target_dir=$(cargo metadata --format-version 1 --no-deps |
+  python3 -c 'import json, sys; print(json.load(sys.stdin)["target_directory"])')
+python3 docs/check.py --primo "$target_dir/debug/primo" --python "$PWD/$venv/bin/python"
 # Fuzzing (fuzz/README.md): every target for 30 s from its committed seeds,
 # in a scratch corpus; any crash fails (its input lands in fuzz/artifacts/).
 cargo +nightly --version >/dev/null 2>&1 || rustup toolchain install nightly --profile minimal

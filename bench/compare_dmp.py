@@ -84,7 +84,7 @@ def loop(t):
 
 
 def bump(t):
-    """The README's case: minimum jerk 0 -> 0.6 plus 0.15 sin^2(pi t), 1 s."""
+    """examples/reach.csv's kind of movement: minimum jerk 0 -> 0.6 plus 0.15 sin^2(pi t), 1 s."""
     return (0.6 * mj(t) + 0.15 * np.sin(np.pi * t) ** 2)[:, None]
 
 

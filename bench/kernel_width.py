@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Diagnostic (not run by compare_dmp.sh): how do the kernels' width and
 their margin beyond the movement's ends limit a fit? Re-implements primo's
-formulation and fit in float64 (README, "The DMP formulation": linear
+formulation and fit in float64 (rustdoc of primo_core::dmp: linear
 phase, normalized Gaussian kernels centred at (k − m)/(K − 1 − 2m), exact
 spring with the forcing held at mid-step, least squares on positions, no
 ridge) with the kernel overlap h·Δc² and the margin m as parameters.

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""A planar throw, as a primo evaluator (JSON lines; README "Teach your own skill").
+"""A planar throw, as a primo evaluator (JSON lines; docs/src/reference/evaluator.md).
 
 A two-joint arm stands with its shoulder 1.0 m above the floor (upper arm
 0.40 m, forearm 0.35 m; angles in rad, the shoulder's from the horizontal,

@@ -1,4 +1,4 @@
-"""The README's Python example runs as pasted."""
+"""The Python README's tour runs as pasted."""
 
 import re
 
@@ -6,12 +6,12 @@ from conftest import ROOT
 
 
 def test_the_readmes_python_example_runs(tmp_path, monkeypatch):
-    readme = (ROOT / "README.md").read_text()
-    section = readme[readme.index("\n## Python\n"):]
+    readme = (ROOT / "python" / "README.md").read_text()
+    section = readme[readme.index("\n## A tour\n"):]
     code = re.search(r"```python\n(.*?)```", section, re.S).group(1)
     monkeypatch.chdir(tmp_path)
     scope: dict = {}
-    exec(compile(code, "README.md (Python)", "exec"), scope)
+    exec(compile(code, "python/README.md (the tour)", "exec"), scope)
     assert scope["learner"].status == "converged"
     q, error = scope["learner"].best
     assert abs(q - 0.2) < 0.01 and abs(error) < 0.002
