@@ -1,6 +1,6 @@
-//! `primo learn`: learn the skill a task file describes (README: "Teach
-//! your own skill"), with the lab's evaluator, the operator, or the
-//! built-in pouring cell.
+//! `primo learn`: learn the skill a task file describes (the book's task
+//! file reference, docs/src/reference/task-file.md), with the lab's
+//! evaluator, the operator, or the built-in pouring cell.
 
 use std::io::{BufRead, Write};
 use std::path::PathBuf;
@@ -23,7 +23,7 @@ use crate::progress::Progress;
 #[derive(Debug, clap::Args)]
 pub struct LearnArgs {
     /// The task file (TOML: demonstrations, query, limits, learner,
-    /// evaluator; README "Teach your own skill").
+    /// evaluator; the book's task file reference, docs/src/reference/task-file.md).
     #[arg(long, value_name = "TASK.toml", required_unless_present = "resume")]
     task: Option<PathBuf>,
     /// Output directory: run.log (every roll-out, appended as it is made),

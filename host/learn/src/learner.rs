@@ -29,7 +29,7 @@ pub const QUERY_DECAY: f32 = 0.9;
 ///
 /// The paper writes `σ² = s·max‖θ_i − θ_j‖` with one `σ2` for all of Δθ,
 /// and calls `s` the span of exploration. Three departures, each measured
-/// on the cell (joint space, small glass, 219 parameters; README):
+/// on the cell (joint space, small glass, 219 parameters; bench/results):
 /// - `s` scales the standard deviation, not the variance: a variance
 ///   proportional to a distance depends on the units (radians or degrees,
 ///   litres or millilitres). Read as a variance, the goals explored with

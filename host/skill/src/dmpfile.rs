@@ -23,7 +23,7 @@
 //! `format` and `version` are checked on load; a newer version is refused
 //! rather than misread. Version 1 files (no orientations) and version 2
 //! files (no `margin`: none) still load. The fields of `dmp` are those of
-//! [`primo_core::dmp::Dmp`] (see the README).
+//! [`primo_core::dmp::Dmp`] (the book's DMP file reference, docs/src/reference/dmp-file.md).
 
 use primo_core::dmp::{FitOptions, Margin, Scaling, Trajectory};
 use primo_core::orientation::{from_log, log_coordinates, nearest_log};

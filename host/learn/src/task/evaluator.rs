@@ -2,7 +2,7 @@
 //! achieved. A program of the lab's (its robot, its simulator, its sensor)
 //! talking JSON lines, or the operator at the terminal.
 //!
-//! The JSON-lines contract (README, "Teach your own skill"): primo starts
+//! The JSON-lines contract (the book's evaluator reference, docs/src/reference/evaluator.md): primo starts
 //! the program once, in the task file's directory; for each roll-out it
 //! writes one line `{"rollout": N, "csv": "PATH"}` to the program's
 //! standard input, PATH a CSV file `t,<the demonstrations' columns>` that

@@ -176,7 +176,7 @@ pub struct LearnerSettings {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Evaluate {
-    /// A program talking JSON lines (README: "Teach your own skill").
+    /// A program talking JSON lines (docs/src/reference/evaluator.md).
     Command {
         /// The program and its arguments.
         argv: Vec<String>,
