@@ -645,3 +645,22 @@ fn an_orientation_group_is_learned_through_180_degrees() {
         "{err}"
     );
 }
+
+/// A relative `--out` from another directory than the task file's: the
+/// evaluator (started in the task file's directory) still finds each
+/// roll-out's trajectory.
+#[test]
+fn a_relative_out_reaches_the_evaluator_in_the_task_files_directory() {
+    let file = task("relative-out", "throw.toml", |t| t);
+    let here = tmp("relative-out-cwd");
+    std::fs::create_dir_all(&here).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_primo"))
+        .args(["learn", "--task", file.to_str().unwrap(), "--out", "out"])
+        .args(["--max-rollouts", "2"])
+        .current_dir(&here)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{stderr}");
+    assert_eq!(logged(&here.join("out")), 3, "two roll-outs and the end");
+}

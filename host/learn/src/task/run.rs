@@ -107,7 +107,9 @@ impl Kind for TaskRun {
         built: &'a Built,
         at: Cell<'_, Self>,
     ) -> Result<Box<dyn Execute<TaskTrial> + 'a>, Error> {
-        let trajectories = at.dir.join(TRAJECTORIES);
+        // Absolute: the evaluator runs in the task file's directory.
+        let trajectories = std::path::absolute(at.dir.join(TRAJECTORIES))
+            .map_err(Error::io(at.dir))?;
         create_dir(&trajectories)?;
         let dim = self.task.query_dim();
         let evaluator: Box<dyn Evaluator> = match &self.task.evaluate {
