@@ -13,7 +13,7 @@ use primo_learn::pour::{DemoFile, SkillSpec};
 use primo_learn::pour::series::{MEASURED, Series, measured};
 use primo_learn::pour::trial::Trial;
 use primo_sim::cell::GlassKind;
-use primo_skill::Space;
+use primo_learn::pour::skill::Space;
 
 use crate::arrays::{Array, out};
 use crate::errors::{invalid, learn};

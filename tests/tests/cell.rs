@@ -7,9 +7,9 @@ use primo_learn::learner::Learner;
 use primo_learn::pour::rig::{Simulated, roll_out};
 use primo_learn::pour::settings::Settings;
 use primo_learn::pour::simulate::learn;
+use primo_learn::pour::skill::Space;
 use primo_learn::pour::skill::built_in_skill;
 use primo_sim::cell::{CellConfig, GlassKind};
-use primo_skill::Space;
 
 #[test]
 fn error_learning_reaches_2_ml_for_every_bottle_volume() {

@@ -17,6 +17,7 @@ use primo_learn::coprocessor::{Image, Link, Qemu};
 use primo_learn::learner::Learner;
 use primo_learn::pour::settings::Settings;
 use primo_learn::pour::simulate::learn;
+use primo_learn::pour::skill::Space;
 use primo_learn::pour::skill::built_in_skill;
 use primo_learn::pour::trial::Trial;
 use primo_learn::pour::weigh::PrimoScale;
@@ -24,7 +25,6 @@ use primo_learn::rollouts::Record;
 use primo_sim::cell::{CellConfig, GlassKind};
 use primo_sim::load_cell::{LoadCellModel, LoadCellServer};
 use primo_sim::scale_device::LoadHandle;
-use primo_skill::Space;
 use relay::{PTY, Relay};
 
 /// Parameters, query and reward bits of every roll-out.

@@ -8,11 +8,12 @@
 //! the usual frame.
 
 use primo_learn::pour::rig::{Simulated, roll_out};
+use primo_learn::pour::skill::Space;
 use primo_learn::pour::skill::{built_in_demos, fit};
 use primo_robot::Pose;
 use primo_sim::cell::{CellConfig, GlassKind};
 use primo_skill::csv::{Demo, check_rotation_vectors};
-use primo_skill::{Plan, Skill, Space};
+use primo_skill::{Plan, Skill};
 
 /// The quaternion columns of a Cartesian row.
 fn orientation(row: &[f64]) -> [f64; 4] {

@@ -12,11 +12,11 @@ pub enum Space {
     Joint,
 }
 
-impl From<Space> for primo_skill::Space {
+impl From<Space> for primo_learn::pour::skill::Space {
     fn from(s: Space) -> Self {
         match s {
-            Space::Cartesian => primo_skill::Space::Cartesian,
-            Space::Joint => primo_skill::Space::Joint,
+            Space::Cartesian => primo_learn::pour::skill::Space::Cartesian,
+            Space::Joint => primo_learn::pour::skill::Space::Joint,
         }
     }
 }

@@ -43,7 +43,11 @@ impl SkillArgs {
     /// The skill these options describe; `space` and `glass` fall back to
     /// the given defaults. Demonstration paths become absolute, so a run
     /// log names them from anywhere.
-    pub fn spec(&self, space: primo_skill::Space, glass: Glass) -> Result<SkillSpec, CliError> {
+    pub fn spec(
+        &self,
+        space: primo_learn::pour::skill::Space,
+        glass: Glass,
+    ) -> Result<SkillSpec, CliError> {
         let mut demos = Vec::new();
         for arg in &self.demos {
             let (file, volume) = arg
@@ -232,7 +236,10 @@ pub fn run(args: &PourArgs) -> Result<(), CliError> {
             if let Some(n) = args.max_rollouts {
                 settings.max_rollouts = n;
             }
-            let skill = args.skill.spec(method.default_space(), Glass::Normal)?;
+            let skill = args.skill.spec(
+                primo_learn::pour::skill::Space::default_for(method),
+                Glass::Normal,
+            )?;
             settings.glass_holds = args
                 .glass_holds
                 .or_else(|| instruments.is_none().then(|| skill.cell().glass_litres()));

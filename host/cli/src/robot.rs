@@ -11,12 +11,12 @@ use primo_fri::session::SessionConfig;
 use primo_fri::udp::{Ended, Event, PlayConfig, PlayResult, bind, play};
 use primo_fri::{DEFAULT_PORT, parse_robot};
 use primo_mtsics::quote;
+use primo_robot::JOINT_COLUMNS as JOINT_NAMES;
 use primo_robot::envelope::joint_index;
 use primo_robot::safety::check_joints;
 use primo_robot::{JOINTS, JointPath, Robot};
 use primo_sim::krc::{CellHandle, KrcConfig, LATE_SEND, SimKrc};
 use primo_skill::csv::parse_demo;
-use primo_skill::skill::JOINT_NAMES;
 
 use crate::args::Glass;
 use crate::error::CliError;

@@ -99,7 +99,9 @@ pub fn run(args: &RolloutArgs) -> Result<(), CliError> {
     if let Some(series) = &args.series {
         check_out_file("--series", series)?;
     }
-    let spec = args.skill.spec(primo_skill::Space::Joint, Glass::Small)?;
+    let spec = args
+        .skill
+        .spec(primo_learn::pour::skill::Space::Joint, Glass::Small)?;
     let objective = Objective::new(&spec, args.bottle, args.target)?;
     for c in objective.converted() {
         eprintln!("primo rollout: {c}");

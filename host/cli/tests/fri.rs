@@ -25,6 +25,7 @@ use primo_fri::session::{SessionConfig, Stop};
 use primo_fri::udp::{Ended, Event, PlayConfig, PlayResult, play};
 use primo_learn::learner::{MAX_EXTENDED, power_blocks};
 use primo_learn::pour::rig::{Simulated, roll_out};
+use primo_learn::pour::skill::Space;
 use primo_learn::pour::skill::built_in_skill;
 use primo_learn::pour::skill::gate;
 use primo_mtsics::{Client, ClientConfig};
@@ -35,7 +36,6 @@ use primo_sim::bottle::G;
 use primo_sim::cell::{CellConfig, GlassKind};
 use primo_sim::expert::{Style, rest_configuration, synthesize};
 use primo_sim::krc::{CellHandle, FORCE_NOISE, KrcConfig, KrcReport, SimKrc};
-use primo_skill::Space;
 
 mod common;
 use common::{primo, tmp};

@@ -94,15 +94,6 @@ impl Algorithm {
         self != Algorithm::Power
     }
 
-    /// The space `primo pour` learns in by default: joint space for PoWER
-    /// (the paper's second experiment), Cartesian for error learning.
-    pub fn default_space(self) -> primo_skill::Space {
-        match self.is_power() {
-            true => primo_skill::Space::Joint,
-            false => primo_skill::Space::Cartesian,
-        }
-    }
-
     /// PoWER's default query exploration scale s1: the paper's 0.2, and 0
     /// when the error moves the query instead.
     pub fn default_s1(self) -> f32 {

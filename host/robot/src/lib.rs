@@ -25,4 +25,6 @@ pub mod safety;
 pub use description::{DescriptionError, JOINTS, Link, Robot};
 pub use kinematics::{Arm, IkError, Pose};
 pub use limits::Violation;
-pub use safety::{CartesianLimits, Gate, JointPath, Rejection, check_joints};
+pub use safety::{
+    CartesianLimits, Gate, JOINT_COLUMNS, JointPath, POSE_COLUMNS, Rejection, check_joints,
+};

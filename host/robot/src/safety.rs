@@ -56,6 +56,16 @@ pub enum Rejection {
     /// A joint limit.
     #[error("{0}")]
     Limit(#[from] Violation),
+    /// Columns that are neither the arm's joints nor the tool's pose.
+    #[error(
+        "the gate checks the arm's joints ({}) or the tool's pose ({}), not ({names})",
+        JOINT_COLUMNS.join(","),
+        POSE_COLUMNS.join(",")
+    )]
+    Coordinates {
+        /// The columns, comma-separated.
+        names: String,
+    },
     /// A non-finite time or pose.
     #[error("sample {sample}: non-finite time or pose")]
     NonFinite {
@@ -252,6 +262,13 @@ impl Default for CartesianLimits {
     }
 }
 
+/// The columns of a pose trajectory: the controlled point (m) and the
+/// tool's orientation, a unit quaternion.
+pub const POSE_COLUMNS: [&str; 7] = ["x", "y", "z", "qw", "qx", "qy", "qz"];
+/// The columns of a joint trajectory: the arm's joints (rad), as its
+/// controller names them.
+pub const JOINT_COLUMNS: [&str; JOINTS] = ["a1", "a2", "a3", "a4", "a5", "a6", "a7"];
+
 /// The checks of a robot holding a tool: Cartesian trajectories of the
 /// tool's controlled point (`reach` metres along the tool frame's z axis,
 /// e.g. a bottle's mouth) and the joint trajectories they become.
@@ -280,6 +297,32 @@ impl Gate {
     /// pose.
     pub fn point_and_orientation(&self, pose: &Pose) -> ([f64; 3], [f64; 4]) {
         (pose.point_along_z(self.reach), pose.quaternion())
+    }
+
+    /// Checks a trajectory by its columns `names`, `rows` row-major one
+    /// value per column: [`JOINT_COLUMNS`] as [`Gate::check_joints`],
+    /// [`POSE_COLUMNS`] as [`Gate::check_cartesian`]; any other columns
+    /// are refused.
+    pub fn check_columns(
+        &self,
+        names: &[String],
+        times: &[f64],
+        rows: &[f64],
+    ) -> Result<JointPath, Rejection> {
+        fn rows_of<const N: usize>(rows: &[f64]) -> Vec<[f64; N]> {
+            rows.chunks_exact(N)
+                .map(|r| std::array::from_fn(|j| r[j]))
+                .collect()
+        }
+        if JOINT_COLUMNS.iter().eq(names) {
+            self.check_joints(times.to_vec(), rows_of(rows))
+        } else if POSE_COLUMNS.iter().eq(names) {
+            self.check_cartesian(times, &rows_of(rows))
+        } else {
+            Err(Rejection::Coordinates {
+                names: names.join(","),
+            })
+        }
     }
 
     /// [`check_joints`] with this gate's robot.

@@ -12,7 +12,7 @@ mod error;
 pub mod skill;
 
 pub use error::Error;
-pub use skill::{MAX_QUERY, Plan, Skill, Space};
+pub use skill::{MAX_QUERY, Plan, Skill};
 
 /// Largest DoF count the host's DMPs hold.
 pub const HOST_MAX_DOF: usize = 16;

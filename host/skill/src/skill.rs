@@ -25,17 +25,11 @@ use primo_core::generalize::{Generalizer, Method};
 use primo_core::orientation::{from_log, nearest_log};
 use primo_core::quaternion::Quaternion;
 use primo_core::tangent::Tangent;
-use primo_robot::{Gate, JOINTS, JointPath};
+use primo_robot::{Gate, JointPath};
 
 use crate::csv::Demo;
 use crate::dmpfile::{DmpFile, FORMAT, Orientation, VERSION, orientation_groups};
 use crate::{Error, HOST_MAX_DOF, HostDmp, MAX_KERNELS};
-
-/// Names of the Cartesian columns: the controlled point (m) and the tool's
-/// orientation, a unit quaternion (one orientation group: three DMP DoFs).
-pub const CARTESIAN_NAMES: [&str; 7] = ["x", "y", "z", "qw", "qx", "qy", "qz"];
-/// Names of the joint columns.
-pub const JOINT_NAMES: [&str; JOINTS] = ["a1", "a2", "a3", "a4", "a5", "a6", "a7"];
 
 /// Most examples a skill generalizes over.
 pub const MAX_EXAMPLES: usize = 8;
@@ -46,33 +40,6 @@ pub const MAX_PARAMS: usize = HOST_MAX_DOF * MAX_KERNELS + HOST_MAX_DOF + 1;
 pub const MAX_QUERY: usize = 4;
 
 type Gen = Generalizer<MAX_EXAMPLES, MAX_QUERY, MAX_PARAMS>;
-
-/// Which coordinates the movement is learned in.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Space {
-    /// Bottle pose: mouth position (m) and orientation (unit quaternion).
-    Cartesian,
-    /// The arm's seven joint angles (rad).
-    Joint,
-}
-
-impl Space {
-    /// Column names of the space's trajectories.
-    pub fn names(self) -> &'static [&'static str] {
-        match self {
-            Space::Cartesian => &CARTESIAN_NAMES,
-            Space::Joint => &JOINT_NAMES,
-        }
-    }
-
-    /// The space whose columns are `names`, if any.
-    pub fn of(names: &[String]) -> Option<Space> {
-        [Space::Joint, Space::Cartesian]
-            .into_iter()
-            .find(|s| s.names().iter().eq(names.iter()))
-    }
-}
 
 /// `names` are `expected`, by name and in order; the message names the
 /// first column that differs.
@@ -101,7 +68,6 @@ pub fn same_columns(expected: &[String], names: &[String]) -> Result<(), String>
 pub struct Skill {
     names: Vec<String>,
     query_dim: usize,
-    space: Option<Space>,
     template: HostDmp,
     generalizer: Box<Gen>,
     /// Per example, the DMP's start (an orientation's: its log
@@ -127,8 +93,8 @@ struct Group {
 /// sample, in f64 for the cell.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Plan {
-    /// The pouring cell's space of the coordinates, if they are one's.
-    pub space: Option<Space>,
+    /// The columns, in order.
+    pub names: Vec<String>,
     /// Sample times, s.
     pub t: Vec<f64>,
     /// Positions, one value per column.
@@ -269,7 +235,6 @@ impl Skill {
             .build()
             .map_err(|e| Error::Demonstrations(e.to_string()))?;
         Ok(Skill {
-            space: Space::of(&names),
             names,
             query_dim,
             starts: examples
@@ -291,12 +256,6 @@ impl Skill {
     /// The query's dimension.
     pub fn query_dim(&self) -> usize {
         self.query_dim
-    }
-
-    /// The pouring cell's space the skill moves in, if its columns are
-    /// one's.
-    pub fn space(&self) -> Option<Space> {
-        self.space
     }
 
     /// Length of θ (weights, goals, τ): `dof·kernels + dof + 1` (DMP DoFs:
@@ -417,7 +376,7 @@ impl Skill {
             .map_err(|e| Error::Movement(format!("integrating the movement: {e}")))?;
         let (samples, dof) = (steps.size_hint().0, self.names.len());
         let mut plan = Plan {
-            space: self.space,
+            names: self.names.clone(),
             t: Vec::with_capacity(samples),
             rows: Vec::with_capacity(samples * dof),
             dof,
@@ -434,18 +393,7 @@ impl Skill {
     /// inverse kinematics of the gate's arm gives for the poses. Returns the
     /// checked joint angles.
     pub fn check(&self, gate: &Gate, plan: &Plan) -> Result<JointPath, Error> {
-        Ok(match self.space {
-            Some(Space::Joint) => gate.check_joints(plan.t.clone(), rows(plan))?,
-            Some(Space::Cartesian) => gate.check_cartesian(&plan.t, &rows(plan))?,
-            None => {
-                return Err(Error::Movement(format!(
-                    "the pouring cell moves joints ({}) or the bottle ({}), not ({})",
-                    JOINT_NAMES.join(","),
-                    CARTESIAN_NAMES.join(","),
-                    self.names.join(",")
-                )));
-            }
-        })
+        Ok(gate.check_columns(&self.names, &plan.t, &plan.rows)?)
     }
 
     /// The movement for `θ = G(query) + Δθ` planned every `dt` seconds and
@@ -464,13 +412,6 @@ impl Skill {
 }
 
 /// The plan's samples as fixed-size rows (`N` = its DoF).
-fn rows<const N: usize>(plan: &Plan) -> Vec<[f64; N]> {
-    plan.rows
-        .chunks_exact(N)
-        .map(|r| std::array::from_fn(|j| r[j]))
-        .collect()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -5,8 +5,8 @@
 use std::path::Path;
 
 use primo_sim::cell::{CellConfig, GlassKind};
+use primo_skill::Skill;
 use primo_skill::csv::Csv;
-use primo_skill::{Skill, Space};
 use serde::{Deserialize, Serialize};
 
 use crate::Error;
@@ -19,7 +19,7 @@ use crate::plot::{Line, Panel};
 use crate::pour::report::{ERROR_FLOOR_ML, SPILL_FLOOR_ML};
 use crate::pour::settings::Settings;
 use crate::pour::simulate::learn;
-use crate::pour::skill::SkillSpec;
+use crate::pour::skill::{SkillSpec, Space};
 use crate::pour::trial::Trial;
 use crate::rollouts::Record;
 use crate::stats::{Estimate, bootstrap, mean, median, quantile};

@@ -7,14 +7,14 @@
 
 use std::borrow::Cow;
 
-use primo_skill::{Skill, Space};
+use primo_skill::Skill;
 
 use crate::Error;
 use crate::learner::{QUERY_DECAY, power_blocks};
 
 use super::rig::{Rig, Simulated};
 use super::settings::check_target;
-use super::skill::{Built, Converted, SkillSpec};
+use super::skill::{Built, Converted, SkillSpec, Space};
 use super::trial::Trial;
 
 /// What the vector holds, in order, in `space`: in Cartesian space the

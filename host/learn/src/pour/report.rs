@@ -80,7 +80,7 @@ pub struct PourSummary<'a> {
     /// The settings.
     pub settings: &'a Settings,
     /// Coordinates of the movement.
-    pub space: primo_skill::Space,
+    pub space: crate::pour::skill::Space,
     /// Parameters learned (θ plus the query for PoWER, the query otherwise).
     pub parameters: usize,
     /// Roll-outs executed.

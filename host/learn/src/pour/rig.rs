@@ -20,7 +20,7 @@ use crate::coprocessor::Link;
 use crate::error::Setting;
 
 use super::series::Series;
-use super::skill::gate;
+use super::skill::{Space, gate};
 use super::trial::{Measured, Readings, Trial};
 use super::weigh::{ScaleSpec, Weigher};
 
@@ -106,8 +106,7 @@ impl Simulated {
         }
         let out = sim.finish();
         let recorded = !out.series.is_empty();
-        let space = plan
-            .space
+        let space = Space::of(&plan.names)
             .ok_or_else(|| Error::Invalid("the pouring cell runs pouring movements only".into()))?;
         Ok(Measured {
             poured: out.poured,

@@ -8,7 +8,7 @@
 use std::path::{Path, PathBuf};
 
 use primo_core::wire::Setup;
-use primo_skill::{Skill, Space};
+use primo_skill::Skill;
 use serde::{Deserialize, Serialize};
 
 use crate::Error;
@@ -23,7 +23,7 @@ use super::report::{PourSummary, RolloutSummary, write_pour};
 use super::rig::{Instruments, InstrumentsSpec, Operator, Rig, Simulated, roll_out};
 use super::series::write_csv;
 use super::settings::{Settings, setup};
-use super::skill::{Built, Converted, SkillSpec};
+use super::skill::{Built, Converted, SkillSpec, Space};
 use super::trial::Trial;
 use super::weigh::ScaleSpec;
 

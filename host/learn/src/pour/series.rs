@@ -5,7 +5,7 @@
 //! use primo_learn::pour::rig::{Simulated, roll_out};
 //! use primo_learn::pour::skill::built_in_skill;
 //! use primo_sim::cell::{CellConfig, GlassKind};
-//! use primo_skill::Space;
+//! use primo_learn::pour::skill::Space;
 //!
 //! let cell = CellConfig::standard(GlassKind::Normal);
 //! let skill = built_in_skill(&cell, Space::Cartesian, 10)?;
@@ -22,11 +22,12 @@
 use std::path::Path;
 
 use primo_sim::cell::Sample;
-use primo_skill::Space;
 use primo_skill::csv::Csv;
 
 use crate::Error;
 use crate::output::write_file;
+
+use super::skill::Space;
 
 /// The columns after the commanded coordinates.
 pub const MEASURED: &str = "tilt_rad,mouth_x_m,mouth_y_m,mouth_z_m,flow_l_per_s,bottle_l,in_flight_l,glass_l,spilled_l,scale_g,stable";

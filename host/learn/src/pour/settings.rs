@@ -199,10 +199,10 @@ pub fn setup(skill: &Skill, s: &Settings) -> Result<Setup, Error> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::pour::skill::Space;
     use crate::pour::skill::built_in_skill;
     use primo_sim::cell::CellConfig;
     use primo_sim::cell::GlassKind;
-    use primo_skill::Space;
 
     #[test]
     fn power_blocks_explore_a_fraction_of_each_blocks_spread() {

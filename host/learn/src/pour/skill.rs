@@ -6,15 +6,54 @@ use std::path::PathBuf;
 
 use primo_core::generalize::Method as Regression;
 use primo_robot::{CartesianLimits, Gate};
+use primo_robot::{JOINT_COLUMNS, POSE_COLUMNS};
 use primo_sim::cell::{CellConfig, GlassKind};
 use primo_sim::expert::{BUILT_IN, Recording, rest_configuration, synthesize};
 use primo_skill::csv::{Demo, parse_demo, rotation_vectors_as_quaternions};
 use primo_skill::skill::same_columns;
-use primo_skill::{MAX_KERNELS, Skill, Space};
+use primo_skill::{MAX_KERNELS, Skill};
 use serde::{Deserialize, Serialize};
 
 use crate::Error;
+use crate::algorithm::Algorithm;
 use crate::error::Setting;
+
+/// The coordinates a pour is learned in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Space {
+    /// The bottle's pose: its mouth's position (m) and orientation (unit
+    /// quaternion).
+    Cartesian,
+    /// The arm's seven joint angles (rad).
+    Joint,
+}
+
+impl Space {
+    /// Column names of the space's trajectories.
+    pub fn names(self) -> &'static [&'static str] {
+        match self {
+            Space::Cartesian => &POSE_COLUMNS,
+            Space::Joint => &JOINT_COLUMNS,
+        }
+    }
+
+    /// The space a pour learns in by default: joint space for PoWER (the
+    /// paper's second experiment), Cartesian for error learning.
+    pub fn default_for(method: Algorithm) -> Space {
+        match method.is_power() {
+            true => Space::Joint,
+            false => Space::Cartesian,
+        }
+    }
+
+    /// The space whose columns are `names`, if any.
+    pub fn of(names: &[String]) -> Option<Space> {
+        [Space::Joint, Space::Cartesian]
+            .into_iter()
+            .find(|s| s.names().iter().eq(names.iter()))
+    }
+}
 
 /// A demonstration file and the query (bottle volume, l) it shows.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

@@ -200,7 +200,7 @@ pub struct PourTask {
     pub glass: primo_sim::cell::GlassKind,
     /// `joint` or `cartesian` (default: as `primo pour`, Cartesian for
     /// error learning, joint for PoWER).
-    pub space: Option<primo_skill::Space>,
+    pub space: Option<crate::pour::skill::Space>,
 }
 
 /// A checked task.
@@ -305,7 +305,7 @@ struct EvaluateKeys {
     builtin: Option<Spanned<String>>,
     target: Option<Spanned<f64>>,
     glass: Option<Spanned<primo_sim::cell::GlassKind>>,
-    space: Option<Spanned<primo_skill::Space>>,
+    space: Option<Spanned<crate::pour::skill::Space>>,
 }
 
 /// Messages that name a place in the task file.

@@ -26,7 +26,7 @@ use crate::learner::{power_blocks, setup, wire_query};
 use crate::output::{create_dir, write_file};
 use crate::pour::run::{CellSpec, Pour};
 use crate::pour::settings::Settings;
-use crate::pour::skill::{DemoFile, SkillSpec};
+use crate::pour::skill::{DemoFile, SkillSpec, Space};
 use crate::rollouts::{Entry, Record, query_text};
 use crate::run::{Cell, Execute, Kind, LearnerSpec, ON_SCALE, Start};
 
@@ -108,8 +108,8 @@ impl Kind for TaskRun {
         at: Cell<'_, Self>,
     ) -> Result<Box<dyn Execute<TaskTrial> + 'a>, Error> {
         // Absolute: the evaluator runs in the task file's directory.
-        let trajectories = std::path::absolute(at.dir.join(TRAJECTORIES))
-            .map_err(Error::io(at.dir))?;
+        let trajectories =
+            std::path::absolute(at.dir.join(TRAJECTORIES)).map_err(Error::io(at.dir))?;
         create_dir(&trajectories)?;
         let dim = self.task.query_dim();
         let evaluator: Box<dyn Evaluator> = match &self.task.evaluate {
@@ -229,7 +229,7 @@ impl Task {
         let defaults = Settings::paper(method, bottle, p.target, seed);
         let error_learning = !method.is_power();
         let skill = SkillSpec {
-            space: p.space.unwrap_or(method.default_space()),
+            space: p.space.unwrap_or(Space::default_for(method)),
             glass: p.glass,
             kernels: self.kernels,
             demos: self
