@@ -9,11 +9,11 @@ use pyo3::types::{PyDict, PyTuple};
 
 use primo_learn::experiment::parallel;
 use primo_learn::pour::objective::{Objective, layout};
-use primo_learn::pour::{DemoFile, SkillSpec};
 use primo_learn::pour::series::{MEASURED, Series, measured};
+use primo_learn::pour::skill::Space;
+use primo_learn::pour::skill::{DemoFile, SkillSpec};
 use primo_learn::pour::trial::Trial;
 use primo_sim::cell::GlassKind;
-use primo_learn::pour::skill::Space;
 
 use crate::arrays::{Array, out};
 use crate::errors::{invalid, learn};

@@ -13,15 +13,15 @@ use std::sync::{Arc, Mutex};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
+use primo_learn::algorithm::Algorithm;
 use primo_learn::experiment::{
     PowerCurves, PowerRun, SearchRun, THRESHOLDS, Variant, golden_run as golden_seeded,
     golden_skill, power_run as power_seeded, power_skill,
 };
-use primo_learn::algorithm::Algorithm;
-use primo_learn::rollouts::Record;
-use primo_learn::output::{check_dir, create_dir};
 use primo_learn::experiment::{PowerSetup, write_golden as golden_files, write_power_experiment};
+use primo_learn::output::{check_dir, create_dir};
 use primo_learn::pour::trial::Trial;
+use primo_learn::rollouts::Record;
 use primo_sim::cell::CellConfig;
 use primo_skill::Skill;
 
@@ -82,8 +82,9 @@ const FLOATS: [&str; 5] = ["query", "poured", "spilled", "error", "reward"];
 /// (a list: why the gate refused the movement, or None).
 fn columns<'py>(py: Python<'py>, records: &[Record<Trial>]) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
-    let ints =
-        |f: fn(&Record<Trial>) -> u32| -> Vec<i64> { records.iter().map(|r| i64::from(f(r))).collect() };
+    let ints = |f: fn(&Record<Trial>) -> u32| -> Vec<i64> {
+        records.iter().map(|r| i64::from(f(r))).collect()
+    };
     d.set_item(
         "rollout",
         numpy::PyArray1::from_vec(py, ints(|r| r.rollout)),
@@ -151,7 +152,7 @@ fn records_of(what: &str, run: &Bound<'_, PyAny>) -> PyResult<Vec<Record<Trial>>
         FLOATS.map(|key| column::<f64>(&what, &c, key, n));
     let (query, poured, spilled, error, reward) = (query?, poured?, spilled?, error?, reward?);
     Ok((0..n)
-        .map(|i| Record<Trial> {
+        .map(|i| Record {
             rollout: rollout[i],
             update: update[i],
             mean: mean[i],
@@ -211,7 +212,9 @@ pub fn golden_run<'py>(
             golden_seeded(skill, cell, volume, algorithm, precision, seed)
         })
         .map_err(|e| match e {
-            primo_learn::Error::Invalid(m) => invalid(format!("volume {volume}: {m}")),
+            e @ (primo_learn::Error::Invalid(_) | primo_learn::Error::Setting { .. }) => {
+                invalid(format!("volume {volume}: {e}"))
+            }
             e => learn(e),
         })?;
     let d = PyDict::new(py);
@@ -300,7 +303,7 @@ pub fn power_run<'py>(
 
 /// `out`, checked to be a directory or creatable, then created.
 fn out_dir(out: &Path) -> PyResult<()> {
-    check_dir("out", out).map_err(learn)?;
+    check_dir(out).map_err(learn)?;
     create_dir(out).map_err(learn)
 }
 

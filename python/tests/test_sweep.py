@@ -173,4 +173,4 @@ def test_bad_input_is_a_value_error(tmp_path, capsys):
         main(["power", "--volumes", "0.5"])
     assert "--volumes is not a setting of the power experiment" in capsys.readouterr().err
     assert main(["golden", "--volumes", "5", "--backend", "serial", "--out", str(tmp_path)]) == 2
-    assert "error: volume 5: --bottle 5" in capsys.readouterr().err
+    assert "error: volume 5: bottle 5" in capsys.readouterr().err
