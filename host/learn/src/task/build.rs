@@ -1,0 +1,128 @@
+//! Building a checked task: its demonstrations read, their columns
+//! checked (by name, across demonstrations) and against the limits, and
+//! the skill fitted.
+
+use primo_robot::envelope::{ColumnLimit, Limits};
+use primo_skill::Skill;
+use primo_skill::csv::{Demo, check_rotation_vectors, parse_demo};
+use primo_skill::dmpfile::orientation_groups;
+use primo_skill::skill::same_columns;
+
+use crate::Error;
+
+use super::spec::{Built, LimitsSpec, Task};
+
+impl Task {
+    /// Reads the demonstrations, checks that their columns match by name
+    /// (each against the first) and that they pass the limits, and fits the
+    /// skill. Not for the built-in pour (its cell builds its own skill).
+    pub fn build(&self) -> Result<Built, Error> {
+        let spec = self
+            .limits
+            .as_ref()
+            .ok_or_else(|| Error::Invalid("the built-in pour builds its skill itself".into()))?;
+        let mut limits = spec.limits()?;
+        let mut demos: Vec<(String, Demo)> = Vec::new();
+        for d in &self.demos {
+            let name = d.file.display().to_string();
+            let text = std::fs::read_to_string(&d.file)
+                .map_err(|e| Error::Invalid(format!("{name}: cannot read: {e}")))?;
+            let demo = parse_demo(&name, &text)?;
+            check_rotation_vectors(&name, &demo)?;
+            if let Some((first, reference)) = demos.first() {
+                same_columns(&reference.names, &demo.names).map_err(|why| {
+                    Error::Invalid(format!(
+                        "{name}: {why} (the columns of {first}, the first demonstration)"
+                    ))
+                })?;
+            } else {
+                self.exempt_orientations(spec, &mut limits, &demo.names)?;
+            }
+            limits.covers(&demo.names).map_err(|why| {
+                Error::Invalid(format!("{name}: {why} ({})", self.limits_place()))
+            })?;
+            let times: Vec<f64> = demo.times.iter().map(|t| f64::from(*t)).collect();
+            let rows: Vec<f64> = demo.positions.iter().map(|v| f64::from(*v)).collect();
+            limits.check(&demo.names, times, &rows).map_err(|why| {
+                Error::Invalid(format!(
+                    "{name}: the demonstration itself is beyond the task's limits: {why}"
+                ))
+            })?;
+            demos.push((name, demo));
+        }
+        if let LimitsSpec::Columns { columns, .. } = spec
+            && let Some((_, first)) = demos.first()
+            && let Some(extra) = columns.keys().find(|c| !first.names.contains(c))
+        {
+            return Err(Error::Invalid(format!(
+                "{}: [movement.limits] {extra}: not a column of the demonstrations ({})",
+                self.file.display(),
+                first.names.join(",")
+            )));
+        }
+        let dt = match (self.dt, demos.first()) {
+            (Some(dt), _) => dt,
+            (None, Some((_, d))) => median_step(&d.times),
+            (None, None) => return Err(Error::Invalid("no demonstrations".into())),
+        };
+        let examples: Vec<(&[f32], &Demo)> = self
+            .demos
+            .iter()
+            .zip(&demos)
+            .map(|(t, (_, d))| (&t.query[..], d))
+            .collect();
+        let skill = Skill::fit(&examples, self.kernels, self.regression)?;
+        Ok(Built { skill, limits, dt })
+    }
+
+    /// Orientation columns (`…qw,…qx,…qy,…qz`, the rule of `primo dmp
+    /// fit`) take no per-column limits: a unit quaternion's components say
+    /// nothing of how far or fast it turns, and primo writes them
+    /// unit-norm. An entry for one is refused; they pass the check.
+    fn exempt_orientations(
+        &self,
+        spec: &LimitsSpec,
+        limits: &mut Limits,
+        names: &[String],
+    ) -> Result<(), Error> {
+        let groups = orientation_groups(names);
+        let columns = groups.iter().flat_map(|(group, _)| group);
+        if let LimitsSpec::Columns {
+            columns: limited, ..
+        } = spec
+            && let Some((group, name)) = groups
+                .iter()
+                .find_map(|(g, _)| g.iter().find(|c| limited.contains_key(*c)).map(|c| (g, c)))
+        {
+            return Err(Error::Invalid(format!(
+                "{}: [movement.limits] {name}: a component of the orientation {} (a unit \
+                 quaternion); per-column limits do not apply to orientations: remove the entry",
+                self.file.display(),
+                group.join(",")
+            )));
+        }
+        if let Limits::Envelope(e) = limits {
+            e.columns.extend(columns.map(|name| ColumnLimit {
+                name: name.clone(),
+                min: f64::NEG_INFINITY,
+                max: f64::INFINITY,
+                max_speed: f64::INFINITY,
+            }));
+        }
+        Ok(())
+    }
+
+    fn limits_place(&self) -> String {
+        format!("the limits in {}", self.file.display())
+    }
+}
+
+/// The median time step of a recording, s.
+fn median_step(times: &[f32]) -> f64 {
+    let mut steps: Vec<f64> = times
+        .windows(2)
+        .map(|w| f64::from(w[1]) - f64::from(w[0]))
+        .collect();
+    steps.sort_by(f64::total_cmp);
+    steps.get(steps.len() / 2).copied().unwrap_or(0.01)
+}

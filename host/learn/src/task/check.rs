@@ -1,0 +1,804 @@
+//! Checking a task file: every key and value, before anything moves; a
+//! refusal names the file, the line and the key.
+
+use std::ops::Range;
+use std::path::Path;
+
+use primo_core::generalize::Method as Regression;
+use primo_skill::skill::MAX_EXAMPLES;
+use primo_skill::{MAX_KERNELS, MAX_QUERY};
+use toml::Spanned;
+
+use crate::Error;
+use crate::algorithm::Algorithm;
+use crate::error::Setting;
+use crate::learner::QUERY_DECAY;
+
+use super::schema::{EvaluateKeys, File, GoalKeys, LearnerKeys, MovementKeys};
+use super::spec::{
+    DEFAULT_TIMEOUT, Evaluate, Goal, LearnerSettings, LimitsSpec, PourTask, RewardRule, Task,
+    TaskDemo, VERSION, robot_preset,
+};
+
+/// Messages that name a place in the task file.
+struct Place<'a> {
+    name: String,
+    text: &'a str,
+}
+
+impl Place<'_> {
+    /// `FILE:LINE: [table] key: why`.
+    fn at(&self, span: Range<usize>, key: &str, why: impl std::fmt::Display) -> Error {
+        Error::Invalid(format!(
+            "{}:{}: {key}: {why}",
+            self.name,
+            self.line(span.start)
+        ))
+    }
+
+    fn line(&self, offset: usize) -> usize {
+        self.text
+            .get(..offset)
+            .map_or(1, |before| before.matches('\n').count() + 1)
+    }
+}
+
+/// `values` as a query of `dim` finite values (`dim` 0: any of 1 to
+/// [`MAX_QUERY`]).
+fn query(p: &Place, v: &Spanned<Vec<f64>>, key: &str, dim: usize) -> Result<Vec<f32>, Error> {
+    let values = v.get_ref();
+    if dim == 0 && !(1..=MAX_QUERY).contains(&values.len()) {
+        return Err(p.at(
+            v.span(),
+            key,
+            format!(
+                "a query has 1 to {MAX_QUERY} values, this one {}",
+                values.len()
+            ),
+        ));
+    }
+    if dim != 0 && values.len() != dim {
+        return Err(p.at(
+            v.span(),
+            key,
+            format!(
+                "{} values; the demonstrations' queries have {dim}",
+                values.len()
+            ),
+        ));
+    }
+    values
+        .iter()
+        .map(|x| {
+            let q = *x as f32;
+            if q.is_finite() {
+                Ok(q)
+            } else {
+                Err(p.at(v.span(), key, format!("{x} is not a finite number")))
+            }
+        })
+        .collect()
+}
+
+/// A positive finite number.
+fn positive(p: &Place, v: &Spanned<f64>, key: &str) -> Result<f64, Error> {
+    let x = *v.get_ref();
+    if x.is_finite() && x > 0.0 {
+        Ok(x)
+    } else {
+        Err(p.at(v.span(), key, format!("{x}: must be a positive number")))
+    }
+}
+
+impl Task {
+    /// Reads and checks the task file at `path`: every key, every value,
+    /// the demonstrations' files named (they are read by [`Task::build`]).
+    pub fn load(path: &Path) -> Result<Task, Error> {
+        let text = std::fs::read_to_string(path).map_err(|e| {
+            Error::setting(Setting::Task, path.display(), format!("cannot read: {e}"))
+        })?;
+        let file = std::path::absolute(path)
+            .map_err(|e| Error::setting(Setting::Task, path.display(), e.to_string()))?;
+        Task::parse(&file, &text)
+    }
+
+    /// Checks the task file `text`, read from `file` (absolute: the
+    /// demonstrations and the evaluator are found beside it).
+    pub fn parse(file: &Path, text: &str) -> Result<Task, Error> {
+        let p = Place {
+            name: file.display().to_string(),
+            text,
+        };
+        let raw: File = toml::from_str(text).map_err(|e| {
+            let line = e.span().map_or(1, |s| p.line(s.start));
+            Error::Invalid(format!("{}:{line}: {}", p.name, e.message().trim_end()))
+        })?;
+        if *raw.version.get_ref() != VERSION {
+            return Err(p.at(
+                raw.version.span(),
+                "version",
+                format!(
+                    "{}: this primo reads task files of version {VERSION}",
+                    raw.version.get_ref()
+                ),
+            ));
+        }
+        let dir = file.parent().unwrap_or(Path::new("/")).to_path_buf();
+        let evaluate = evaluate(&p, &raw.evaluate, &dir)?;
+        let pour = matches!(evaluate, Evaluate::Pour(_));
+        let demos = demos(&p, &raw, &dir, pour)?;
+        let dim = demos.first().map_or(1, |d| d.query.len());
+        let movement = raw.movement.as_ref();
+        let m = movement.map(Spanned::get_ref);
+        let kernels = match m.and_then(|m| m.kernels.as_ref()) {
+            Some(k) if !(2..=MAX_KERNELS).contains(k.get_ref()) => {
+                return Err(p.at(
+                    k.span(),
+                    "[movement] kernels",
+                    format!("{}: must be in 2..={MAX_KERNELS}", k.get_ref()),
+                ));
+            }
+            Some(k) => *k.get_ref(),
+            None => 30,
+        };
+        let regression = match m.and_then(|m| m.generalization.as_ref()) {
+            None => Regression::Lwr { bandwidth: None },
+            Some(g) => match g.get_ref().as_str() {
+                "lwr" => Regression::Lwr { bandwidth: None },
+                "gpr" => Regression::Gpr {
+                    length_scale: None,
+                    noise: 0.0,
+                },
+                other => {
+                    return Err(p.at(
+                        g.span(),
+                        "[movement] generalization",
+                        format!("`{other}`: must be `lwr` or `gpr`"),
+                    ));
+                }
+            },
+        };
+        let dt = m
+            .and_then(|m| m.dt.as_ref())
+            .map(|v| positive(&p, v, "[movement] dt"))
+            .transpose()?;
+        let limits = limits(&p, movement, pour)?;
+        let learner = learner(&p, &raw.learner, dim, &demos, pour)?;
+        let goal = goal(&p, &raw.goal, dim, learner.method)?;
+        Ok(Task {
+            file: file.to_path_buf(),
+            demos,
+            kernels,
+            regression,
+            dt,
+            limits,
+            goal,
+            learner,
+            evaluate,
+        })
+    }
+}
+
+fn demos(p: &Place, raw: &File, dir: &Path, pour: bool) -> Result<Vec<TaskDemo>, Error> {
+    if raw.demo.is_empty() && pour {
+        return Ok(Vec::new());
+    }
+    if raw.demo.len() < 2 {
+        return Err(Error::Invalid(format!(
+            "{}: {} [[demo]]: a skill generalizes over at least two demonstrations, at \
+             different queries",
+            p.name,
+            raw.demo.len()
+        )));
+    }
+    if raw.demo.len() > MAX_EXAMPLES {
+        return Err(Error::Invalid(format!(
+            "{}: {} [[demo]]: at most {MAX_EXAMPLES}",
+            p.name,
+            raw.demo.len()
+        )));
+    }
+    let mut out: Vec<TaskDemo> = Vec::new();
+    for d in &raw.demo {
+        let dim = out.first().map_or(0, |f| f.query.len());
+        let q = query(p, &d.query, "[[demo]] query", dim)?;
+        if pour && !q.iter().all(|v| *v > 0.0) {
+            return Err(p.at(
+                d.query.span(),
+                "[[demo]] query",
+                "the pour's query is the bottle's volume, a positive number of litres",
+            ));
+        }
+        if let Some(same) = out.iter().find(|o| o.query == q) {
+            return Err(p.at(
+                d.query.span(),
+                "[[demo]] query",
+                format!(
+                    "{q:?} is also the query of {}: the demonstrations must show different \
+                     queries to generalize over",
+                    same.file.display()
+                ),
+            ));
+        }
+        let file = dir.join(d.file.get_ref());
+        if !file.is_file() {
+            return Err(p.at(
+                d.file.span(),
+                "[[demo]] file",
+                format!("{}: no such file", file.display()),
+            ));
+        }
+        out.push(TaskDemo { file, query: q });
+    }
+    Ok(out)
+}
+
+fn limits(
+    p: &Place,
+    movement: Option<&Spanned<MovementKeys>>,
+    pour: bool,
+) -> Result<Option<LimitsSpec>, Error> {
+    let m = movement.map(Spanned::get_ref);
+    let robot = m.and_then(|m| m.robot.as_ref());
+    let columns = m.and_then(|m| m.limits.as_ref());
+    let workspace = m.and_then(|m| m.workspace.as_ref());
+    if pour {
+        if let Some(span) = robot
+            .map(Spanned::span)
+            .or(columns.map(Spanned::span))
+            .or(workspace.map(Spanned::span))
+        {
+            return Err(p.at(
+                span,
+                "[movement]",
+                "the built-in pour's limits are its cell's own gate: remove robot, limits and \
+                 workspace",
+            ));
+        }
+        return Ok(None);
+    }
+    match (robot, columns) {
+        (Some(r), None) => {
+            robot_preset(r.get_ref()).map_err(|e| p.at(r.span(), "[movement] robot", e))?;
+            if let Some(w) = workspace {
+                return Err(p.at(
+                    w.span(),
+                    "[movement.workspace]",
+                    "a workspace box limits position columns, not a robot's joints",
+                ));
+            }
+            Ok(Some(LimitsSpec::Robot(r.get_ref().clone())))
+        }
+        (None, Some(c)) => {
+            for (name, r) in c.get_ref() {
+                if !(r.min.is_finite() && r.max.is_finite() && r.min < r.max) {
+                    return Err(p.at(
+                        c.span(),
+                        &format!("[movement.limits] {name}"),
+                        format!(
+                            "min {} and max {}: need min < max, both finite",
+                            r.min, r.max
+                        ),
+                    ));
+                }
+                if !(r.max_speed.is_finite() && r.max_speed > 0.0) {
+                    return Err(p.at(
+                        c.span(),
+                        &format!("[movement.limits] {name}"),
+                        format!("max_speed {}: must be a positive number", r.max_speed),
+                    ));
+                }
+            }
+            if let Some(w) = workspace {
+                let ws = w.get_ref();
+                let ok = (0..3).all(|k| ws.min[k].is_finite() && ws.max[k].is_finite())
+                    && (0..3).all(|k| ws.min[k] < ws.max[k])
+                    && ws.max_speed.is_finite()
+                    && ws.max_speed > 0.0;
+                if !ok {
+                    return Err(p.at(
+                        w.span(),
+                        "[movement.workspace]",
+                        "need min < max on every axis and a positive max_speed",
+                    ));
+                }
+                if let Some(missing) = ws.columns.iter().find(|n| !c.get_ref().contains_key(*n)) {
+                    return Err(p.at(
+                        w.span(),
+                        "[movement.workspace] columns",
+                        format!("`{missing}` has no [movement.limits] entry"),
+                    ));
+                }
+            }
+            Ok(Some(LimitsSpec::Columns {
+                columns: c.get_ref().clone(),
+                workspace: workspace.map(|w| w.get_ref().clone()),
+            }))
+        }
+        (Some(r), Some(_)) => Err(p.at(
+            r.span(),
+            "[movement] robot",
+            "give a robot preset or per-column [movement.limits], not both",
+        )),
+        (None, None) => Err(Error::Invalid(format!(
+            "{}:{}: [movement]: no limits: give `robot = \"lwr4\"` or [movement.limits] for \
+             every column (nothing leaves primo unchecked)",
+            p.name,
+            movement.map_or(1, |m| p.line(m.span().start))
+        ))),
+    }
+}
+
+fn learner(
+    p: &Place,
+    raw: &Spanned<LearnerKeys>,
+    dim: usize,
+    demos: &[TaskDemo],
+    pour: bool,
+) -> Result<LearnerSettings, Error> {
+    let l = raw.get_ref();
+    // The built-in pour is `primo pour`: PoWER with the paper's sampler,
+    // roll-outs per update and decay, and the paper's reward.
+    let fixed_by_the_pour = [
+        ("sampler", l.sampler.as_ref().map(Spanned::span)),
+        (
+            "rollouts_per_update",
+            l.rollouts_per_update.as_ref().map(Spanned::span),
+        ),
+        ("decay", l.decay.as_ref().map(Spanned::span)),
+        ("reward", l.reward.as_ref().map(Spanned::span)),
+        ("reward_scale", l.reward_scale.as_ref().map(Spanned::span)),
+    ];
+    if pour && let Some((key, Some(span))) = fixed_by_the_pour.iter().find(|(_, s)| s.is_some()) {
+        return Err(p.at(
+            span.clone(),
+            &format!("[learner] {key}"),
+            "the built-in pour runs as `primo pour`, with the paper's setting (and reward) here",
+        ));
+    }
+    let method = *l.method.get_ref();
+    if dim > 1 && matches!(method, Algorithm::Golden | Algorithm::Illinois) {
+        return Err(p.at(
+            l.method.span(),
+            "[learner] method",
+            format!(
+                "{} searches a one-value query; the demonstrations' queries have {dim}: use \
+                 \"secant\" (or \"power\")",
+                if method == Algorithm::Golden {
+                    "golden"
+                } else {
+                    "illinois"
+                }
+            ),
+        ));
+    }
+    let power = method.is_power();
+    let power_keys = [
+        ("s1", l.s1.as_ref().map(Spanned::span)),
+        ("s2", l.s2.as_ref().map(Spanned::span)),
+        ("sampler", l.sampler.as_ref().map(Spanned::span)),
+        (
+            "rollouts_per_update",
+            l.rollouts_per_update.as_ref().map(Spanned::span),
+        ),
+        ("decay", l.decay.as_ref().map(Spanned::span)),
+    ];
+    if !power && let Some((key, Some(span))) = power_keys.iter().find(|(_, s)| s.is_some()) {
+        return Err(p.at(
+            span.clone(),
+            &format!("[learner] {key}"),
+            "a PoWER setting; this task's method is error learning",
+        ));
+    }
+    let max_rollouts = match &l.max_rollouts {
+        Some(v) if *v.get_ref() == 0 => {
+            return Err(p.at(v.span(), "[learner] max_rollouts", "must be at least 1"));
+        }
+        Some(v) => *v.get_ref(),
+        None if power => 200,
+        None => 30,
+    };
+    let unit = |v: &Option<Spanned<f64>>, key: &str, default: f32, open: bool| {
+        v.as_ref().map_or(Ok(default), |v| {
+            let x = *v.get_ref();
+            let ok = x.is_finite() && x >= 0.0 && (!open || (x > 0.0 && x <= 1.0));
+            if ok {
+                Ok(x as f32)
+            } else {
+                let need = if open { "in (0, 1]" } else { "finite and >= 0" };
+                Err(p.at(v.span(), key, format!("{x}: must be {need}")))
+            }
+        })
+    };
+    let sampler = match &l.sampler {
+        Some(v) if !(1..=primo_core::service::SAMPLER).contains(v.get_ref()) => {
+            return Err(p.at(
+                v.span(),
+                "[learner] sampler",
+                format!(
+                    "{}: must be in 1..={}",
+                    v.get_ref(),
+                    primo_core::service::SAMPLER
+                ),
+            ));
+        }
+        Some(v) => *v.get_ref(),
+        None => 3,
+    };
+    let rollouts_per_update = match &l.rollouts_per_update {
+        Some(v) if *v.get_ref() == 0 => {
+            return Err(p.at(
+                v.span(),
+                "[learner] rollouts_per_update",
+                "must be at least 1",
+            ));
+        }
+        Some(v) => *v.get_ref(),
+        None => 3,
+    };
+    // Default reward scale: an error as large as the demonstrations' query
+    // span scores 0 (linear) or e^-1 (exp).
+    let span = demos
+        .iter()
+        .flat_map(|a| demos.iter().map(move |b| distance(&a.query, &b.query)))
+        .fold(0.0f32, f32::max);
+    let reward_scale = match &l.reward_scale {
+        Some(v) => positive(p, v, "[learner] reward_scale")? as f32,
+        None if span > 0.0 => 1.0 / span,
+        None => 1.0,
+    };
+    let gain = match &l.gain {
+        Some(v) if !method.uses_error() => {
+            return Err(p.at(
+                v.span(),
+                "[learner] gain",
+                "an error learner's setting; this task's method is PoWER (\"power-el\" learns \
+                 the query from the error with a gain)",
+            ));
+        }
+        Some(v) if !(v.get_ref().is_finite() && *v.get_ref() != 0.0) => {
+            return Err(p.at(
+                v.span(),
+                "[learner] gain",
+                format!("{}: must be a finite number other than 0", v.get_ref()),
+            ));
+        }
+        Some(v) => *v.get_ref() as f32,
+        None => 1.0,
+    };
+    Ok(LearnerSettings {
+        method,
+        max_rollouts,
+        gain,
+        s1: unit(&l.s1, "[learner] s1", method.default_s1(), false)?,
+        s2: unit(&l.s2, "[learner] s2", 0.05, false)?,
+        sampler,
+        rollouts_per_update,
+        decay: unit(&l.decay, "[learner] decay", QUERY_DECAY, true)?,
+        reward: l
+            .reward
+            .as_ref()
+            .map_or(RewardRule::Linear, |r| *r.get_ref()),
+        reward_scale,
+    })
+}
+
+/// Euclidean distance between two queries.
+pub fn distance(a: &[f32], b: &[f32]) -> f32 {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y) * (x - y))
+        .sum::<f32>()
+        .sqrt()
+}
+
+fn goal(p: &Place, raw: &Spanned<GoalKeys>, dim: usize, method: Algorithm) -> Result<Goal, Error> {
+    let g = raw.get_ref();
+    let desired = query(p, &g.desired, "[goal] desired", dim)?;
+    let error_learning = !method.is_power();
+    let bound = |v: &Option<Spanned<Vec<f64>>>, key: &str| -> Result<Option<Vec<f32>>, Error> {
+        v.as_ref().map(|v| query(p, v, key, dim)).transpose()
+    };
+    let low = bound(&g.low, "[goal] low")?;
+    let high = bound(&g.high, "[goal] high")?;
+    let precision = g
+        .precision
+        .as_ref()
+        .map(|v| positive(p, v, "[goal] precision"))
+        .transpose()?;
+    let need = |what: &str| {
+        Error::Invalid(format!(
+            "{}:{}: [goal]: error learning needs `{what}`",
+            p.name,
+            p.line(raw.span().start)
+        ))
+    };
+    let (low, high, precision) = match (low, high, precision) {
+        (Some(l), Some(h), Some(pr)) => (l, h, pr),
+        (l, h, pr) if !error_learning => (
+            l.unwrap_or_default(),
+            h.unwrap_or_default(),
+            pr.unwrap_or(0.0),
+        ),
+        (None, _, _) => return Err(need("low")),
+        (_, None, _) => return Err(need("high")),
+        (_, _, None) => return Err(need("precision")),
+    };
+    let unbounded = |b: &[f32], fill: f32| {
+        if b.is_empty() {
+            vec![fill; dim]
+        } else {
+            b.to_vec()
+        }
+    };
+    let (lo, hi) = (
+        unbounded(&low, f32::NEG_INFINITY),
+        unbounded(&high, f32::INFINITY),
+    );
+    for (i, ((l, h), d)) in lo.iter().zip(&hi).zip(&desired).enumerate() {
+        if !(l < d && d < h) {
+            return Err(p.at(
+                g.desired.span(),
+                "[goal] desired",
+                format!(
+                    "value {} is {d}, outside the bounds: it must lie strictly between low {l} \
+                     and high {h}",
+                    i + 1
+                ),
+            ));
+        }
+    }
+    Ok(Goal {
+        desired,
+        low,
+        high,
+        precision,
+    })
+}
+
+fn evaluate(p: &Place, raw: &Spanned<EvaluateKeys>, dir: &Path) -> Result<Evaluate, Error> {
+    let e = raw.get_ref();
+    let kinds = [
+        e.command.is_some(),
+        e.operator.is_some(),
+        e.builtin.is_some(),
+    ];
+    if kinds.iter().filter(|k| **k).count() != 1 {
+        return Err(Error::Invalid(format!(
+            "{}:{}: [evaluate]: give exactly one of `command`, `operator = true` or \
+             `builtin = \"pour\"`",
+            p.name,
+            p.line(raw.span().start)
+        )));
+    }
+    let pour_keys = [
+        ("target", e.target.as_ref().map(Spanned::span)),
+        ("glass", e.glass.as_ref().map(Spanned::span)),
+        ("space", e.space.as_ref().map(Spanned::span)),
+    ];
+    if e.builtin.is_none()
+        && let Some((key, Some(span))) = pour_keys.iter().find(|(_, s)| s.is_some())
+    {
+        return Err(p.at(
+            span.clone(),
+            &format!("[evaluate] {key}"),
+            "a setting of the built-in pour (builtin = \"pour\")",
+        ));
+    }
+    if e.command.is_none()
+        && let Some(t) = &e.timeout
+    {
+        return Err(p.at(
+            t.span(),
+            "[evaluate] timeout",
+            "the time an evaluator `command` may take",
+        ));
+    }
+    if let Some(c) = &e.command {
+        if c.get_ref()
+            .first()
+            .is_none_or(|prog| prog.trim().is_empty())
+        {
+            return Err(p.at(
+                c.span(),
+                "[evaluate] command",
+                "name the program: command = [\"program\", \"argument\", ...]",
+            ));
+        }
+        let timeout = e
+            .timeout
+            .as_ref()
+            .map(|t| positive(p, t, "[evaluate] timeout"))
+            .transpose()?
+            .unwrap_or(DEFAULT_TIMEOUT);
+        return Ok(Evaluate::Command {
+            argv: c.get_ref().clone(),
+            dir: dir.to_path_buf(),
+            timeout,
+        });
+    }
+    if let Some(o) = &e.operator {
+        if !o.get_ref() {
+            return Err(p.at(
+                o.span(),
+                "[evaluate] operator",
+                "`operator = false` names no evaluator",
+            ));
+        }
+        return Ok(Evaluate::Operator);
+    }
+    let builtin = e
+        .builtin
+        .as_ref()
+        .ok_or_else(|| Error::Invalid("no evaluator".into()))?;
+    if builtin.get_ref() != "pour" {
+        return Err(p.at(
+            builtin.span(),
+            "[evaluate] builtin",
+            format!("`{}`: the built-in task is `pour`", builtin.get_ref()),
+        ));
+    }
+    Ok(Evaluate::Pour(PourTask {
+        target: e.target.as_ref().map_or(0.2, |t| *t.get_ref()),
+        glass: e
+            .glass
+            .as_ref()
+            .map_or(primo_sim::cell::GlassKind::Normal, |g| *g.get_ref()),
+        space: e.space.as_ref().map(|s| *s.get_ref()),
+    }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const THROW: &str = r#"version = 1
+
+[[demo]]
+file = "demos/fast.csv"
+query = [1.8]
+
+[[demo]]
+file = "demos/slow.csv"
+query = [1.0]
+
+[movement.limits]
+shoulder = { min = -2.5, max = 1.0, max_speed = 10.0 }
+
+[goal]
+desired = [1.5]
+low = [1.0]
+high = [1.9]
+precision = 0.005
+
+[learner]
+method = "golden"
+
+[evaluate]
+command = ["python3", "throw.py"]
+"#;
+
+    /// A lab directory with the demonstrations' files (the checks only
+    /// look that they exist; `build` reads them).
+    fn lab() -> std::path::PathBuf {
+        let dir = std::env::temp_dir().join(format!("primo-task-check-{}", std::process::id()));
+        std::fs::create_dir_all(dir.join("demos")).unwrap();
+        for name in ["fast", "slow"] {
+            std::fs::write(dir.join(format!("demos/{name}.csv")), "t,shoulder\n0,0\n").unwrap();
+        }
+        dir
+    }
+
+    fn parse(text: &str) -> Result<Task, Error> {
+        Task::parse(&lab().join("throw.toml"), text)
+    }
+
+    /// The refusal's message, the lab's path as `/lab`.
+    fn refused(text: &str) -> String {
+        let e = parse(text).unwrap_err().to_string();
+        e.replace(&lab().display().to_string(), "/lab")
+    }
+
+    #[test]
+    fn a_task_takes_its_defaults_and_its_places_from_the_file() {
+        let task = parse(THROW).unwrap();
+        assert_eq!(task.demos[0].file, lab().join("demos/fast.csv"));
+        assert_eq!(task.demos[1].query, vec![1.0]);
+        assert_eq!(task.kernels, 30);
+        assert_eq!(task.regression, Regression::Lwr { bandwidth: None });
+        assert_eq!(task.dt, None);
+        assert_eq!(task.query_dim(), 1);
+        assert_eq!(task.learner.method, Algorithm::Golden);
+        assert_eq!(task.learner.reward, RewardRule::Linear);
+        assert_eq!(task.learner.decay, QUERY_DECAY);
+        let Evaluate::Command { argv, dir, timeout } = &task.evaluate else {
+            panic!("{:?}", task.evaluate)
+        };
+        assert_eq!(argv, &["python3", "throw.py"]);
+        assert_eq!(dir, &lab());
+        assert_eq!(*timeout, DEFAULT_TIMEOUT);
+        let Some(LimitsSpec::Columns { columns, workspace }) = &task.limits else {
+            panic!("{:?}", task.limits)
+        };
+        assert_eq!(columns["shoulder"].max_speed, 10.0);
+        assert!(workspace.is_none());
+    }
+
+    #[test]
+    fn a_refusal_names_the_file_the_line_and_the_key() {
+        let e = refused(&THROW.replace("version = 1", "version = 2"));
+        assert!(
+            e.starts_with("/lab/throw.toml:1: version: 2: this primo reads"),
+            "{e}"
+        );
+        let e = refused(&THROW.replace("[learner]\n", "[learner]\nspeed = 1\n"));
+        assert!(
+            e.starts_with("/lab/throw.toml:21: unknown field `speed`"),
+            "{e}"
+        );
+        let e = refused(&THROW.replace(
+            "[movement.limits]",
+            "[movement]\nkernels = 1\n\n[movement.limits]",
+        ));
+        assert!(
+            e.starts_with("/lab/throw.toml:12: [movement] kernels: 1: must be in 2..="),
+            "{e}"
+        );
+        let e = refused(&THROW.replace("desired = [1.5]", "desired = [1.5, 0.2]"));
+        assert!(
+            e.contains("[goal] desired: 2 values; the demonstrations' queries have 1"),
+            "{e}"
+        );
+        let e =
+            refused(&THROW.replace("command = [\"python3\", \"throw.py\"]", "command = [\"\"]"));
+        assert!(e.contains("[evaluate] command: name the program"), "{e}");
+    }
+
+    #[test]
+    fn a_skill_needs_two_demonstrations_except_the_built_in_pour() {
+        let one = THROW.replacen(
+            "[[demo]]\nfile = \"demos/fast.csv\"\nquery = [1.8]\n\n",
+            "",
+            1,
+        );
+        let e = refused(&one);
+        assert!(
+            e.contains("1 [[demo]]: a skill generalizes over at least two"),
+            "{e}"
+        );
+        let pour = r#"version = 1
+
+[goal]
+desired = [0.5]
+low = [0.1]
+high = [1.5]
+precision = 0.002
+
+[learner]
+method = "golden"
+
+[evaluate]
+builtin = "pour"
+target = 0.2
+"#;
+        let task = parse(pour).unwrap();
+        assert!(task.demos.is_empty() && task.limits.is_none());
+        assert!(matches!(task.evaluate, Evaluate::Pour(PourTask { target, .. }) if target == 0.2));
+    }
+
+    #[test]
+    fn an_unreadable_task_file_is_a_refused_setting() {
+        let e = Task::load(Path::new("/nonexistent/task.toml")).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                Error::Setting {
+                    setting: Setting::Task,
+                    ..
+                }
+            ),
+            "{e}"
+        );
+        assert!(e.to_string().contains("cannot read"), "{e}");
+    }
+}

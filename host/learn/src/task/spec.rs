@@ -1,0 +1,228 @@
+//! A task as checked: what a task file says, in the library's terms (the
+//! file's keys are [`super::schema`]'s; [`super::check`] turns one into
+//! the other).
+
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+use primo_core::generalize::Method as Regression;
+use primo_robot::Robot;
+use primo_robot::envelope::{ColumnLimit, Envelope, Limits, WorkspaceBox};
+use primo_skill::Skill;
+use serde::{Deserialize, Serialize};
+
+use crate::Error;
+use crate::algorithm::Algorithm;
+
+/// The task file format's version.
+pub const VERSION: u32 = 1;
+/// Seconds an evaluator program may take for one roll-out, by default.
+pub const DEFAULT_TIMEOUT: f64 = 60.0;
+
+/// How a reward is made from the error when the evaluator gives none.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum RewardRule {
+    /// `max(0, 1 − c‖ε‖)`.
+    Linear,
+    /// `exp(−c²‖ε‖²)`.
+    Exp,
+}
+
+/// A demonstration and the query it shows.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TaskDemo {
+    /// The CSV file, absolute.
+    pub file: PathBuf,
+    /// Its query.
+    pub query: Vec<f32>,
+}
+
+/// Limits of one column.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ColumnRange {
+    /// Lowest value.
+    pub min: f64,
+    /// Highest value.
+    pub max: f64,
+    /// Fastest change, per second.
+    pub max_speed: f64,
+}
+
+/// A box three position columns stay in.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Workspace {
+    /// The point's columns.
+    pub columns: [String; 3],
+    /// Lower corner.
+    pub min: [f64; 3],
+    /// Upper corner.
+    pub max: [f64; 3],
+    /// Fastest the point moves, per second.
+    pub max_speed: f64,
+}
+
+/// The limits every trajectory of the task passes.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum LimitsSpec {
+    /// A robot preset by name (`lwr4`).
+    Robot(String),
+    /// Per-column limits and an optional workspace box.
+    Columns {
+        /// By column name.
+        columns: BTreeMap<String, ColumnRange>,
+        /// The workspace.
+        workspace: Option<Workspace>,
+    },
+}
+
+impl LimitsSpec {
+    /// The limits to check with.
+    pub fn limits(&self) -> Result<Limits, Error> {
+        Ok(match self {
+            LimitsSpec::Robot(name) => Limits::Robot(robot_preset(name)?),
+            LimitsSpec::Columns { columns, workspace } => Limits::Envelope(Envelope {
+                columns: columns
+                    .iter()
+                    .map(|(name, r)| ColumnLimit {
+                        name: name.clone(),
+                        min: r.min,
+                        max: r.max,
+                        max_speed: r.max_speed,
+                    })
+                    .collect(),
+                workspace: workspace.as_ref().map(|w| WorkspaceBox {
+                    columns: w.columns.clone(),
+                    min: w.min,
+                    max: w.max,
+                    max_speed: w.max_speed,
+                }),
+            }),
+        })
+    }
+}
+
+pub(super) fn robot_preset(name: &str) -> Result<Robot, Error> {
+    match name {
+        "lwr4" => Ok(Robot::lwr4()),
+        other => Err(Error::Invalid(format!(
+            "robot preset `{other}`: primo knows `lwr4`"
+        ))),
+    }
+}
+
+/// The query to reach.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Goal {
+    /// The desired query: the first one tried.
+    pub desired: Vec<f32>,
+    /// Error learning's bounds, per value (PoWER: empty if not given).
+    pub low: Vec<f32>,
+    /// See `low`.
+    pub high: Vec<f32>,
+    /// Error learning stops once every `|ε_i| < precision`.
+    pub precision: f64,
+}
+
+/// The learner and its settings.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct LearnerSettings {
+    /// Which.
+    pub method: Algorithm,
+    /// Roll-out budget.
+    pub max_rollouts: u32,
+    /// The error learners' first (fixed-gain: only) gain `K = gain · I`.
+    pub gain: f32,
+    /// PoWER's exploration of the query, a fraction of the demonstrations'
+    /// spread (0: ordinary PoWER).
+    pub s1: f32,
+    /// PoWER's exploration of `Δθ`, a fraction of the demonstrations'
+    /// spread per block.
+    pub s2: f32,
+    /// PoWER's importance sampler length.
+    pub sampler: usize,
+    /// PoWER's exploration roll-outs per update.
+    pub rollouts_per_update: u16,
+    /// Per-update decay of the query's exploration variance.
+    pub decay: f32,
+    /// The reward from the error, when the evaluator gives none.
+    pub reward: RewardRule,
+    /// Its scale `c`, per unit of query.
+    pub reward_scale: f32,
+}
+
+/// How a roll-out is executed and measured.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Evaluate {
+    /// A program talking JSON lines (docs/src/reference/evaluator.md).
+    Command {
+        /// The program and its arguments.
+        argv: Vec<String>,
+        /// Where it runs: the task file's directory.
+        dir: PathBuf,
+        /// Seconds it may take per roll-out.
+        timeout: f64,
+    },
+    /// The operator at the terminal.
+    Operator,
+    /// The built-in pouring cell.
+    Pour(PourTask),
+}
+
+/// The built-in pour's own settings.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct PourTask {
+    /// Volume to pour, l.
+    pub target: f64,
+    /// `normal` or `small`.
+    pub glass: primo_sim::cell::GlassKind,
+    /// `joint` or `cartesian` (default: as `primo pour`, Cartesian for
+    /// error learning, joint for PoWER).
+    pub space: Option<crate::pour::skill::Space>,
+}
+
+/// A checked task.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Task {
+    /// The task file, absolute.
+    pub file: PathBuf,
+    /// The demonstrations (none: the built-in pour's pair).
+    pub demos: Vec<TaskDemo>,
+    /// Kernels per DoF.
+    pub kernels: usize,
+    /// The generalization.
+    pub regression: Regression,
+    /// The trajectory's time step, s (`None`: the first demonstration's
+    /// median step).
+    pub dt: Option<f64>,
+    /// The limits (`None` for the built-in pour: its cell's gate).
+    pub limits: Option<LimitsSpec>,
+    /// The query to reach.
+    pub goal: Goal,
+    /// The learner.
+    pub learner: LearnerSettings,
+    /// The evaluator.
+    pub evaluate: Evaluate,
+}
+
+impl Task {
+    /// The query's dimension.
+    pub fn query_dim(&self) -> usize {
+        self.goal.desired.len()
+    }
+}
+
+/// A task fitted: its skill and limits, its trajectories' step.
+#[derive(Debug, Clone)]
+pub struct Built {
+    /// Demonstrations → DMPs → generalization.
+    pub skill: Skill,
+    /// What every trajectory passes.
+    pub limits: Limits,
+    /// The trajectories' time step, s.
+    pub dt: f64,
+}
