@@ -8,8 +8,8 @@ use clap::{Args, Subcommand, ValueEnum};
 
 use primo_core::scale::{CalibrationPoint, Reading, ScaleRequest, Unit as ScaleUnit, WeighMode};
 use primo_learn::coprocessor::{Image, Qemu};
-use primo_learn::pour::weigh::{PrimoScale, ScaleSpec};
-use primo_mtsics::{Client, ClientConfig, Density, Unit, quote};
+use primo_learn::pour::weigh::{Density, PrimoScale, ScaleSpec};
+use primo_mtsics::{Client, ClientConfig, Unit, quote};
 use primo_sim::load_cell::{LoadCellModel, LoadCellServer};
 use primo_sim::scale::ScaleModel;
 use primo_sim::scale_device::{Control, Device, DeviceConfig, LoadHandle, PtyServer};
@@ -330,7 +330,7 @@ fn primo_read(mut scale: PrimoScale, args: &ReadArgs, density: Density) -> Resul
 fn shown(r: &Reading, unit: OutputUnit, density: Density) -> String {
     let decimals = usize::try_from(-i32::from(r.exponent)).unwrap_or(0);
     match unit {
-        OutputUnit::Ml => format!("{:.*} ml", decimals, r.grams() / density.g_per_ml()),
+        OutputUnit::Ml => format!("{:.*} ml", decimals, density.millilitres(r.grams())),
         _ => {
             let name = match r.unit {
                 ScaleUnit::G => "g",
@@ -415,7 +415,7 @@ fn read(args: &ReadArgs) -> Result<(), CliError> {
         OutputUnit::Ml => format!(
             "{:.*} ml",
             usize::from(weight.to(Unit::G).decimals),
-            weight.millilitres(density)
+            density.millilitres(weight.grams())
         ),
     };
     say(&text)

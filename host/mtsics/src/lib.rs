@@ -18,6 +18,6 @@ mod protocol;
 #[cfg(feature = "serial")]
 pub use client::{ASK_AGAIN, Client, ClientConfig, ErrorKind, Noise, ScaleError};
 pub use protocol::{
-    Density, Lines, MAX_LINE, Reply, Response, ResponseError, Stability, Unit, Weight,
-    parse_response, parse_tail, parse_value, quote,
+    Lines, MAX_LINE, Reply, Response, ResponseError, Stability, Unit, Weight, parse_response,
+    parse_tail, parse_value, quote,
 };

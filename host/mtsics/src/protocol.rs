@@ -45,39 +45,6 @@ impl Unit {
     }
 }
 
-/// A liquid's density, used to turn a weight into a volume.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Density(f64);
-
-impl Density {
-    /// Water at about 21 °C: 0.998 g/ml. The pouring cell pours water, and
-    /// the scale weighs it; the default for volumes.
-    pub const WATER: Density = Density(0.998);
-
-    /// A density of `g_per_ml` grams per millilitre (finite, > 0).
-    pub fn new(g_per_ml: f64) -> Result<Density, String> {
-        if g_per_ml.is_finite() && g_per_ml > 0.0 {
-            Ok(Density(g_per_ml))
-        } else {
-            Err(format!(
-                "density {g_per_ml} g/ml must be a finite number above 0"
-            ))
-        }
-    }
-
-    /// Grams per millilitre.
-    pub fn g_per_ml(self) -> f64 {
-        self.0
-    }
-}
-
-impl Default for Density {
-    /// [`Density::WATER`].
-    fn default() -> Self {
-        Density::WATER
-    }
-}
-
 /// A weight as the scale shows it: a value in a unit, with as many
 /// decimals as the scale sent (its resolution).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -105,11 +72,6 @@ impl Weight {
             unit,
             decimals: (i32::from(self.decimals) + shift).clamp(0, 9) as u8,
         }
-    }
-
-    /// The volume of a liquid of `density` weighing this much, ml.
-    pub fn millilitres(&self, density: Density) -> f64 {
-        self.grams() / density.g_per_ml()
     }
 }
 
@@ -874,15 +836,12 @@ mod tests {
     }
 
     #[test]
-    fn units_convert_keeping_the_resolution_and_volume_uses_the_density() {
+    fn units_convert_keeping_the_resolution() {
         let w = grams(123.45, 2);
         let mg = w.to(Unit::Mg);
         assert_eq!((mg.to_string(), mg.decimals), ("123450 mg".to_string(), 0));
         assert_eq!(w.to(Unit::Kg).to_string(), "0.12345 kg");
         assert!((w.to(Unit::Kg).grams() - 123.45).abs() < 1e-9);
-        assert!((w.millilitres(Density::WATER) - 123.45 / 0.998).abs() < 1e-9);
-        assert!((w.millilitres(Density::new(1.25).unwrap()) - 98.76).abs() < 1e-9);
-        assert!(Density::new(0.0).is_err() && Density::new(f64::NAN).is_err());
         assert_eq!(grams(-0.004, 2).to_string(), "0.00 g");
     }
 

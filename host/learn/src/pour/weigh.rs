@@ -19,6 +19,44 @@ use crate::Error;
 use crate::coprocessor::{Image, Link, Qemu};
 use crate::error::Setting;
 
+/// A liquid's density, used to turn a weight into a volume.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Density(f64);
+
+impl Density {
+    /// Water at about 21 °C: 0.998 g/ml. The pouring cell pours water, and
+    /// the scale weighs it; the default for volumes.
+    pub const WATER: Density = Density(0.998);
+
+    /// A density of `g_per_ml` grams per millilitre (finite, > 0).
+    pub fn new(g_per_ml: f64) -> Result<Density, String> {
+        if g_per_ml.is_finite() && g_per_ml > 0.0 {
+            Ok(Density(g_per_ml))
+        } else {
+            Err(format!(
+                "density {g_per_ml} g/ml must be a finite number above 0"
+            ))
+        }
+    }
+
+    /// Grams per millilitre.
+    pub fn g_per_ml(self) -> f64 {
+        self.0
+    }
+
+    /// The volume of `grams` of the liquid, ml.
+    pub fn millilitres(self, grams: f64) -> f64 {
+        grams / self.0
+    }
+}
+
+impl Default for Density {
+    /// [`Density::WATER`].
+    fn default() -> Self {
+        Density::WATER
+    }
+}
+
 /// Where a scale is.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum ScaleSpec {
@@ -311,5 +349,17 @@ fn name(request: &ScaleRequest) -> &'static str {
         ScaleRequest::Zero => "zero",
         ScaleRequest::Tare => "tare",
         ScaleRequest::Calibrate(_) => "calibrate",
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_volume_uses_the_density() {
+        assert!((Density::WATER.millilitres(123.45) - 123.45 / 0.998).abs() < 1e-9);
+        assert!((Density::new(1.25).unwrap().millilitres(123.45) - 98.76).abs() < 1e-9);
+        assert!(Density::new(0.0).is_err() && Density::new(f64::NAN).is_err());
     }
 }
