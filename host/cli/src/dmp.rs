@@ -173,9 +173,16 @@ fn fit(
     out: Option<&Path>,
 ) -> Result<(), CliError> {
     let file = demo_path.display().to_string();
-    if !(2..=MAX_KERNELS).contains(&kernels) {
+    // A periodic DMP needs a kernel more than a discrete one.
+    let fewest = if rhythmic.is_some() { 3 } else { 2 };
+    if !(fewest..=MAX_KERNELS).contains(&kernels) {
+        let what = if rhythmic.is_some() {
+            " for a rhythmic DMP"
+        } else {
+            ""
+        };
         return Err(CliError::input(format!(
-            "--kernels: {kernels} is outside 2..={MAX_KERNELS}"
+            "--kernels: {kernels} is outside {fewest}..={MAX_KERNELS}{what}"
         )));
     }
     let margin = parse_margin(margin, kernels)?;

@@ -62,6 +62,15 @@ impl fmt::Display for CliError {
     }
 }
 
+/// Where the port of a scale `qemu:LOAD_CELL` comes from, if that is
+/// what `scale` names.
+pub fn load_cell_hint(scale: &str) -> &'static str {
+    match scale.starts_with("qemu") {
+        true => " (`primo robot sim-krc --load-cell` prints it)",
+        false => "",
+    }
+}
+
 /// The flag of a learning setting.
 fn flag(setting: primo_learn::Setting) -> String {
     format!("--{}", setting.name().replace('_', "-"))
@@ -101,7 +110,13 @@ impl From<primo_learn::Error> for CliError {
                 setting,
                 value,
                 why,
-            } => Self::input(format!("{} {value}: {why}", flag(setting))),
+            } => {
+                let hint = match setting {
+                    primo_learn::Setting::Scale => load_cell_hint(&value),
+                    _ => "",
+                };
+                Self::input(format!("{} {value}: {why}{hint}", flag(setting)))
+            }
             Error::Conflict {
                 setting,
                 value,
@@ -113,6 +128,12 @@ impl From<primo_learn::Error> for CliError {
                 flag(setting),
                 flag(other)
             )),
+            Error::Address(e) => e.into(),
+            // The coprocessor's image, unlike the scale's, has a flag.
+            e @ Error::NoFirmware {
+                name: "primo-firmware",
+                ..
+            } => Self::other(format!("{e}, or with --firmware")),
             Error::NotADirectory { out, blocking } => Self::input(format!(
                 "--out {}: {} is not a directory",
                 out.display(),
@@ -150,7 +171,7 @@ impl From<primo_skill::Error> for CliError {
 
 impl From<primo_fri::AddressError> for CliError {
     fn from(e: primo_fri::AddressError) -> Self {
-        Self::input(e.to_string())
+        Self::input(format!("--robot `{}`: {}", e.spec, e.explained()))
     }
 }
 

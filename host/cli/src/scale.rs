@@ -371,9 +371,10 @@ fn open(args: &ScaleArgs) -> Result<Opened, CliError> {
         return Ok(Opened::Primo(scale, Some(cell)));
     }
     let spec = ScaleSpec::parse(&args.port).map_err(|e| match e {
-        primo_learn::Error::Setting { value, why, .. } => {
-            CliError::input(format!("--port {value}: {why}"))
-        }
+        primo_learn::Error::Setting { value, why, .. } => CliError::input(format!(
+            "--port {value}: {why}{}",
+            crate::error::load_cell_hint(&value)
+        )),
         e => e.into(),
     })?;
     Ok(match spec {

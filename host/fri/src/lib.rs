@@ -32,12 +32,9 @@ pub mod udp;
 
 use std::net::{IpAddr, SocketAddr, ToSocketAddrs};
 
-/// A `--robot` address that cannot be used.
+/// A robot address that cannot be used.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error(
-    "--robot `{spec}`: {why}; expected fri:ADDR[:PORT], the local UDP address \
-     primo binds for the KRC's packets (default port {DEFAULT_PORT})"
-)]
+#[error("robot address `{spec}`: {}", self.explained())]
 pub struct AddressError {
     /// What was given.
     pub spec: String,
@@ -45,10 +42,21 @@ pub struct AddressError {
     pub why: String,
 }
 
+impl AddressError {
+    /// What is wrong, and what an address is.
+    pub fn explained(&self) -> String {
+        format!(
+            "{}; expected fri:ADDR[:PORT], the local UDP address primo binds for the KRC's \
+             packets (default port {DEFAULT_PORT})",
+            self.why
+        )
+    }
+}
+
 /// The UDP port a KRC sends its FRI packets to unless configured otherwise.
 pub const DEFAULT_PORT: u16 = 49938;
 
-/// Parses `--robot fri:ADDR[:PORT]` into the local address to bind. `ADDR`
+/// Parses a robot address `fri:ADDR[:PORT]` into the local address to bind. `ADDR`
 /// is an IP address (IPv6 in brackets when a port follows) or a host name.
 pub fn parse_robot(spec: &str) -> Result<SocketAddr, AddressError> {
     let bad = |why: String| AddressError {
@@ -106,10 +114,12 @@ mod tests {
         assert_eq!(ok("fri:[::1]"), "[::1]:49938");
         assert_eq!(ok("fri:localhost:40000").rsplit(':').next(), Some("40000"));
         let err = |s: &str| parse_robot(s).unwrap_err().to_string();
-        assert!(err("udp:1.2.3.4").starts_with("--robot `udp:1.2.3.4`: unknown robot driver;"));
+        assert!(
+            err("udp:1.2.3.4").starts_with("robot address `udp:1.2.3.4`: unknown robot driver;")
+        );
         assert!(
             err("fri:127.0.0.1:http").starts_with(
-                "--robot `fri:127.0.0.1:http`: port `http` is not a number in 1..=65535"
+                "robot address `fri:127.0.0.1:http`: port `http` is not a number in 1..=65535"
             ),
             "{}",
             err("fri:127.0.0.1:http")

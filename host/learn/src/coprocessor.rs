@@ -308,14 +308,12 @@ impl Qemu {
         if let Some(found) = candidates.iter().find(|p| p.is_file()) {
             return Ok(found.clone());
         }
-        let looked: Vec<String> = candidates.iter().map(|p| p.display().to_string()).collect();
-        Err(Error::Coprocessor(format!(
-            "the firmware {name} is not built (looked at {}): build it with \
-             `cd {} && cargo build --release` (needs `rustup target add \
-             thumbv7em-none-eabihf`), or name it with --firmware or {variable}",
-            looked.join(", "),
-            source.display()
-        )))
+        Err(Error::NoFirmware {
+            name,
+            variable,
+            looked: candidates,
+            sources: source,
+        })
     }
 
     /// Boots the coprocessor `firmware` and waits for QEMU to name the

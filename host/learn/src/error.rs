@@ -100,6 +100,24 @@ pub enum Error {
     /// The coprocessor's link failed.
     #[error("{0}")]
     Coprocessor(String),
+    /// A firmware image that is not built where primo looks for it.
+    #[error(
+        "the firmware {name} is not built (looked at {}): build it with `cd {} && cargo \
+         build --release` (needs `rustup target add thumbv7em-none-eabihf`), or name it in \
+         {variable}",
+        looked.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(", "),
+        sources.display()
+    )]
+    NoFirmware {
+        /// The image's ELF name.
+        name: &'static str,
+        /// The environment variable that names it.
+        variable: &'static str,
+        /// Where primo looked.
+        looked: Vec<PathBuf>,
+        /// The firmware's sources, where it is built.
+        sources: PathBuf,
+    },
     /// A report (summary, chart) could not be made.
     #[error("{0}")]
     Report(String),

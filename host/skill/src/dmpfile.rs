@@ -154,7 +154,7 @@ impl RhythmicFile {
     ) -> Result<Self, Error> {
         if !(3..=MAX_KERNELS).contains(&kernels) {
             return Err(Error::File(format!(
-                "--kernels: {kernels} is outside 3..={MAX_KERNELS} for a rhythmic DMP"
+                "kernels: {kernels} is outside 3..={MAX_KERNELS} for a rhythmic DMP"
             )));
         }
         if let Some(Slot { column: c, .. }) = layout(&demo.names)
@@ -369,7 +369,7 @@ impl DmpFile {
     ) -> Result<Self, Error> {
         if !(2..=MAX_KERNELS).contains(&kernels) {
             return Err(Error::File(format!(
-                "--kernels: {kernels} is outside 2..={MAX_KERNELS}"
+                "kernels: {kernels} is outside 2..={MAX_KERNELS}"
             )));
         }
         crate::csv::check_rotation_vectors(file, demo)?;

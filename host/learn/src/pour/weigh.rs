@@ -80,16 +80,12 @@ impl ScaleSpec {
         };
         Ok(match text.split_once(':') {
             Some(("postcard", port)) => ScaleSpec::Postcard(named(port, "name the serial port")?),
-            Some(("qemu", cell)) => ScaleSpec::Qemu(named(
-                cell,
-                "name the load cell's port (`primo robot sim-krc --load-cell` prints it)",
-            )?),
+            Some(("qemu", cell)) => ScaleSpec::Qemu(named(cell, "name the load cell's port")?),
             _ if text == "qemu" => {
                 return Err(Error::setting(
                     Setting::Scale,
                     text,
-                    "name the load cell's port, qemu:PATH (`primo robot sim-krc --load-cell` \
-                     prints it)",
+                    "name the load cell's port, qemu:PATH",
                 ));
             }
             _ => ScaleSpec::MtSics(named(text, "name the serial port")?),
