@@ -75,3 +75,22 @@ impl From<Method> for primo_learn::algorithm::Algorithm {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `--method` spells each learner as files and messages do.
+    #[test]
+    fn each_method_is_spelled_as_its_learners_key() {
+        for m in Method::value_variants() {
+            let name = m.to_possible_value().map(|v| v.get_name().to_string());
+            let algorithm: primo_learn::algorithm::Algorithm = (*m).into();
+            assert_eq!(name.as_deref(), Some(algorithm.key()));
+        }
+        assert_eq!(
+            Method::value_variants().len(),
+            primo_learn::algorithm::Algorithm::ALL.len()
+        );
+    }
+}
