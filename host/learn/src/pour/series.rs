@@ -86,11 +86,6 @@ impl Series {
         }
     }
 
-    /// The CSV header: `t`, the space's coordinates, then [`MEASURED`].
-    pub fn header(&self) -> String {
-        format!("t,{},{MEASURED}", self.space.names().join(","))
-    }
-
     /// The CSV text: the header, then one row per sample. Time in seconds
     /// to the microsecond, the commanded coordinates as the f32 the DMP
     /// computed, the measurements as exactly as `f64` prints (flow in l/s,
