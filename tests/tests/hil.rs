@@ -9,13 +9,12 @@ mod relay;
 use std::sync::atomic::Ordering;
 use std::time::{Duration, Instant};
 
-use primo_core::scale::{
-    CalibrationPoint, ScaleRequest, Settings as ScaleSettings, Unit, WeighMode,
-};
+use primo_device::scale::Settings as ScaleSettings;
 use primo_learn::coprocessor::{Image, Link, Qemu};
 use primo_learn::learning::{Algorithm as Method, Learner, Record, Settings, learn};
 use primo_learn::pouring::built_in_skill;
 use primo_learn::weigh::PrimoScale;
+use primo_protocol::scale::{CalibrationPoint, ScaleRequest, Unit, WeighMode};
 use primo_sim::cell::{CellConfig, GlassKind};
 use primo_sim::load_cell::{LoadCellModel, LoadCellServer};
 use primo_sim::scale_device::LoadHandle;

@@ -12,8 +12,8 @@
 use primo_core::golden::SearchConfig;
 use primo_core::power::{Block, PowerConfig, widest_distance};
 use primo_core::secant::{Rule, SecantConfig};
-use primo_core::service::Service;
-use primo_core::wire::{
+use primo_learner::Service;
+use primo_protocol::learner::{
     CHUNK, LearnerSetup, MAX_QUERY, Outcome, Query, Reply, Request, Rollout, Setup, Status,
 };
 use std::path::Path;
@@ -446,7 +446,7 @@ impl Learner {
     fn call(&mut self, request: &Request) -> Result<Reply, Error> {
         let reply = match self {
             Learner::Local(s) => s.respond(request),
-            Learner::Remote(link) => link.call(request)?,
+            Learner::Remote(link) => link.learn(request)?,
         };
         match reply {
             Reply::Error(f) => Err(Error::Learner(format!("learner: {f}"))),
