@@ -7,7 +7,7 @@ use serde::Serialize;
 
 use crate::endpoint::Endpoint;
 use crate::fault::{Fault, FaultKind};
-use crate::frame::{self, FrameError, MAX_FRAME};
+use crate::frame::{self, Frame, FrameError, MAX_FRAME};
 
 /// The sequence number of replies to frames that could not be read (hosts
 /// never send it).
@@ -45,11 +45,33 @@ impl Replay {
         out: &mut [u8; MAX_FRAME],
         respond: impl FnOnce(&E::Request) -> Option<E::Reply>,
     ) -> usize {
+        let frame = match self.open::<E>(raw, out) {
+            Ok(frame) => frame,
+            Err(len) => return len,
+        };
+        let Some(reply) = respond(&frame.body) else {
+            // Deferred: an empty last reply until it is given, so a
+            // retransmission meanwhile gets nothing and changes nothing.
+            self.last = Some((frame.seq, Vec::new()));
+            return 0;
+        };
+        self.answer(frame.seq, &reply, out)
+    }
+
+    /// The first half of [`Replay::serve`], for a device that answers at
+    /// once: the request of a frame to be answered (then
+    /// [`Replay::answer`] it), or the length of the reply frame already
+    /// written into `out` (a frame that cannot be read, a retransmission).
+    pub fn open<E: Endpoint>(
+        &mut self,
+        raw: Result<&[u8], FrameError>,
+        out: &mut [u8; MAX_FRAME],
+    ) -> Result<Frame<E::Request>, usize> {
         let frame = match raw.and_then(frame::decode::<E::Request>) {
             Ok(frame) => frame,
             Err(e) => {
                 let reply = E::Reply::from(Fault::new(FaultKind::BadFrame, e));
-                return len(frame::encode(UNREAD, &reply, out));
+                return Err(len(frame::encode(UNREAD, &reply, out)));
             }
         };
         if let Some((seq, bytes)) = &self.last
@@ -57,15 +79,21 @@ impl Replay {
             && let Some(dst) = out.get_mut(..bytes.len())
         {
             dst.copy_from_slice(bytes);
-            return bytes.len();
+            return Err(bytes.len());
         }
-        let Some(reply) = respond(&frame.body) else {
-            // Deferred: an empty last reply until it is given, so a
-            // retransmission meanwhile gets nothing and changes nothing.
-            self.last = Some((frame.seq, Vec::new()));
-            return 0;
-        };
-        self.record(frame.seq, &reply, out)
+        Ok(frame)
+    }
+
+    /// The second half of [`Replay::serve`]: encodes `reply` to frame
+    /// `seq` into `out` and keeps it for a retransmission; returns its
+    /// length.
+    pub fn answer<R: Serialize + From<Fault>>(
+        &mut self,
+        seq: u32,
+        reply: &R,
+        out: &mut [u8; MAX_FRAME],
+    ) -> usize {
+        self.record(seq, reply, out)
     }
 
     /// The deferred answer `reply` to the last frame: its reply frame's

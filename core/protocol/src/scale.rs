@@ -204,6 +204,7 @@ pub struct Identity {
 /// What the scale device accepts: the learner's requests (the same bytes
 /// as on the learning coprocessor) and the scale's, numbered after them.
 #[derive(Clone, PartialEq)]
+#[allow(clippy::large_enum_variant)] // the learner's setup: one per frame, as on the coprocessor
 pub enum Request {
     /// A request to the learner the scale serves too.
     Learner(learner::Request),
