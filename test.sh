@@ -17,8 +17,10 @@ fi
 
 cargo fmt --all --check
 cargo clippy --workspace --all-targets --locked -- -D warnings
-cargo clippy -p primo-core --target thumbv7em-none-eabihf --locked -- -D warnings
-cargo build -p primo-core --target thumbv7em-none-eabihf --release --locked
+# The no_std crates the images are made of, linted and built for the M4F.
+no_std="-p primo-core -p primo-protocol -p primo-learner -p primo-device"
+cargo clippy $no_std --target thumbv7em-none-eabihf --locked -- -D warnings
+cargo build $no_std --target thumbv7em-none-eabihf --release --locked
 RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --locked
 log=$(mktemp)
 # The firmware: its own build, lints, on-target tests under QEMU, the

@@ -38,4 +38,5 @@ fn main() {
     }
     println!("cargo:rerun-if-changed=checks/numerics.rs");
     println!("cargo:rerun-if-changed=../core/core/src");
+    println!("cargo:rerun-if-changed=../core/protocol/src");
 }

@@ -11,7 +11,8 @@ use primo_core::orientation::OrientationDmp;
 use primo_core::quaternion::Quaternion;
 use primo_core::power::{Block, Power, PowerConfig};
 use primo_core::secant::{Rule, Secant, SecantConfig};
-use primo_core::wire::{self, MAX_FRAME, Outcome, Query, Request};
+use primo_protocol::frame::{self as wire, MAX_FRAME};
+use primo_protocol::learner::{self, Outcome, Query, Request};
 
 /// FNV-1a over 32-bit words.
 pub struct Digest(u64);
@@ -155,7 +156,7 @@ fn learners(mut h: Digest, thetas: &[[f32; THETA]; 2]) -> u64 {
         gain: 1.0,
         rule: Rule::Broyden,
     };
-    let Ok(mut secant) = Secant::<{ wire::MAX_QUERY }>::new(cfg) else {
+    let Ok(mut secant) = Secant::<{ learner::MAX_QUERY }>::new(cfg) else {
         return 14;
     };
     while let Some(q) = secant.ask() {

@@ -4,8 +4,9 @@
 //! panic handler shared by the images, their footprint probes and the
 //! on-target tests.
 //!
-//! The learning itself is [`primo_core::service::Service`], the scale
-//! [`primo_core::scale::Scale`], unchanged.
+//! The learning itself is [`primo_learner::Service`], the scale
+//! [`primo_device::scale::Scale`], unchanged; the messages between them and
+//! the host are [`primo_protocol`]'s.
 #![no_std]
 #![deny(missing_docs)]
 #![deny(

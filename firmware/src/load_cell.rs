@@ -1,11 +1,11 @@
 //! The load cell's 24-bit ADC behind [`LoadCell`]: a board reads an
 //! HX711 or an ADS1232 through `primo_loadcell`'s drivers; under QEMU the
 //! host's simulated cell sends the raw counts over UART1
-//! ([`primo_core::scale::encode_sample`]).
+//! ([`primo_device::scale::encode_sample`]).
 
 use core::convert::Infallible;
 
-use primo_core::scale::SampleReader;
+use primo_device::scale::SampleReader;
 pub use primo_loadcell::LoadCell;
 
 use crate::uart::Uart;

@@ -3,9 +3,9 @@
 #![no_main]
 
 use cortex_m_rt::entry;
-use primo_core::service::Coprocessor as Service;
-use primo_core::wire::{FrameReader, MAX_FRAME};
 use primo_firmware::uart::Uart;
+use primo_learner::Coprocessor as Service;
+use primo_protocol::frame::{FrameReader, MAX_FRAME};
 
 #[entry]
 fn main() -> ! {

@@ -14,9 +14,9 @@
 
 use core::convert::Infallible;
 
-use primo_core::scale::Settings;
 use primo_device::SettingsStore;
 use primo_device::page::{self, IMAGE};
+use primo_device::scale::Settings;
 
 /// The page: the last 2 KiB of the part's 128 KiB (`memory/scale.x`).
 pub const PAGE: usize = 0x0001_F800;

@@ -1,5 +1,5 @@
 //! On the target: the scale gives the host's readings from the same
-//! counts (`core/src/scale.rs`'s tests), and its calibration and tare
+//! counts (`core/device/src/scale.rs`'s tests), and its calibration and tare
 //! survive a reset in the settings page. The first boot calibrates, tares,
 //! stores and resets the core; the second finds the settings in the page.
 #![no_std]
@@ -8,12 +8,12 @@
 use cortex_m::peripheral::SCB;
 use cortex_m_rt::entry;
 use cortex_m_semihosting::hprintln;
-use primo_core::scale::{
-    CalibrationPoint, FILTER, FRESH, Reading, Scale, ScaleConfig, ScaleReply, ScaleRequest, Unit,
-    WINDOW, WeighMode,
-};
-use primo_core::wire::Reply;
+use primo_device::scale::{Scale, ScaleConfig};
 use primo_firmware::{exit, settings};
+use primo_protocol::scale::{
+    CalibrationPoint, FILTER, FRESH, Reading, Reply, ScaleReply, ScaleRequest, Unit, WINDOW,
+    WeighMode,
+};
 
 fn settle(s: &mut Scale, counts: i32) {
     (0..FILTER + WINDOW).for_each(|_| s.push(counts));
@@ -61,10 +61,10 @@ fn main() -> ! {
     check("a single boot", seconds() < 30);
     settle(&mut s, 10_000);
     let low = ScaleRequest::Calibrate(CalibrationPoint::Low { grams: 0.0 });
-    check("the low point", s.respond(&low) == Some(Reply::Ok));
+    check("the low point", s.respond(&low) == Some(Reply::OK));
     settle(&mut s, 1_010_000);
     let high = ScaleRequest::Calibrate(CalibrationPoint::High { grams: 1000.0 });
-    check("the high point", s.respond(&high) == Some(Reply::Ok));
+    check("the high point", s.respond(&high) == Some(Reply::OK));
     settle(&mut s, 260_000);
     check("250 g", weigh(&mut s).map(|r| r.digits) == Some(25_000));
     // 50 g more, no sample of it yet: the next stable reading waits for
@@ -87,7 +87,7 @@ fn main() -> ! {
     settle(&mut s, 120_000);
     check(
         "the tare",
-        s.respond(&ScaleRequest::Tare) == Some(Reply::Ok),
+        s.respond(&ScaleRequest::Tare) == Some(Reply::OK),
     );
     let Some(changed) = s.take_changed() else {
         check("a change to keep", false);

@@ -1,7 +1,8 @@
 //! The scale firmware's state machine fed an arbitrary session: ADC
 //! samples (held for a while, so loads settle), raw bytes on the ADC line,
 //! and scale requests (postcard from the input) as frames through the
-//! service, some corrupted. No panic; a sample survives the ADC line's
+//! scale device's answering (the learner service and the scale behind one
+//! replay), some corrupted. No panic; a sample survives the ADC line's
 //! codec; every reply is a frame that decodes, numbered as the request (a
 //! corrupted one as UNREAD), a weighing of the next stable reading's once
 //! its samples came (none when the next request came first); a stable
@@ -11,11 +12,20 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use primo_core::scale::{
-    SampleReader, Scale, ScaleConfig, ScaleReply, ScaleRequest, Settings, WeighMode, encode_sample,
-};
-use primo_core::service::{Coprocessor, UNREAD};
-use primo_core::wire::{self, FaultKind, MAX_FRAME, Reply, Request};
+use primo_device::scale::{SampleReader, Scale, ScaleConfig, Settings, encode_sample};
+use primo_learner::{Coprocessor, UNREAD};
+use primo_protocol::fault::FaultKind;
+use primo_protocol::frame::{self as wire, MAX_FRAME};
+use primo_protocol::learner::Reply as LearnerReply;
+use primo_protocol::replay::Replay;
+use primo_protocol::scale::{Reply, Request, ScaleReply, ScaleRequest, WeighMode};
+
+/// The scale device's answering of frames: the learner service and the
+/// scale behind one replay.
+struct Device {
+    service: Box<Coprocessor>,
+    replay: Replay,
+}
 
 /// Operations per session.
 const MAX_OPS: usize = 300;
@@ -23,7 +33,7 @@ const MAX_OPS: usize = 300;
 /// Sends `request` as frame `seq` (one byte changed when `corrupt`);
 /// returns the reply, `None` for a corrupted request or a deferred one.
 fn send(
-    service: &mut Coprocessor,
+    service: &mut Device,
     scale: &mut Scale,
     seq: u32,
     request: &ScaleRequest,
@@ -37,7 +47,14 @@ fn send(
         raw[at] ^= 0x5a;
     }
     let mut out = [0u8; MAX_FRAME];
-    let reply = service.handle_with(Ok(&raw), &mut out, Some(scale));
+    let len = primo_device::answer(
+        &mut service.service,
+        scale,
+        &mut service.replay,
+        Ok(&raw),
+        &mut out,
+    );
+    let reply = &out[..len];
     let Some((end, body)) = reply.split_last() else {
         assert!(
             corrupt.is_none()
@@ -56,7 +73,9 @@ fn send(
     let expected = if corrupt.is_some() { UNREAD } else { seq };
     assert_eq!(reply.seq, expected);
     if corrupt.is_some() {
-        assert!(matches!(&reply.body, Reply::Error(f) if f.kind == FaultKind::BadFrame));
+        assert!(
+            matches!(&reply.body, Reply::Learner(LearnerReply::Error(f)) if f.kind == FaultKind::BadFrame)
+        );
         return None;
     }
     Some(reply.body)
@@ -64,16 +83,20 @@ fn send(
 
 /// Pushes `counts` and checks the deferred answer it may complete.
 fn push(
-    service: &mut Coprocessor,
+    service: &mut Device,
     scale: &mut Scale,
     counts: i32,
     pending: &mut Option<(u32, ScaleRequest, bool)>,
 ) {
     scale.push(counts);
     let mut out = [0u8; MAX_FRAME];
-    let Some(frame) = service.deferred(scale, &mut out) else {
+    let Some(len) = scale
+        .deferred()
+        .and_then(|reply| service.replay.deferred(&reply, &mut out))
+    else {
         return;
     };
+    let frame = &out[..len];
     let (seq, request, calibrated) = pending
         .take()
         .expect("a deferred answer to a waiting request");
@@ -83,7 +106,10 @@ fn push(
 }
 
 fuzz_target!(|data: &[u8]| {
-    let mut service = Box::new(Coprocessor::new());
+    let mut service = Device {
+        service: Box::new(Coprocessor::new()),
+        replay: Replay::new(),
+    };
     let mut pending = None;
     let mut scale = Scale::new(ScaleConfig::LAB);
     let mut adc = SampleReader::new();
@@ -152,7 +178,7 @@ fuzz_target!(|data: &[u8]| {
                 );
                 assert_eq!(
                     changed.is_some(),
-                    setting && reply == Reply::Ok,
+                    setting && reply == Reply::OK,
                     "{request:?}"
                 );
                 if let Some(settings) = changed {
@@ -171,7 +197,7 @@ fn check(request: &ScaleRequest, reply: &Reply, calibrated: bool) {
             assert!(r.stable || *mode == WeighMode::Now, "{r:?}");
             assert!(r.grams().is_finite());
         }
-        (ScaleRequest::Weigh { .. }, Reply::Error(f)) => {
+        (ScaleRequest::Weigh { .. }, Reply::Learner(LearnerReply::Error(f))) => {
             assert_eq!(f.kind == FaultKind::Uncalibrated, !calibrated, "{f:?}");
             assert!(matches!(
                 f.kind,
@@ -190,7 +216,7 @@ fn check(request: &ScaleRequest, reply: &Reply, calibrated: bool) {
             | ScaleRequest::Zero
             | ScaleRequest::Tare
             | ScaleRequest::Calibrate(_),
-            Reply::Ok | Reply::Error(_),
+            Reply::Learner(LearnerReply::Ok | LearnerReply::Error(_)),
         ) => {}
         _ => panic!("{request:?} answered {reply:?}"),
     }

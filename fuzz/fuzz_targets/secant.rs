@@ -10,8 +10,8 @@ use heapless::Vec as HVec;
 use libfuzzer_sys::fuzz_target;
 use primo_core::golden::Status;
 use primo_core::secant::{Rule, Secant, SecantConfig};
-use primo_core::wire::MAX_QUERY;
 use primo_fuzz::{check_told, num, positive};
+use primo_protocol::learner::MAX_QUERY;
 
 /// Up to `MAX_QUERY` numbers; the length is `n` seven times in eight.
 fn vector(u: &mut Unstructured, n: usize, scale: f32) -> Result<HVec<f32, MAX_QUERY>> {

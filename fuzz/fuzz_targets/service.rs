@@ -8,8 +8,10 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use primo_core::service::{Coprocessor, UNREAD};
-use primo_core::wire::{self, FaultKind, MAX_FRAME, Reply, Request};
+use primo_learner::{Coprocessor, UNREAD};
+use primo_protocol::fault::FaultKind;
+use primo_protocol::frame::{self as wire, MAX_FRAME};
+use primo_protocol::learner::{Reply, Request};
 
 /// Requests per session: enough to stream a whole movement.
 const MAX_REQUESTS: usize = 400;

@@ -1,5 +1,5 @@
-//! Arbitrary messages round-trip: any `Request` or `Reply` (built from the
-//! input by postcard, so every variant and value is reachable, NaNs too)
+//! Arbitrary messages round-trip: any `Request` or `Reply`, the
+//! coprocessor's or the scale device's (built from the input by postcard, so every variant and value is reachable, NaNs too)
 //! either does not fit a frame or encodes to a frame that the reader cuts
 //! out whole and the decoder gives back bit for bit.
 #![no_main]
@@ -7,7 +7,9 @@
 use core::fmt::Debug;
 
 use libfuzzer_sys::fuzz_target;
-use primo_core::wire::{self, Frame, FrameError, FrameReader, MAX_FRAME, Reply, Request};
+use primo_protocol::frame::{self as wire, Frame, FrameError, FrameReader, MAX_FRAME};
+use primo_protocol::learner::{Reply, Request};
+use primo_protocol::scale;
 use serde::Serialize;
 use serde::de::DeserializeOwned;
 
@@ -50,11 +52,26 @@ fuzz_target!(|data: &[u8]| {
     let Ok((seq, rest)) = postcard::take_from_bytes::<u32>(rest) else {
         return;
     };
-    if which & 1 == 0 {
-        if let Ok((body, _)) = postcard::take_from_bytes::<Request>(rest) {
-            round_trip(seq, &body);
+    match which & 3 {
+        0 => {
+            if let Ok((body, _)) = postcard::take_from_bytes::<Request>(rest) {
+                round_trip(seq, &body);
+            }
         }
-    } else if let Ok((body, _)) = postcard::take_from_bytes::<Reply>(rest) {
-        round_trip(seq, &body);
+        1 => {
+            if let Ok((body, _)) = postcard::take_from_bytes::<Reply>(rest) {
+                round_trip(seq, &body);
+            }
+        }
+        2 => {
+            if let Ok((body, _)) = postcard::take_from_bytes::<scale::Request>(rest) {
+                round_trip(seq, &body);
+            }
+        }
+        _ => {
+            if let Ok((body, _)) = postcard::take_from_bytes::<scale::Reply>(rest) {
+                round_trip(seq, &body);
+            }
+        }
     }
 });

@@ -9,9 +9,7 @@ mod relay;
 use std::sync::atomic::Ordering;
 use std::time::{Duration, Instant};
 
-use primo_core::scale::{
-    CalibrationPoint, ScaleRequest, Settings as ScaleSettings, Unit, WeighMode,
-};
+use primo_device::scale::Settings as ScaleSettings;
 use primo_learn::algorithm::Algorithm as Method;
 use primo_learn::coprocessor::{Image, Link, Qemu};
 use primo_learn::learner::Learner;
@@ -22,6 +20,7 @@ use primo_learn::pour::skill::built_in_skill;
 use primo_learn::pour::trial::Trial;
 use primo_learn::pour::weigh::PrimoScale;
 use primo_learn::rollouts::Record;
+use primo_protocol::scale::{CalibrationPoint, ScaleRequest, Unit, WeighMode};
 use primo_sim::cell::{CellConfig, GlassKind};
 use primo_sim::load_cell::{LoadCellModel, LoadCellServer};
 use primo_sim::scale_device::LoadHandle;

@@ -77,8 +77,8 @@ pub(crate) fn check_bounded(values: &[f32], bound: f32, what: &'static str) -> R
     }
 }
 
-/// Checks `n <= capacity`.
-pub(crate) fn check_capacity(what: &'static str, n: usize, capacity: usize) -> Result<(), Error> {
+/// Checks `n <= capacity`: [`Error::Capacity`] if not.
+pub fn check_capacity(what: &'static str, n: usize, capacity: usize) -> Result<(), Error> {
     if n <= capacity {
         Ok(())
     } else {
@@ -90,8 +90,8 @@ pub(crate) fn check_capacity(what: &'static str, n: usize, capacity: usize) -> R
     }
 }
 
-/// Checks `found == expected`.
-pub(crate) fn check_len(what: &'static str, expected: usize, found: usize) -> Result<(), Error> {
+/// Checks `found == expected`: [`Error::Length`] if not.
+pub fn check_len(what: &'static str, expected: usize, found: usize) -> Result<(), Error> {
     if found == expected {
         Ok(())
     } else {

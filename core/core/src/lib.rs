@@ -23,6 +23,10 @@
 //! - [`rhythmic`]: periodic DMPs, frequency and amplitude changed online.
 //! - [`normal`]: a seedable standard-normal sampler on any [`rand_core::Rng`].
 //!
+//! The core is math and learners only: the wire protocol of primo's
+//! devices is the crate `primo-protocol`, the learner behind it
+//! `primo-learner`, the scale `primo-device`.
+//!
 //! All arithmetic is `f32` with [`libm`] functions only, and every public
 //! function returns an [`Error`] on bad input instead of panicking.
 //!
@@ -71,10 +75,7 @@ pub mod power;
 pub mod quaternion;
 pub mod rhythmic;
 pub mod rng;
-pub mod scale;
 pub mod secant;
-pub mod service;
 pub mod tangent;
-pub mod wire;
 
-pub use error::Error;
+pub use error::{Error, check_capacity, check_len};

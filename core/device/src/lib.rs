@@ -1,10 +1,13 @@
 //! # primo-device
 //!
-//! The scale as a primo device, sans I/O: the loop every scale image runs
-//! ([`ScaleDevice`]: frames from the host to the learner service or the
-//! scale, the load cell's counts to the scale, its replies and streamed
-//! readings back, a changed setting to the store), over three thin
-//! adapters an image supplies:
+//! The scale as a primo device, sans I/O: the scale itself ([`scale`]:
+//! filter, calibration, zero and tare, stability, faults: the handler of
+//! the scale's messages), and the loop every scale image runs
+//! ([`ScaleDevice`]: the frames of the scale's endpoint,
+//! [`primo_protocol::endpoint::Scale`], from the host to the learner
+//! service or the scale, the load cell's counts to the scale, its replies
+//! and streamed readings back, a changed setting to the store), over three
+//! thin adapters an image supplies:
 //!
 //! - a byte [`Port`] to the host (a UART, polled);
 //! - a [`LoadCell`] (`primo_loadcell`'s HX711 or ADS1232 driver on a
@@ -13,12 +16,19 @@
 //!   under QEMU, the flash page through [`stm32g4::FlashSettings`] on an
 //!   STM32G4).
 //!
+//! The scale's algorithm lives here rather than in the protocol or a crate
+//! of its own: only the scale device runs it (the host's tests run it
+//! through this crate too), and the protocol stays what both ends agree
+//! on.
+//!
 //! [`page`] is the settings page's bytes (one CRC-checked wire frame), the
 //! same on every store; [`stm32g4`] the STM32G4 flash controller's erase
 //! and program sequence, over a register trait so the host's tests run it
 //! against a model of the controller.
 #![no_std]
 #![deny(missing_docs)]
+// `!(x > 0.0)` is the idiom that also rejects NaN; keep it.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
 #![cfg_attr(
     not(test),
     deny(
@@ -32,15 +42,23 @@
     )
 )]
 
+#[cfg(test)]
+extern crate std;
+
 pub mod page;
+pub mod scale;
 pub mod stm32g4;
 
 use core::convert::Infallible;
 
-use primo_core::scale::{STREAM, Scale, Settings};
-use primo_core::service::Coprocessor as Service;
-use primo_core::wire::{self, FrameReader, MAX_FRAME};
+use primo_learner::Coprocessor as Service;
 pub use primo_loadcell::LoadCell;
+use primo_protocol::endpoint::Scale as ScaleEndpoint;
+use primo_protocol::frame::{self, FrameError, FrameReader, MAX_FRAME};
+use primo_protocol::replay::Replay;
+use primo_protocol::scale::{Reply, Request, STREAM};
+
+use crate::scale::{Scale, Settings};
 
 /// The host's line, byte by byte, polled.
 pub trait Port {
@@ -84,6 +102,25 @@ impl Saturation for primo_loadcell::Error {
     }
 }
 
+/// Answers one frame off the line to the scale device (`raw` as
+/// [`FrameReader::push`] gives it), through `replay`: a learner's request
+/// to `service`, a scale's to `scale`. Returns the reply frame's length in
+/// `out`: 0 for a weighing the scale defers, whose answer comes from
+/// [`Scale::deferred`] and [`Replay::deferred`] after a sample (unless
+/// another frame comes first).
+pub fn answer(
+    service: &mut Service,
+    scale: &mut Scale,
+    replay: &mut Replay,
+    raw: Result<&[u8], FrameError>,
+    out: &mut [u8; MAX_FRAME],
+) -> usize {
+    replay.serve::<ScaleEndpoint>(raw, out, |request| match request {
+        Request::Learner(r) => Some(Reply::Learner(service.respond(r))),
+        Request::Scale(r) => scale.respond(r),
+    })
+}
+
 /// What one [`ScaleDevice::poll`] did.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[must_use]
@@ -98,11 +135,13 @@ pub struct Pass<E> {
 
 /// The scale and the learner service on one device: the loop of every
 /// scale image. The service and the scale are large (16 KiB): the image
-/// keeps them in statics and lends them here.
+/// keeps them in statics and lends them here. The learner's and the
+/// scale's requests share one [`Replay`] (one sequence of frames).
 pub struct ScaleDevice<'a> {
     service: &'a mut Service,
     scale: &'a mut Scale,
     reader: &'a mut FrameReader,
+    replay: Replay,
     out: [u8; MAX_FRAME],
 }
 
@@ -117,6 +156,7 @@ impl<'a> ScaleDevice<'a> {
             service,
             scale,
             reader,
+            replay: Replay::new(),
             out: [0; MAX_FRAME],
         }
     }
@@ -149,10 +189,14 @@ impl<'a> ScaleDevice<'a> {
             let Some(raw) = self.reader.push(byte) else {
                 continue;
             };
-            host.write_all(
-                self.service
-                    .handle_with(raw, &mut self.out, Some(&mut *self.scale)),
+            let len = answer(
+                self.service,
+                self.scale,
+                &mut self.replay,
+                raw,
+                &mut self.out,
             );
+            host.write_all(self.out.get(..len).unwrap_or(&[]));
             if let Some(changed) = self.scale.take_changed() {
                 stored = Some(store.store(changed));
             }
@@ -168,11 +212,13 @@ impl<'a> ScaleDevice<'a> {
             };
             idle = false;
             self.scale.push(counts);
-            if let Some(frame) = self.service.deferred(self.scale, &mut self.out) {
-                host.write_all(frame);
+            if let Some(reply) = self.scale.deferred()
+                && let Some(len) = self.replay.deferred(&reply, &mut self.out)
+            {
+                host.write_all(self.out.get(..len).unwrap_or(&[]));
             }
             if let Some(reading) = self.scale.streamed()
-                && let Ok(frame) = wire::encode(STREAM, &reading, &mut self.out)
+                && let Ok(frame) = frame::encode(STREAM, &reading, &mut self.out)
             {
                 host.write_all(frame);
             }

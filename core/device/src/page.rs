@@ -1,12 +1,13 @@
-//! The settings page's bytes: one wire frame ([`primo_core::wire`]: COBS,
+//! The settings page's bytes: one wire frame ([`primo_protocol::frame`]: COBS,
 //! CRC-32C, the 0x00 delimiter) of the scale's [`Settings`] at the page's
 //! start, padded with erased bytes (0xFF) to whole 64-bit double words,
 //! the unit an STM32G4 programs. A page that does not begin with an intact
 //! frame (erased, torn by a power loss mid-write, or anything else) holds
 //! no settings: the scale keeps its factory ones, never garbage.
 
-use primo_core::scale::Settings;
-use primo_core::wire::{self, FrameError, MAX_FRAME};
+use primo_protocol::frame::{self as wire, FrameError, MAX_FRAME};
+
+use crate::scale::Settings;
 
 /// The unit a page is written in, bytes (an STM32G4 double word).
 pub const UNIT: usize = 8;
@@ -39,7 +40,7 @@ pub fn decode(page: &[u8]) -> Option<Settings> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use primo_core::scale::Calibration;
+    use crate::scale::Calibration;
 
     fn kept() -> Settings {
         Settings {

@@ -35,7 +35,7 @@
 //! during which the UART receives into its FIFO only (a request frame sent
 //! meanwhile may be lost; the host retransmits).
 
-use primo_core::scale::Settings;
+use crate::scale::Settings;
 
 use crate::SettingsStore;
 use crate::page::{self, ERASED, IMAGE, UNIT};

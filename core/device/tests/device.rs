@@ -4,13 +4,15 @@
 
 use std::collections::VecDeque;
 
-use primo_core::scale::{
-    CalibrationPoint, FILTER, Scale, ScaleConfig, ScaleReply, ScaleRequest, Settings, Unit, WINDOW,
-    WeighMode,
-};
-use primo_core::service::Coprocessor as Service;
-use primo_core::wire::{self, FaultKind, FrameReader, MAX_FRAME, Reply, Request};
+use primo_device::scale::{Scale, ScaleConfig, Settings};
 use primo_device::{LoadCell, Port, ScaleDevice, SettingsStore};
+use primo_learner::Coprocessor as Service;
+use primo_protocol::fault::FaultKind;
+use primo_protocol::frame::{self as wire, FrameReader, MAX_FRAME};
+use primo_protocol::learner::Reply as LearnerReply;
+use primo_protocol::scale::{
+    CalibrationPoint, FILTER, Reply, Request, ScaleReply, ScaleRequest, Unit, WINDOW, WeighMode,
+};
 
 #[derive(Default)]
 struct Host {
@@ -153,11 +155,11 @@ fn a_calibration_and_tare_survive_a_reboot_through_the_store() {
     let high = ScaleRequest::Calibrate(CalibrationPoint::High { grams: 1000.0 });
     assert_eq!(
         ask(&mut d, &mut host, &mut store, 10_000, 1, low),
-        Reply::Ok
+        Reply::OK
     );
     assert_eq!(
         ask(&mut d, &mut host, &mut store, 1_010_000, 2, high),
-        Reply::Ok
+        Reply::OK
     );
     assert_eq!(
         ask(
@@ -168,7 +170,7 @@ fn a_calibration_and_tare_survive_a_reboot_through_the_store() {
             3,
             ScaleRequest::Tare
         ),
-        Reply::Ok
+        Reply::OK
     );
     let r = ask(&mut d, &mut host, &mut store, 520_000, 4, weigh());
     assert_eq!(grams(&r), Some(40_000), "{r:?}");
@@ -200,7 +202,9 @@ fn a_saturated_adc_weighs_as_an_overload_not_the_last_reading() {
     host.send(3, weigh());
     let _ = d.poll(&mut host, &mut Cell(VecDeque::new()), &mut store);
     match host.replies().as_slice() {
-        [(3, Reply::Error(fault))] => assert_eq!(fault.kind, FaultKind::Overload),
+        [(3, Reply::Learner(LearnerReply::Error(fault)))] => {
+            assert_eq!(fault.kind, FaultKind::Overload)
+        }
         other => panic!("{other:?}"),
     }
     // A pin error drops the pass's samples, no more.

@@ -6,9 +6,9 @@
 mod model;
 
 use model::{ERASE_READS, G4Flash, PROGRAM_READS};
-use primo_core::scale::{Calibration, Settings};
 use primo_device::SettingsStore;
 use primo_device::page;
+use primo_device::scale::{Calibration, Settings};
 use primo_device::stm32g4::{
     Flash, FlashError, FlashRegs, FlashSettings, KEY1, KEY2, PAGE_SIZE, Reg, SETTINGS_PAGE, acr,
     cr, page_address, sr,

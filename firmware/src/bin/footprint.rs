@@ -17,15 +17,14 @@ use primo_core::generalize::Method;
 use primo_core::orientation::OrientationDmp;
 use primo_core::power::{Block, PowerConfig};
 use primo_core::quaternion::Quaternion;
-use primo_core::scale::{
-    Calibration, STREAM, Scale, ScaleConfig, ScaleRequest, Settings as ScaleSettings, Unit,
-    WeighMode,
+use primo_device::scale::{Calibration, Scale, ScaleConfig, Settings as ScaleSettings};
+use primo_learner::{Coprocessor as Service, THETA};
+use primo_protocol::frame::{self as wire, FrameReader, MAX_FRAME};
+use primo_protocol::learner::{
+    CHUNK, DmpStart, LearnerSetup, MAX_DOF, Outcome, Query, Reply, Request, Setup,
 };
-use primo_core::service::{Coprocessor as Service, THETA};
-use primo_core::wire::{
-    self, CHUNK, DmpStart, FrameReader, LearnerSetup, MAX_DOF, MAX_FRAME, Outcome, Query, Reply,
-    Request, Setup,
-};
+use primo_protocol::replay::Replay;
+use primo_protocol::scale::{self, STREAM, ScaleRequest, Unit, WeighMode};
 
 const UPDATES: u32 = 20;
 const STEPS: u32 = 1000;
@@ -258,19 +257,21 @@ fn scale_costs(service: &mut Service, scale: &mut Scale, syst: &mut SYST) -> (u6
         ..ScaleSettings::default()
     });
     let mut out = [0u8; MAX_FRAME];
-    let mut frame = |service: &mut Service, scale: &mut Scale, seq: u32, request: &Request| {
-        let mut buf = [0u8; MAX_FRAME];
-        let Ok(bytes) = wire::encode(seq, request, &mut buf) else {
-            fail("scale encode")
+    let mut replay = Replay::new();
+    let mut frame =
+        |service: &mut Service, scale: &mut Scale, seq: u32, request: &scale::Request| {
+            let mut buf = [0u8; MAX_FRAME];
+            let Ok(bytes) = wire::encode(seq, request, &mut buf) else {
+                fail("scale encode")
+            };
+            let raw = bytes.split_last().map_or(&[][..], |(_, r)| r);
+            primo_device::answer(service, scale, &mut replay, Ok(raw), &mut out)
         };
-        let raw = bytes.split_last().map_or(&[][..], |(_, r)| r);
-        service.handle_with(Ok(raw), &mut out, Some(scale)).len()
-    };
     frame(
         service,
         scale,
         1,
-        &Request::Scale(ScaleRequest::Stream { every: 1 }),
+        &scale::Request::Scale(ScaleRequest::Stream { every: 1 }),
     );
     let mut sent = 0;
     let (mut read_ticks, mut weigh_ticks) = (0, 0);
@@ -284,7 +285,7 @@ fn scale_costs(service: &mut Service, scale: &mut Scale, syst: &mut SYST) -> (u6
                 }
             }
         });
-        let weigh = Request::Scale(ScaleRequest::Weigh {
+        let weigh = scale::Request::Scale(ScaleRequest::Weigh {
             mode: WeighMode::Stable,
             unit: Unit::G,
         });

@@ -8,13 +8,13 @@
 #![no_main]
 
 use cortex_m_rt::entry;
-use primo_core::scale::{Scale, ScaleConfig};
-use primo_core::service::Coprocessor as Service;
-use primo_core::wire::FrameReader;
 use primo_device::ScaleDevice;
+use primo_device::scale::{Scale, ScaleConfig};
 use primo_firmware::load_cell::UartCell;
 use primo_firmware::settings::RamPage;
 use primo_firmware::uart::{self, Uart};
+use primo_learner::Coprocessor as Service;
+use primo_protocol::frame::FrameReader;
 
 #[entry]
 fn main() -> ! {

@@ -6,10 +6,12 @@ use std::time::Duration;
 
 use clap::{Args, Subcommand, ValueEnum};
 
-use primo_core::scale::{CalibrationPoint, Reading, ScaleRequest, Unit as ScaleUnit, WeighMode};
 use primo_learn::coprocessor::{Image, Qemu};
 use primo_learn::pour::weigh::{Density, PrimoScale, ScaleSpec};
 use primo_mtsics::{Client, ClientConfig, Unit, quote};
+use primo_protocol::scale::{
+    CalibrationPoint, Reading, ScaleRequest, Unit as ScaleUnit, WeighMode,
+};
 use primo_sim::load_cell::{LoadCellModel, LoadCellServer};
 use primo_sim::scale::ScaleModel;
 use primo_sim::scale_device::{Control, Device, DeviceConfig, LoadHandle, PtyServer};
@@ -332,12 +334,7 @@ fn shown(r: &Reading, unit: OutputUnit, density: Density) -> String {
     match unit {
         OutputUnit::Ml => format!("{:.*} ml", decimals, density.millilitres(r.grams())),
         _ => {
-            let name = match r.unit {
-                ScaleUnit::G => "g",
-                ScaleUnit::Mg => "mg",
-                ScaleUnit::Kg => "kg",
-            };
-            format!("{:.*} {name}", decimals, r.value())
+            format!("{:.*} {}", decimals, r.value(), r.unit.symbol())
         }
     }
 }

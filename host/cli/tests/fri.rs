@@ -19,7 +19,6 @@ use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use primo_core::power::{Power, PowerConfig};
-use primo_core::service::SAMPLER;
 use primo_fri::packet::{Measurement, Quality, State};
 use primo_fri::session::{SessionConfig, Stop};
 use primo_fri::udp::{Ended, Event, PlayConfig, PlayResult, play};
@@ -28,6 +27,7 @@ use primo_learn::pour::rig::{Simulated, roll_out};
 use primo_learn::pour::skill::Space;
 use primo_learn::pour::skill::built_in_skill;
 use primo_learn::pour::skill::gate;
+use primo_learner::SAMPLER;
 use primo_mtsics::{Client, ClientConfig};
 use primo_robot::JOINTS;
 use primo_robot::safety::check_joints;

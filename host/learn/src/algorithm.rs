@@ -4,7 +4,7 @@
 
 use primo_core::golden::SearchConfig;
 use primo_core::secant::{Rule, SecantConfig};
-use primo_core::wire::LearnerSetup;
+use primo_protocol::learner::LearnerSetup;
 use primo_skill::Skill;
 use serde::{Deserialize, Serialize};
 

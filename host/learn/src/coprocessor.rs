@@ -1,6 +1,6 @@
 //! The host's end of primo's devices (the learning coprocessor, the
 //! load-cell scale): a [`Link`] that speaks the wire protocol
-//! ([`primo_core::wire`]) over a serial port, and [`Qemu`], which boots a
+//! ([`primo_protocol`]) over a serial port, and [`Qemu`], which boots a
 //! firmware image on an emulated Cortex-M4F and exposes its UART as a
 //! pseudo-terminal.
 //!
@@ -12,6 +12,7 @@
 //! handle: the scale's client and the learner on the scale use one line.
 
 use std::collections::VecDeque;
+use std::fmt;
 use std::io::{self, BufRead, BufReader, Read};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
@@ -19,9 +20,13 @@ use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::{Duration, Instant};
 
-use primo_core::scale::STREAM;
-use primo_core::service::UNREAD;
-use primo_core::wire::{self, FaultKind, FrameReader, MAX_FRAME, Reply, Request};
+use primo_protocol::VERSION;
+use primo_protocol::fault::FaultKind;
+use primo_protocol::frame::{self as wire, FrameReader, MAX_FRAME};
+use primo_protocol::learner::{self, Reply as LearnerReply};
+use primo_protocol::replay::UNREAD;
+use primo_protocol::scale::{Reply, Request, STREAM};
+use serde::Serialize;
 use serialport::SerialPort;
 
 use crate::Error;
@@ -66,7 +71,7 @@ struct Line {
 impl Link {
     /// Opens the serial port at `path` (115200 8N1; a pseudo-terminal
     /// ignores the rate) and greets the device: it must speak
-    /// [`wire::VERSION`].
+    /// [`VERSION`].
     pub fn open(path: &str) -> Result<Link, Error> {
         let port = serialport::new(path, 115_200)
             .timeout(Duration::from_millis(20))
@@ -112,6 +117,19 @@ impl Link {
         self.line().call(request, Duration::ZERO)
     }
 
+    /// [`Link::call`] of a learner's request, on either device (it has the
+    /// same bytes on both).
+    pub fn learn(&mut self, request: &learner::Request) -> Result<LearnerReply, Error> {
+        let mut line = self.line();
+        match line.call(request, Duration::ZERO)? {
+            Reply::Learner(reply) => Ok(reply),
+            other => Err(Error::Coprocessor(format!(
+                "coprocessor {}: unexpected answer to {request:?}: {other:?}",
+                line.name
+            ))),
+        }
+    }
+
     /// [`Link::call`] of a request whose reply may take up to `patience`
     /// (a scale's next stable reading): sent again while unanswered, for
     /// [`ATTEMPTS`] sends or `patience`, whichever is longer.
@@ -133,15 +151,15 @@ impl Link {
 
 impl Line {
     fn hello(&mut self) -> Result<(), Error> {
-        let hello = Request::Hello {
-            version: wire::VERSION,
-        };
+        let hello = learner::Request::Hello { version: VERSION };
         match self.call(&hello, Duration::ZERO)? {
-            Reply::Hello { .. } => Ok(()),
-            Reply::Error(f) if f.kind == FaultKind::Version => Err(Error::Coprocessor(format!(
-                "coprocessor {}: {f}; flash firmware of this primo version",
-                self.name
-            ))),
+            Reply::Learner(LearnerReply::Hello { .. }) => Ok(()),
+            Reply::Learner(LearnerReply::Error(f)) if f.kind == FaultKind::Version => {
+                Err(Error::Coprocessor(format!(
+                    "coprocessor {}: {f}; flash firmware of this primo version",
+                    self.name
+                )))
+            }
             other => Err(Error::Coprocessor(format!(
                 "coprocessor {}: unexpected answer to hello: {other:?}",
                 self.name
@@ -149,7 +167,13 @@ impl Line {
         }
     }
 
-    fn call(&mut self, request: &Request, patience: Duration) -> Result<Reply, Error> {
+    /// Sends `request` (the scale's, or the learner's: the same bytes on
+    /// either device) and returns its reply, retransmitting as needed.
+    fn call<Q: Serialize + fmt::Debug>(
+        &mut self,
+        request: &Q,
+        patience: Duration,
+    ) -> Result<Reply, Error> {
         let start = Instant::now();
         self.seq = self.seq.wrapping_add(1);
         if self.seq == UNREAD || self.seq == STREAM {
@@ -329,7 +353,7 @@ impl Qemu {
     pub fn start_scale(
         firmware: &Path,
         load_cell: &str,
-        settings: &primo_core::scale::Settings,
+        settings: &primo_device::scale::Settings,
     ) -> Result<Qemu, Error> {
         let mut buf = [0u8; primo_device::page::IMAGE];
         let image = primo_device::page::encode(settings, &mut buf)

@@ -5,8 +5,8 @@
 use std::path::Path;
 
 use primo_core::power::{Block, widest_distance};
-use primo_core::service::Service;
-use primo_core::wire::{CHUNK, LearnerSetup, MAX_QUERY, Query, Reply, Request, Setup};
+use primo_learner::Service;
+use primo_protocol::learner::{CHUNK, LearnerSetup, MAX_QUERY, Query, Reply, Request, Setup};
 use primo_skill::MAX_KERNELS;
 use primo_skill::Skill;
 use primo_skill::skill::{MAX_EXAMPLES, MAX_PARAMS};
@@ -89,7 +89,7 @@ impl Learner {
     pub(crate) fn call(&mut self, request: &Request) -> Result<Reply, Error> {
         let reply = match self {
             Learner::Local(s) => s.respond(request),
-            Learner::Remote(link) => link.call(request)?,
+            Learner::Remote(link) => link.learn(request)?,
         };
         match reply {
             Reply::Error(f) => Err(Error::Learner(format!("learner: {f}"))),

@@ -4,7 +4,7 @@
 //! log ([`verify_replayed`]). It knows no task: a roll-out is whatever
 //! [`Scored`] the caller's `roll` returns.
 
-use primo_core::wire::{LearnerSetup, Outcome, Reply, Request, Rollout, Setup, Status};
+use primo_protocol::learner::{LearnerSetup, Outcome, Reply, Request, Rollout, Setup, Status};
 use primo_skill::Skill;
 use serde::{Deserialize, Serialize};
 

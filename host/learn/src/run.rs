@@ -23,7 +23,7 @@ use crate::learner::{Learner, check_examples, examples_crc};
 use crate::output::{check_dir, create_dir};
 use crate::rollouts::{Entry, Scored, learn_logged};
 use crate::runlog::{self, RunEvent, RunLog};
-use primo_core::wire::Setup;
+use primo_protocol::learner::Setup;
 
 /// The run log's format version, one for every kind. Version 4: the
 /// header names its kind. Earlier logs (a pour's version 2 and 3, a task

@@ -7,43 +7,9 @@ use std::fmt;
 /// lines are short; anything longer is a broken line, not a response.
 pub const MAX_LINE: usize = 128;
 
-/// A mass unit the scale may answer in.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Unit {
-    /// Milligram.
-    Mg,
-    /// Gram, the simulated scale's unit.
-    G,
-    /// Kilogram.
-    Kg,
-}
-
-impl Unit {
-    /// The unit as MT-SICS writes it (`mg`, `g`, `kg`).
-    pub fn symbol(self) -> &'static str {
-        match self {
-            Unit::Mg => "mg",
-            Unit::G => "g",
-            Unit::Kg => "kg",
-        }
-    }
-
-    /// The unit an MT-SICS line names, if it is one of these.
-    pub fn from_symbol(symbol: &str) -> Option<Unit> {
-        [Unit::Mg, Unit::G, Unit::Kg]
-            .into_iter()
-            .find(|u| u.symbol() == symbol)
-    }
-
-    /// The unit as a power of ten of a gram.
-    fn exponent(self) -> i32 {
-        match self {
-            Unit::Mg => -3,
-            Unit::G => 0,
-            Unit::Kg => 3,
-        }
-    }
-}
+/// A mass unit the scale may answer in: the one primo's scale answers in
+/// too (MT-SICS writes [`Unit::symbol`]).
+pub use primo_protocol::scale::Unit;
 
 /// A weight as the scale shows it: a value in a unit, with as many
 /// decimals as the scale sent (its resolution).
@@ -60,13 +26,13 @@ pub struct Weight {
 impl Weight {
     /// The weight in grams.
     pub fn grams(&self) -> f64 {
-        self.value * 10f64.powi(self.unit.exponent())
+        self.value * 10f64.powi(self.unit.exponent().into())
     }
 
     /// The same weight in `unit`, its decimals shifted so the resolution is
     /// kept (0.01 g is 10 mg, or 0.00001 kg).
     pub fn to(&self, unit: Unit) -> Weight {
-        let shift = unit.exponent() - self.unit.exponent();
+        let shift = i32::from(unit.exponent()) - i32::from(self.unit.exponent());
         Weight {
             value: self.value * 10f64.powi(-shift),
             unit,

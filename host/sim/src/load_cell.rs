@@ -3,7 +3,7 @@
 //! noise, as the raw counts of a 24-bit ADC at its sample rate: what the
 //! scale firmware (`primo-scale`) weighs from. [`LoadCellServer`] sends the
 //! counts on a new pseudo-terminal in wall-clock time, framed as
-//! [`primo_core::scale::encode_sample`] does, for QEMU's second UART.
+//! [`primo_device::scale::encode_sample`] does, for QEMU's second UART.
 //!
 //! ```
 //! use primo_sim::load_cell::{LoadCell, LoadCellModel};
@@ -22,7 +22,7 @@ use std::time::{Duration, Instant};
 
 use primo_core::normal::StandardNormal;
 use primo_core::rng::Xoshiro128PlusPlus;
-use primo_core::scale::{Calibration, SAMPLE_BYTES, Settings, encode_sample};
+use primo_device::scale::{Calibration, SAMPLE_BYTES, Settings, encode_sample};
 use rand_core::SeedableRng;
 use serialport::{SerialPort, TTYPort};
 
@@ -226,7 +226,7 @@ fn send<L: LoadSource>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use primo_core::scale::SampleReader;
+    use primo_device::scale::SampleReader;
     use std::io::Read;
 
     #[test]

@@ -36,8 +36,8 @@ pub const MAX_EXAMPLES: usize = 8;
 /// Longest DMP parameter vector (weights, goals, τ).
 pub const MAX_PARAMS: usize = HOST_MAX_DOF * MAX_KERNELS + HOST_MAX_DOF + 1;
 
-/// Largest dimension of a query.
-pub const MAX_QUERY: usize = 4;
+/// Largest dimension of a query: the learner's, on the wire and in process.
+pub use primo_protocol::learner::MAX_QUERY;
 
 type Gen = Generalizer<MAX_EXAMPLES, MAX_QUERY, MAX_PARAMS>;
 

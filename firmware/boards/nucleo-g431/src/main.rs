@@ -32,12 +32,12 @@ use core::panic::PanicInfo;
 
 use cortex_m::peripheral::SCB;
 use cortex_m_rt::{ExceptionFrame, entry, exception};
-use primo_core::scale::{Scale, ScaleConfig};
-use primo_core::service::Coprocessor as Service;
-use primo_core::wire::FrameReader;
 use primo_device::ScaleDevice;
+use primo_device::scale::{Scale, ScaleConfig};
 use primo_device::stm32g4::{Flash, FlashSettings, SETTINGS_PAGE};
+use primo_learner::Coprocessor as Service;
 use primo_loadcell::hx711::{Gain, Hx711};
+use primo_protocol::frame::FrameReader;
 use stm32g4::stm32g431 as pac;
 
 use board::{DwtDelay, G4FlashRegs, Led, PortB, Usart2};

@@ -7,7 +7,7 @@
 
 use std::path::{Path, PathBuf};
 
-use primo_core::wire::Setup;
+use primo_protocol::learner::Setup;
 use primo_skill::Skill;
 use serde::{Deserialize, Serialize};
 

@@ -3,7 +3,7 @@
 //! learner's setup for them.
 
 use primo_core::power::PowerConfig;
-use primo_core::wire::{LearnerSetup, Setup};
+use primo_protocol::learner::{LearnerSetup, Setup};
 use primo_skill::Skill;
 use serde::{Deserialize, Serialize};
 

@@ -8,11 +8,13 @@
 use std::path::Path;
 use std::time::{Duration, Instant};
 
-use primo_core::scale::{
-    CalibrationPoint, FRESH, Identity, Reading, ScaleReply, ScaleRequest, Unit, WeighMode,
-};
-use primo_core::wire::{Fault, FaultKind, Reply, Request};
 use primo_mtsics::{Client, ClientConfig};
+use primo_protocol::fault::{Fault, FaultKind};
+use primo_protocol::learner::Reply as LearnerReply;
+use primo_protocol::scale::{
+    CalibrationPoint, FRESH, Identity, Reading, Reply, Request, ScaleReply, ScaleRequest, Unit,
+    WeighMode,
+};
 use primo_sim::load_cell::LoadCellModel;
 
 use crate::Error;
@@ -248,7 +250,7 @@ impl PrimoScale {
     /// Zero, tare or a calibration point, at a stable load (waited for).
     pub fn set(&mut self, request: &ScaleRequest) -> Result<(), Error> {
         match self.settled(request, Duration::ZERO)? {
-            Reply::Ok => Ok(()),
+            Reply::Learner(LearnerReply::Ok) => Ok(()),
             other => Err(self.unexpected("setting", &other)),
         }
     }
@@ -276,7 +278,7 @@ impl PrimoScale {
             for reply in got {
                 match reply {
                     Reply::Scale(ScaleReply::Reading(r)) => readings.push(Ok(r)),
-                    Reply::Error(fault) => readings.push(Err(fault)),
+                    Reply::Learner(LearnerReply::Error(fault)) => readings.push(Err(fault)),
                     other => return Err(self.unexpected("stream", &other)),
                 }
             }
@@ -300,7 +302,7 @@ impl PrimoScale {
         loop {
             let request_frame = Request::Scale(request.clone());
             match self.link.call_within(&request_frame, patience)? {
-                Reply::Error(f)
+                Reply::Learner(LearnerReply::Error(f))
                     if f.kind == FaultKind::NotSettled && start.elapsed() < self.settle =>
                 {
                     std::thread::sleep(SETTLE_POLL)
@@ -319,7 +321,7 @@ impl PrimoScale {
     /// A fault reply as an error naming the port and the request.
     fn fault(&self, request: &ScaleRequest, reply: Reply) -> Result<Reply, Error> {
         match reply {
-            Reply::Error(fault) => Err(Error::Instrument(format!(
+            Reply::Learner(LearnerReply::Error(fault)) => Err(Error::Instrument(format!(
                 "scale {}: {}: {fault}",
                 self.link.name(),
                 name(request)

@@ -411,15 +411,11 @@ fn learner(
         })
     };
     let sampler = match &l.sampler {
-        Some(v) if !(1..=primo_core::service::SAMPLER).contains(v.get_ref()) => {
+        Some(v) if !(1..=primo_learner::SAMPLER).contains(v.get_ref()) => {
             return Err(p.at(
                 v.span(),
                 "[learner] sampler",
-                format!(
-                    "{}: must be in 1..={}",
-                    v.get_ref(),
-                    primo_core::service::SAMPLER
-                ),
+                format!("{}: must be in 1..={}", v.get_ref(), primo_learner::SAMPLER),
             ));
         }
         Some(v) => *v.get_ref(),

@@ -13,7 +13,7 @@
 use std::path::{Path, PathBuf};
 
 use primo_core::power::PowerConfig;
-use primo_core::wire::{LearnerSetup, Setup};
+use primo_protocol::learner::{LearnerSetup, Setup};
 use primo_robot::envelope::Limits;
 use primo_skill::Skill;
 use primo_skill::csv::write_rows;

@@ -1,6 +1,8 @@
-//! A load-cell scale behind the wire: raw counts of a 24-bit ADC in,
-//! weights out, with no I/O, so the scale firmware and the host's tests
-//! run the same code.
+//! The load-cell scale, the handler of the scale's messages
+//! ([`primo_protocol::scale`]): raw counts of a 24-bit ADC in, weights
+//! out, with no I/O, so the scale firmware and the host's tests run the
+//! same code. It lives with the scale device, not in the protocol: the
+//! protocol says what a reading is, this is how one is made.
 //!
 //! - **Filter**: the mean of the last [`FILTER`] samples (integer sums, so
 //!   every target computes the same bits).
@@ -25,17 +27,17 @@
 //! ADS1232 instead).
 //!
 //! ```
-//! use primo_core::scale::{CalibrationPoint, Scale, ScaleConfig, ScaleRequest, ScaleReply};
-//! use primo_core::scale::{Unit, WeighMode, FILTER, FRESH, WINDOW};
-//! use primo_core::wire::Reply;
+//! use primo_device::scale::{Scale, ScaleConfig};
+//! use primo_protocol::scale::{CalibrationPoint, Reply, ScaleReply, ScaleRequest};
+//! use primo_protocol::scale::{Unit, WeighMode, FILTER, FRESH, WINDOW};
 //! let mut s = Scale::new(ScaleConfig::LAB);
 //! let mut settle = |s: &mut Scale, counts: i32| (0..FILTER + WINDOW).for_each(|_| s.push(counts));
 //! settle(&mut s, 12_000);
 //! let low = ScaleRequest::Calibrate(CalibrationPoint::Low { grams: 0.0 });
-//! assert_eq!(s.respond(&low), Some(Reply::Ok));
+//! assert_eq!(s.respond(&low), Some(Reply::OK));
 //! settle(&mut s, 512_000); // 500 g at 1000 counts per gram
 //! let high = ScaleRequest::Calibrate(CalibrationPoint::High { grams: 500.0 });
-//! assert_eq!(s.respond(&high), Some(Reply::Ok));
+//! assert_eq!(s.respond(&high), Some(Reply::OK));
 //! let weigh = |mode| ScaleRequest::Weigh { mode, unit: Unit::G };
 //! let Some(Reply::Scale(ScaleReply::Reading(r))) = s.respond(&weigh(WeighMode::Stable))
 //! else { panic!() };
@@ -54,157 +56,12 @@
 //! ```
 
 use heapless::String;
+use primo_protocol::fault::{Fault, FaultKind};
+use primo_protocol::scale::{
+    CalibrationPoint, FILTER, FRESH, Identity, Reading, Reply, ScaleReply, ScaleRequest, Unit,
+    WINDOW, WeighMode,
+};
 use serde::{Deserialize, Serialize};
-
-use crate::wire::{Fault, FaultKind, Reply};
-
-/// Samples averaged into one filtered value.
-pub const FILTER: usize = 16;
-/// Samples the display must hold within one digit to be stable.
-pub const WINDOW: usize = 80;
-/// The sequence number of streamed readings (hosts never send it).
-pub const STREAM: u32 = u32::MAX;
-/// Length of the model name.
-pub const MODEL: usize = 16;
-/// Samples after a request before the filter and the whole stability
-/// window hold samples of that time alone: the soonest a
-/// [`WeighMode::Next`] reading can be.
-pub const FRESH: u16 = (FILTER + WINDOW - 1) as u16;
-
-/// What the host asks the scale.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub enum ScaleRequest {
-    /// Who are you? Answered with [`ScaleReply::Identity`].
-    Identify,
-    /// The weight, as `mode` says.
-    Weigh {
-        /// Which reading.
-        mode: WeighMode,
-        /// The unit to give it in.
-        unit: Unit,
-    },
-    /// Send a reading (immediate, in grams) every `every` samples,
-    /// numbered [`STREAM`]; 0 stops.
-    Stream {
-        /// Samples between readings.
-        every: u16,
-    },
-    /// Sets the zero to the current stable load (within the zero range)
-    /// and clears the tare.
-    Zero,
-    /// Sets the tare to the current stable net load.
-    Tare,
-    /// Takes one point of the two-point calibration at the current stable
-    /// load.
-    Calibrate(CalibrationPoint),
-}
-
-/// Which reading a [`ScaleRequest::Weigh`] asks for.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-pub enum WeighMode {
-    /// The current reading, stable or not.
-    Now,
-    /// The current reading if stable, else the fault
-    /// [`FaultKind::NotSettled`] (ask again). Within a second of a load
-    /// change it can still be the old load's.
-    Stable,
-    /// The first stable reading made only of samples taken after the
-    /// request ([`FRESH`] at least): answered when there is one, or with
-    /// the fault [`FaultKind::NotSettled`] once `within` samples passed
-    /// without one. An overload or underload is answered once the
-    /// samples are fresh; a later request drops this one's answer.
-    Next {
-        /// Samples to wait at most, at least [`FRESH`].
-        within: u16,
-    },
-}
-
-/// A point of the two-point calibration: the known mass on the pan now.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub enum CalibrationPoint {
-    /// The lower mass (usually the empty pan, 0 g); first.
-    Low {
-        /// Its mass, g.
-        grams: f32,
-    },
-    /// The upper mass (a reference weight); completes the calibration,
-    /// clears zero and tare.
-    High {
-        /// Its mass, g.
-        grams: f32,
-    },
-}
-
-/// What the scale answers (besides [`Reply::Ok`] and [`Reply::Error`]).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub enum ScaleReply {
-    /// Its identity and settings.
-    Identity(Identity),
-    /// A weight.
-    Reading(Reading),
-}
-
-/// Units of a reading.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-pub enum Unit {
-    /// Grams.
-    G,
-    /// Milligrams.
-    Mg,
-    /// Kilograms.
-    Kg,
-}
-
-/// A weight: `digits × 10^exponent` of `unit`, exactly as displayed.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-pub struct Reading {
-    /// The displayed value in units of `10^exponent`.
-    pub digits: i32,
-    /// Decimal exponent of a digit.
-    pub exponent: i8,
-    /// The unit.
-    pub unit: Unit,
-    /// The display has held within one digit for [`WINDOW`] samples.
-    pub stable: bool,
-    /// A tare is set: the value is net.
-    pub net: bool,
-    /// Samples taken since power-on, when this was read.
-    pub sample: u32,
-}
-
-impl Reading {
-    /// The value in its unit.
-    pub fn value(&self) -> f64 {
-        f64::from(self.digits) * libm::pow(10.0, f64::from(self.exponent))
-    }
-
-    /// The value in grams.
-    pub fn grams(&self) -> f64 {
-        let per_unit = match self.unit {
-            Unit::G => 1.0,
-            Unit::Mg => 1e-3,
-            Unit::Kg => 1e3,
-        };
-        self.value() * per_unit
-    }
-}
-
-/// Who the scale is.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct Identity {
-    /// Model name.
-    pub model: String<MODEL>,
-    /// Serial number.
-    pub serial: u32,
-    /// Largest load, g.
-    pub capacity: f32,
-    /// Decimals of a gram shown (2: 0.01 g digits).
-    pub decimals: u8,
-    /// ADC samples per second.
-    pub rate: u16,
-    /// A calibration is in force.
-    pub calibrated: bool,
-}
 
 /// A scale's fixed properties.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -247,7 +104,7 @@ pub struct Calibration {
 }
 
 /// What survives a reset (the firmware keeps it in a flash page, as a
-/// [`crate::wire`] frame: CRC-checked).
+/// [`primo_protocol::frame`]: CRC-checked; see [`crate::page`]).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
 pub struct Settings {
     /// The calibration, once both points were taken.
@@ -295,7 +152,7 @@ const RAW_DIGIT: f32 = 16.0;
 
 /// A fault reply.
 fn fault(kind: FaultKind, detail: &str) -> Reply {
-    Reply::Error(Fault::new(kind, detail))
+    Reply::from(Fault::new(kind, detail))
 }
 
 impl Scale {
@@ -415,14 +272,9 @@ impl Scale {
     fn reading(&self, unit: Unit) -> Result<Reading, Reply> {
         let gross = self.load()?;
         let digits = self.display(Some(gross)).unwrap_or(0);
-        let shift = match unit {
-            Unit::G => 0,
-            Unit::Mg => 3,
-            Unit::Kg => -3,
-        };
         Ok(Reading {
             digits,
-            exponent: shift - self.config.decimals as i8,
+            exponent: -unit.exponent() - self.config.decimals as i8,
             unit,
             stable: self.stable(),
             net: self.settings.tare != 0.0,
@@ -494,7 +346,7 @@ impl Scale {
             ScaleRequest::Weigh { mode, unit } => return self.weigh(*mode, *unit),
             ScaleRequest::Stream { every } => {
                 self.stream_every = *every;
-                return Some(Reply::Ok);
+                return Some(Reply::OK);
             }
             ScaleRequest::Zero => self.zero(),
             ScaleRequest::Tare => self.tare(),
@@ -504,7 +356,7 @@ impl Scale {
             Ok(()) => {
                 self.changed = true;
                 self.refill();
-                Reply::Ok
+                Reply::OK
             }
             Err(e) => e,
         })
@@ -527,7 +379,7 @@ impl Scale {
             return Some(fault(FaultKind::Uncalibrated, "calibrate the scale"));
         }
         if within < FRESH {
-            return Some(Reply::Error(Fault::new(
+            return Some(Reply::from(Fault::new(
                 FaultKind::Invalid,
                 format_args!("wait at least {FRESH} samples for the next stable reading"),
             )));
@@ -648,6 +500,8 @@ impl SampleReader {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use primo_protocol::frame::{self, MAX_FRAME};
+    use primo_protocol::learner::Reply as LearnerReply;
     use std::vec::Vec;
 
     fn settle(s: &mut Scale, counts: i32) {
@@ -662,7 +516,7 @@ mod tests {
         }));
         settle(&mut s, 1_010_000);
         let high = ScaleRequest::Calibrate(CalibrationPoint::High { grams: 1000.0 });
-        assert_eq!(s.respond(&high), Some(Reply::Ok));
+        assert_eq!(s.respond(&high), Some(Reply::OK));
         s
     }
 
@@ -677,7 +531,7 @@ mod tests {
             unit: Unit::G,
         }) {
             Some(Reply::Scale(ScaleReply::Reading(r))) => Ok(r),
-            Some(Reply::Error(f)) => Err(f.kind),
+            Some(Reply::Learner(LearnerReply::Error(f))) => Err(f.kind),
             other => panic!("{other:?}"),
         }
     }
@@ -731,7 +585,7 @@ mod tests {
         settle(&mut s, 260_000); // 250 g
         let r = weigh(&mut s, true).unwrap();
         assert_eq!((r.digits, r.grams(), r.net), (25_000, 250.0, false));
-        assert_eq!(s.respond(&ScaleRequest::Tare), Some(Reply::Ok));
+        assert_eq!(s.respond(&ScaleRequest::Tare), Some(Reply::OK));
         settle(&mut s, 270_000);
         let r = weigh(&mut s, true).unwrap();
         assert_eq!((r.digits, r.net), (1_000, true));
@@ -748,7 +602,7 @@ mod tests {
             Some(fault(FaultKind::Overload, "beyond the zero range"))
         );
         settle(&mut s, 15_000); // 5 g
-        assert_eq!(s.respond(&ScaleRequest::Zero), Some(Reply::Ok));
+        assert_eq!(s.respond(&ScaleRequest::Zero), Some(Reply::OK));
         assert_eq!(weigh(&mut s, true).unwrap().digits, 0);
         assert_eq!(s.take_changed().unwrap().zero, 5.0);
     }
@@ -791,9 +645,9 @@ mod tests {
     fn settings_survive_as_a_frame() {
         let mut s = calibrated();
         let saved = *s.take_changed().unwrap();
-        let mut buf = [0u8; crate::wire::MAX_FRAME];
-        let frame = crate::wire::encode(0, &saved, &mut buf).unwrap();
-        let back = crate::wire::decode::<Settings>(&frame[..frame.len() - 1]).unwrap();
+        let mut buf = [0u8; MAX_FRAME];
+        let frame = frame::encode(0, &saved, &mut buf).unwrap();
+        let back = frame::decode::<Settings>(&frame[..frame.len() - 1]).unwrap();
         let mut fresh = Scale::new(ScaleConfig::LAB);
         fresh.restore(back.body);
         settle(&mut fresh, 510_000);
@@ -805,7 +659,7 @@ mod tests {
         let mut s = calibrated();
         assert_eq!(
             s.respond(&ScaleRequest::Stream { every: 8 }),
-            Some(Reply::Ok)
+            Some(Reply::OK)
         );
         let n = (0..80)
             .filter(|_| {
@@ -849,7 +703,9 @@ mod tests {
         assert_eq!((r.digits, r.stable, took), (30_000, true, u32::from(FRESH)));
         // A load still moving is not settled by the deadline, exactly.
         let (answer, took) = next(&mut s, 300, |i| 310_000 + 100 * i as i32);
-        assert!(matches!(answer, Reply::Error(f) if f.kind == FaultKind::NotSettled));
+        assert!(
+            matches!(answer, Reply::Learner(LearnerReply::Error(f)) if f.kind == FaultKind::NotSettled)
+        );
         assert_eq!(took, 300);
         // It settles once it stops: a window of displays later, once the
         // filter holds samples of the rest alone.
@@ -867,7 +723,7 @@ mod tests {
             unit: Unit::G,
         };
         let kind = |r: Option<Reply>| match r {
-            Some(Reply::Error(f)) => f.kind,
+            Some(Reply::Learner(LearnerReply::Error(f))) => f.kind,
             other => panic!("{other:?}"),
         };
         assert_eq!(kind(s.respond(&request(400))), FaultKind::Uncalibrated);
@@ -875,7 +731,9 @@ mod tests {
         assert_eq!(kind(s.respond(&request(FRESH - 1))), FaultKind::Invalid);
         // An overload is answered once the samples are fresh.
         let (answer, took) = next(&mut s, 1000, |_| 4_300_000);
-        assert!(matches!(answer, Reply::Error(f) if f.kind == FaultKind::Overload));
+        assert!(
+            matches!(answer, Reply::Learner(LearnerReply::Error(f)) if f.kind == FaultKind::Overload)
+        );
         assert_eq!(took, u32::from(FRESH));
         // Another request drops the deferred answer.
         assert_eq!(s.respond(&request(400)), None);

@@ -7,10 +7,11 @@ use primo_core::generalize::{Generalizer, Method};
 use primo_core::golden::{ErrorLearner, GoldenSection, SearchConfig, Status as SearchStatus};
 use primo_core::power::{Block, Power, PowerConfig};
 use primo_core::secant::{Rule, Secant, SecantConfig};
-use primo_core::service::{Coprocessor as Service, THETA, UNREAD};
-use primo_core::wire::{
-    self, CHUNK, DmpStart, FaultKind, FrameReader, LearnerSetup, MAX_FRAME, MAX_QUERY, Outcome,
-    Reply, Request, Setup,
+use primo_learner::{Coprocessor as Service, THETA, UNREAD};
+use primo_protocol::fault::FaultKind;
+use primo_protocol::frame::{self as wire, FrameReader, MAX_FRAME};
+use primo_protocol::learner::{
+    CHUNK, DmpStart, LearnerSetup, MAX_QUERY, Outcome, Reply, Request, Setup,
 };
 
 const LWR: Method = Method::Lwr { bandwidth: None };
@@ -324,7 +325,7 @@ fn faults_say_what_is_wrong() {
     assert!(d.contains("99"), "{d}");
     assert!(matches!(
         s.respond(&Request::Hello {
-            version: wire::VERSION
+            version: primo_protocol::VERSION
         }),
         Reply::Hello { .. }
     ));

@@ -1,14 +1,19 @@
 //! The next stable reading ([`WeighMode::Next`]), as property tests: after
 //! any history, it is made of the samples after the request alone, comes
 //! as soon as they hold still, or is the fault `NotSettled` exactly at its
-//! deadline; and through the service, its deferred frame answers the
+//! deadline; and through the device, its deferred frame answers the
 //! request's sequence number once, retransmissions included.
-use primo_core::scale::{
-    CalibrationPoint, FILTER, FRESH, Scale, ScaleConfig, ScaleReply, ScaleRequest, Unit, WINDOW,
+use primo_device::answer as serve;
+use primo_device::scale::{Scale, ScaleConfig};
+use primo_learner::Coprocessor;
+use primo_protocol::fault::FaultKind;
+use primo_protocol::frame::{self as wire, MAX_FRAME};
+use primo_protocol::learner::Reply as LearnerReply;
+use primo_protocol::replay::Replay;
+use primo_protocol::scale::{
+    CalibrationPoint, FILTER, FRESH, Reply, Request, ScaleReply, ScaleRequest, Unit, WINDOW,
     WeighMode,
 };
-use primo_core::service::Coprocessor;
-use primo_core::wire::{self, FaultKind, MAX_FRAME, Reply, Request};
 use proptest::collection::vec;
 use proptest::prelude::*;
 
@@ -24,7 +29,7 @@ fn calibrated() -> Scale {
     }));
     settle(&mut s, ZERO + 1_000_000);
     let high = ScaleRequest::Calibrate(CalibrationPoint::High { grams: 1000.0 });
-    assert_eq!(s.respond(&high), Some(Reply::Ok));
+    assert_eq!(s.respond(&high), Some(Reply::OK));
     s
 }
 
@@ -83,22 +88,52 @@ proptest! {
         prop_assert_eq!(s.respond(&next(within)), None);
         let (reply, took) = answer(&mut s, |i| ZERO + 1000 * start + step * i as i32);
         prop_assert_eq!(took, u32::from(within));
-        prop_assert!(matches!(reply, Reply::Error(f) if f.kind == FaultKind::NotSettled));
+        prop_assert!(matches!(reply, Reply::Learner(LearnerReply::Error(f)) if f.kind == FaultKind::NotSettled));
     }
 }
 
-/// Sends `request` as frame `seq` through the service; the reply frame.
-fn send(service: &mut Coprocessor, scale: &mut Scale, seq: u32, request: ScaleRequest) -> Vec<u8> {
+/// The scale device's answering of frames: the learner service and the
+/// scale behind one replay.
+struct Device {
+    service: Box<Coprocessor>,
+    replay: Replay,
+}
+
+impl Device {
+    /// The deferred reply frame, once `scale` gives it.
+    fn deferred<'a>(
+        &mut self,
+        scale: &mut Scale,
+        out: &'a mut [u8; MAX_FRAME],
+    ) -> Option<&'a [u8]> {
+        let reply = scale.deferred()?;
+        let len = self.replay.deferred(&reply, out)?;
+        out.get(..len)
+    }
+}
+
+/// Sends `request` as frame `seq` through the device; the reply frame.
+fn send(device: &mut Device, scale: &mut Scale, seq: u32, request: ScaleRequest) -> Vec<u8> {
     let mut buf = [0u8; MAX_FRAME];
     let frame = wire::encode(seq, &Request::Scale(request), &mut buf).unwrap();
     let raw = &frame[..frame.len() - 1];
     let mut out = [0u8; MAX_FRAME];
-    service.handle_with(Ok(raw), &mut out, Some(scale)).to_vec()
+    let len = serve(
+        &mut device.service,
+        scale,
+        &mut device.replay,
+        Ok(raw),
+        &mut out,
+    );
+    out[..len].to_vec()
 }
 
 #[test]
 fn the_deferred_frame_answers_its_request_once() {
-    let mut service = Box::new(Coprocessor::new());
+    let mut service = Device {
+        service: Box::new(Coprocessor::new()),
+        replay: Replay::new(),
+    };
     let mut s = calibrated();
     let mut out = [0u8; MAX_FRAME];
     assert!(send(&mut service, &mut s, 7, next(FRESH)).is_empty());

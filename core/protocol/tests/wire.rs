@@ -7,9 +7,11 @@ use primo_core::generalize::Method;
 use primo_core::golden::{SearchConfig, Status as SearchStatus};
 use primo_core::power::{Block, MAX_BLOCKS, PowerConfig};
 use primo_core::secant::{Rule, SecantConfig};
-use primo_core::wire::{
-    self, CHUNK, Capacities, DETAIL, DmpStart, Fault, FaultKind, Frame, FrameError, FrameReader,
-    LearnerSetup, MAX_DOF, MAX_FRAME, MAX_QUERY, Outcome, Reply, Request, Rollout, Setup, Status,
+use primo_protocol::fault::{DETAIL, Fault, FaultKind};
+use primo_protocol::frame::{self as wire, Frame, FrameError, FrameReader, MAX_FRAME};
+use primo_protocol::learner::{
+    CHUNK, Capacities, DmpStart, LearnerSetup, MAX_DOF, MAX_QUERY, Outcome, Reply, Request,
+    Rollout, Setup, Status,
 };
 use proptest::collection::vec;
 use proptest::prelude::*;

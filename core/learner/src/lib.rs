@@ -1,6 +1,14 @@
-//! The learner behind the wire: what the coprocessor runs, and what the host
-//! runs in-process when it has no coprocessor, so both give the same
-//! roll-outs bit for bit.
+//! # primo-learner
+//!
+//! The learner behind the wire, the handler of the learner endpoint
+//! ([`primo_protocol::endpoint::Learner`]): what the coprocessor runs, what
+//! the scale runs besides its own handler, and what the host runs
+//! in-process when it has no coprocessor, so all give the same roll-outs
+//! bit for bit. It is a crate of its own, between the learning core
+//! (`primo-core`, math and learners only) and the protocol
+//! (`primo-protocol`, the messages only), because it needs both and
+//! neither needs it: the host talks to a device with the protocol alone,
+//! and the core knows nothing of a wire.
 //!
 //! A [`Service`] holds the training examples, one learner (golden section
 //! or Illinois on a 1-D query; secant error learning or PoWER on a query of
@@ -8,17 +16,17 @@
 //! in fixed buffers; the coprocessor's, [`Coprocessor`], is sized for the
 //! paper's arm: [`THETA`] = 7 DoF × 30 kernels + 7 goals + τ.
 //! [`Service::respond`] answers one [`Request`]; [`Service::handle`] does
-//! the same for a frame off the line and makes retransmissions idempotent:
-//! a frame with the sequence number of the previous one gets the previous
-//! reply's bytes again and changes nothing.
+//! the same for a frame off the line, through the protocol's
+//! [`Replay`], so a retransmitted frame gets the previous reply's bytes
+//! again and changes nothing.
 //!
 //! ```
 //! use heapless::Vec;
 //! use primo_core::generalize::Method;
 //! use primo_core::golden::Status as SearchStatus;
 //! use primo_core::secant::{Rule, SecantConfig};
-//! use primo_core::service::Coprocessor;
-//! use primo_core::wire::{LearnerSetup, Outcome, Reply, Request, Setup};
+//! use primo_learner::Coprocessor;
+//! use primo_protocol::learner::{LearnerSetup, Outcome, Reply, Request, Setup};
 //! let v = |s: &[f32]| Vec::from_slice(s).unwrap();
 //! let mut s = Coprocessor::new();
 //! let cfg = SecantConfig {
@@ -48,21 +56,40 @@
 //! let Reply::Status(status) = s.respond(&Request::Status) else { panic!() };
 //! assert_eq!(status.search, SearchStatus::Converged);
 //! ```
+#![no_std]
+#![deny(missing_docs)]
+#![cfg_attr(
+    not(test),
+    deny(
+        clippy::unwrap_used,
+        clippy::expect_used,
+        clippy::panic,
+        clippy::indexing_slicing,
+        clippy::unreachable,
+        clippy::todo,
+        clippy::unimplemented
+    )
+)]
 
 use heapless::Vec;
 
-use crate::Error;
-use crate::dmp::{Dmp, Run};
-use crate::generalize::{Generalizer, Method as Regression};
-use crate::golden::{ErrorLearner, GoldenSection, Status as SearchStatus};
-use crate::illinois::Illinois;
-use crate::power::Power;
-use crate::scale::Scale;
-use crate::secant::Secant;
-use crate::wire::{
-    self, CHUNK, Capacities, DmpStart, Fault, FaultKind, FrameError, LearnerSetup, MAX_DOF,
-    MAX_FRAME, MAX_QUERY, Outcome, Query, Reply, Request, Rollout, Setup, Status,
+use primo_core::dmp::{Dmp, Run};
+use primo_core::generalize::{Generalizer, Method as Regression};
+use primo_core::golden::{ErrorLearner, GoldenSection, Status as SearchStatus};
+use primo_core::illinois::Illinois;
+use primo_core::power::Power;
+use primo_core::secant::Secant;
+use primo_core::{Error, check_capacity, check_len};
+use primo_protocol::VERSION;
+use primo_protocol::endpoint::Learner as LearnerEndpoint;
+use primo_protocol::fault::{Fault, FaultKind};
+use primo_protocol::frame::{FrameError, MAX_FRAME};
+use primo_protocol::learner::{
+    CHUNK, Capacities, DmpStart, LearnerSetup, MAX_DOF, MAX_QUERY, Outcome, Query, Reply, Request,
+    Rollout, Setup, Status,
 };
+use primo_protocol::replay::Replay;
+pub use primo_protocol::replay::UNREAD;
 
 /// The coprocessor's kernels per DoF.
 pub const KERNELS: usize = 30;
@@ -76,9 +103,6 @@ pub const EXAMPLES: usize = 8;
 pub type Coprocessor = Service<{ THETA + MAX_QUERY }, EXAMPLES, KERNELS>;
 /// Largest importance sampler of PoWER (the paper's 3).
 pub const SAMPLER: usize = 3;
-/// The sequence number of replies to frames that could not be read (hosts
-/// never send it).
-pub const UNREAD: u32 = 0;
 
 /// The learner in use; PoWER's state lives in [`Service`], configured in
 /// place. `repr(u8)` makes `Idle` all zero bytes (see [`Service::new`]).
@@ -136,8 +160,8 @@ pub struct Service<const P: usize, const E: usize, const K: usize> {
     in_flight: bool,
     asked: u32,
     motion: Stream<K>,
-    /// The last frame's sequence number and reply bytes.
-    last: Option<(u32, Vec<u8, MAX_FRAME>)>,
+    /// The last frame's reply, for a retransmission.
+    replay: Replay,
 }
 
 impl<const P: usize, const E: usize, const K: usize> Default for Service<P, E, K> {
@@ -179,7 +203,7 @@ fn scalar(error: &[f32]) -> Result<f32, Error> {
 
 /// Golden section and Illinois search a 1-D query.
 fn one_dimensional(query_dim: usize) -> Result<(), Error> {
-    crate::error::check_len(
+    check_len(
         "query dimension of golden section or Illinois",
         1,
         query_dim,
@@ -207,7 +231,7 @@ impl<const P: usize, const E: usize, const K: usize> Service<P, E, K> {
             in_flight: false,
             asked: 0,
             motion: Stream::Idle,
-            last: None,
+            replay: Replay::new(),
         }
     }
 
@@ -223,119 +247,48 @@ impl<const P: usize, const E: usize, const K: usize> Service<P, E, K> {
         }
     }
 
-    /// Answers one frame off the line (`raw` as [`wire::FrameReader`] gives
-    /// it) and returns the reply frame, written into `out`. A frame that
-    /// cannot be read gets a [`FaultKind::BadFrame`] reply numbered
-    /// [`UNREAD`]; a repeated sequence number gets the previous reply again.
+    /// Answers one frame off the line (`raw` as
+    /// [`primo_protocol::frame::FrameReader`] gives it) and returns the
+    /// reply frame, written into `out`. A frame that cannot be read gets a
+    /// [`FaultKind::BadFrame`] reply numbered [`UNREAD`]; a repeated
+    /// sequence number gets the previous reply again.
     pub fn handle<'a>(
         &mut self,
         raw: Result<&[u8], FrameError>,
         out: &'a mut [u8; MAX_FRAME],
     ) -> &'a [u8] {
-        self.handle_with(raw, out, None)
-    }
-
-    /// [`Service::handle`] on a device that is also a scale: its requests
-    /// go to `scale`, under the same sequence numbers. A weighing the scale
-    /// defers gets no reply frame here (an empty one) but from
-    /// [`Service::deferred`], unless another frame comes first.
-    pub fn handle_with<'a>(
-        &mut self,
-        raw: Result<&[u8], FrameError>,
-        out: &'a mut [u8; MAX_FRAME],
-        scale: Option<&mut Scale>,
-    ) -> &'a [u8] {
-        let len = self.reply_len(raw, out, scale);
+        let len = self.reply_len(raw, out);
         out.get(..len).unwrap_or(&[])
     }
 
-    /// [`Service::handle_with`], returning the reply's length in `out`.
+    /// [`Service::handle`], returning the reply's length in `out`.
     /// Never inlined: the firmware's loop inlined it with its callees
     /// whole, 8 KB more of flash.
     #[inline(never)]
-    fn reply_len(
-        &mut self,
-        raw: Result<&[u8], FrameError>,
-        out: &mut [u8; MAX_FRAME],
-        scale: Option<&mut Scale>,
-    ) -> usize {
-        let len = |r: Result<&[u8], FrameError>| r.map_or(0, <[u8]>::len);
-        let frame = match raw.and_then(wire::decode::<Request>) {
-            Ok(frame) => frame,
-            Err(e) => {
-                let reply = Reply::Error(Fault::new(FaultKind::BadFrame, e));
-                return len(wire::encode(UNREAD, &reply, out));
+    fn reply_len(&mut self, raw: Result<&[u8], FrameError>, out: &mut [u8; MAX_FRAME]) -> usize {
+        match self.replay.open::<LearnerEndpoint>(raw, out) {
+            Ok(request) => {
+                let reply = self.respond(&request.body);
+                self.replay.answer(request.seq, &reply, out)
             }
-        };
-        if let Some((seq, bytes)) = &self.last
-            && *seq == frame.seq
-            && let Some(dst) = out.get_mut(..bytes.len())
-        {
-            dst.copy_from_slice(bytes);
-            return bytes.len();
+            Err(len) => len,
         }
-        let reply = match (&frame.body, scale) {
-            (Request::Scale(request), Some(scale)) => scale.respond(request),
-            (request, _) => Some(self.respond(request)),
-        };
-        let Some(reply) = reply else {
-            // Deferred: an empty last reply until the scale gives it, so a
-            // retransmission meanwhile gets nothing and changes nothing.
-            self.last = Some((frame.seq, Vec::new()));
-            return 0;
-        };
-        self.record(frame.seq, &reply, out)
     }
 
-    /// The deferred answer to the last frame, a scale's weighing, once
-    /// `scale` gives it after a [`Scale::push`] ([`Scale::deferred`]): its
-    /// reply frame, written into `out`, and kept for a retransmission.
-    pub fn deferred<'a>(
-        &mut self,
-        scale: &mut Scale,
-        out: &'a mut [u8; MAX_FRAME],
-    ) -> Option<&'a [u8]> {
-        let reply = scale.deferred()?;
-        let seq = match &self.last {
-            Some((seq, bytes)) if bytes.is_empty() => *seq,
-            _ => return None,
-        };
-        let len = self.record(seq, &reply, out);
-        out.get(..len)
-    }
-
-    /// Encodes `reply` to frame `seq` into `out` and keeps it as the last
-    /// reply; returns its length.
-    fn record(&mut self, seq: u32, reply: &Reply, out: &mut [u8; MAX_FRAME]) -> usize {
-        let len = |r: Result<&[u8], FrameError>| r.map_or(0, <[u8]>::len);
-        let n = match wire::encode(seq, reply, out) {
-            Ok(bytes) => bytes.len(),
-            // Every reply fits a frame (tested); should one not, say so.
-            Err(e) => {
-                let f = Reply::Error(Fault::new(FaultKind::Capacity, e));
-                len(wire::encode(seq, &f, out))
-            }
-        };
-        self.last = out
-            .get(..n)
-            .and_then(|b| Vec::from_slice(b).ok())
-            .map(|b| (seq, b));
-        n
-    }
-
-    /// Answers one request.
+    /// Answers one request. Always inlined (into [`Service::handle`]'s
+    /// frame handling, its one caller on the coprocessor): called from
+    /// there, the optimizer had kept it apart, with its helpers split
+    /// off, 900 B more of flash.
+    #[inline(always)]
     pub fn respond(&mut self, request: &Request) -> Reply {
         match request {
-            Request::Hello { version } if *version == wire::VERSION => Reply::Hello {
-                version: wire::VERSION,
+            Request::Hello { version } if *version == VERSION => Reply::Hello {
+                version: VERSION,
                 capacities: Self::capacities(),
             },
             Request::Hello { version } => Reply::Error(Fault::new(
                 FaultKind::Version,
-                format_args!(
-                    "coprocessor speaks version {}, host {version}",
-                    wire::VERSION
-                ),
+                format_args!("coprocessor speaks version {VERSION}, host {version}"),
             )),
             Request::Configure(setup) => self.configure(setup).map_or_else(fault, |()| Reply::Ok),
             Request::Example {
@@ -350,14 +303,13 @@ impl<const P: usize, const E: usize, const K: usize> Service<P, E, K> {
             Request::Status => self.status(),
             Request::DmpStart(start) => self.dmp_start(start).unwrap_or_else(fault),
             Request::DmpNext => self.dmp_next(),
-            Request::Scale(_) => bad_state("no scale on this device"),
         }
     }
 
     fn configure(&mut self, setup: &Setup) -> Result<(), Error> {
         let theta_len = usize::from(setup.theta_len);
-        crate::error::check_capacity("θ length", theta_len, P.saturating_sub(MAX_QUERY))?;
-        crate::error::check_capacity("examples", usize::from(setup.examples), E)?;
+        check_capacity("θ length", theta_len, P.saturating_sub(MAX_QUERY))?;
+        check_capacity("examples", usize::from(setup.examples), E)?;
         let query_dim = usize::from(setup.query_dim);
         if !(1..=MAX_QUERY).contains(&query_dim) {
             return Err(Error::OutOfRange("query_dim must be 1..=MAX_QUERY"));
@@ -372,11 +324,11 @@ impl<const P: usize, const E: usize, const K: usize> Service<P, E, K> {
                 Learner::Illinois(Illinois::new(*cfg)?)
             }
             LearnerSetup::Secant(cfg) => {
-                crate::error::check_len("secant query", query_dim, cfg.dim())?;
+                check_len("secant query", query_dim, cfg.dim())?;
                 Learner::Secant(Secant::new(cfg.clone())?)
             }
             LearnerSetup::Power { config, query } => {
-                crate::error::check_len("PoWER start query", query_dim, query.len())?;
+                check_len("PoWER start query", query_dim, query.len())?;
                 let mut start = [0.0f32; P];
                 let start = start
                     .get_mut(..theta_len + query_dim)
@@ -548,7 +500,7 @@ impl<const P: usize, const E: usize, const K: usize> Service<P, E, K> {
             Learner::Secant(l) => l.tell(&outcome.error).map(drop),
             // No error (nothing measured): nothing to correct the query by.
             Learner::Power if self.power.query_gain() != 0.0 && !outcome.error.is_empty() => {
-                crate::error::check_len("PoWER error", self.query_dim, outcome.error.len())
+                check_len("PoWER error", self.query_dim, outcome.error.len())
                     .and_then(|()| self.power.tell_outcome(outcome.reward, &outcome.error))
                     .map(drop)
             }
