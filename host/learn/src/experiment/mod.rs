@@ -1,8 +1,8 @@
 //! The paper's experiments on the simulated cell.
 //!
-//! - [`golden`] (Fig. 3): error learning for several bottle volumes, with
+//! - [`golden`](mod@golden) (Fig. 3): error learning for several bottle volumes, with
 //!   the paper's golden section and with Illinois, in Cartesian space.
-//! - [`power`] (Figs. 5 and 6): extended against ordinary PoWER in joint
+//! - [`power`](mod@power) (Figs. 5 and 6): extended against ordinary PoWER in joint
 //!   space, many seeded runs: per update the mean, std and the range of
 //!   the middle 90 % of runs.
 //!

@@ -1,6 +1,6 @@
 //! A task as checked: what a task file says, in the library's terms (the
-//! file's keys are [`super::schema`]'s; [`super::check`] turns one into
-//! the other).
+//! file's own keys are the private `schema` module's; [`super::check`]
+//! turns one into the other).
 
 use std::collections::BTreeMap;
 use std::path::PathBuf;
