@@ -344,7 +344,7 @@ where
 /// >>> out = pathlib.Path(tempfile.mkdtemp())
 /// >>> write_golden(out, [golden_run(0.5, m) for m in ["golden", "secant"]])
 /// >>> (out / "golden.csv").read_text().splitlines()[1]
-/// '0.5,Golden,1,0.5,0.228517,0.028517'
+/// '0.5,golden,1,0.5,0.228517,0.028517'
 #[pyfunction]
 pub fn write_golden(py: Python<'_>, out: PathBuf, runs: Vec<Bound<'_, PyAny>>) -> PyResult<()> {
     let precision: f64 = shared(&runs, "precision")?;

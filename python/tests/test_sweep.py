@@ -110,7 +110,7 @@ def test_a_grid_writes_a_directory_per_setting(tmp_path, run_primo):
     cli = (tmp_path / "cli" / "golden.csv").read_text().splitlines()
     ours = (tmp_path / "seed=2" / "golden.csv").read_text().splitlines()
     assert ours[0] == cli[0]
-    assert sorted(ours[1:]) == sorted(r for r in cli[1:] if ",Secant," in r or ",Golden," in r)
+    assert sorted(ours[1:]) == sorted(r for r in cli[1:] if ",secant," in r or ",golden," in r)
     power = Sweep("power", grid={"kernels": [6, 8], "updates": 1, "variant": "ordinary"}, seeds=1)
     assert [d.name for d in power.run("serial").write(tmp_path / "p")] == ["kernels=6", "kernels=8"]
 
@@ -137,14 +137,14 @@ def test_bad_input_is_a_value_error(tmp_path, capsys):
     run = golden_run(0.5, "secant")
     two = [power_run(s, v, kernels=6, updates=1) for v, s in [("extended", 1), ("ordinary", 2)]]
     for call, message in [
-        (lambda: golden_run(5.0), "volume 5: --bottle 5: error learning searches the query"),
+        (lambda: golden_run(5.0), "volume 5: bottle 5: error learning searches the query"),
         (lambda: golden_run(1.2), "volume 1.2: the cell's bottle holds 1.056 l"),
         (lambda: golden_run(0.5, method="power"), "method: `power`"),
         (lambda: golden_run(0.5, method="power-el"), "method: `power-el`"),
         (lambda: golden_run(0.5, seed=-1), "seed"),
-        (lambda: golden_run(0.5, precision=0.0), "--precision 0"),
-        (lambda: power_run(updates=0), "--updates 0"),
-        (lambda: power_run(kernels=1), "--kernels 1"),
+        (lambda: golden_run(0.5, precision=0.0), "precision 0"),
+        (lambda: power_run(updates=0), "updates 0"),
+        (lambda: power_run(kernels=1), "kernels 1"),
         (lambda: power_run(variant="both"), "variant: `both`"),
         (lambda: power_run(glass="huge"), "glass"),
         (lambda: write_golden(tmp_path, []), "no runs"),
