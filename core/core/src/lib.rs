@@ -74,6 +74,7 @@ pub mod rng;
 pub mod scale;
 pub mod secant;
 pub mod service;
+mod spring;
 pub mod tangent;
 pub mod wire;
 
