@@ -22,6 +22,8 @@
 //!   [`generalize::orientation`] combines them over a query.
 //! - [`rhythmic`]: periodic DMPs, frequency and amplitude changed online.
 //! - [`normal`]: a seedable standard-normal sampler on any [`rand_core::Rng`].
+//! - [`linalg`]: Cholesky factorization and solves of symmetric
+//!   positive-definite systems in `f32` or `f64`, on fixed-size buffers.
 //!
 //! All arithmetic is `f32` with [`libm`] functions only, and every public
 //! function returns an [`Error`] on bad input instead of panicking.
@@ -64,7 +66,7 @@ mod error;
 pub mod generalize;
 pub mod golden;
 pub mod illinois;
-mod linalg;
+pub mod linalg;
 pub mod normal;
 pub mod orientation;
 pub mod power;

@@ -9,13 +9,29 @@ use core::ops::{Div, Mul, Sub};
 use crate::Error;
 
 /// The floating-point types the solves run in: `f32` for the learners,
-/// `f64` for the DMP fit's ill-conditioned normal equations.
-pub(crate) trait Real:
-    Copy + PartialOrd + Sub<Output = Self> + Mul<Output = Self> + Div<Output = Self> + Sum
+/// `f64` for the DMP fit's ill-conditioned normal equations (and the
+/// robot's inverse kinematics). Implemented for these two only.
+pub trait Real:
+    sealed::Sealed
+    + Copy
+    + PartialOrd
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + Sum
 {
+    /// Zero.
     const ZERO: Self;
+    /// The square root (`libm`'s).
     fn sqrt(self) -> Self;
+    /// Neither infinite nor NaN.
     fn is_finite(self) -> bool;
+}
+
+mod sealed {
+    pub trait Sealed {}
+    impl Sealed for f32 {}
+    impl Sealed for f64 {}
 }
 
 impl Real for f32 {
@@ -40,7 +56,9 @@ impl Real for f64 {
 
 /// Factorizes the leading `n × n` block of the symmetric matrix `a` in place
 /// into its lower Cholesky factor `L` (the strict upper part is left as is).
-pub(crate) fn cholesky<T: Real, const N: usize>(
+/// A pivot that is not finite and positive is [`Error::Singular`]`(what)`;
+/// `n > N` is [`Error::Capacity`].
+pub fn cholesky<T: Real, const N: usize>(
     a: &mut [[T; N]; N],
     n: usize,
     what: &'static str,
@@ -74,7 +92,7 @@ pub(crate) fn cholesky<T: Real, const N: usize>(
 
 /// Solves `L Lᵀ x = b` in place (`b` becomes `x`) with the factor from
 /// [`cholesky`]. `b` must hold at least `n` values.
-pub(crate) fn cholesky_solve<T: Real, const N: usize>(l: &[[T; N]; N], n: usize, b: &mut [T]) {
+pub fn cholesky_solve<T: Real, const N: usize>(l: &[[T; N]; N], n: usize, b: &mut [T]) {
     // Forward substitution: L y = b.
     for (i, row) in l.iter().enumerate().take(n) {
         let (head, rest) = b.split_at_mut(i.min(b.len()));
