@@ -77,6 +77,15 @@ pub(crate) fn check_bounded(values: &[f32], bound: f32, what: &'static str) -> R
     }
 }
 
+/// Checks that `v` is finite and positive.
+pub(crate) fn check_positive(v: f32, what: &'static str) -> Result<(), Error> {
+    if v.is_finite() && v > 0.0 {
+        Ok(())
+    } else {
+        Err(Error::OutOfRange(what))
+    }
+}
+
 /// Checks `n <= capacity`: [`Error::Capacity`] if not.
 pub fn check_capacity(what: &'static str, n: usize, capacity: usize) -> Result<(), Error> {
     if n <= capacity {

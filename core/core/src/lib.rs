@@ -22,6 +22,8 @@
 //!   [`generalize::orientation`] combines them over a query.
 //! - [`rhythmic`]: periodic DMPs, frequency and amplitude changed online.
 //! - [`normal`]: a seedable standard-normal sampler on any [`rand_core::Rng`].
+//! - [`linalg`]: Cholesky factorization and solves of symmetric
+//!   positive-definite systems in `f32` or `f64`, on fixed-size buffers.
 //!
 //! The core is math and learners only: the wire protocol of primo's
 //! devices is the crate `primo-protocol`, the learner behind it
@@ -68,7 +70,7 @@ mod error;
 pub mod generalize;
 pub mod golden;
 pub mod illinois;
-mod linalg;
+pub mod linalg;
 pub mod normal;
 pub mod orientation;
 pub mod power;
@@ -76,6 +78,7 @@ pub mod quaternion;
 pub mod rhythmic;
 pub mod rng;
 pub mod secant;
+mod spring;
 pub mod tangent;
 
 pub use error::{Error, check_capacity, check_len};

@@ -60,12 +60,10 @@ use heapless::Vec;
 use serde::{Deserialize, Serialize};
 
 use crate::Error;
-use crate::dmp::fit::{Normal, Responses, SUBSTEPS_PER_SPACING};
-use crate::dmp::{
-    FitOptions, MAX_ABS_POSITION, MAX_ABS_WEIGHT, add_compensated, check_alpha, check_positive,
-    transition_step,
-};
-use crate::error::{check_bounded, check_capacity, check_finite, check_len};
+use crate::dmp::{FitOptions, MAX_ABS_POSITION, MAX_ABS_WEIGHT, check_alpha};
+use crate::error::{check_bounded, check_capacity, check_finite, check_len, check_positive};
+use crate::linalg::Normal;
+use crate::spring::{Responses, SUBSTEPS_PER_SPACING, add_compensated, transition_step};
 
 const TAU: f64 = core::f64::consts::TAU;
 /// Lowest and highest frequency a run accepts, Hz.

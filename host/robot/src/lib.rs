@@ -2,8 +2,10 @@
 //!
 //! - [`description`]: a robot's description ([`Robot`]: DH table, flange,
 //!   joint limits), built in for the KUKA LWR 4+ or read from JSON.
-//! - [`kinematics`]: [`Pose`], and an [`Arm`] (a robot holding a tool):
-//!   forward and inverse kinematics.
+//! - [`pose`]: [`Pose`], rigid transforms and their rotations (matrix,
+//!   rotation vector, quaternion).
+//! - [`kinematics`]: an [`Arm`] (a robot holding a tool): forward
+//!   kinematics, the Jacobian and inverse kinematics.
 //! - [`limits`]: the joint position and velocity limits checked along a
 //!   trajectory.
 //! - [`envelope`]: the limits of a task's trajectory of named columns (a
@@ -20,11 +22,13 @@ pub mod description;
 pub mod envelope;
 pub mod kinematics;
 pub mod limits;
+pub mod pose;
 pub mod safety;
 
 pub use description::{DescriptionError, JOINTS, Link, Robot};
-pub use kinematics::{Arm, IkError, Pose};
+pub use kinematics::{Arm, IkError};
 pub use limits::Violation;
+pub use pose::Pose;
 pub use safety::{
     CartesianLimits, Gate, JOINT_COLUMNS, JointPath, POSE_COLUMNS, Rejection, check_joints,
 };

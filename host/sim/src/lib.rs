@@ -8,8 +8,9 @@
 //! - [`scale`]: the precision scale under the glass.
 //! - [`cell`]: all of it together, one control step at a time.
 //! - [`expert`]: a scripted expert who pours the demonstrations.
-//! - [`krc`]: a simulated KRC on UDP, the robot side of FRI, driving the
-//!   cell, with fault injection for the tests.
+//! - [`krc`]: a simulated KRC, the robot side of FRI, driving the cell,
+//!   with fault injection for the tests: a state machine sans I/O, and on
+//!   UDP.
 //! - [`scale_device`]: the cell's scale speaking MT-SICS, sans I/O, and
 //!   served on a pseudo-terminal.
 //! - [`load_cell`]: the cell's scale as a bare load cell: raw ADC counts

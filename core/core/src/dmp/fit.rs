@@ -1,4 +1,7 @@
-//! The weights of a fit: least squares on the demonstrated positions.
+//! The fit: a DMP from one demonstration. [`Dmp::fit`] takes its start,
+//! goal and duration from the demonstration, decides each DoF's amplitude
+//! scaling and the kernels' margin, and fits the weights by least squares
+//! on the demonstrated positions.
 //!
 //! Per DoF the transformation system is linear in the weights: with the
 //! phase `u = t/τ`, `y'' + α y' + (α²/4)(y − g) = a Σ w_k φ_k(u)` where
@@ -18,18 +21,282 @@
 //! differentiated: more samples only average the noise away.
 //!
 //! Numerics: everything in `f64` (the normal equations of smooth responses
-//! are ill-conditioned for `f32`). The responses are integrated with the
-//! same scheme as [`super::Run`] (exact spring, forcing at mid-step), on
+//! are ill-conditioned for `f32`). The responses ([`crate::spring::Responses`])
+//! are integrated with the same scheme as [`super::Run`] (exact spring,
+//! forcing at mid-step), on
 //! a fixed grid of 1/64 of the kernel spacing with one partial step to
 //! each sample, so they do not depend on how densely or evenly the
 //! demonstration is sampled. Memory: `2K`
 //! response states, a `K × K` Gram matrix and `D × K` right-hand sides, on
 //! the stack; no allocation.
 
-use crate::Error;
+use heapless::Vec;
 
-/// Sub-steps per kernel spacing when integrating the responses.
-pub(crate) const SUBSTEPS_PER_SPACING: f64 = 64.0;
+use super::kernels::{Layout, span};
+use super::model::Dmp;
+use super::options::{
+    AUTO_MARGIN, AUTO_SAMPLES_PER_SPACING, AUTO_SCALING_MIN_FRACTION, FitOptions, MAX_ABS_POSITION,
+    MAX_ABS_WEIGHT, Margin, Scaling, check_alpha, check_margin, check_tau,
+};
+use crate::Error;
+use crate::error::{check_bounded, check_capacity, check_finite, check_len, check_positive};
+use crate::linalg::Normal;
+use crate::spring::{Responses, SUBSTEPS_PER_SPACING};
+
+/// A demonstration's rows, visited in order: `rows(visit)` calls `visit`
+/// with each row (`dof` positions) of the demonstration, first to last.
+pub(crate) type Rows<'a> = dyn Fn(&mut dyn FnMut(&[f32])) + 'a;
+
+impl<const D: usize, const K: usize> Dmp<D, K> {
+    /// Fits a DMP to one demonstration.
+    ///
+    /// `times` are strictly increasing (any spacing, at least 3 samples);
+    /// `positions` holds `times.len() × dof` values, row-major (sample by
+    /// sample). The demo's first sample is the start, its last the goal and
+    /// its duration the default `τ`. The weights are those whose execution
+    /// best reproduces the demonstrated positions (least squares, each
+    /// sample weighted by its share of the time axis, a small ridge): no
+    /// derivative of the demonstration is taken, so a denser or unevenly
+    /// sampled recording fits as well or better (see `dmp/fit.rs` for the
+    /// numerics). Positions must lie within
+    /// [`MAX_ABS_POSITION`]; fitted weights beyond [`MAX_ABS_WEIGHT`] are an
+    /// error.
+    pub fn fit(
+        times: &[f32],
+        positions: &[f32],
+        dof: usize,
+        kernels: usize,
+        options: &FitOptions,
+    ) -> Result<Self, Error> {
+        if dof == 0 {
+            return Err(Error::OutOfRange("a DMP needs at least one DoF"));
+        }
+        check_len(
+            "positions",
+            times.len().saturating_mul(dof),
+            positions.len(),
+        )?;
+        let rows = |visit: &mut dyn FnMut(&[f32])| positions.chunks_exact(dof).for_each(visit);
+        Self::fit_rows(times, &rows, dof, kernels, options)
+    }
+
+    /// [`Dmp::fit`] with the demonstration's rows given by `rows`, which
+    /// calls its argument with each row in order (and may be called more
+    /// than once): a demonstration computed on the fly, without a buffer.
+    pub(crate) fn fit_rows(
+        times: &[f32],
+        rows: &Rows,
+        dof: usize,
+        kernels: usize,
+        options: &FitOptions,
+    ) -> Result<Self, Error> {
+        if dof == 0 {
+            return Err(Error::OutOfRange("a DMP needs at least one DoF"));
+        }
+        check_capacity("DoF", dof, D)?;
+        if kernels < 2 {
+            return Err(Error::OutOfRange("a DMP needs at least two kernels"));
+        }
+        check_capacity("kernels", kernels, K)?;
+        let n = times.len();
+        if n < 3 {
+            return Err(Error::OutOfRange(
+                "a demonstration needs at least 3 samples",
+            ));
+        }
+        check_finite(times, "times")?;
+        if times.windows(2).any(|w| !matches!(w, [a, b] if b > a)) {
+            return Err(Error::OutOfRange("times must be strictly increasing"));
+        }
+        check_alpha(options.alpha)?;
+        check_positive(options.overlap, "overlap must be finite and > 0")?;
+        if !(options.ridge >= 0.0 && options.ridge.is_finite()) {
+            return Err(Error::OutOfRange("ridge must be finite and >= 0"));
+        }
+
+        let (t0, t_end) = match (times.first(), times.last()) {
+            (Some(a), Some(b)) => (*a, *b),
+            _ => {
+                return Err(Error::OutOfRange(
+                    "a demonstration needs at least 3 samples",
+                ));
+            }
+        };
+        let tau = t_end - t0;
+        check_tau(tau, "demonstration duration must be finite and >= MIN_TAU")?;
+        // One pass: the rows' count and bounds, start, goal and ranges.
+        let mut count = 0usize;
+        let mut bounded = true;
+        let mut first = [0.0f32; D];
+        let mut last = [0.0f32; D];
+        let mut lo = [f32::INFINITY; D];
+        let mut hi = [f32::NEG_INFINITY; D];
+        rows(&mut |row: &[f32]| {
+            bounded &= row.len() == dof
+                && row
+                    .iter()
+                    .all(|v| v.is_finite() && libm::fabsf(*v) <= MAX_ABS_POSITION);
+            for (d, &v) in row.iter().enumerate().take(D) {
+                if count == 0
+                    && let Some(f) = first.get_mut(d)
+                {
+                    *f = v;
+                }
+                if let (Some(l), Some(lo), Some(hi)) =
+                    (last.get_mut(d), lo.get_mut(d), hi.get_mut(d))
+                {
+                    *l = v;
+                    *lo = lo.min(v);
+                    *hi = hi.max(v);
+                }
+            }
+            count += 1;
+        });
+        check_len("positions", n, count)?;
+        if !bounded {
+            return Err(Error::OutOfRange("positions beyond MAX_ABS_POSITION"));
+        }
+        let start: Vec<f32, D> = first.iter().copied().take(dof).collect();
+        let goal: Vec<f32, D> = last.iter().copied().take(dof).collect();
+
+        let mut scaled: Vec<bool, D> = Vec::new();
+        for d in 0..dof {
+            let (lo, hi) = (
+                lo.get(d).copied().unwrap_or(0.0),
+                hi.get(d).copied().unwrap_or(0.0),
+            );
+            let amplitude =
+                goal.get(d).copied().unwrap_or(0.0) - start.get(d).copied().unwrap_or(0.0);
+            let on = match options.scaling {
+                Scaling::Auto => {
+                    amplitude != 0.0
+                        && libm::fabsf(amplitude) >= AUTO_SCALING_MIN_FRACTION * (hi - lo)
+                }
+                Scaling::Always => true,
+                Scaling::Never => false,
+                Scaling::Mask(m) => d < 32 && (m >> d) & 1 == 1,
+                Scaling::AutoWhere(m) => {
+                    d < 32
+                        && (m >> d) & 1 == 1
+                        && amplitude != 0.0
+                        && libm::fabsf(amplitude) >= AUTO_SCALING_MIN_FRACTION * (hi - lo)
+                }
+            };
+            if on && amplitude == 0.0 {
+                return Err(Error::OutOfRange(
+                    "an amplitude-scaled DoF needs its goal to differ from its start",
+                ));
+            }
+            scaled.push(on).map_err(|_| Error::Capacity {
+                what: "DoF",
+                requested: dof,
+                capacity: D,
+            })?;
+        }
+
+        let alpha = options.alpha;
+        let mut amplitude = [1.0f32; D];
+        for (d, a) in amplitude.iter_mut().enumerate().take(dof) {
+            if scaled.get(d) == Some(&true) {
+                *a = goal.get(d).copied().unwrap_or(0.0) - start.get(d).copied().unwrap_or(0.0);
+            }
+        }
+        let demo = Demonstration {
+            times,
+            rows,
+            dof,
+            kernels,
+            alpha,
+            width: 0.0,
+            margin: 0.0,
+            stride: 1,
+            ridge: options.ridge,
+            start: &start,
+            goal: &goal,
+            amplitude: &amplitude,
+        };
+        let layout = |margin: f32, stride: usize, out: &mut [[f32; K]; D]| {
+            fit_layout(&demo, options.overlap, margin, stride, out)
+        };
+        let mut weights = [[0.0f32; K]; D];
+        let (width, margin) = match options.margin {
+            Margin::Spacings(m) => {
+                check_margin(m, kernels)?;
+                (layout(m, 1, &mut weights)?.1, m)
+            }
+            Margin::Auto => {
+                // Chosen on a sparser recording where it is dense (the
+                // choice costs a fifth of the fit at 1 kHz, not a fit).
+                let stride = (n / (AUTO_SAMPLES_PER_SPACING * kernels)).max(1);
+                let (plain, plain_width) = layout(0.0, stride, &mut weights)?;
+                // The wider layout only where it leaves a spacing between
+                // the ends and fits at all; a tie keeps the plain one.
+                let mut wider = [[0.0f32; K]; D];
+                let wide = check_margin(AUTO_MARGIN, kernels)
+                    .and_then(|()| layout(AUTO_MARGIN, stride, &mut wider))
+                    .ok()
+                    .filter(|(residual, _)| *residual < plain);
+                match (wide, stride) {
+                    (Some((_, width)), 1) => {
+                        weights = wider;
+                        (width, AUTO_MARGIN)
+                    }
+                    (Some(_), _) => (layout(AUTO_MARGIN, 1, &mut weights)?.1, AUTO_MARGIN),
+                    (None, 1) => (plain_width, 0.0),
+                    (None, _) => (layout(0.0, 1, &mut weights)?.1, 0.0),
+                }
+            }
+        };
+        Ok(Self {
+            tau,
+            alpha,
+            width,
+            margin,
+            start,
+            goal,
+            scaled,
+            weights: weights
+                .iter()
+                .take(dof)
+                .map(|w| w.iter().copied().take(kernels).collect())
+                .collect(),
+        })
+    }
+}
+
+/// Fits `demo`'s weights into `out` with the kernels `margin` spacings
+/// beyond the ends at `overlap`, on every `stride`-th sample; returns the
+/// residual and the kernel width. Never inlined: [`Margin::Auto`] calls it
+/// up to three times, and on the M4F one frame must serve them all.
+#[inline(never)]
+fn fit_layout<const D: usize, const K: usize>(
+    demo: &Demonstration,
+    overlap: f32,
+    margin: f32,
+    stride: usize,
+    out: &mut [[f32; K]; D],
+) -> Result<(f64, f32), Error> {
+    let spacing = 1.0 / span(demo.kernels, margin);
+    let width = overlap / (spacing * spacing);
+    check_positive(width, "overlap too large for this many kernels")?;
+    let residual = weights(
+        &Demonstration {
+            width,
+            margin,
+            stride,
+            ..*demo
+        },
+        out,
+    )?;
+    for row in out.iter().take(demo.dof) {
+        check_bounded(
+            row.get(..demo.kernels).unwrap_or(&[]),
+            MAX_ABS_WEIGHT,
+            "fitted weights beyond MAX_ABS_WEIGHT (demo too short or too noisy for the kernels?)",
+        )?;
+    }
+    Ok((residual, width))
+}
 
 /// Extra weight of the last sample, in kernel spacings of phase: it stands
 /// for the goal the DMP holds afterwards. With only its share of the time
@@ -40,9 +307,9 @@ const END_WEIGHT: f64 = 0.5;
 
 /// What the weights are fitted to.
 #[derive(Clone, Copy)]
-pub(super) struct Demonstration<'a> {
+struct Demonstration<'a> {
     pub times: &'a [f32],
-    pub rows: &'a super::Rows<'a>,
+    pub rows: &'a Rows<'a>,
     pub dof: usize,
     pub kernels: usize,
     pub alpha: f32,
@@ -58,20 +325,9 @@ pub(super) struct Demonstration<'a> {
     pub amplitude: &'a [f32],
 }
 
-/// `exp(A h)` of the critically damped spring in phase units, `f64`.
-fn transition(alpha: f64, h: f64) -> [f64; 4] {
-    let a = 0.5 * alpha;
-    let ah = a * h;
-    if !(ah < 700.0) {
-        return [0.0; 4];
-    }
-    let e = libm::exp(-ah);
-    [e * (1.0 + ah), e * h, -e * a * ah, e * (1.0 - ah)]
-}
-
 /// The normalized kernels `φ_k(u)` (zero for `u ≥ 1`), over the same
 /// window of kernels as the execution's forcing term.
-fn basis<const K: usize>(u: f64, width: f32, layout: &super::Layout, phi: &mut [f64; K]) {
+fn basis<const K: usize>(u: f64, width: f32, layout: &Layout, phi: &mut [f64; K]) {
     for p in phi.iter_mut() {
         *p = 0.0;
     }
@@ -97,186 +353,10 @@ fn basis<const K: usize>(u: f64, width: f32, layout: &super::Layout, phi: &mut [
     }
 }
 
-/// The responses `r_k(u)` of the spring, from rest at phase 0, to each
-/// kernel of a basis alone, and their phase derivatives: integrated with
-/// the runtime's scheme on sub-steps of at most `h_max`.
-pub(crate) struct Responses<const K: usize> {
-    /// The responses at the current phase.
-    pub r: [f64; K],
-    /// Their phase derivatives.
-    pub v: [f64; K],
-    phase: f64,
-    phi: [f64; K],
-    /// The responses at the last [`Responses::sample`]d phase.
-    at: [f64; K],
-    alpha: f64,
-    kernels: usize,
-    h_max: f64,
-}
-
-impl<const K: usize> Responses<K> {
-    /// At rest at phase 0.
-    pub fn new(alpha: f64, kernels: usize, h_max: f64) -> Self {
-        Responses {
-            r: [0.0; K],
-            v: [0.0; K],
-            phase: 0.0,
-            phi: [0.0; K],
-            at: [0.0; K],
-            alpha,
-            kernels,
-            h_max,
-        }
-    }
-
-    /// Integrates on to phase `to` (nothing if it is not ahead);
-    /// `basis(u, φ)` writes the kernels at phase `u`.
-    pub fn advance(&mut self, to: f64, basis: &mut impl FnMut(f64, &mut [f64; K])) {
-        let span = to - self.phase;
-        if !(span > 0.0) {
-            return;
-        }
-        let steps = libm::ceil(span / self.h_max).max(1.0);
-        self.steps(steps as u32, span / steps, basis);
-        self.phase = to;
-    }
-
-    /// The responses at phase `to` (not behind the last call) on a grid
-    /// that does not depend on the samples: whole sub-steps of `h_max` from
-    /// phase 0 up to `to`, then one partial step to `to` that is not kept.
-    /// So every sampling rate fits the same model of the runtime (with
-    /// [`Responses::advance`] a denser recording integrated on finer steps,
-    /// further from a 1 ms replay's, and fitted it up to 8 % worse).
-    pub fn sample(&mut self, to: f64, basis: &mut impl FnMut(f64, &mut [f64; K])) -> &[f64; K] {
-        let done = libm::round(self.phase / self.h_max);
-        let whole = libm::floor(to / self.h_max).max(done);
-        self.steps((whole - done) as u32, self.h_max, basis);
-        self.phase = whole * self.h_max;
-        let rest = to - self.phase;
-        self.at = self.r;
-        if rest > 0.0 {
-            let stiffness = self.alpha * self.alpha / 4.0;
-            let [p00, p01, ..] = transition(self.alpha, rest);
-            basis(self.phase + 0.5 * rest, &mut self.phi);
-            for (((ak, rk), vk), pk) in self
-                .at
-                .iter_mut()
-                .zip(&self.r)
-                .zip(&self.v)
-                .zip(&self.phi)
-                .take(self.kernels)
-            {
-                let equilibrium = pk / stiffness;
-                *ak = equilibrium + p00 * (rk - equilibrium) + p01 * vk;
-            }
-        }
-        &self.at
-    }
-
-    /// `n` steps of `h` from the current phase (which it does not update).
-    fn steps(&mut self, n: u32, h: f64, basis: &mut impl FnMut(f64, &mut [f64; K])) {
-        let stiffness = self.alpha * self.alpha / 4.0;
-        let [p00, p01, p10, p11] = transition(self.alpha, h);
-        for s in 0..n {
-            basis(self.phase + (f64::from(s) + 0.5) * h, &mut self.phi);
-            for ((rk, vk), pk) in self
-                .r
-                .iter_mut()
-                .zip(self.v.iter_mut())
-                .zip(&self.phi)
-                .take(self.kernels)
-            {
-                let equilibrium = pk / stiffness;
-                let e = *rk - equilibrium;
-                *rk = equilibrium + p00 * e + p01 * *vk;
-                *vk = p10 * e + p11 * *vk;
-            }
-        }
-    }
-}
-
-/// The normal equations of a least-squares fit on the responses: the Gram
-/// matrix's lower triangle and one right-hand side per DoF, in the
-/// caller's buffers (a few KiB: on the M4F's stack they must not be
-/// copied).
-pub(crate) struct Normal<'a, const D: usize, const K: usize> {
-    gram: &'a mut [[f64; K]; K],
-    rhs: &'a mut [[f64; K]; D],
-    /// Per DoF, `Σ q·target²`: with the solution, the fit's residual.
-    energy: [f64; D],
-    kernels: usize,
-    dof: usize,
-}
-
-impl<'a, const D: usize, const K: usize> Normal<'a, D, K> {
-    /// Empty: `gram` and `rhs` must be all zeros.
-    pub fn new(
-        gram: &'a mut [[f64; K]; K],
-        rhs: &'a mut [[f64; K]; D],
-        kernels: usize,
-        dof: usize,
-    ) -> Self {
-        Normal {
-            gram,
-            rhs,
-            energy: [0.0; D],
-            kernels,
-            dof,
-        }
-    }
-
-    /// Adds a sample of weight `q` with responses `r`; `target(d)` is the
-    /// value DoF `d`'s weighted responses should reach there.
-    pub fn add(&mut self, q: f64, r: &[f64; K], target: impl Fn(usize) -> f64) {
-        // The kernels the phase has not reached yet have not moved the
-        // spring: their responses are exactly zero, and so are their terms
-        // (early in a discrete movement that is most of them).
-        let reached = r
-            .iter()
-            .take(self.kernels)
-            .rposition(|x| *x != 0.0)
-            .map_or(0, |k| k + 1);
-        for (a, gram_row) in self.gram.iter_mut().enumerate().take(reached) {
-            let qa = q * r.get(a).copied().unwrap_or(0.0);
-            for (g, rb) in gram_row.iter_mut().zip(r).take(a + 1) {
-                *g += qa * rb;
-            }
-        }
-        for ((b, e), d) in self.rhs.iter_mut().zip(&mut self.energy).zip(0..self.dof) {
-            let forced = target(d);
-            *e += q * forced * forced;
-            for (bk, rk) in b.iter_mut().zip(r).take(reached) {
-                *bk += q * rk * forced;
-            }
-        }
-    }
-
-    /// Solves with a ridge of `ridge` times the Gram matrix's mean
-    /// diagonal; the weights go to `out[d][..kernels]`.
-    pub fn solve(&mut self, ridge: f32, out: &mut [[f32; K]; D]) -> Result<(), Error> {
-        solve(self.gram, self.rhs, self.kernels, self.dof, ridge, out).map(|_| ())
-    }
-
-    /// [`Normal::solve`], returning each DoF's residual: the weighted sum
-    /// of squared misfits `Σ q (target − r·w)²` at the solution.
-    pub fn solve_with_residual(
-        &mut self,
-        ridge: f32,
-        out: &mut [[f32; K]; D],
-    ) -> Result<[f64; D], Error> {
-        let explained = solve(self.gram, self.rhs, self.kernels, self.dof, ridge, out)?;
-        let mut residual = self.energy;
-        for (r, e) in residual.iter_mut().zip(explained) {
-            *r = (*r - e).max(0.0);
-        }
-        Ok(residual)
-    }
-}
-
 /// Fits the weights of every DoF into `out[d][..kernels]`.
 /// Returns the residual: the time-weighted sum of squared position errors
 /// at the samples, over all DoFs (in the demonstration's units).
-pub(super) fn weights<const D: usize, const K: usize>(
+fn weights<const D: usize, const K: usize>(
     demo: &Demonstration,
     out: &mut [[f32; K]; D],
 ) -> Result<f64, Error> {
@@ -289,7 +369,7 @@ pub(super) fn weights<const D: usize, const K: usize>(
     };
     let (t0, tau) = (f64::from(t0), f64::from(t_end) - f64::from(t0));
     let alpha = f64::from(demo.alpha);
-    let layout = super::Layout::new(kernels, demo.margin);
+    let layout = Layout::new(kernels, demo.margin);
     let spacing = 1.0 / f64::from(layout.span());
     let h_max = spacing / SUBSTEPS_PER_SPACING;
     let (mut gram, mut rhs) = ([[0.0f64; K]; K], [[0.0f64; K]; D]);
@@ -338,56 +418,4 @@ pub(super) fn weights<const D: usize, const K: usize>(
         .take(dof)
         .map(|(r, a)| r * f64::from(*a) * f64::from(*a))
         .sum())
-}
-
-/// Solves the normal equations `G w_d = b_d` of every DoF, `G` given by its
-/// lower triangle, with a ridge `λ` of `ridge` times `G`'s mean diagonal;
-/// the weights go to `out[d][..kernels]`. Returns per DoF what the fit
-/// explains, `b·w + λ|w|²`: at the solution of `(G + λ)w = b` the residual
-/// `Σq(t − r·w)² = Σqt² − 2b·w + w·Gw` is `Σqt²` minus that.
-fn solve<const D: usize, const K: usize>(
-    gram: &mut [[f64; K]; K],
-    rhs: &mut [[f64; K]; D],
-    kernels: usize,
-    dof: usize,
-    ridge: f32,
-    out: &mut [[f32; K]; D],
-) -> Result<[f64; D], Error> {
-    for a in 0..kernels {
-        for b in 0..a {
-            let lower = gram
-                .get(a)
-                .and_then(|row| row.get(b))
-                .copied()
-                .unwrap_or(0.0);
-            if let Some(upper) = gram.get_mut(b).and_then(|row| row.get_mut(a)) {
-                *upper = lower;
-            }
-        }
-    }
-    let trace: f64 = (0..kernels)
-        .filter_map(|k| gram.get(k).and_then(|row| row.get(k)))
-        .sum();
-    let lambda = f64::from(ridge) * trace / kernels as f64;
-    for (k, row) in gram.iter_mut().enumerate().take(kernels) {
-        if let Some(g) = row.get_mut(k) {
-            *g += lambda;
-        }
-    }
-    crate::linalg::cholesky(gram, kernels, "DMP fit (too few samples for the kernels?)")?;
-    let mut explained = [0.0; D];
-    for ((b, w), e) in rhs
-        .iter_mut()
-        .zip(out.iter_mut())
-        .zip(&mut explained)
-        .take(dof)
-    {
-        let given = *b;
-        crate::linalg::cholesky_solve(gram, kernels, b);
-        for ((wk, bk), gk) in w.iter_mut().zip(b.iter()).zip(&given).take(kernels) {
-            *wk = *bk as f32;
-            *e += bk * (gk + lambda * bk);
-        }
-    }
-    Ok(explained)
 }

@@ -1,0 +1,331 @@
+//! Executing a DMP: a [`Run`] advanced one control step at a time, and
+//! the [`Trajectory`] of a whole execution on a time grid. Each step is
+//! the spring's exact solution with the forcing term held at its mid-step
+//! value ([`crate::spring`]).
+
+use super::model::{Dmp, Execution};
+use super::options::{MAX_ABS_POSITION, check_tau};
+use crate::Error;
+use crate::error::{check_bounded, check_len, check_positive};
+use crate::spring::{add_compensated, transition_step};
+
+/// One point of an executed trajectory.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sample<const D: usize> {
+    /// Time since the start in seconds.
+    pub time: f32,
+    /// Position; the first [`Dmp::dof`] entries are valid.
+    pub position: [f32; D],
+    /// Velocity per second.
+    pub velocity: [f32; D],
+    /// Acceleration per second².
+    pub acceleration: [f32; D],
+}
+
+impl<const D: usize, const K: usize> Dmp<D, K> {
+    fn check_execution(&self, exec: &Execution<D>) -> Result<(), Error> {
+        check_len("execution start", self.dof(), exec.start.len())?;
+        check_len("execution goal", self.dof(), exec.goal.len())?;
+        check_bounded(
+            &exec.start,
+            MAX_ABS_POSITION,
+            "execution start beyond MAX_ABS_POSITION",
+        )?;
+        check_bounded(
+            &exec.goal,
+            MAX_ABS_POSITION,
+            "execution goal beyond MAX_ABS_POSITION",
+        )?;
+        check_tau(exec.tau, "execution tau must be finite and >= MIN_TAU")
+    }
+
+    /// Starts an execution at rest at `exec.start`; advance it with
+    /// [`Run::step`].
+    pub fn start(&self, exec: &Execution<D>) -> Result<Run<D>, Error> {
+        self.check_execution(exec)?;
+        let mut run = Run {
+            dof: self.dof(),
+            tau: exec.tau,
+            alpha: self.alpha,
+            start: [0.0; D],
+            goal: [0.0; D],
+            amplitude: [1.0; D],
+            y: [0.0; D],
+            y_carry: [0.0; D],
+            z: [0.0; D],
+            force: [0.0; D],
+            phase: 0.0,
+            phase_carry: 0.0,
+            time: 0.0,
+            time_carry: 0.0,
+            step_dt: f32::NAN,
+            transition: [0.0; 4],
+        };
+        for (dst, src) in run.start.iter_mut().zip(&exec.start) {
+            *dst = *src;
+        }
+        run.y = run.start;
+        run.set_goal(self, &exec.goal)?;
+        // Forcing at s = 0 gives the initial acceleration.
+        let mut force = [0.0; D];
+        self.forcing(0.0, &mut force);
+        for ((f, raw), a) in run.force.iter_mut().zip(force).zip(run.amplitude) {
+            *f = a * raw;
+        }
+        Ok(run)
+    }
+
+    /// The whole trajectory from `t = 0` to `t = τ` inclusive at step `dt`:
+    /// `round(τ/dt) + 1` samples when `τ` is a multiple of `dt`, otherwise a
+    /// last, shorter step lands exactly on `τ`.
+    pub fn trajectory(&self, exec: &Execution<D>, dt: f32) -> Result<Trajectory<'_, D, K>, Error> {
+        check_positive(dt, "dt must be finite and > 0")?;
+        let run = self.start(exec)?;
+        let ratio = exec.tau / dt;
+        let whole = libm::roundf(ratio);
+        // A τ within 0.1% of one step (or f32's resolution of the ratio) of
+        // a whole number of steps ends on the grid; otherwise (also when
+        // τ < dt) a last, shorter step lands on τ.
+        let tolerance = 1e-3f32.max(4.0 * f32::EPSILON * ratio);
+        let (full_steps, last_dt) = if whole >= 1.0 && libm::fabsf(ratio - whole) <= tolerance {
+            (whole as u32, 0.0)
+        } else {
+            let full = libm::floorf(ratio);
+            (full as u32, exec.tau - full * dt)
+        };
+        if !(ratio < 1e9) || !(exec.tau + dt).is_finite() {
+            return Err(Error::OutOfRange("tau / dt must be below 1e9 steps"));
+        }
+        Ok(Trajectory {
+            dmp: self,
+            run,
+            dt,
+            full_steps,
+            last_dt,
+            index: 0,
+            done: false,
+        })
+    }
+}
+
+/// An execution in progress, advanced one control step at a time.
+///
+/// It does not borrow the DMP, so a control loop (or a coprocessor) can hold
+/// both side by side; [`Run::step`] takes the DMP each time.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Run<const D: usize> {
+    dof: usize,
+    tau: f32,
+    alpha: f32,
+    start: [f32; D],
+    goal: [f32; D],
+    amplitude: [f32; D],
+    y: [f32; D],
+    /// Compensation of `y` (Kahan): what its sums lost to rounding.
+    y_carry: [f32; D],
+    z: [f32; D],
+    force: [f32; D],
+    phase: f32,
+    phase_carry: f32,
+    time: f32,
+    time_carry: f32,
+    step_dt: f32,
+    transition: [f32; 4],
+}
+
+impl<const D: usize> Run<D> {
+    /// Advances by `dt` seconds (> 0).
+    pub fn step<const K: usize>(&mut self, dmp: &Dmp<D, K>, dt: f32) -> Result<(), Error> {
+        check_positive(dt, "dt must be finite and > 0")?;
+        check_len("DMP DoF", self.dof, dmp.dof())?;
+        if !(self.time + dt).is_finite() {
+            return Err(Error::OutOfRange("time would overflow"));
+        }
+        self.advance(dmp, dt);
+        Ok(())
+    }
+
+    fn advance<const K: usize>(&mut self, dmp: &Dmp<D, K>, dt: f32) {
+        let u = dt / self.tau;
+        if dt != self.step_dt {
+            self.transition = transition_step(self.alpha, u);
+            self.step_dt = dt;
+        }
+        let [d00, p01, p10, p11] = self.transition;
+        dmp.forcing(self.phase + 0.5 * u, &mut self.force);
+        let stiffness = self.alpha * self.alpha / 4.0;
+        for (((((y, carry), z), f), g), a) in self
+            .y
+            .iter_mut()
+            .zip(self.y_carry.iter_mut())
+            .zip(self.z.iter_mut())
+            .zip(self.force.iter_mut())
+            .zip(self.goal)
+            .zip(self.amplitude)
+            .take(self.dof)
+        {
+            *f *= a;
+            let equilibrium = g + *f / stiffness;
+            let e = (*y - equilibrium) - *carry;
+            // The position moves by a small step each cycle: added as a
+            // step, compensated, so thousands of cycles do not accumulate
+            // f32 rounding (a random walk of ~1e-6 over 1000 steps).
+            add_compensated(y, carry, d00 * e + p01 * *z);
+            *z = p10 * e + p11 * *z;
+        }
+        if self.phase < 1.0 {
+            add_compensated(&mut self.phase, &mut self.phase_carry, u);
+            if self.phase >= 1.0 {
+                (self.phase, self.phase_carry) = (1.0, 0.0);
+            }
+        }
+        add_compensated(&mut self.time, &mut self.time_carry, dt);
+    }
+
+    /// Moves the current position to `y` (one value per DoF), keeping the
+    /// velocity: the same motion seen from a new origin.
+    pub(crate) fn rebase<const K: usize>(
+        &mut self,
+        dmp: &Dmp<D, K>,
+        y: &[f32],
+    ) -> Result<(), Error> {
+        check_len("position", self.dof, y.len())?;
+        check_len("DMP DoF", self.dof, dmp.dof())?;
+        check_bounded(y, MAX_ABS_POSITION, "position beyond MAX_ABS_POSITION")?;
+        for ((dst, carry), src) in self.y.iter_mut().zip(self.y_carry.iter_mut()).zip(y) {
+            (*dst, *carry) = (*src, 0.0);
+        }
+        Ok(())
+    }
+
+    /// Changes the goal during execution; amplitude-scaled DoFs rescale their
+    /// forcing term to the new `g − y0` from the next step on.
+    pub fn set_goal<const K: usize>(&mut self, dmp: &Dmp<D, K>, goal: &[f32]) -> Result<(), Error> {
+        check_len("goal", self.dof, goal.len())?;
+        check_len("DMP DoF", self.dof, dmp.dof())?;
+        check_bounded(goal, MAX_ABS_POSITION, "goal beyond MAX_ABS_POSITION")?;
+        for (d, (dst, &g)) in self.goal.iter_mut().zip(goal).enumerate() {
+            *dst = g;
+            if let (Some(a), Some(&y0)) = (self.amplitude.get_mut(d), self.start.get(d)) {
+                *a = if dmp.is_scaled(d) { g - y0 } else { 1.0 };
+            }
+        }
+        Ok(())
+    }
+
+    /// Seconds since the start.
+    pub fn time(&self) -> f32 {
+        self.time
+    }
+
+    /// Phase `s = t/τ`, saturated at 1.
+    pub fn phase(&self) -> f32 {
+        self.phase
+    }
+
+    /// Current position (`dof` values).
+    pub fn position(&self) -> &[f32] {
+        self.y.get(..self.dof).unwrap_or(&[])
+    }
+
+    /// The current point: time, position, velocity and acceleration (the
+    /// latter with the forcing term of the last step, held over the step).
+    pub fn sample(&self) -> Sample<D> {
+        let mut s = Sample {
+            time: self.time,
+            position: self.y,
+            velocity: [0.0; D],
+            acceleration: [0.0; D],
+        };
+        let stiffness = self.alpha * self.alpha / 4.0;
+        let tau2 = self.tau * self.tau;
+        for d in 0..self.dof.min(D) {
+            if let (Some(v), Some(acc), Some(y), Some(z), Some(g), Some(f)) = (
+                s.velocity.get_mut(d),
+                s.acceleration.get_mut(d),
+                self.y.get(d),
+                self.z.get(d),
+                self.goal.get(d),
+                self.force.get(d),
+            ) {
+                *v = z / self.tau;
+                *acc = (stiffness * (g - y) - self.alpha * z + f) / tau2;
+            }
+        }
+        s
+    }
+}
+
+/// Iterator over a whole execution; see [`Dmp::trajectory`].
+#[derive(Debug, Clone)]
+pub struct Trajectory<'a, const D: usize, const K: usize> {
+    dmp: &'a Dmp<D, K>,
+    run: Run<D>,
+    dt: f32,
+    full_steps: u32,
+    last_dt: f32,
+    index: u32,
+    done: bool,
+}
+
+impl<const D: usize, const K: usize> Trajectory<'_, D, K> {
+    /// The next sample's time and position (one value per DoF):
+    /// [`Iterator::next`] without the velocity and acceleration, for a
+    /// caller that only wants where the movement goes.
+    pub fn next_position(&mut self) -> Option<(f32, &[f32])> {
+        let time = self.step()?;
+        Some((time, self.run.position()))
+    }
+
+    /// Advances to the next sample, if any; its time.
+    fn step(&mut self) -> Option<f32> {
+        if self.done {
+            return None;
+        }
+        if self.index > 0 {
+            let dt = if self.index <= self.full_steps {
+                self.dt
+            } else {
+                self.last_dt
+            };
+            self.run.advance(self.dmp, dt);
+        }
+        // Report exact grid times rather than the accumulated clock.
+        let mut time = if self.index <= self.full_steps {
+            self.index as f32 * self.dt
+        } else {
+            self.run.tau
+        };
+        let at_end = if self.last_dt > 0.0 {
+            self.index > self.full_steps
+        } else {
+            self.index == self.full_steps
+        };
+        if at_end {
+            time = self.run.tau;
+            self.done = true;
+        }
+        self.index += 1;
+        Some(time)
+    }
+}
+
+impl<const D: usize, const K: usize> Iterator for Trajectory<'_, D, K> {
+    type Item = Sample<D>;
+    fn next(&mut self) -> Option<Sample<D>> {
+        let time = self.step()?;
+        let mut sample = self.run.sample();
+        sample.time = time;
+        Some(sample)
+    }
+
+    fn size_hint(&self) -> (usize, Option<usize>) {
+        // Samples 0..=full_steps on the grid, then the shorter last step's.
+        let total = u64::from(self.full_steps) + 1 + u64::from(self.last_dt > 0.0);
+        let left = match self.done {
+            true => 0,
+            false => usize::try_from(total.saturating_sub(u64::from(self.index))).unwrap_or(0),
+        };
+        (left, Some(left))
+    }
+}
