@@ -319,7 +319,9 @@ pub fn run<K: Kind>(
         resumable: Some(dir.clone()),
     };
     let run = &header.run;
-    if !ended {
+    // A resumed run's settings were checked when it began; where its
+    // learner runs now, not yet (a complete run only reports).
+    if built.is_none() && !ended {
         run.validate(learner).map_err(fail)?;
     }
     let built = match built {
