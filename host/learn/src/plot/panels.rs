@@ -9,7 +9,7 @@ use crate::output::write_file;
 use super::{Line, Panel, render_png};
 
 /// Height of a row of panels, px.
-pub const PANEL_HEIGHT: u32 = 350;
+const PANEL_HEIGHT: u32 = 350;
 
 /// A linear panel over the roll-outs.
 pub fn per_rollout<'a>(title: &'a str, y_label: &'a str, series: &'a [Line<'a>]) -> Panel<'a> {
@@ -42,6 +42,13 @@ pub fn reward_lines(split: &[Vec<(f64, f64)>; 2]) -> [Line<'_>; 2] {
             ..Line::new("exploration", &split[1])
         },
     ]
+}
+
+/// Writes a run's `convergence.png` into `dir`: `panels` in rows of
+/// [`PANEL_HEIGHT`].
+pub fn write_convergence(dir: &Path, panels: &[Panel<'_>]) -> Result<(), Error> {
+    let rows = super::grid(panels.len()).0 as u32;
+    write_png(&dir.join("convergence.png"), panels, PANEL_HEIGHT * rows)
 }
 
 /// Renders `panels`, 1000 px wide and `height` high, into the PNG file

@@ -9,8 +9,8 @@ use serde::Serialize;
 
 use crate::Error;
 use crate::output::{write_file, write_json};
-use crate::plot::panels::{PANEL_HEIGHT, per_rollout, reward_lines, rewards, write_png};
-use crate::plot::{Line, Panel, grid};
+use crate::plot::panels::{per_rollout, reward_lines, rewards, write_convergence};
+use crate::plot::{Line, Panel};
 use crate::rollouts::Record;
 
 use super::settings::Settings;
@@ -190,9 +190,5 @@ pub fn write_pour(
         panels.push(per_rollout("Reward of every roll-out", "reward", &w));
     }
     panels.push(per_rollout("Learned query", "q [l]", &q));
-    write_png(
-        &dir.join("convergence.png"),
-        &panels,
-        PANEL_HEIGHT * grid(panels.len()).0 as u32,
-    )
+    write_convergence(dir, &panels)
 }

@@ -11,8 +11,8 @@ use serde::Serialize;
 use crate::Error;
 use crate::algorithm::Algorithm;
 use crate::output::{write_file, write_json};
-use crate::plot::panels::{PANEL_HEIGHT, per_rollout, reward_lines, rewards, write_png};
-use crate::plot::{Line, Panel, grid};
+use crate::plot::panels::{per_rollout, reward_lines, rewards, write_convergence};
+use crate::plot::{Line, Panel};
 use crate::rollouts::{Ending, Entry, Record, Scored};
 
 use super::Task;
@@ -170,9 +170,5 @@ fn write_chart(dir: &Path, task: &Task, records: &[&Record<TaskTrial>]) -> Resul
         panels.push(per_rollout("Reward of every roll-out", "reward", &w));
     }
     panels.push(per_rollout("Learned query", "q", &q));
-    write_png(
-        &dir.join("convergence.png"),
-        &panels,
-        PANEL_HEIGHT * grid(panels.len()).0 as u32,
-    )
+    write_convergence(dir, &panels)
 }
