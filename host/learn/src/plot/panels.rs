@@ -45,7 +45,7 @@ pub fn reward_lines(split: &[Vec<(f64, f64)>; 2]) -> [Line<'_>; 2] {
 }
 
 /// Writes a run's `convergence.png` into `dir`: `panels` in rows of
-/// [`PANEL_HEIGHT`].
+/// 350 px.
 pub fn write_convergence(dir: &Path, panels: &[Panel<'_>]) -> Result<(), Error> {
     let rows = super::grid(panels.len()).0 as u32;
     write_png(&dir.join("convergence.png"), panels, PANEL_HEIGHT * rows)
