@@ -11,11 +11,13 @@ with --height, also how high it flies (m above the floor).
     python3 throw.py [--height]          evaluate: JSON lines on stdin/stdout
     python3 throw.py --demos DIR         write the demonstrations into DIR
 
-Evaluating, primo sends one line per roll-out, {"rollout": N, "csv": PATH},
-PATH a CSV of columns t, shoulder, elbow that passed the task's limits;
-this program answers {"measured": [distance]} or
-{"measured": [distance, height]}, or {"failed": why} when the file cannot
-be read as a throw. Only the standard library is used.
+Evaluating (evaluator protocol 2), primo sends one line per roll-out,
+{"protocol": 2, "rollout": N, "csv": PATH}, PATH a CSV of columns t,
+shoulder, elbow that passed the task's limits; this program answers
+{"rollout": N, "measured": [distance]} or
+{"rollout": N, "measured": [distance, height]}, or
+{"rollout": N, "failed": why} when the file cannot be read as a throw.
+Only the standard library is used.
 """
 
 import csv
@@ -119,6 +121,7 @@ def serve(with_height):
             answer = {"measured": [distance, height] if with_height else [distance]}
         except (OSError, ValueError, KeyError, IndexError, ZeroDivisionError) as e:
             answer = {"failed": str(e)}
+        answer["rollout"] = request["rollout"]
         print(json.dumps(answer), flush=True)
 
 

@@ -10,7 +10,7 @@ __version__: str
 
 Array = npt.NDArray[np.float64]
 ArrayLike = npt.ArrayLike
-Status = Literal["running", "converged", "budget_exhausted", "bracket_collapsed", "stalled"]
+Status = Literal["running", "converged", "budget_exhausted", "bracket_collapsed", "stalled", "infeasible"]
 Path = Union[str, PathLike[str]]
 
 class Dmp:

@@ -29,6 +29,7 @@ fn status(s: Status) -> &'static str {
         Status::BudgetExhausted => "budget_exhausted",
         Status::BracketCollapsed => "bracket_collapsed",
         Status::Stalled => "stalled",
+        Status::Infeasible => "infeasible",
     }
 }
 

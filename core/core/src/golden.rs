@@ -16,7 +16,11 @@
 //! ```
 //!
 //! plus a roll-out budget, and a stop once the bracket can no longer shrink
-//! in `f32`. The state machine is ask/tell:
+//! in `f32`. A query that cannot be rolled out or measured (the robot's
+//! limits reject its movement, the task failed) is told as infeasible
+//! ([`ErrorLearner::tell_infeasible`]): it becomes the bracket's end on its
+//! side of the best roll-out, and the search goes on inside. The state
+//! machine is ask/tell:
 //!
 //! ```
 //! use primo_core::golden::{ErrorLearner, GoldenSection, SearchConfig, Status};
@@ -104,6 +108,18 @@ pub enum Status {
     /// in `f32` (too small, or pushing only against the search limits: the
     /// target lies outside them) without reaching the precision.
     Stalled,
+    /// The first roll-out, at the desired query, was infeasible: there is
+    /// no feasible roll-out to narrow the search toward.
+    Infeasible,
+}
+
+/// An end of the search bracket.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub(crate) enum End {
+    /// The low end: the root is above it (`ε > 0` there).
+    Low,
+    /// The high end: the root is below it (`ε ≤ 0` there).
+    High,
 }
 
 /// The best roll-out so far: smallest `|ε|`.
@@ -123,6 +139,13 @@ pub trait ErrorLearner {
     /// Reports the error of the asked query. A non-finite error, or a call
     /// after the search finished, is an error and changes nothing.
     fn tell(&mut self, error: f32) -> Result<Status, Error>;
+    /// Reports that the asked query could not be rolled out or measured:
+    /// it bounds the search on its side of the best roll-out (the root is
+    /// taken to lie among the feasible queries), and counts against the
+    /// budget. The first roll-out's, at the desired query, ends the search
+    /// as [`Status::Infeasible`]. A call after the search finished is an
+    /// error and changes nothing.
+    fn tell_infeasible(&mut self) -> Result<Status, Error>;
     /// The query to roll out next, or `None` once finished. Asking again
     /// before telling returns the same query.
     fn ask(&self) -> Option<f32> {
@@ -206,11 +229,40 @@ impl SearchState {
     /// Moves the end on `error`'s side of the bracket to `query`: the root is
     /// above a query with `ε > 0` and below one with `ε ≤ 0`.
     pub(crate) fn shrink(&mut self, query: f32, error: f32) {
-        if error > 0.0 {
-            self.low = query;
-        } else {
-            self.high = query;
+        self.move_end(End::of(error), query);
+    }
+
+    fn move_end(&mut self, end: End, query: f32) {
+        match end {
+            End::Low => self.low = query,
+            End::High => self.high = query,
         }
+    }
+
+    /// Records that the query in flight is infeasible and moves the end on
+    /// its side of the best roll-out to it; returns that end if the search
+    /// goes on. Without a best roll-out (the first, desired query) the
+    /// search stops as [`Status::Infeasible`].
+    pub(crate) fn record_infeasible(&mut self) -> Result<Option<End>, Error> {
+        if self.status != Status::Running {
+            return Err(Error::BadState("the search has finished"));
+        }
+        self.rollouts += 1;
+        let query = self.query;
+        let end = match self.best {
+            None => {
+                self.status = Status::Infeasible;
+                return Ok(None);
+            }
+            Some(b) if query > b.query => End::High,
+            Some(_) => End::Low,
+        };
+        self.move_end(end, query);
+        if self.rollouts >= self.cfg.max_rollouts {
+            self.status = Status::BudgetExhausted;
+            return Ok(None);
+        }
+        Ok(Some(end))
     }
 
     /// The bracket `(low, high)`.
@@ -221,7 +273,16 @@ impl SearchState {
     /// The paper's step in the current bracket: 0.618 of the way up after
     /// `ε > 0`, 0.382 after `ε ≤ 0`.
     pub(crate) fn golden_step(&self, error: f32) -> f32 {
-        let fraction = if error > 0.0 { GOLDEN } else { 1.0 - GOLDEN };
+        self.golden_from(End::of(error))
+    }
+
+    /// The paper's step after the `end` of the bracket moved: 0.618 of the
+    /// way up after the low end, 0.382 after the high one.
+    pub(crate) fn golden_from(&self, end: End) -> f32 {
+        let fraction = match end {
+            End::Low => GOLDEN,
+            End::High => 1.0 - GOLDEN,
+        };
         self.low + (self.high - self.low) * fraction
     }
 
@@ -233,6 +294,13 @@ impl SearchState {
         }
         self.query = next;
         self.status
+    }
+}
+
+impl End {
+    /// The end a roll-out of error `error` replaces.
+    pub(crate) fn of(error: f32) -> End {
+        if error > 0.0 { End::Low } else { End::High }
     }
 }
 
@@ -262,5 +330,12 @@ impl ErrorLearner for GoldenSection {
         };
         self.state.shrink(query, error);
         Ok(self.state.propose(self.state.golden_step(error)))
+    }
+
+    fn tell_infeasible(&mut self) -> Result<Status, Error> {
+        let Some(end) = self.state.record_infeasible()? else {
+            return Ok(self.state.status);
+        };
+        Ok(self.state.propose(self.state.golden_from(end)))
     }
 }

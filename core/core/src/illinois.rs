@@ -36,20 +36,13 @@
 use serde::Serialize;
 
 use crate::Error;
-use crate::golden::{ErrorLearner, SearchConfig, SearchState, Status};
+use crate::golden::{End, ErrorLearner, SearchConfig, SearchState, Status};
 
 /// A known point `(q, ε)`.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 struct Point {
     q: f32,
     e: f32,
-}
-
-/// Which end of the bracket the last roll-out replaced.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-enum Side {
-    Low,
-    High,
 }
 
 /// The Illinois error learner.
@@ -63,7 +56,8 @@ pub struct Illinois {
     high_error: Option<f32>,
     /// The point before the last one on the same side, for the secant.
     previous: Option<Point>,
-    last_side: Option<Side>,
+    /// Which end of the bracket the last roll-out replaced.
+    last_side: Option<End>,
 }
 
 impl Illinois {
@@ -110,16 +104,16 @@ impl ErrorLearner for Illinois {
             return Ok(self.status());
         };
         let current = Point { q: query, e: error };
-        let side = if error > 0.0 { Side::Low } else { Side::High };
+        let side = End::of(error);
         // The secant needs the previous point on the same side.
         let repeated = self.last_side == Some(side);
         self.previous = match side {
-            Side::Low => self.low_error.map(|e| Point { q: low, e }),
-            Side::High => self.high_error.map(|e| Point { q: high, e }),
+            End::Low => self.low_error.map(|e| Point { q: low, e }),
+            End::High => self.high_error.map(|e| Point { q: high, e }),
         };
         let (kept, moved) = match side {
-            Side::Low => (&mut self.high_error, &mut self.low_error),
-            Side::High => (&mut self.low_error, &mut self.high_error),
+            End::Low => (&mut self.high_error, &mut self.low_error),
+            End::High => (&mut self.low_error, &mut self.high_error),
         };
         *moved = Some(error);
         if repeated {
@@ -129,5 +123,20 @@ impl ErrorLearner for Illinois {
         self.state.shrink(query, error);
         let next = self.next_query(current);
         Ok(self.state.propose(next))
+    }
+
+    fn tell_infeasible(&mut self) -> Result<Status, Error> {
+        let Some(end) = self.state.record_infeasible()? else {
+            return Ok(self.status());
+        };
+        // No error is known at the moved end: regula falsi waits for one,
+        // and the step is the golden section's.
+        match end {
+            End::Low => self.low_error = None,
+            End::High => self.high_error = None,
+        }
+        self.previous = None;
+        self.last_side = None;
+        Ok(self.state.propose(self.state.golden_from(end)))
     }
 }

@@ -33,6 +33,12 @@
 //!   (`max_i |ε_i|`), the next step starts from the best query instead, with
 //!   a step halved at every such fallback in a row (a backtracking line
 //!   search along the learned direction).
+//! - A query that cannot be rolled out or measured is told as infeasible
+//!   ([`Secant::tell_infeasible`]): the next query is halfway back along
+//!   the step that reached it, and no step is longer (`max_i |Δq_i|`) than
+//!   that half; the allowed length doubles again at every feasible
+//!   roll-out (a trust region). The first roll-out's, at the desired
+//!   query, ends the search as [`Status::Infeasible`].
 //! - Every query is clamped into `[low, high]`; when a step can no longer
 //!   move the query in `f32` (too small, or pushing only against the box's
 //!   limits: the target lies outside), the search stops as
@@ -193,8 +199,19 @@ pub struct Secant<const Q: usize> {
     best: Option<Point<Q>>,
     /// The step's factor: 1, halved at each fallback to the best query.
     damping: f32,
+    /// The longest step (`max_i |Δq_i|`) allowed: unbounded until a query
+    /// is infeasible, then halved at each infeasible query and doubled at
+    /// each feasible one.
+    reach: f32,
+    /// Where the query in flight was stepped from.
+    origin: [f32; Q],
     rollouts: u32,
     status: Status,
+}
+
+/// The same query, bit for bit.
+fn same<const Q: usize>(a: &[f32; Q], b: &[f32; Q]) -> bool {
+    a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
 }
 
 /// `max_i |v_i|`.
@@ -219,6 +236,8 @@ impl<const Q: usize> Secant<Q> {
             last: None,
             best: None,
             damping: 1.0,
+            reach: f32::INFINITY,
+            origin: query,
             rollouts: 0,
             status: Status::Running,
         })
@@ -284,12 +303,41 @@ impl<const Q: usize> Secant<Q> {
             self.damping = 1.0;
             current
         };
+        self.reach *= 2.0;
         let next = self.step(&from);
-        if next
-            .iter()
-            .zip(&from.query)
-            .all(|(a, b)| a.to_bits() == b.to_bits())
-        {
+        if same(&next, &from.query) {
+            self.status = Status::Stalled;
+        }
+        self.query = next;
+        self.origin = from.query;
+        Ok(self.status)
+    }
+
+    /// Reports that the asked query could not be rolled out or measured
+    /// (module docs); it counts against the budget. A call after the
+    /// search finished is an error and changes nothing.
+    pub fn tell_infeasible(&mut self) -> Result<Status, Error> {
+        if self.status != Status::Running {
+            return Err(Error::BadState("the search has finished"));
+        }
+        self.rollouts += 1;
+        if self.best.is_none() {
+            self.status = Status::Infeasible;
+            return Ok(self.status);
+        }
+        if self.rollouts >= self.cfg.max_rollouts {
+            self.status = Status::BudgetExhausted;
+            return Ok(self.status);
+        }
+        // Halfway back along the step, from where it was taken.
+        let mut next = self.origin;
+        let mut step = [0.0f32; Q];
+        for ((n, s), q) in next.iter_mut().zip(&mut step).zip(&self.query) {
+            *s = 0.5 * (q - *n);
+            *n += *s;
+        }
+        self.reach = self.reach.min(size(&step));
+        if same(&next, &self.origin) || same(&next, &self.query) {
             self.status = Status::Stalled;
         }
         self.query = next;
@@ -356,12 +404,19 @@ impl<const Q: usize> Secant<Q> {
             self.gain = Self::identity(self.cfg.gain);
             step = from.error.map(|e| weight * self.cfg.gain * e);
         }
+        // Within the reach left by infeasible queries.
+        let length = self.damping * size(&step);
+        let factor = if length > self.reach {
+            self.reach / size(&step)
+        } else {
+            self.damping
+        };
         let mut next = from.query;
         let limits = self.cfg.low.iter().zip(&self.cfg.high);
         for ((q, s), (low, high)) in next.iter_mut().zip(step).zip(limits) {
             // max/min rather than clamp: they never panic, and an
             // overflow to ±∞ lands on a limit.
-            *q = (*q + self.damping * s).max(*low).min(*high);
+            *q = (*q + factor * s).max(*low).min(*high);
         }
         next
     }

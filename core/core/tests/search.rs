@@ -62,6 +62,38 @@ fn family() -> impl Strategy<Value = Family> {
     ]
 }
 
+/// Runs a learner on `error` where queries beyond `cut` (on the `above`
+/// side) cannot be rolled out; checks the bracket never grows and the
+/// infeasible query bounds it; returns the learner and the queries asked.
+fn run_cut<L: ErrorLearner>(
+    mut learner: L,
+    error: impl Fn(f32) -> f32,
+    cut: f32,
+    above: bool,
+) -> (L, Vec<f32>) {
+    let mut asked = Vec::new();
+    while let Some(q) = learner.ask() {
+        let (lo, hi) = learner.bracket();
+        asked.push(q);
+        let infeasible = if above { q > cut } else { q < cut };
+        if infeasible {
+            learner.tell_infeasible().unwrap();
+            let (lo2, hi2) = learner.bracket();
+            if learner.status() == Status::Running {
+                // The query is the end on its side of the best roll-out.
+                assert!(
+                    if above { hi2 == q } else { lo2 == q },
+                    "({lo2}, {hi2}) after {q}"
+                );
+            }
+            assert!(lo2 >= lo && hi2 <= hi, "bracket grew");
+        } else {
+            learner.tell(error(q)).unwrap();
+        }
+    }
+    (learner, asked)
+}
+
 proptest! {
     #![proptest_config(ProptestConfig {
         failure_persistence: Some(Box::new(proptest::test_runner::FileFailurePersistence::WithSource("regressions"))),
@@ -111,6 +143,49 @@ proptest! {
         let bound = 1 + ((fam.lipschitz() * 2.0 / precision).ln() / (1.0 / 0.618f32).ln()).ceil().max(0.0) as u32;
         prop_assert_eq!(l.status(), Status::Converged);
         prop_assert!(l.rollouts() <= bound, "{} roll-outs > bound {}", l.rollouts(), bound);
+    }
+
+    #[test]
+    fn infeasible_queries_narrow_the_bracket_and_the_root_is_still_found(
+        fam in family(),
+        root in -0.8f32..0.8,
+        margin in 0.05f32..0.5,
+        above in any::<bool>(),
+        illinois in any::<bool>(),
+    ) {
+        // Queries beyond `cut` (past the root, on one side) are infeasible;
+        // the desired query is on the feasible side of the root's other
+        // side, so the first probes overshoot into the infeasible region.
+        let cut = if above { root + margin } else { root - margin };
+        let desired = if above { (root - 0.1).max(-0.95) } else { (root + 0.1).min(0.95) };
+        let cfg = SearchConfig { low: -1.0, high: 1.0, desired, precision: 1e-3, max_rollouts: 60 };
+        let err = |q: f32| fam.outcome(root, root) - fam.outcome(q, root);
+        let (status, best) = if illinois {
+            let (l, _) = run_cut(Illinois::new(cfg).unwrap(), err, cut, above);
+            (l.status(), l.best())
+        } else {
+            let (l, _) = run_cut(GoldenSection::new(cfg).unwrap(), err, cut, above);
+            (l.status(), l.best())
+        };
+        prop_assert_eq!(status, Status::Converged);
+        prop_assert!(best.unwrap().error.abs() < 1e-3);
+    }
+
+    #[test]
+    fn an_infeasible_desired_query_ends_the_search(illinois in any::<bool>(), desired in -0.9f32..0.9) {
+        let cfg = SearchConfig { low: -1.0, high: 1.0, desired, precision: 1e-3, max_rollouts: 10 };
+        let status = if illinois {
+            let mut l = Illinois::new(cfg).unwrap();
+            l.tell_infeasible().unwrap();
+            prop_assert!(l.ask().is_none() && l.tell_infeasible().is_err());
+            l.status()
+        } else {
+            let mut l = GoldenSection::new(cfg).unwrap();
+            l.tell_infeasible().unwrap();
+            prop_assert!(l.ask().is_none() && l.tell(0.0).is_err());
+            l.status()
+        };
+        prop_assert_eq!(status, Status::Infeasible);
     }
 
     #[test]

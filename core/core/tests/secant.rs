@@ -1,6 +1,7 @@
 //! The secant error learner (property tests): converges on well-conditioned
 //! linear and mildly nonlinear maps of 1 to 4 dimensions within a small
-//! budget, never leaves the box, never panics whatever it is told.
+//! budget, also around queries that cannot be rolled out; never leaves the
+//! box, never panics whatever it is told.
 use heapless::Vec as HVec;
 use primo_core::golden::Status;
 use primo_core::secant::{Rule, Secant, SecantConfig};
@@ -133,6 +134,27 @@ proptest! {
     }
 
     #[test]
+    fn converges_around_infeasible_queries((cell, root, start) in case(false), margin in 0.2f32..1.0) {
+        // Queries whose first component is past the root's by `margin`
+        // (on the side away from the start) cannot be rolled out.
+        let target = cell.measured(&root);
+        let side = if start[0] <= root[0] { 1.0 } else { -1.0 };
+        let cut = root[0] + side * margin;
+        let mut l = Secant::new(config(cell.n, &start)).unwrap();
+        let mut asked = 0;
+        while let Some(q) = l.ask() {
+            asked += 1;
+            if (q[0] - cut) * side > 0.0 {
+                l.tell_infeasible().unwrap();
+            } else {
+                let e = cell.error(&target, q);
+                l.tell(&e).unwrap();
+            }
+        }
+        prop_assert_eq!(l.status(), Status::Converged, "{} roll-outs", asked);
+    }
+
+    #[test]
     fn never_panics_and_stays_in_the_box(
         n in 1usize..=4,
         desired in prop::array::uniform4(-1.0f32..1.0),
@@ -149,6 +171,11 @@ proptest! {
             prop_assert!(q.iter().all(|v| (-4.0..=4.0).contains(v)), "{:?}", q);
             let before = l.clone();
             let finite = e[..n].iter().all(|v| v.is_finite());
+            // Now and then a roll-out that could not be made.
+            if e[0].to_bits() % 7 == 0 {
+                prop_assert!(l.tell_infeasible().is_ok());
+                continue;
+            }
             prop_assert_eq!(l.tell(&e[..n]).is_ok(), finite);
             if !finite {
                 prop_assert_eq!(&l, &before);

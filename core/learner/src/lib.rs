@@ -106,8 +106,12 @@ pub const SAMPLER: usize = 3;
 
 /// The learner in use; PoWER's state lives in [`Service`], configured in
 /// place. `repr(u8)` makes `Idle` all zero bytes (see [`Service::new`]).
+/// Its size is the secant learner's: the one learner lives in the
+/// service's static memory, and boxing it would need a heap the M4F has
+/// not.
 #[derive(Debug, Clone)]
 #[repr(u8)]
+#[allow(clippy::large_enum_variant)]
 enum Learner {
     Idle,
     Golden(GoldenSection),
@@ -300,6 +304,7 @@ impl<const P: usize, const E: usize, const K: usize> Service<P, E, K> {
             Request::Ask => self.ask(),
             Request::Fetch { offset } => self.fetch(usize::from(*offset)),
             Request::Tell(outcome) => self.tell(outcome),
+            Request::Infeasible => self.infeasible(),
             Request::Status => self.status(),
             Request::DmpStart(start) => self.dmp_start(start).unwrap_or_else(fault),
             Request::DmpNext => self.dmp_next(),
@@ -505,6 +510,28 @@ impl<const P: usize, const E: usize, const K: usize> Service<P, E, K> {
                     .map(drop)
             }
             Learner::Power => self.power.tell(outcome.reward).map(drop),
+        };
+        match told {
+            Ok(()) => {
+                self.in_flight = false;
+                Reply::Ok
+            }
+            Err(e) => fault(e),
+        }
+    }
+
+    fn infeasible(&mut self) -> Reply {
+        if !self.in_flight {
+            return bad_state("infeasible without a roll-out in flight");
+        }
+        let told = match &mut self.learner {
+            Learner::Idle => return bad_state("infeasible before configure"),
+            Learner::Golden(l) => l.tell_infeasible().map(drop),
+            Learner::Illinois(l) => l.tell_infeasible().map(drop),
+            Learner::Secant(l) => l.tell_infeasible().map(drop),
+            Learner::Power => {
+                return bad_state("PoWER is told an infeasible roll-out's reward (Tell)");
+            }
         };
         match told {
             Ok(()) => {

@@ -121,6 +121,9 @@ fn golden_section_through_the_service_is_the_learner_itself() {
     configure(&mut s, LearnerSetup::Golden(search()));
     let mut direct = GoldenSection::new(search()).unwrap();
     let cell = |q: f32| 0.7 - q;
+    // Beyond 0.8 nothing can be rolled out (the second query is).
+    let feasible = |q: f32| q <= 0.8;
+    let mut infeasible = 0;
     let mut n = 0;
     loop {
         let reply = s.respond(&Request::Ask);
@@ -134,14 +137,21 @@ fn golden_section_through_the_service_is_the_learner_itself() {
         assert_eq!((r.number, r.query[0].to_bits()), (n, q.to_bits()));
         // Asking again before telling is the same roll-out.
         assert_eq!(s.respond(&Request::Ask), Reply::Rollout(r.clone()));
-        let outcome = Outcome {
-            error: q1(cell(q)),
-            reward: 0.0,
-        };
-        assert_eq!(s.respond(&Request::Tell(outcome)), Reply::Ok);
-        direct.tell(cell(q)).unwrap();
+        if feasible(q) {
+            let outcome = Outcome {
+                error: q1(cell(q)),
+                reward: 0.0,
+            };
+            assert_eq!(s.respond(&Request::Tell(outcome)), Reply::Ok);
+            direct.tell(cell(q)).unwrap();
+        } else {
+            assert_eq!(s.respond(&Request::Infeasible), Reply::Ok);
+            direct.tell_infeasible().unwrap();
+            infeasible += 1;
+        }
         n += 1;
     }
+    assert!(infeasible > 0);
     assert_eq!(direct.status(), SearchStatus::Converged);
     let Reply::Status(st) = s.respond(&Request::Status) else {
         panic!()
@@ -330,6 +340,10 @@ fn faults_say_what_is_wrong() {
         Reply::Hello { .. }
     ));
     assert_eq!(fault(s.respond(&Request::Ask)).0, FaultKind::BadState);
+    assert_eq!(
+        fault(s.respond(&Request::Infeasible)).0,
+        FaultKind::BadState
+    );
     let too_long = Setup {
         learner: LearnerSetup::Golden(search()),
         examples: 2,

@@ -470,6 +470,7 @@ mod tests {
             Request::Ask,
             Request::Fetch { offset: 300 },
             Request::DmpNext,
+            Request::Infeasible,
         ];
         for r in requests {
             let on_scale = scale::Request::Learner(r.clone());
@@ -495,8 +496,8 @@ mod tests {
 
     #[test]
     fn the_scale_messages_follow_the_learner_s_and_the_coprocessor_cannot_read_them() {
-        // After the learner's last request (DmpNext) and reply (Error).
-        let last_request = bytes(&Request::DmpNext)[0];
+        // After the learner's last request (Infeasible) and reply (Error).
+        let last_request = bytes(&Request::Infeasible)[0];
         let last_reply = bytes(&Reply::Error(Fault::new(FaultKind::Invalid, "")))[0];
         let identify = scale::Request::Scale(ScaleRequest::Identify);
         assert_eq!(bytes(&identify), [last_request + 1, 0]);

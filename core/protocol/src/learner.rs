@@ -78,6 +78,11 @@ pub enum Request {
     DmpStart(DmpStart),
     /// The next setpoint of the movement.
     DmpNext,
+    /// The asked roll-out could not be made or measured (the robot's
+    /// limits rejected its movement, the task failed): an error learner
+    /// takes its query as a bound of the search. PoWER learns from such a
+    /// roll-out's reward: tell it with [`Request::Tell`].
+    Infeasible,
 }
 
 /// A learning run's settings.

@@ -75,5 +75,7 @@ pub mod scale;
 /// error-learned query (`PowerConfig::query_gain`); 5: the kernel margin
 /// in a DMP's shape (`Shape::margin`); 6: each device its own messages:
 /// the learning coprocessor no longer reads the scale's (every message
-/// keeps its version-5 bytes).
-pub const VERSION: u16 = 6;
+/// keeps its version-5 bytes); 7: an error learner is told of a roll-out
+/// that could not be made (`Request::Infeasible`, the search's
+/// `Infeasible` status).
+pub const VERSION: u16 = 7;

@@ -167,6 +167,7 @@ fn request() -> impl Strategy<Value = Request> {
             })
         ),
         Just(Request::DmpNext),
+        Just(Request::Infeasible),
     ]
 }
 
@@ -177,6 +178,7 @@ fn search_status() -> impl Strategy<Value = SearchStatus> {
         SearchStatus::BudgetExhausted,
         SearchStatus::BracketCollapsed,
         SearchStatus::Stalled,
+        SearchStatus::Infeasible,
     ])
 }
 

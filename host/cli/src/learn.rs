@@ -7,7 +7,7 @@ use std::path::PathBuf;
 
 use primo_learn::Error;
 use primo_learn::pour::run::{CellSpec, Pour};
-use primo_learn::rollouts::query_text;
+use primo_learn::rollouts::{Stop, query_text};
 use primo_learn::run::{Event, Start, logged_kind};
 use primo_learn::task::evaluator::Prompt;
 use primo_learn::task::run::{TaskRun, rollout_line};
@@ -148,20 +148,24 @@ fn show(event: Event<TaskRun>, progress: &mut Progress) -> Result<(), Error> {
                 task.demos.len(),
             )
         }
-        Event::Rollout { entry, logged } => {
+        Event::Rollout {
+            entry,
+            logged,
+            bounds,
+        } => {
             let note = format!("reward {:.3}", entry.record.trial.reward);
-            let line = rollout_line(&entry.record);
+            let line = bounded(rollout_line(&entry.record), bounds, &entry.record.query);
             return show_rollout(progress, &line, logged, entry.record.rollout, &note);
         }
         Event::Finished(f) => {
-            let verdict = match f.converged_at {
-                Some(n) => format!("reached the precision in {n} roll-outs"),
-                None => match &f.best {
-                    Some(b) => {
-                        format!("best roll-out {} (reward {:.3})", b.rollout, b.trial.reward)
-                    }
-                    None => "no roll-out passed the limits".into(),
-                },
+            let best = match &f.best {
+                Some(b) => format!("best roll-out {} (reward {:.3})", b.rollout, b.trial.reward),
+                None => "no roll-out could be made".into(),
+            };
+            let verdict = match (f.converged_at, &f.stop) {
+                (Some(n), _) => format!("reached the precision in {n} roll-outs"),
+                (None, Stop::Learned) => best,
+                (None, stop) => format!("did not reach the precision: {stop}; {best}"),
             };
             format!(
                 "primo learn: {verdict}; last: {}; wrote {}",
@@ -171,6 +175,18 @@ fn show(event: Event<TaskRun>, progress: &mut Progress) -> Result<(), Error> {
         }
     };
     print(&line)
+}
+
+/// A roll-out's line, and if the error learner takes it as a bound of its
+/// search, that it does.
+pub fn bounded(line: String, bounds: bool, query: &[f32]) -> String {
+    match bounds {
+        true => format!(
+            "{line}; error learning now searches away from q = {}",
+            query_text(query)
+        ),
+        false => line,
+    }
 }
 
 /// The operator at the terminal: questions on stdout, answers on stdin.

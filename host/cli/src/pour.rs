@@ -381,9 +381,14 @@ fn show(event: Event<Pour>, progress: &mut Progress) -> Result<(), Error> {
                 ""
             }
         ),
-        Event::Rollout { entry, logged } => {
+        Event::Rollout {
+            entry,
+            logged,
+            bounds,
+        } => {
             let note = format!("error {:+.1} ml", entry.record.trial.error * 1e3);
-            let line = rollout_line(&entry.record);
+            let line =
+                crate::learn::bounded(rollout_line(&entry.record), bounds, &entry.record.query);
             return show_rollout(progress, &line, logged, entry.record.rollout, &note);
         }
         Event::Finished(f) => {
@@ -394,7 +399,7 @@ fn show(event: Event<Pour>, progress: &mut Progress) -> Result<(), Error> {
                     "converged to |error| < {} ml in {n} roll-outs",
                     s.precision * 1e3
                 ),
-                (_, None) => format!("did not reach {} ml", s.precision * 1e3),
+                (_, None) => format!("did not reach {} ml: {}", s.precision * 1e3, f.stop),
             };
             let series = match (f.series_of, f.simulated) {
                 (Some(n), _) => format!("roll-out {n} (best reward)"),

@@ -140,17 +140,33 @@ fn power_with_an_error_learned_query_gets_there_sooner() {
     );
 }
 
+/// The example throw's task with the evaluator `source` (Python, the
+/// throw's module importable as `throw`) in place of throw.py, and `edit`.
+fn with_evaluator(name: &str, source: &str, edit: impl Fn(String) -> String) -> PathBuf {
+    let dir = tmp(name);
+    std::fs::create_dir_all(&dir).unwrap();
+    let script = dir.join("evaluator.py");
+    let path = format!(
+        "import sys\nsys.path.insert(0, {:?})\n",
+        throw_dir().display().to_string()
+    );
+    std::fs::write(&script, path + source).unwrap();
+    task(name, "throw.toml", |t| {
+        edit(t.replace(
+            &format!(
+                "command = [\"python3\", \"{}/throw.py\"]",
+                throw_dir().display()
+            ),
+            &format!("command = [\"python3\", \"{}\"]", script.display()),
+        ))
+    })
+}
+
 /// An evaluator that fails once, at roll-out 3, as `how` says, then (run
 /// again) is the throw's.
 fn flaky(name: &str, how: &str) -> PathBuf {
-    let dir = tmp(name);
-    std::fs::create_dir_all(&dir).unwrap();
-    let script = dir.join("flaky.py");
-    std::fs::write(
-        &script,
-        format!(
-            r#"import json, os, sys, time
-sys.path.insert(0, {throw:?})
+    let source = format!(
+        r#"import json, os, time
 import throw
 for line in sys.stdin:
     request = json.loads(line)
@@ -164,23 +180,13 @@ for line in sys.stdin:
         if how == "garbage":
             print("the ball went somewhere", flush=True)
             continue
+        if how == "twice":
+            print(json.dumps({{"rollout": 3, "measured": [1.0]}}), flush=True)
     d, h = throw.throw(*throw.read(request["csv"]))
-    print(json.dumps({{"measured": [d]}}), flush=True)
-"#,
-            throw = throw_dir().display().to_string(),
-        ),
-    )
-    .unwrap();
-    task(name, "throw.toml", |t| {
-        t.replace(
-            &format!(
-                "command = [\"python3\", \"{}/throw.py\"]",
-                throw_dir().display()
-            ),
-            &format!("command = [\"python3\", \"{}\"]", script.display()),
-        )
-        .replace("timeout = 30", "timeout = 2")
-    })
+    print(json.dumps({{"rollout": request["rollout"], "measured": [d]}}), flush=True)
+"#
+    );
+    with_evaluator(name, &source, |t| t.replace("timeout = 30", "timeout = 2"))
 }
 
 #[test]
@@ -218,6 +224,125 @@ fn an_evaluator_that_fails_ends_the_run_resumably() {
         );
         assert!(summary(&out)["converged_at"].as_u64().is_some(), "{stdout}");
     }
+}
+
+#[test]
+fn an_evaluator_out_of_step_is_refused() {
+    // Two lines for roll-out 3: the second is refused as roll-out 4's.
+    let file = flaky("flaky-twice", "twice");
+    let out = tmp("out-flaky-twice");
+    let (code, _, err) = learn(&file, &out, &[]);
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        err.contains("the answer is for roll-out 3, not 4: the evaluator is out of step"),
+        "{err}"
+    );
+    assert_eq!(logged(&out), 3);
+}
+
+/// The example throw with an evaluator that says a throw failed when
+/// `fails` (a Python expression of `q`, the roll-out's distance) holds.
+fn failing(name: &str, fails: &str) -> PathBuf {
+    let source = format!(
+        r#"import json
+import throw
+for line in sys.stdin:
+    request = json.loads(line)
+    q, _ = throw.throw(*throw.read(request["csv"]))
+    answer = {{"failed": "the ball flew over the net"}} if {fails} else {{"measured": [q]}}
+    answer["rollout"] = request["rollout"]
+    print(json.dumps(answer), flush=True)
+"#
+    );
+    with_evaluator(name, &source, |t| t)
+}
+
+#[test]
+fn rejected_and_failed_probes_narrow_the_search() {
+    // Bounds the demonstrations do not support: the probes beyond them
+    // are rejected by the limits (too short a movement, too fast).
+    let wide = task("wide", "throw.toml", |t| {
+        t.replace("low = [1.0]", "low = [0.1]")
+            .replace("high = [1.9]", "high = [5.0]")
+    });
+    // Throws past 1.6 m "fail" at the evaluator.
+    let net = failing("net", "q > 1.6");
+    for (file, marker) in [(wide, "REJECTED"), (net, "FAILED")] {
+        for method in ["golden", "illinois", "secant"] {
+            let text = std::fs::read_to_string(&file).unwrap();
+            let with = file.with_file_name(format!("{method}.toml"));
+            let set = format!("method = \"{method}\"");
+            std::fs::write(&with, text.replace("method = \"golden\"", &set)).unwrap();
+            let out = tmp(&format!("out-narrow-{marker}-{method}"));
+            let (code, stdout, err) = learn(&with, &out, &[]);
+            assert_eq!(code, 0, "{marker} {method}: {err}");
+            let narrowed: Vec<_> = stdout
+                .lines()
+                .filter(|l| l.starts_with("roll-out") && l.contains(marker))
+                .collect();
+            // The secant learner's steps stay among the feasible queries.
+            let bracketed = method != "secant";
+            assert!(
+                !narrowed.is_empty() || !bracketed,
+                "{marker} {method}: {stdout}"
+            );
+            for l in narrowed {
+                assert!(
+                    l.contains("error learning now searches away from q ="),
+                    "{l}"
+                );
+            }
+            let s = summary(&out);
+            assert_eq!(s["converged"], true, "{marker} {method}: {stdout}");
+            assert_eq!(s["stopped"], "converged");
+        }
+    }
+}
+
+#[test]
+fn a_run_that_misses_its_precision_says_why() {
+    let file = task("missed", "throw.toml", |t| t);
+    let out = tmp("out-missed");
+    let (code, stdout, err) = learn(&file, &out, &["--max-rollouts", "3"]);
+    assert_eq!(code, 0, "{err}");
+    let last = stdout.lines().last().unwrap();
+    assert!(
+        last.contains("did not reach the precision: the budget of 3 roll-outs ran out"),
+        "{last}"
+    );
+    let s = summary(&out);
+    assert_eq!(
+        (&s["converged"], &s["stopped"]),
+        (&false.into(), &"budget".into())
+    );
+    // The desired query itself fails: nothing to narrow toward.
+    let file = failing("infeasible", "True");
+    let out = tmp("out-infeasible");
+    let (code, stdout, err) = learn(&file, &out, &[]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        stdout.contains(
+            "did not reach the precision: the desired query q = 1.5 could not be rolled out \
+             (the ball flew over the net)"
+        ),
+        "{stdout}"
+    );
+    let s = summary(&out);
+    assert_eq!(
+        (&s["converged"], &s["stopped"]),
+        (&false.into(), &"infeasible".into())
+    );
+    assert_eq!(s["rollouts"], 1);
+    // PoWER has no precision to reach.
+    let file = task("missed-power", "throw-power.toml", |t| t);
+    let out = tmp("out-missed-power");
+    let (code, _, err) = learn(&file, &out, &["--max-rollouts", "4"]);
+    assert_eq!(code, 0, "{err}");
+    let s = summary(&out);
+    assert_eq!(
+        (&s["converged"], &s["stopped"]),
+        (&serde_json::Value::Null, &"learned".into())
+    );
 }
 
 #[test]
@@ -577,7 +702,8 @@ fn turn_task(name: &str, limits: &str) -> PathBuf {
         dir.join("yaw.py"),
         r#"import csv, json, math, sys
 for line in sys.stdin:
-    with open(json.loads(line)["csv"], newline="") as f:
+    request = json.loads(line)
+    with open(request["csv"], newline="") as f:
         rows = list(csv.reader(f))
     assert rows[0] == ["t", "x", "qw", "qx", "qy", "qz"], rows[0]
     for r in rows[1:]:
@@ -585,7 +711,7 @@ for line in sys.stdin:
         assert abs(norm - 1) < 1e-5, r
     w, z = float(rows[-1][2]), float(rows[-1][5])
     yaw = math.degrees(2 * math.atan2(z, w)) % 360
-    print(json.dumps({"measured": [yaw]}), flush=True)
+    print(json.dumps({"rollout": request["rollout"], "measured": [yaw]}), flush=True)
 "#,
     )
     .unwrap();

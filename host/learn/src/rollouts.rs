@@ -4,6 +4,7 @@
 //! log ([`verify_replayed`]). It knows no task: a roll-out is whatever
 //! [`Scored`] the caller's `roll` returns.
 
+use primo_core::golden::Status as SearchStatus;
 use primo_protocol::learner::{LearnerSetup, Outcome, Reply, Request, Rollout, Setup, Status};
 use primo_skill::Skill;
 use serde::{Deserialize, Serialize};
@@ -19,8 +20,9 @@ pub trait Scored {
     fn error(&self) -> Vec<f32>;
     /// The reward, ≥ 0, told to PoWER.
     fn reward(&self) -> f64;
-    /// Why the movement never left primo (the limits rejected it), if so.
-    fn rejected(&self) -> Option<&str>;
+    /// Why the roll-out gave nothing to learn from, if so: the limits
+    /// rejected its movement (it never left primo), or it failed.
+    fn infeasible(&self) -> Option<&str>;
     /// The largest `|ε_i|` measured, if the roll-out measured an error:
     /// error learning has converged once it is below the precision.
     fn worst_error(&self) -> Option<f64>;
@@ -81,8 +83,9 @@ fn check(asked: &Rollout, delta: &[f32], status: &Status) -> Result<u32, Error> 
 /// and `each` is called after every roll-out (with `true` for a replayed
 /// one) before the next begins; returns all roll-outs. An error from
 /// `roll` (an instrument failed) or `each` (the run log could not be
-/// written, the output closed) ends the run. An error learner cannot learn
-/// from a movement the limits rejected: that ends the run too.
+/// written, the output closed) ends the run. An error learner takes an
+/// infeasible roll-out's query as a bound of its search
+/// ([`Request::Infeasible`]); PoWER learns from its reward.
 ///
 /// `logged` are the roll-outs of an interrupted run of the same settings:
 /// the learner is told their outcomes again instead of rolling them out,
@@ -118,16 +121,14 @@ pub fn learn_on<T: Scored + Clone>(
             Some(e) => e.record.trial.clone(),
             None => roll(i, &query, &delta)?,
         };
-        if let (Some(why), true) = (trial.rejected(), error_learning) {
-            return Err(Error::Invalid(format!(
-                "roll-out {i} (q = {}) rejected: {why}",
-                query_text(&query)
-            )));
-        }
-        learner.call(&Request::Tell(Outcome {
-            error: wire_query(&trial.error())?,
-            reward: trial.reward() as f32,
-        }))?;
+        let told = match (trial.infeasible(), error_learning) {
+            (Some(_), true) => Request::Infeasible,
+            _ => Request::Tell(Outcome {
+                error: wire_query(&trial.error())?,
+                reward: trial.reward() as f32,
+            }),
+        };
+        learner.call(&told)?;
         let status = match learner.call(&Request::Status)? {
             Reply::Status(status) => status,
             other => {
@@ -222,7 +223,7 @@ pub fn verify_replayed<T>(logged: &Entry<T>, replayed: &Entry<T>) -> Result<(), 
 /// (the more learned).
 pub fn best<T: Scored>(run: &[Entry<T>]) -> Option<&Entry<T>> {
     run.iter()
-        .filter(|e| e.record.trial.rejected().is_none())
+        .filter(|e| e.record.trial.infeasible().is_none())
         .fold(None, |best: Option<&Entry<T>>, e| match best {
             Some(b) if b.record.trial.reward() > e.record.trial.reward() => Some(b),
             _ => Some(e),
@@ -237,8 +238,137 @@ pub struct Ending<'a, T> {
     /// Error learning reached the precision at this roll-out (never for
     /// PoWER, which learns from rewards).
     pub converged_at: Option<u32>,
+    /// Why the learner stopped.
+    pub stop: Stop,
     /// The best executed roll-out ([`best`]).
     pub best: Option<&'a Entry<T>>,
+}
+
+/// Why a run's learner stopped.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Stop {
+    /// Error learning reached the precision.
+    Converged,
+    /// PoWER made its budget's roll-outs (it has no precision to reach).
+    Learned,
+    /// Error learning used up its budget of roll-outs first.
+    Budget {
+        /// The budget.
+        rollouts: u32,
+    },
+    /// The search's bracket shrank to nothing at `query` first: the error
+    /// is discontinuous or noisy there, or the target lies where nothing
+    /// can be rolled out (`beyond`: the nearest such query, if any).
+    Collapsed {
+        /// Where.
+        query: Vec<f32>,
+        /// The nearest query that could not be rolled out.
+        beyond: Option<Vec<f32>>,
+    },
+    /// The secant learner's steps no longer moved the query from `query`:
+    /// the target lies outside the search bounds (or beyond `beyond`,
+    /// the nearest query that could not be rolled out).
+    Stalled {
+        /// Where.
+        query: Vec<f32>,
+        /// The nearest query that could not be rolled out.
+        beyond: Option<Vec<f32>>,
+    },
+    /// The first roll-out, at the desired query, could not be made.
+    Infeasible {
+        /// The desired query.
+        query: Vec<f32>,
+        /// Why.
+        why: String,
+    },
+}
+
+/// What a run's `summary.json` says of how its learning ended.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Verdict {
+    /// Error learning reached the precision (`null` for PoWER, which has
+    /// none).
+    pub converged: Option<bool>,
+    /// Why the learner stopped ([`Stop::key`]).
+    pub stopped: &'static str,
+    /// The same, in words.
+    pub why: String,
+}
+
+impl Stop {
+    /// The precision was reached.
+    pub fn converged(&self) -> bool {
+        *self == Stop::Converged
+    }
+
+    /// What a summary says of it.
+    pub fn verdict(&self) -> Verdict {
+        Verdict {
+            converged: (*self != Stop::Learned).then_some(self.converged()),
+            stopped: self.key(),
+            why: self.to_string(),
+        }
+    }
+
+    /// Its name in a summary.
+    pub fn key(&self) -> &'static str {
+        match self {
+            Stop::Converged => "converged",
+            Stop::Learned => "learned",
+            Stop::Budget { .. } => "budget",
+            Stop::Collapsed { .. } => "bracket_collapsed",
+            Stop::Stalled { .. } => "stalled",
+            Stop::Infeasible { .. } => "infeasible",
+        }
+    }
+}
+
+impl std::fmt::Display for Stop {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let beyond = |f: &mut std::fmt::Formatter<'_>, b: &Option<Vec<f32>>| match b {
+            Some(b) => write!(
+                f,
+                "; q = {} could not be rolled out: the target may lie where nothing can be",
+                query_text(b)
+            ),
+            None => Ok(()),
+        };
+        match self {
+            Stop::Converged => write!(f, "reached the precision"),
+            Stop::Learned => write!(f, "made every roll-out of its budget"),
+            Stop::Budget { rollouts } => {
+                write!(
+                    f,
+                    "the budget of {rollouts} roll-outs ran out before the precision"
+                )
+            }
+            Stop::Collapsed { query, beyond: b } => {
+                write!(
+                    f,
+                    "the search bracket shrank to nothing at q = {} before the precision \
+                     (the error jumps there, or is noisy)",
+                    query_text(query)
+                )?;
+                beyond(f, b)
+            }
+            Stop::Stalled { query, beyond: b } => {
+                write!(
+                    f,
+                    "the query stopped moving at q = {} before the precision: the target \
+                     lies outside the search bounds",
+                    query_text(query)
+                )?;
+                beyond(f, b)
+            }
+            Stop::Infeasible { query, why } => write!(
+                f,
+                "the desired query q = {} could not be rolled out ({why}): change it or the \
+                 limits",
+                query_text(query)
+            ),
+        }
+    }
 }
 
 impl<'a, T: Scored> Ending<'a, T> {
@@ -262,7 +392,50 @@ impl<'a, T: Scored> Ending<'a, T> {
         Ok(Ending {
             last,
             converged_at,
+            stop: stop(run, power, converged_at.is_some()),
             best: best(run),
         })
+    }
+}
+
+/// Why the learner of `run` stopped, from its last status.
+fn stop<T: Scored>(run: &[Entry<T>], power: bool, converged: bool) -> Stop {
+    let Some(end) = run.last() else {
+        return Stop::Budget { rollouts: 0 };
+    };
+    if power {
+        return Stop::Learned;
+    }
+    // The infeasible query nearest the end (max-norm), if any.
+    let at = &end.record.query;
+    let distance = |q: &[f32]| {
+        q.iter()
+            .zip(at)
+            .fold(0.0f32, |m, (a, b)| m.max((a - b).abs()))
+    };
+    let beyond = run
+        .iter()
+        .filter(|e| e.record.trial.infeasible().is_some())
+        .map(|e| &e.record.query)
+        .min_by(|a, b| distance(a).total_cmp(&distance(b)))
+        .cloned();
+    match end.status.search {
+        SearchStatus::Converged => Stop::Converged,
+        _ if converged => Stop::Converged,
+        SearchStatus::BracketCollapsed => Stop::Collapsed {
+            query: at.clone(),
+            beyond,
+        },
+        SearchStatus::Stalled => Stop::Stalled {
+            query: at.clone(),
+            beyond,
+        },
+        SearchStatus::Infeasible => Stop::Infeasible {
+            query: at.clone(),
+            why: end.record.trial.infeasible().unwrap_or("").to_string(),
+        },
+        SearchStatus::Running | SearchStatus::BudgetExhausted => Stop::Budget {
+            rollouts: end.status.rollouts,
+        },
     }
 }

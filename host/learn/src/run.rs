@@ -218,6 +218,9 @@ pub enum Event<'a, K: Kind> {
         entry: &'a Entry<K::Trial>,
         /// Replayed from the log.
         logged: bool,
+        /// It could not be made or measured, and the error learner takes
+        /// its query as a bound of the search.
+        bounds: bool,
     },
     /// The run is complete and its reports are written.
     Finished(&'a K::Finished),
@@ -352,6 +355,7 @@ pub fn run<K: Kind>(
             .map_err(fail)?,
     };
     let setup = run.setup(&built).map_err(fail)?;
+    let error_learning = !run.method().is_power();
     let rollouts = learn_logged(
         skill,
         setup,
@@ -360,7 +364,14 @@ pub fn run<K: Kind>(
         &logged,
         (&mut log, ended),
         |i, query, delta| execution.roll(i, query, delta),
-        |entry, logged| event(Event::Rollout { entry, logged }),
+        |entry, logged| {
+            let bounds = error_learning && entry.record.trial.infeasible().is_some();
+            event(Event::Rollout {
+                entry,
+                logged,
+                bounds,
+            })
+        },
     )
     .map_err(fail)?;
     drop(execution);

@@ -11,7 +11,7 @@ use crate::Error;
 use crate::output::{write_file, write_json};
 use crate::plot::panels::{per_rollout, reward_lines, rewards, write_convergence};
 use crate::plot::{Line, Panel};
-use crate::rollouts::Record;
+use crate::rollouts::{Record, Verdict};
 
 use super::settings::Settings;
 use super::trial::Trial;
@@ -87,6 +87,9 @@ pub struct PourSummary<'a> {
     pub rollouts: usize,
     /// Reached |error| < precision (error learning) at this roll-out.
     pub converged_at: Option<u32>,
+    /// How learning ended.
+    #[serde(flatten)]
+    pub verdict: Verdict,
     /// The last roll-out (PoWER: the last roll-out of the mean).
     pub last: RolloutSummary,
     /// The best executed roll-out (highest reward, the later of equals):

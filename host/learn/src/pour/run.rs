@@ -15,7 +15,7 @@ use crate::Error;
 use crate::algorithm::Algorithm;
 use crate::error::Setting;
 use crate::learner::Learner;
-use crate::rollouts::{Ending, Entry, Record};
+use crate::rollouts::{Ending, Entry, Record, Stop};
 use crate::run::{Cell, Event, Execute, Failure, Kind, LearnerSpec, Start, run};
 use crate::runlog::RunEvent;
 
@@ -72,6 +72,8 @@ pub struct Finished {
     pub last: Record<Trial>,
     /// Error learning reached the precision at this roll-out.
     pub converged_at: Option<u32>,
+    /// Why the learner stopped.
+    pub stop: Stop,
     /// The roll-out `series.csv` holds, if any.
     pub series_of: Option<u32>,
     /// Whether the cell records series (the simulated one does).
@@ -224,6 +226,7 @@ impl Kind for Pour {
             parameters: s.method.learned_parameters(skill),
             rollouts: records.len(),
             converged_at: ending.converged_at,
+            verdict: ending.stop.verdict(),
             last: RolloutSummary::of(ending.last),
             best: ending.best.map(|e| RolloutSummary::of(&e.record)),
             seconds,
@@ -251,6 +254,7 @@ impl Kind for Pour {
             settings: *s,
             last: ending.last.clone(),
             converged_at: ending.converged_at,
+            stop: ending.stop.clone(),
             series_of: series.as_ref().and(ending.best.map(|e| e.record.rollout)),
             simulated: matches!(self.cell, CellSpec::Simulated),
             dir: dir.to_path_buf(),

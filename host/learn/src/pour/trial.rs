@@ -90,7 +90,7 @@ impl Scored for Trial {
         self.reward
     }
 
-    fn rejected(&self) -> Option<&str> {
+    fn infeasible(&self) -> Option<&str> {
         self.rejected.as_deref()
     }
 

@@ -2,16 +2,19 @@
 //! achieved. A program of the lab's (its robot, its simulator, its sensor)
 //! talking JSON lines, or the operator at the terminal.
 //!
-//! The JSON-lines contract (the book's evaluator reference, docs/src/reference/evaluator.md): primo starts
-//! the program once, in the task file's directory; for each roll-out it
-//! writes one line `{"rollout": N, "csv": "PATH"}` to the program's
+//! The JSON-lines contract, [`PROTOCOL`] 2 (the book's evaluator
+//! reference, docs/src/reference/evaluator.md): primo starts the program
+//! once, in the task file's directory; for each roll-out it writes one
+//! line `{"protocol": 2, "rollout": N, "csv": "PATH"}` to the program's
 //! standard input, PATH a CSV file `t,<the demonstrations' columns>` that
 //! passed the task's limits; the program answers one line on its standard
-//! output: `{"measured": [..]}` (the query achieved), `{"reward": R}`
-//! (R ≥ 0), both, or `{"failed": "why"}`. Its standard error is the
-//! user's (it shows on the terminal). A program that exits, says nothing
-//! within the timeout, or answers anything else ends the run with an error
-//! naming the roll-out; the run log keeps every roll-out before it.
+//! output that echoes `"rollout": N` and holds `"measured": [..]` (the
+//! query achieved), `"reward": R` (R ≥ 0), both, or `"failed": "why"`.
+//! Its standard error is the user's (it shows on the terminal). A program
+//! that exits, says nothing within the timeout, answers for another
+//! roll-out (it fell out of step) or answers anything else ends the run
+//! with an error naming the roll-out; the run log keeps every roll-out
+//! before it.
 
 use std::io::{BufRead, BufReader, Write};
 use std::path::Path;
@@ -22,6 +25,10 @@ use std::time::Duration;
 use serde::Deserialize;
 
 use crate::Error;
+
+/// The evaluator protocol's version. 2: every answer echoes its
+/// request's roll-out number.
+pub const PROTOCOL: u32 = 2;
 
 /// What an evaluator said of one roll-out.
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -43,20 +50,38 @@ pub trait Evaluator {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct Line {
+    rollout: Option<u32>,
     measured: Option<Vec<f64>>,
     reward: Option<f64>,
     failed: Option<String>,
 }
 
-/// Reads one answer: a JSON object with `measured` (`dim` finite numbers),
-/// `reward` (a finite number ≥ 0), both, or `failed` (a text) alone.
-pub fn parse_answer(line: &str, dim: usize) -> Result<Answer, String> {
+/// Reads one answer to roll-out `rollout`: a JSON object with `rollout`
+/// (echoed) and `measured` (`dim` finite numbers), `reward` (a finite
+/// number ≥ 0), both, or `failed` (a text) alone.
+pub fn parse_answer(line: &str, dim: usize, rollout: u32) -> Result<Answer, String> {
     let l: Line = serde_json::from_str(line.trim()).map_err(|e| {
         format!(
-            "{e}; expected {{\"measured\": [..]}}, {{\"reward\": R}}, both, or \
-             {{\"failed\": \"why\"}}"
+            "{e}; expected {{\"rollout\": {rollout}, \"measured\": [..]}}, \
+             {{\"rollout\": {rollout}, \"reward\": R}}, both, or {{\"rollout\": {rollout}, \
+             \"failed\": \"why\"}}"
         )
     })?;
+    match l.rollout {
+        Some(n) if n == rollout => {}
+        Some(n) => {
+            return Err(format!(
+                "the answer is for roll-out {n}, not {rollout}: the evaluator is out of step \
+                 (one line per request)"
+            ));
+        }
+        None => {
+            return Err(format!(
+                "the answer names no roll-out: echo the request's \"rollout\": {rollout} \
+                 (evaluator protocol {PROTOCOL})"
+            ));
+        }
+    }
     check(
         Answer {
             measured: l.measured,
@@ -161,7 +186,7 @@ impl Program {
 
 impl Evaluator for Program {
     fn evaluate(&mut self, rollout: u32, csv: &Path) -> Result<Answer, Error> {
-        let request = serde_json::json!({"rollout": rollout, "csv": csv});
+        let request = serde_json::json!({"protocol": PROTOCOL, "rollout": rollout, "csv": csv});
         let sent = self
             .stdin
             .as_mut()
@@ -196,7 +221,7 @@ impl Evaluator for Program {
                 )));
             }
         };
-        parse_answer(&line, self.dim).map_err(|why| {
+        parse_answer(&line, self.dim, rollout).map_err(|why| {
             Error::Instrument(format!(
                 "{} answered roll-out {rollout} with `{}`: {why}",
                 self.what,
@@ -315,21 +340,32 @@ mod tests {
 
     #[test]
     fn answers_are_read_strictly() {
-        let a = parse_answer(r#"{"measured": [1.5, 0.25]}"#, 2).unwrap();
+        let a = parse_answer(r#"{"rollout": 4, "measured": [1.5, 0.25]}"#, 2, 4).unwrap();
         assert_eq!(a.measured, Some(vec![1.5, 0.25]));
-        let a = parse_answer(r#"{"reward": 0.7, "measured": [2]}"#, 1).unwrap();
+        let a = parse_answer(r#"{"reward": 0.7, "measured": [2], "rollout": 1}"#, 1, 1).unwrap();
         assert_eq!((a.reward, a.measured), (Some(0.7), Some(vec![2.0])));
-        assert!(parse_answer(r#"{"failed": "ball hit the wall"}"#, 1).is_ok());
+        assert!(parse_answer(r#"{"rollout": 1, "failed": "ball hit the wall"}"#, 1, 1).is_ok());
         for (bad, why) in [
             ("", "EOF"),
             ("garbage", "expected"),
-            (r#"{"measured": [1]}"#, "has 1 values"),
-            (r#"{"reward": -1}"#, ">= 0"),
-            (r#"{"measured": [1, 2], "extra": 1}"#, "unknown field"),
-            (r#"{}"#, "give `measured`"),
-            (r#"{"failed": "x", "reward": 1}"#, "no `measured`"),
+            (r#"{"rollout": 3, "measured": [1]}"#, "has 1 values"),
+            (r#"{"rollout": 3, "reward": -1}"#, ">= 0"),
+            (
+                r#"{"rollout": 3, "measured": [1, 2], "extra": 1}"#,
+                "unknown field",
+            ),
+            (r#"{"rollout": 3}"#, "give `measured`"),
+            (
+                r#"{"rollout": 3, "failed": "x", "reward": 1}"#,
+                "no `measured`",
+            ),
+            (r#"{"measured": [1, 2]}"#, "names no roll-out"),
+            (
+                r#"{"rollout": 2, "measured": [1, 2]}"#,
+                "for roll-out 2, not 3",
+            ),
         ] {
-            let e = parse_answer(bad, 2).unwrap_err();
+            let e = parse_answer(bad, 2, 3).unwrap_err();
             assert!(e.contains(why), "{bad}: {e}");
         }
     }

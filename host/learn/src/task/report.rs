@@ -13,7 +13,7 @@ use crate::algorithm::Algorithm;
 use crate::output::{write_file, write_json};
 use crate::plot::panels::{per_rollout, reward_lines, rewards, write_convergence};
 use crate::plot::{Line, Panel};
-use crate::rollouts::{Ending, Entry, Record, Scored};
+use crate::rollouts::{Ending, Entry, Record, Scored, Stop, Verdict};
 
 use super::Task;
 use super::trial::TaskTrial;
@@ -25,6 +25,8 @@ pub struct Finished {
     pub last: Record<TaskTrial>,
     /// Error learning reached the precision at this roll-out.
     pub converged_at: Option<u32>,
+    /// Why the learner stopped.
+    pub stop: Stop,
     /// The best roll-out.
     pub best: Option<Record<TaskTrial>>,
     /// The output directory.
@@ -41,6 +43,8 @@ struct Summary<'a> {
     parameters: usize,
     rollouts: usize,
     converged_at: Option<u32>,
+    #[serde(flatten)]
+    verdict: Verdict,
     last: &'a Record<TaskTrial>,
     best: Option<&'a Record<TaskTrial>>,
     seconds: f64,
@@ -68,6 +72,7 @@ pub fn write_task(
         parameters: task.learner.method.learned_parameters(skill),
         rollouts: records.len(),
         converged_at: ending.converged_at,
+        verdict: ending.stop.verdict(),
         last: ending.last,
         best,
         seconds,
@@ -77,6 +82,7 @@ pub fn write_task(
     Ok(Finished {
         last: ending.last.clone(),
         converged_at: ending.converged_at,
+        stop: ending.stop.clone(),
         best: best.cloned(),
         dir: dir.to_path_buf(),
     })

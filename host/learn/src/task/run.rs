@@ -4,7 +4,7 @@
 //!
 //! A roll-out: `θ = G(q̂) + Δθ` planned at the task's step, checked by the
 //! task's limits (a rejected movement never leaves primo: reward 0 for
-//! PoWER, the end of the run for error learning), written as a CSV file
+//! PoWER, a bound of the search for error learning), written as a CSV file
 //! into `trajectories/` of the output directory, handed to the evaluator,
 //! scored: `ε = desired − measured`, the reward the evaluator's or made
 //! from `ε` by the task's rule. Every roll-out is logged as it is made, and

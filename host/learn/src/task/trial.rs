@@ -35,8 +35,8 @@ impl Scored for TaskTrial {
         self.reward
     }
 
-    fn rejected(&self) -> Option<&str> {
-        self.rejected.as_deref()
+    fn infeasible(&self) -> Option<&str> {
+        self.rejected.as_deref().or(self.failed.as_deref())
     }
 
     fn worst_error(&self) -> Option<f64> {
@@ -53,18 +53,10 @@ pub fn reward(rule: RewardRule, scale: f32, error: &[f64]) -> f64 {
     }
 }
 
-/// Scores an evaluator's answer for `task`. A failed roll-out scores 0;
-/// error learning cannot learn from it, so it ends the run (unlogged: the
-/// resumed run tries it again).
+/// Scores an evaluator's answer for `task`. A failed roll-out scores 0
+/// (error learning takes its query as a bound of the search).
 pub(crate) fn score(task: &Task, rollout: u32, answer: Answer) -> Result<TaskTrial, Error> {
-    let power = task.learner.method.is_power();
     if let Some(why) = answer.failed {
-        if !power {
-            return Err(Error::Instrument(format!(
-                "roll-out {rollout} failed ({why}); error learning needs its measurement: fix \
-                 the cause and continue the run"
-            )));
-        }
         return Ok(TaskTrial {
             measured: None,
             error: Vec::new(),
