@@ -13,6 +13,9 @@ pub fn install(hint: String) -> Result<(), crate::error::CliError> {
         if PRESSED.fetch_add(1, Ordering::SeqCst) == 0 {
             eprintln!("primo: stopping after the roll-out in progress (Ctrl-C again to stop now)");
         } else {
+            // Exiting runs no destructors: the evaluators' groups are ended
+            // here.
+            primo_learn::task::evaluator::end_all();
             eprintln!("primo: interrupted; {hint}");
             std::process::exit(crate::error::INTERRUPTED);
         }

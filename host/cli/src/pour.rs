@@ -293,6 +293,12 @@ pub fn finish(
         Ok(()) => Ok(()),
         Err(failure) => {
             let mut e = CliError::learning(command, *failure.error);
+            // Ctrl-C asked the run to stop: however the roll-out in
+            // progress then ended (its evaluator timed out), it stopped
+            // because the user asked.
+            if crate::interrupt::pressed() && e.status == 1 {
+                e.status = crate::error::INTERRUPTED;
+            }
             if let Some(dir) = failure.resumable
                 && e.status != 2
             {

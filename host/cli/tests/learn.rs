@@ -345,6 +345,79 @@ fn a_run_that_misses_its_precision_says_why() {
     );
 }
 
+/// Whether process `pid` is gone (or a zombie: nothing runs).
+fn gone(pid: i32) -> bool {
+    match std::fs::read_to_string(format!("/proc/{pid}/stat")) {
+        Err(_) => true,
+        Ok(stat) => stat
+            .rsplit_once(')')
+            .is_some_and(|(_, rest)| rest.trim_start().starts_with('Z')),
+    }
+}
+
+#[test]
+fn an_interrupt_ends_the_evaluator_and_everything_it_started() {
+    // Roll-out 2 hangs in an evaluator that started a child of its own.
+    let source = r#"import json, os, subprocess, time
+import throw
+for line in sys.stdin:
+    request = json.loads(line)
+    if request["rollout"] == 2:
+        child = subprocess.Popen(["sleep", "1000"])
+        with open("pids.tmp", "w") as f:
+            f.write(f"{os.getpid()} {child.pid}")
+        os.rename("pids.tmp", "pids")
+        time.sleep(1000)
+    d, h = throw.throw(*throw.read(request["csv"]))
+    print(json.dumps({"rollout": request["rollout"], "measured": [d]}), flush=True)
+"#;
+    for presses in [1, 2] {
+        let name = format!("interrupted-{presses}");
+        let file = with_evaluator(&name, source, |t| t.replace("timeout = 30", "timeout = 3"));
+        let pids = file.with_file_name("pids");
+        let out = tmp(&format!("out-{name}"));
+        let mut child = Command::new(env!("CARGO_BIN_EXE_primo"))
+            .args(["learn", "--task", file.to_str().unwrap(), "--out"])
+            .arg(&out)
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        let deadline = Instant::now() + Duration::from_secs(30);
+        while !pids.exists() {
+            assert!(Instant::now() < deadline, "roll-out 2 never started");
+            std::thread::sleep(Duration::from_millis(10));
+        }
+        let pids: Vec<i32> = std::fs::read_to_string(&pids)
+            .unwrap()
+            .split(' ')
+            .map(|p| p.parse().unwrap())
+            .collect();
+        let pressed = Instant::now();
+        for _ in 0..presses {
+            // SAFETY: signals the child by its pid.
+            assert_eq!(unsafe { libc::kill(child.id() as i32, libc::SIGINT) }, 0);
+            std::thread::sleep(Duration::from_millis(200));
+        }
+        let result = child.wait_with_output().unwrap();
+        let took = pressed.elapsed();
+        let stderr = String::from_utf8_lossy(&result.stderr);
+        assert_eq!(result.status.code(), Some(130), "{presses}: {stderr}");
+        assert!(stderr.contains("primo learn --resume"), "{stderr}");
+        match presses {
+            // The roll-out in progress is waited for, to its timeout.
+            1 => assert!(stderr.contains("within 3 s"), "{stderr}"),
+            _ => assert!(took < Duration::from_secs(2), "{took:?}"),
+        }
+        let deadline = Instant::now() + Duration::from_secs(5);
+        while !pids.iter().all(|p| gone(*p)) {
+            assert!(Instant::now() < deadline, "{presses}: {pids:?} still run");
+            std::thread::sleep(Duration::from_millis(20));
+        }
+        assert_eq!(logged(&out), 1);
+    }
+}
+
 #[test]
 fn a_killed_run_resumes_with_nothing_lost() {
     // A slow evaluator, so the kill lands mid-run.
@@ -440,10 +513,16 @@ fn the_operator_is_asked_again_after_a_bad_answer() {
             "--out",
             out.to_str().unwrap(),
         ],
-        b"far\n1.2 1.3\n1.25\n1.6\n",
+        b"far\nreward 0.5\n1.2 1.3\n1.25\n1.6\n",
     );
     assert_eq!(code, 0, "{err}");
     assert!(stdout.contains("`far` is not a number; again:"), "{stdout}");
+    assert!(
+        stdout.contains(
+            "error learning needs the measured query (1 value), not a reward alone; again:"
+        ),
+        "{stdout}"
+    );
     assert!(
         stdout.contains("has 2 values; the task's query has 1; again:"),
         "{stdout}"
@@ -551,6 +630,19 @@ fn bad_task_files_are_refused_before_anything_runs() {
             "power key for golden",
             Box::new(|t| t.replace("max_rollouts = 20", "max_rollouts = 20\ns1 = 0.3")),
             "[learner] s1: a PoWER setting",
+        ),
+        (
+            "a timeout for the operator",
+            Box::new(|t| {
+                t.lines()
+                    .map(|l| match l.starts_with("command = ") {
+                        true => "operator = true",
+                        false => l,
+                    })
+                    .collect::<Vec<_>>()
+                    .join("\n")
+            }),
+            "[evaluate] timeout: for `command` evaluators",
         ),
         (
             "two evaluators",

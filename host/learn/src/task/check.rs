@@ -587,7 +587,8 @@ fn evaluate(p: &Place, raw: &Spanned<EvaluateKeys>, dir: &Path) -> Result<Evalua
         return Err(p.at(
             t.span(),
             "[evaluate] timeout",
-            "the time an evaluator `command` may take",
+            "for `command` evaluators, the time one may take to answer (the operator takes the \
+             time needed)",
         ));
     }
     if let Some(c) = &e.command {

@@ -15,12 +15,19 @@
 //! roll-out (it fell out of step) or answers anything else ends the run
 //! with an error naming the roll-out; the run log keeps every roll-out
 //! before it.
+//!
+//! The program runs in a process group of its own: the terminal's Ctrl-C
+//! reaches primo alone, which lets the roll-out in progress finish (or ends
+//! the program's whole group at once: [`end_all`]). When a run ends, its
+//! program's group is ended too, whatever the program started.
 
 use std::io::{BufRead, BufReader, Write};
+use std::os::unix::process::CommandExt;
 use std::path::Path;
 use std::process::{Child, ChildStdin, Command, Stdio};
+use std::sync::Mutex;
 use std::sync::mpsc::{Receiver, RecvTimeoutError, channel};
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use serde::Deserialize;
 
@@ -146,10 +153,12 @@ impl Program {
             .stdin(Stdio::piped())
             .stdout(Stdio::piped())
             .stderr(Stdio::inherit())
+            .process_group(0)
             .spawn()
             .map_err(|e| {
                 Error::Instrument(format!("{what} (in {}) cannot start: {e}", dir.display()))
             })?;
+        register(child.id(), true);
         let stdout = child
             .stdout
             .take()
@@ -234,16 +243,70 @@ impl Evaluator for Program {
 impl Drop for Program {
     fn drop(&mut self) {
         // End of input tells a well-behaved program to finish; one that
-        // hangs is stopped.
+        // does not is asked to (SIGTERM), then stopped, with everything it
+        // started.
         drop(self.stdin.take());
-        for _ in 0..20 {
+        let group = self.child.id();
+        if !self.exits_within(Duration::from_millis(200)) {
+            signal_group(group, libc::SIGTERM);
+            if !self.exits_within(Duration::from_millis(500)) {
+                signal_group(group, libc::SIGKILL);
+                let _ = self.child.wait();
+            }
+        }
+        // What the program left running in its group goes with it.
+        signal_group(group, libc::SIGKILL);
+        register(group, false);
+    }
+}
+
+impl Program {
+    /// Whether the program exits within `wait`.
+    fn exits_within(&mut self, wait: Duration) -> bool {
+        let until = Instant::now() + wait;
+        loop {
             if matches!(self.child.try_wait(), Ok(Some(_))) {
-                return;
+                return true;
+            }
+            if Instant::now() >= until {
+                return false;
             }
             std::thread::sleep(Duration::from_millis(10));
         }
-        let _ = self.child.kill();
-        let _ = self.child.wait();
+    }
+}
+
+/// The process groups of the evaluators running now.
+static GROUPS: Mutex<Vec<u32>> = Mutex::new(Vec::new());
+
+/// Adds (`running`) or removes an evaluator's process group.
+fn register(group: u32, running: bool) {
+    let mut groups = GROUPS.lock().unwrap_or_else(|e| e.into_inner());
+    groups.retain(|g| *g != group);
+    if running {
+        groups.push(group);
+    }
+}
+
+/// Sends `signal` to process group `group` (a group that is gone is no
+/// error: there is nothing left to end).
+fn signal_group(group: u32, signal: libc::c_int) {
+    if let Ok(group) = libc::pid_t::try_from(group) {
+        // SAFETY: kill(2) with a negative pid signals a process group; it
+        // touches no memory of ours.
+        unsafe {
+            libc::kill(-group, signal);
+        }
+    }
+}
+
+/// Ends every running evaluator's process group at once (SIGKILL): for a
+/// process about to exit without running destructors, as at a second
+/// Ctrl-C.
+pub fn end_all() {
+    let groups = GROUPS.lock().unwrap_or_else(|e| e.into_inner());
+    for group in groups.iter() {
+        signal_group(*group, libc::SIGKILL);
     }
 }
 
@@ -259,12 +322,19 @@ pub trait Prompt {
 pub struct Operator {
     prompt: Box<dyn Prompt>,
     dim: usize,
+    /// A reward alone will not do: error learning needs the measurement.
+    measured: bool,
 }
 
 impl Operator {
-    /// Asks through `prompt` for `dim`-value measurements.
-    pub fn new(prompt: Box<dyn Prompt>, dim: usize) -> Operator {
-        Operator { prompt, dim }
+    /// Asks through `prompt` for `dim`-value measurements, which error
+    /// learning (`measured`) needs; PoWER takes a reward instead.
+    pub fn new(prompt: Box<dyn Prompt>, dim: usize, measured: bool) -> Operator {
+        Operator {
+            prompt,
+            dim,
+            measured,
+        }
     }
 }
 
@@ -313,23 +383,34 @@ pub fn parse_typed(line: &str, dim: usize) -> Result<Answer, String> {
 
 impl Evaluator for Operator {
     fn evaluate(&mut self, rollout: u32, csv: &Path) -> Result<Answer, Error> {
-        let mut question = format!(
-            "roll-out {rollout}: execute {} and enter the measured query ({} value{}), \
-             `reward R`, or `failed WHY`: ",
-            csv.display(),
+        let values = format!(
+            "the measured query ({} value{})",
             self.dim,
             if self.dim == 1 { "" } else { "s" }
         );
+        let mut question = match self.measured {
+            true => format!(
+                "roll-out {rollout}: execute {} and enter {values} or `failed WHY`: ",
+                csv.display()
+            ),
+            false => format!(
+                "roll-out {rollout}: execute {} and enter {values}, `reward R`, or `failed WHY`: ",
+                csv.display()
+            ),
+        };
         loop {
             let Some(line) = self.prompt.ask(&question)? else {
                 return Err(Error::Instrument(format!(
                     "the operator's input ended before roll-out {rollout} was measured"
                 )));
             };
-            match parse_typed(&line, self.dim) {
+            question = match parse_typed(&line, self.dim) {
+                Ok(a) if self.measured && a.measured.is_none() && a.failed.is_none() => {
+                    format!("error learning needs {values}, not a reward alone; again: ")
+                }
                 Ok(answer) => return Ok(answer),
-                Err(why) => question = format!("{why}; again: "),
-            }
+                Err(why) => format!("{why}; again: "),
+            };
         }
     }
 }
@@ -400,10 +481,20 @@ mod tests {
 
     #[test]
     fn a_bad_typed_answer_is_asked_again() {
-        let mut op = Operator::new(Box::new(Script(vec!["two", "2.5"], Vec::new())), 1);
+        let mut op = Operator::new(
+            Box::new(Script(vec!["two", "reward 0.5", "2.5"], Vec::new())),
+            1,
+            true,
+        );
         let a = op.evaluate(1, Path::new("/tmp/r.csv")).unwrap();
         assert_eq!(a.measured, Some(vec![2.5]));
-        let mut op = Operator::new(Box::new(Script(vec![], Vec::new())), 1);
+        // PoWER takes a reward alone.
+        let mut op = Operator::new(Box::new(Script(vec!["reward 0.5"], Vec::new())), 1, false);
+        assert_eq!(
+            op.evaluate(1, Path::new("/tmp/r.csv")).unwrap().reward,
+            Some(0.5)
+        );
+        let mut op = Operator::new(Box::new(Script(vec![], Vec::new())), 1, true);
         assert!(op.evaluate(1, Path::new("/tmp/r.csv")).is_err());
     }
 }

@@ -116,7 +116,11 @@ impl Kind for TaskRun {
             Evaluate::Command { argv, dir, timeout } => {
                 Box::new(Program::start(argv, dir, *timeout, dim)?)
             }
-            Evaluate::Operator => Box::new(Operator::new(at.person, dim)),
+            Evaluate::Operator => Box::new(Operator::new(
+                at.person,
+                dim,
+                self.task.learner.method.uses_error(),
+            )),
             Evaluate::Pour(_) => {
                 return Err(Error::Invalid(
                     "the built-in pour runs as a pour (Task::pour_start)".into(),
