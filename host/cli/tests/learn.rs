@@ -376,7 +376,7 @@ for line in sys.stdin:
         let file = with_evaluator(&name, source, |t| t.replace("timeout = 30", "timeout = 3"));
         let pids = file.with_file_name("pids");
         let out = tmp(&format!("out-{name}"));
-        let mut child = Command::new(env!("CARGO_BIN_EXE_primo"))
+        let child = Command::new(env!("CARGO_BIN_EXE_primo"))
             .args(["learn", "--task", file.to_str().unwrap(), "--out"])
             .arg(&out)
             .stdout(Stdio::null())
