@@ -102,12 +102,13 @@ pub struct PourArgs {
     /// what the demonstrations support and the glass holds).
     #[arg(long, value_name = "LOW,HIGH", default_value = "0.1,1.5", value_parser = bounds)]
     search: [f32; 2],
-    /// What the glass holds, l: error learning then tries no query that
-    /// would let more leave the bottle (it raises the search's low end to
-    /// bottle + target − this) [default: the simulated glass's capacity;
-    /// with --robot, none: give your glass's]
-    #[arg(long, value_name = "LITRES")]
-    glass_holds: Option<f64>,
+    /// What the glass holds, l, or `none`: error learning then tries no
+    /// query that would let more leave the bottle (it raises the search's
+    /// low end to bottle + target − this) [default: the simulated glass's
+    /// capacity; with --robot, required: give your glass's, or `none` to
+    /// search without that bound]
+    #[arg(long, value_name = "LITRES|none", value_parser = glass_holds)]
+    glass_holds: Option<Holds>,
     /// The error learners' gain K in l per l of error (the first for
     /// secant, the only one for fixed-gain, weighted-gain and power-el).
     #[arg(long, default_value_t = 1.0, allow_hyphen_values = true)]
@@ -210,6 +211,23 @@ impl LearnerArgs {
     }
 }
 
+/// `--glass-holds`: a volume, or no bound.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Holds {
+    Litres(f64),
+    Unbounded,
+}
+
+fn glass_holds(text: &str) -> Result<Holds, String> {
+    match text.trim() {
+        "none" => Ok(Holds::Unbounded),
+        v => v
+            .parse()
+            .map(Holds::Litres)
+            .map_err(|_| format!("`{text}`: expected what the glass holds in litres, or `none`")),
+    }
+}
+
 /// `LOW,HIGH` as two numbers.
 fn bounds(text: &str) -> Result<[f32; 2], String> {
     let parsed: Option<Vec<f32>> = text.split(',').map(|v| v.trim().parse().ok()).collect();
@@ -240,9 +258,19 @@ pub fn run(args: &PourArgs) -> Result<(), CliError> {
                 primo_learn::pour::skill::Space::default_for(method),
                 Glass::Normal,
             )?;
-            settings.glass_holds = args
-                .glass_holds
-                .or_else(|| instruments.is_none().then(|| skill.cell().glass_litres()));
+            settings.glass_holds = match (args.glass_holds, &instruments) {
+                (Some(Holds::Litres(l)), _) => Some(l),
+                (Some(Holds::Unbounded), _) => None,
+                (None, None) => Some(skill.cell().glass_litres()),
+                // A real glass overflows where the simulated one would not.
+                (None, Some(_)) => {
+                    return Err(CliError::input(
+                        "--robot: give --glass-holds LITRES, what your glass holds (error \
+                         learning then never tries a volume that would overflow it), or \
+                         --glass-holds none to search without that bound",
+                    ));
+                }
+            };
             Start::New {
                 out: args.out.clone(),
                 force: args.force,

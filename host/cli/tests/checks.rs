@@ -237,3 +237,34 @@ fn ctrl_c_stops_after_the_rollout_in_progress_and_resume_continues() {
     assert_eq!(status, 0, "{stderr}");
     assert!(stdout.contains("primo pour: learned"), "{stdout}");
 }
+
+#[test]
+fn a_real_cell_needs_what_its_glass_holds() {
+    let out = tmp("real-glass");
+    let o = out.to_str().unwrap();
+    let real = [
+        "pour",
+        "--robot",
+        "fri:127.0.0.1",
+        "--scale",
+        "/dev/null",
+        "--out",
+        o,
+    ];
+    let (status, _, stderr) = primo(&real);
+    assert_eq!(status, 2, "{stderr}");
+    assert!(
+        stderr.contains("--robot: give --glass-holds LITRES, what your glass holds"),
+        "{stderr}"
+    );
+    assert!(!out.exists());
+    // Saying `none` on purpose passes this check (and fails on the port).
+    let (_, _, stderr) = primo(&[&real[..], &["--glass-holds", "none"]].concat());
+    assert!(!stderr.contains("--glass-holds"), "{stderr}");
+    let (status, _, stderr) = primo(&[&real[..], &["--glass-holds", "lots"]].concat());
+    assert_eq!(status, 2);
+    assert!(
+        stderr.contains("expected what the glass holds in litres, or `none`"),
+        "{stderr}"
+    );
+}

@@ -201,7 +201,15 @@ fn primo_scale_settings_are_checked_before_anything_starts() {
         stderr.contains("--port qemu:: name the load cell's port"),
         "{stderr}"
     );
-    let (status, _, stderr) = primo(&["pour", "--robot", "fri:127.0.0.1", "--scale", "qemu"]);
+    let (status, _, stderr) = primo(&[
+        "pour",
+        "--robot",
+        "fri:127.0.0.1",
+        "--scale",
+        "qemu",
+        "--glass-holds",
+        "0.4",
+    ]);
     assert_eq!(status, 2);
     assert!(
         stderr.contains("--scale qemu: name the load cell's port, qemu:PATH"),
