@@ -89,7 +89,8 @@ impl CliError {
             } => {
                 let dir = log.parent().unwrap_or(log);
                 Self::input(format!(
-                    "{e}: continue it with `primo {command} --resume {}`, or choose another --out",
+                    "{e}: continue it with `primo {command} --resume {}`, choose another --out, \
+                     or give --force to start anew (the run is moved aside)",
                     dir.display()
                 ))
             }
@@ -140,10 +141,11 @@ impl From<primo_learn::Error> for CliError {
                 blocking.display()
             )),
             Error::Occupied { finished: true, .. } => Self::input(format!(
-                "{e}: choose another --out, or give --force to replace it and its reports"
+                "{e}: choose another --out, or give --force to start anew (the run is moved aside)"
             )),
             Error::Occupied { .. } => Self::input(format!(
-                "{e}: continue it with --resume, or choose another --out"
+                "{e}: continue it with --resume, choose another --out, or give --force to start \
+                 anew (the run is moved aside)"
             )),
             Error::NoLog(ref log) => Self::input(format!(
                 "--resume {}: no run log ({}) there",

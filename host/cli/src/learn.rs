@@ -37,8 +37,8 @@ pub struct LearnArgs {
     /// Roll-out budget (default: `max_rollouts` in the task's `[learner]`).
     #[arg(long)]
     max_rollouts: Option<u32>,
-    /// Replace a finished run in --out (an unfinished one is never
-    /// replaced: continue it with --resume).
+    /// Start anew in --out though a run is logged there: the earlier run's
+    /// directory is moved aside to OUT.replaced-TIME, nothing is deleted.
     #[arg(long)]
     force: bool,
     /// Continue the run logged in DIR: its task and settings come from the

@@ -118,8 +118,8 @@ pub struct PourArgs {
     /// series.csv (the best roll-out's time series).
     #[arg(long, default_value = "pour-out")]
     out: PathBuf,
-    /// Replace a finished run in --out (an unfinished one is never
-    /// replaced: continue it with --resume).
+    /// Start anew in --out though a run is logged there: the earlier run's
+    /// directory is moved aside to OUT.replaced-TIME, nothing is deleted.
     #[arg(long)]
     force: bool,
     /// Continue the run logged in DIR (after a crash, a kill or a failed
@@ -366,6 +366,11 @@ pub fn run_line(command: &str, event: RunEvent) -> Option<String> {
             eprintln!("primo {command}: {note}");
             None
         }
+        RunEvent::SetAside { dir, to } => Some(format!(
+            "primo {command}: the run in {} moved aside to {}",
+            dir.display(),
+            to.display()
+        )),
         RunEvent::Resuming {
             dir,
             complete,

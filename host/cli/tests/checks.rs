@@ -129,7 +129,7 @@ fn an_experiment_checks_its_output_before_computing() {
 }
 
 #[test]
-fn a_finished_run_is_replaced_only_with_force() {
+fn a_logged_run_is_replaced_only_with_force_and_then_moved_aside() {
     let out = tmp("force");
     let o = out.to_str().unwrap();
     let (status, _, stderr) = primo(&["pour", "--out", o]);
@@ -139,9 +139,45 @@ fn a_finished_run_is_replaced_only_with_force() {
     assert_eq!(status, 2, "{stderr}");
     assert!(stderr.contains("--force"), "{stderr}");
     assert_eq!(std::fs::read(out.join("run.log")).unwrap(), log);
-    let (status, _, stderr) = primo(&["pour", "--seed", "2", "--out", o, "--force"]);
+    // Unfinished (its end record gone), and replaced all the same.
+    let text = String::from_utf8(log).unwrap();
+    let unfinished = text
+        .lines()
+        .take(text.lines().count() - 1)
+        .collect::<Vec<_>>()
+        .join("\n")
+        + "\n";
+    std::fs::write(out.join("run.log"), &unfinished).unwrap();
+    let (status, _, stderr) = primo(&["pour", "--seed", "2", "--out", o]);
+    assert_eq!(status, 2, "{stderr}");
+    assert!(
+        stderr.contains("--resume") && stderr.contains("--force"),
+        "{stderr}"
+    );
+    let (status, stdout, stderr) = primo(&["pour", "--seed", "2", "--out", o, "--force"]);
     assert_eq!(status, 0, "{stderr}");
-    assert_ne!(std::fs::read(out.join("run.log")).unwrap(), log);
+    assert_ne!(
+        std::fs::read_to_string(out.join("run.log")).unwrap(),
+        unfinished
+    );
+    let aside: Vec<_> = std::fs::read_dir(out.parent().unwrap())
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| {
+            let name = p.file_name().unwrap().to_string_lossy().to_string();
+            name.starts_with("force.replaced-")
+        })
+        .collect();
+    assert_eq!(aside.len(), 1, "{aside:?}");
+    assert_eq!(
+        std::fs::read_to_string(aside[0].join("run.log")).unwrap(),
+        unfinished
+    );
+    assert!(aside[0].join("summary.json").exists());
+    assert!(
+        stdout.contains(&format!("moved aside to {}", aside[0].display())),
+        "{stdout}"
+    );
 }
 
 #[test]

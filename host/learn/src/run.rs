@@ -154,7 +154,8 @@ pub enum Start<K: Kind> {
     New {
         /// The output directory.
         out: PathBuf,
-        /// Replace a finished run logged in `out`.
+        /// Replace a run logged in `out`, moved aside
+        /// ([`runlog::set_aside`]).
         force: bool,
         /// What it learns.
         run: K,
@@ -294,6 +295,9 @@ pub fn run<K: Kind>(
                 examples: examples_crc(K::skill(&built)),
                 run,
             };
+            if force && let Some(to) = runlog::set_aside(&out)? {
+                event(Event::Run(RunEvent::SetAside { dir: &out, to: &to }))?;
+            }
             create_dir(&out)?;
             let log = RunLog::create(&out, &header, force)?;
             (out, header, Vec::new(), log, false, Some(built))

@@ -58,6 +58,13 @@ pub enum RunEvent<'a> {
     Learner(String),
     /// A damaged last record of the run log was set aside.
     Recovered(&'a str),
+    /// A forced new run moved the run logged in its directory aside.
+    SetAside {
+        /// The run's directory.
+        dir: &'a Path,
+        /// Where the earlier run is now.
+        to: &'a Path,
+    },
     /// A logged run is taken up again (or, complete, reported again).
     Resuming {
         /// Its directory.
@@ -91,19 +98,59 @@ pub struct Opened<H, E> {
     pub recovered: Option<String>,
 }
 
+/// Moves the directory `dir`, if a run is logged in it, aside to
+/// `DIR.replaced-<unix time>` beside it, and returns where: a forced new
+/// run deletes nothing of the one it replaces.
+pub fn set_aside(dir: &Path) -> Result<Option<PathBuf>, Error> {
+    if !dir.join(FILE).exists() {
+        return Ok(None);
+    }
+    let stamp = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs());
+    let name = dir.file_name().map_or_else(
+        || std::ffi::OsString::from("run"),
+        std::ffi::OsStr::to_os_string,
+    );
+    let mut n = 0;
+    let to = loop {
+        let mut aside = name.clone();
+        aside.push(match n {
+            0 => format!(".replaced-{stamp}"),
+            n => format!(".replaced-{stamp}-{n}"),
+        });
+        let to = dir.with_file_name(aside);
+        if !to.exists() {
+            break to;
+        }
+        n += 1;
+    };
+    std::fs::rename(dir, &to).map_err(|e| Error::Io {
+        path: dir.to_path_buf(),
+        source: std::io::Error::new(
+            e.kind(),
+            format!("cannot move it aside to {}: {e}", to.display()),
+        ),
+    })?;
+    Ok(Some(to))
+}
+
 impl RunLog {
     /// Whether a new run may be logged in `dir`: yes if no run is logged
-    /// there, or if one without roll-outs is (it made nothing). A finished
-    /// run is replaced only with `force`; an unfinished run is never
-    /// replaced (it is continued with `--resume`).
+    /// there, or if one without roll-outs is (it made nothing); with
+    /// `force` always, the earlier run to be moved aside ([`set_aside`]).
+    /// Without, a finished or unfinished run (continued with `--resume`)
+    /// is never replaced.
     pub fn check_free(dir: &Path, force: bool) -> Result<(), Error> {
         let path = dir.join(FILE);
         let Ok(bytes) = std::fs::read(&path) else {
             return Ok(());
         };
+        if force {
+            return Ok(());
+        }
         match scan::<IgnoredAny, IgnoredAny>(&path, &bytes) {
             Ok(old) if old.entries.is_empty() => Ok(()),
-            Ok(old) if old.ended && force => Ok(()),
             Ok(old) => Err(Error::Occupied {
                 log: path,
                 rollouts: old.entries.len(),
