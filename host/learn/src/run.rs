@@ -299,7 +299,7 @@ pub fn run<K: Kind>(
                 event(Event::Run(RunEvent::SetAside { dir: &out, to: &to }))?;
             }
             create_dir(&out)?;
-            let log = RunLog::create(&out, &header, force)?;
+            let log = RunLog::create(&out, &header)?;
             (out, header, Vec::new(), log, false, Some(built))
         }
         Start::Resume { dir, moved } => {

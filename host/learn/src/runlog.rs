@@ -18,7 +18,7 @@
 //! let dir = std::env::temp_dir().join(format!("primo-runlog-doc-{}", std::process::id()));
 //! std::fs::create_dir_all(&dir).unwrap();
 //! # std::fs::remove_file(dir.join("run.log")).ok();
-//! let mut log = RunLog::create(&dir, &serde_json::json!({"seed": 1}), false).unwrap();
+//! let mut log = RunLog::create(&dir, &serde_json::json!({"seed": 1})).unwrap();
 //! log.append(&serde_json::json!({"rollout": 1})).unwrap();
 //! drop(log);
 //! let opened = RunLog::open::<serde_json::Value, serde_json::Value>(&dir).unwrap();
@@ -160,10 +160,11 @@ impl RunLog {
         }
     }
 
-    /// Starts the log of a new run in `dir` with its `header`, if
-    /// [`RunLog::check_free`] allows.
-    pub fn create<H: Serialize>(dir: &Path, header: &H, force: bool) -> Result<RunLog, Error> {
-        Self::check_free(dir, force)?;
+    /// Starts the log of a new run in `dir` with its `header`, if no run
+    /// with roll-outs is logged there ([`RunLog::check_free`]: a forced run
+    /// sets the earlier one aside first).
+    pub fn create<H: Serialize>(dir: &Path, header: &H) -> Result<RunLog, Error> {
+        Self::check_free(dir, false)?;
         let path = dir.join(FILE);
         let bytes = record::<H, ()>(&Line::Run(header))?;
         // The new log is complete before it replaces the old one.
@@ -416,7 +417,7 @@ mod tests {
 
     fn three(name: &str) -> PathBuf {
         let d = dir(name);
-        let mut log = RunLog::create(&d, &json!({"seed": 7}), false).unwrap();
+        let mut log = RunLog::create(&d, &json!({"seed": 7})).unwrap();
         for i in 1..=3 {
             log.append(&json!({ "rollout": i })).unwrap();
         }
@@ -500,20 +501,26 @@ mod tests {
     }
 
     #[test]
-    fn an_unfinished_run_is_never_overwritten_a_finished_one_only_with_force() {
+    fn a_logged_run_is_never_overwritten_only_set_aside() {
         let d = three("keep");
-        let e = RunLog::create(&d, &json!({"seed": 8}), true)
+        let e = RunLog::create(&d, &json!({"seed": 8}))
             .unwrap_err()
             .to_string();
         assert!(e.contains("an unfinished run (3 roll-outs)"), "{e}");
         open(&d).unwrap().log.end().unwrap();
-        let e = RunLog::create(&d, &json!({"seed": 8}), false)
+        let e = RunLog::create(&d, &json!({"seed": 8}))
             .unwrap_err()
             .to_string();
         assert!(e.contains("a finished run (3 roll-outs)"), "{e}");
-        RunLog::create(&d, &json!({"seed": 8}), true).unwrap();
+        assert!(RunLog::check_free(&d, true).is_ok());
+        let to = set_aside(&d).unwrap().unwrap();
+        assert_eq!(open(&to).unwrap().entries.len(), 3);
+        assert!(!d.exists());
+        std::fs::create_dir_all(&d).unwrap();
+        RunLog::create(&d, &json!({"seed": 8})).unwrap();
         let o = open(&d).unwrap();
         assert_eq!((o.header, o.entries.len()), (json!({"seed": 8}), 0));
+        assert!(set_aside(&to.join("nothing")).unwrap().is_none());
     }
 
     #[test]

@@ -349,7 +349,7 @@ mod tests {
                     cell: CellSpec::Simulated,
                 },
             };
-            RunLog::create(&dir, &header, false).unwrap();
+            RunLog::create(&dir, &header).unwrap();
             let resume = Start::Resume {
                 dir: dir.clone(),
                 moved: None,
