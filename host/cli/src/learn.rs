@@ -9,6 +9,7 @@ use primo_learn::Error;
 use primo_learn::pour::run::{CellSpec, Pour};
 use primo_learn::rollouts::{Stop, query_text};
 use primo_learn::run::{Event, Start, logged_kind};
+use primo_learn::task::change::Changes;
 use primo_learn::task::evaluator::Prompt;
 use primo_learn::task::run::{TaskRun, rollout_line};
 use primo_learn::task::{Evaluate, Task};
@@ -42,8 +43,11 @@ pub struct LearnArgs {
     #[arg(long)]
     force: bool,
     /// Continue the run logged in DIR: its task and settings come from the
-    /// log, and no roll-out is lost or repeated.
-    #[arg(long, value_name = "DIR", conflicts_with_all = ["task", "out", "seed", "max_rollouts", "force"])]
+    /// log, and no roll-out is lost or repeated. With --task, the task file
+    /// as it is now may change the [goal] low/high bounds, [learner]
+    /// max_rollouts and [evaluate] (each change is said, and kept in the
+    /// log); with --max-rollouts, the budget.
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["out", "seed", "force"])]
     resume: Option<PathBuf>,
     #[command(flatten)]
     learner: LearnerArgs,
@@ -56,9 +60,19 @@ pub struct LearnArgs {
 pub fn run(args: &LearnArgs) -> Result<(), CliError> {
     let instruments = args.cell.instruments();
     let learner = args.learner.spec();
+    if args.max_rollouts == Some(0) {
+        return Err(CliError::input("--max-rollouts 0: must be at least 1"));
+    }
     let start = match (&args.resume, &args.task) {
-        (Some(dir), _) => match logged_kind(dir).map_err(|e| CliError::learning("learn", e))? {
+        (Some(dir), task) => match logged_kind(dir).map_err(|e| CliError::learning("learn", e))? {
             kind if kind == "pour" => {
+                if task.is_some() || args.max_rollouts.is_some() {
+                    return Err(CliError::input(format!(
+                        "--resume {}: the run is the built-in pour, its settings all in its \
+                         log: --task and --max-rollouts change a task file's run",
+                        dir.display()
+                    )));
+                }
                 let start = Start::<Pour>::Resume {
                     dir: dir.clone(),
                     moved: instruments,
@@ -69,16 +83,16 @@ pub fn run(args: &LearnArgs) -> Result<(), CliError> {
                 refuse_cell(&instruments)?;
                 Start::Resume {
                     dir: dir.clone(),
-                    moved: (),
+                    moved: Changes {
+                        task: task.as_deref().map(Task::load).transpose()?,
+                        max_rollouts: args.max_rollouts,
+                    },
                 }
             }
         },
         (None, Some(file)) => {
             let mut task = Task::load(file)?;
             if let Some(n) = args.max_rollouts {
-                if n == 0 {
-                    return Err(CliError::input("--max-rollouts 0: must be at least 1"));
-                }
                 task.learner.max_rollouts = n;
             }
             if let Some(mut start) = task.pour_start(args.out.clone(), args.force, args.seed) {

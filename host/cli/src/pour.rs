@@ -366,6 +366,10 @@ pub fn run_line(command: &str, event: RunEvent) -> Option<String> {
             eprintln!("primo {command}: {note}");
             None
         }
+        RunEvent::Changed(change) => {
+            eprintln!("primo {command}: resuming with {change}");
+            None
+        }
         RunEvent::SetAside { dir, to } => Some(format!(
             "primo {command}: the run in {} moved aside to {}",
             dir.display(),

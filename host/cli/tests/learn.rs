@@ -419,6 +419,97 @@ for line in sys.stdin:
 }
 
 #[test]
+fn a_resumed_run_takes_changed_bounds_budget_and_evaluator_that_keep_its_roll_outs() {
+    // Roll-out 3 crashes the evaluator: two roll-outs are logged.
+    let file = flaky("changed", "crash");
+    let out = tmp("out-changed");
+    let o = out.to_str().unwrap();
+    let (code, _, err) = learn(&file, &out, &[]);
+    assert_eq!(code, 1, "{err}");
+    let log = std::fs::read(out.join("run.log")).unwrap();
+    let text = std::fs::read_to_string(&file).unwrap();
+    let edited = |name: &str, edit: &dyn Fn(&str) -> String| {
+        let f = file.with_file_name(name);
+        std::fs::write(&f, edit(&text)).unwrap();
+        f
+    };
+    let resume = |with: &[&str]| primo(&[&["learn", "--resume", o][..], with].concat());
+    // What would make the logged roll-outs another run's is refused, the
+    // log left as it is.
+    let desired = edited("desired.toml", &|t| {
+        t.replace("desired = [1.5]", "desired = [1.4]")
+    });
+    let high = edited("high.toml", &|t| t.replace("high = [1.9]", "high = [1.8]"));
+    for (with, says) in [
+        (
+            vec!["--task", desired.to_str().unwrap()],
+            "[goal] desired differs from the logged run's",
+        ),
+        (
+            vec!["--task", high.to_str().unwrap()],
+            "[goal] high [1.9] -> [1.8]: the changed settings do not keep the logged roll-outs",
+        ),
+        (
+            vec!["--max-rollouts", "1"],
+            "a budget of 1 roll-outs: the run has made 2 already",
+        ),
+    ] {
+        let (code, _, err) = resume(&with);
+        assert_eq!(code, 2, "{with:?}: {err}");
+        assert!(err.contains(says), "{with:?}: {err}");
+        assert_eq!(std::fs::read(out.join("run.log")).unwrap(), log, "{with:?}");
+    }
+    // Another evaluator (the throw's own) and a larger budget are taken.
+    let throw = throw_dir().join("throw.py");
+    let evaluator = edited("evaluator.toml", &|t| {
+        t.lines()
+            .map(|l| match l.starts_with("command = ") {
+                true => format!("command = [\"python3\", \"{}\"]", throw.display()),
+                false => l.replace("max_rollouts = 20", "max_rollouts = 25"),
+            })
+            .collect::<Vec<_>>()
+            .join("\n")
+    });
+    let (code, stdout, err) = resume(&["--task", evaluator.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains("resuming with [learner] max_rollouts 20 -> 25"),
+        "{err}"
+    );
+    assert!(
+        err.contains("resuming with [evaluate] command `python3 "),
+        "{err}"
+    );
+    assert!(stdout.contains("reached the precision"), "{stdout}");
+    // The log keeps the change, and the log as it was beside it.
+    let header = std::fs::read_to_string(out.join("run.log")).unwrap();
+    assert!(
+        header
+            .lines()
+            .next()
+            .unwrap()
+            .contains("\"max_rollouts\":25"),
+        "{header}"
+    );
+    let before: Vec<_> = std::fs::read_dir(&out)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| {
+            p.file_name()
+                .unwrap()
+                .to_string_lossy()
+                .starts_with("run.log.before-")
+        })
+        .collect();
+    assert_eq!(before.len(), 1);
+    assert_eq!(std::fs::read(&before[0]).unwrap(), log);
+    // Told again, the complete run is the changed one.
+    let (code, again, err) = resume(&[]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(again.lines().last(), stdout.lines().last());
+}
+
+#[test]
 fn a_killed_run_resumes_with_nothing_lost() {
     // A slow evaluator, so the kill lands mid-run.
     let slow = tmp("slow.py");

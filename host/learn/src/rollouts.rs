@@ -168,6 +168,43 @@ pub fn learn_on<T: Scored + Clone>(
     Ok(run)
 }
 
+/// Checks that the learner of `setup` asks for exactly the `logged`
+/// roll-outs and reaches exactly their states (in this process: the
+/// coprocessor's learner is the same bit for bit), as a resumed run's
+/// changed settings must keep them.
+pub fn check_replay<T: Scored + Clone>(
+    skill: &Skill,
+    setup: Setup,
+    max_rollouts: u32,
+    logged: &[Entry<T>],
+) -> Result<(), Error> {
+    if (max_rollouts as usize) < logged.len() {
+        return Err(Error::Invalid(format!(
+            "a budget of {max_rollouts} roll-outs: the run has made {} already",
+            logged.len()
+        )));
+    }
+    let mut beyond = false;
+    let replayed = learn_on(
+        skill,
+        setup,
+        max_rollouts,
+        &mut Learner::local(),
+        logged,
+        |_, _, _| {
+            // Past the logged roll-outs: all of them were the same.
+            beyond = true;
+            Err(Error::Interrupted)
+        },
+        |_, _| Ok(()),
+    );
+    match replayed {
+        Err(_) if beyond => Ok(()),
+        Err(e) => Err(e),
+        Ok(_) => Ok(()),
+    }
+}
+
 /// [`learn_on`] for a logged run: every new roll-out is appended to the
 /// `log` before `show` is told of it, and the log ended after the last;
 /// a run whose log is already `ended` is only told again.

@@ -21,7 +21,7 @@ use crate::algorithm::Algorithm;
 use crate::coprocessor::{Image, Link, Qemu};
 use crate::learner::{Learner, check_examples, examples_crc};
 use crate::output::{check_dir, create_dir};
-use crate::rollouts::{Entry, Scored, learn_logged};
+use crate::rollouts::{Entry, Scored, check_replay, learn_logged};
 use crate::runlog::{self, RunEvent, RunLog};
 use primo_protocol::learner::Setup;
 
@@ -55,8 +55,10 @@ pub trait Kind: Clone + Serialize + DeserializeOwned {
     /// Whether this primo continues a log of format `version` without a
     /// kind's name (a log from before [`VERSION`] 4) holding `logged`.
     fn reads(version: u32, logged: &Self) -> bool;
-    /// Applies where a resumed run's instruments moved to.
-    fn resume(&mut self, moved: Self::Moved, dir: &Path) -> Result<(), Error>;
+    /// Applies where a resumed run's instruments moved to, and the changes
+    /// a resumed run may take; returns the changes of its learned settings
+    /// (in the user's terms), which the run log then keeps.
+    fn resume(&mut self, moved: Self::Moved, dir: &Path) -> Result<Vec<String>, Error>;
     /// Fits the skill; `note` hears what was read differently than given.
     fn build(
         &self,
@@ -285,7 +287,7 @@ pub fn run<K: Kind>(
     if let Some(what) = place {
         event(Event::Run(RunEvent::Learner(what)))?;
     }
-    let (dir, header, logged, mut log, ended, built) = match start {
+    let (dir, header, logged, mut log, ended, built, changes) = match start {
         Start::New { out, force, run } => {
             let built = run.build(&mut |n| event(Event::Note(n)))?;
             run.setup(&built)?;
@@ -300,7 +302,7 @@ pub fn run<K: Kind>(
             }
             create_dir(&out)?;
             let log = RunLog::create(&out, &header)?;
-            (out, header, Vec::new(), log, false, Some(built))
+            (out, header, Vec::new(), log, false, Some(built), Vec::new())
         }
         Start::Resume { dir, moved } => {
             let kind = logged_kind(&dir)?;
@@ -317,8 +319,25 @@ pub fn run<K: Kind>(
                 |e| event(Event::Run(e)),
             )?;
             let mut header = opened.header;
-            header.run.resume(moved, &dir)?;
-            (dir, header, opened.entries, opened.log, opened.ended, None)
+            let changes = header.run.resume(moved, &dir)?;
+            if opened.ended && !changes.is_empty() {
+                return Err(Error::Invalid(format!(
+                    "the run in {} is complete: a changed setting ({}) makes a new run",
+                    dir.display(),
+                    changes.join("; ")
+                ))
+                .into());
+            }
+            let log = opened.log;
+            (
+                dir,
+                header,
+                opened.entries,
+                log,
+                opened.ended,
+                None,
+                changes,
+            )
         }
     };
     let fail = |error: Error| Failure {
@@ -337,6 +356,21 @@ pub fn run<K: Kind>(
     };
     let skill = K::skill(&built);
     check_examples(skill, header.examples, &dir).map_err(fail)?;
+    if !changes.is_empty() {
+        // The changed run must ask for the logged roll-outs before its log
+        // says it is the run.
+        let setup = run.setup(&built).map_err(fail)?;
+        check_replay(skill, setup, run.max_rollouts(), &logged).map_err(|e| {
+            fail(Error::Invalid(format!(
+                "{}: the changed settings do not keep the logged roll-outs: {e}",
+                changes.join("; ")
+            )))
+        })?;
+        for change in &changes {
+            event(Event::Run(RunEvent::Changed(change))).map_err(fail)?;
+        }
+        log = log.rewrite_header(&header).map_err(fail)?;
+    }
     event(Event::Learning {
         run,
         parameters: run.method().learned_parameters(skill),

@@ -58,6 +58,8 @@ pub enum RunEvent<'a> {
     Learner(String),
     /// A damaged last record of the run log was set aside.
     Recovered(&'a str),
+    /// A resumed run continues with a changed setting: which, and how.
+    Changed(&'a str),
     /// A forced new run moved the run logged in its directory aside.
     SetAside {
         /// The run's directory.
@@ -105,9 +107,7 @@ pub fn set_aside(dir: &Path) -> Result<Option<PathBuf>, Error> {
     if !dir.join(FILE).exists() {
         return Ok(None);
     }
-    let stamp = std::time::SystemTime::now()
-        .duration_since(std::time::UNIX_EPOCH)
-        .map_or(0, |d| d.as_secs());
+    let stamp = stamp();
     let name = dir.file_name().map_or_else(
         || std::ffi::OsString::from("run"),
         std::ffi::OsStr::to_os_string,
@@ -165,16 +165,42 @@ impl RunLog {
     /// sets the earlier one aside first).
     pub fn create<H: Serialize>(dir: &Path, header: &H) -> Result<RunLog, Error> {
         Self::check_free(dir, false)?;
-        let path = dir.join(FILE);
         let bytes = record::<H, ()>(&Line::Run(header))?;
-        // The new log is complete before it replaces the old one.
-        crate::output::write_file(&path, &bytes)?;
-        sync_dir(dir)?;
+        Self::write_whole(dir.join(FILE), &bytes)
+    }
+
+    /// Writes the log at `path` whole (complete before it replaces what
+    /// was there) and opens it to append.
+    fn write_whole(path: PathBuf, bytes: &[u8]) -> Result<RunLog, Error> {
+        crate::output::write_file(&path, bytes)?;
+        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+            sync_dir(dir)?;
+        }
         let file = OpenOptions::new()
             .append(true)
             .open(&path)
             .map_err(|e| io_error(&path, e))?;
         Ok(RunLog { file, path })
+    }
+
+    /// Replaces the log's header by `header` (a resumed run's changed
+    /// settings), every record after it kept: the log as it was is kept
+    /// beside it as `run.log.before-<time>`, and the new one replaces it
+    /// whole.
+    pub fn rewrite_header<H: Serialize>(self, header: &H) -> Result<RunLog, Error> {
+        let path = self.path;
+        drop(self.file);
+        let old = std::fs::read(&path).map_err(|e| io_error(&path, e))?;
+        let rest = old
+            .iter()
+            .position(|b| *b == b'\n')
+            .and_then(|end| old.get(end + 1..))
+            .ok_or_else(|| Error::Log(format!("{}: no header record", path.display())))?;
+        let before = path.with_file_name(format!("{FILE}.before-{}", stamp()));
+        crate::output::write_file(&before, &old)?;
+        let mut bytes = record::<H, ()>(&Line::Run(header))?;
+        bytes.extend_from_slice(rest);
+        Self::write_whole(path, &bytes)
     }
 
     /// Appends a roll-out and waits until it is on disk.
@@ -367,10 +393,7 @@ fn parse<H: DeserializeOwned, E: DeserializeOwned>(bytes: &[u8]) -> Result<Line<
 /// Moves `bytes[keep..]` to a file beside `path` and truncates `path` to
 /// `keep` bytes; says what it did.
 fn move_tail(path: &Path, bytes: &[u8], keep: usize, what: &str) -> Result<String, Error> {
-    let stamp = std::time::SystemTime::now()
-        .duration_since(std::time::UNIX_EPOCH)
-        .map_or(0, |d| d.as_secs());
-    let aside = path.with_file_name(format!("{FILE}.damaged-{stamp}"));
+    let aside = path.with_file_name(format!("{FILE}.damaged-{}", stamp()));
     crate::output::write_file(&aside, &bytes[keep..])?;
     OpenOptions::new()
         .write(true)
@@ -390,6 +413,13 @@ fn move_tail(path: &Path, bytes: &[u8], keep: usize, what: &str) -> Result<Strin
 }
 
 /// Makes a new file's directory entry durable.
+/// Now, in seconds since 1970: what names the files set aside.
+fn stamp() -> u64 {
+    std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs())
+}
+
 fn sync_dir(dir: &Path) -> Result<(), Error> {
     File::open(dir)
         .and_then(|d| d.sync_all())

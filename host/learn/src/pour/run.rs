@@ -134,7 +134,7 @@ impl Kind for Pour {
         version == 3 || (version == 2 && logged.skill.space == Space::Joint)
     }
 
-    fn resume(&mut self, moved: Self::Moved, dir: &Path) -> Result<(), Error> {
+    fn resume(&mut self, moved: Self::Moved, dir: &Path) -> Result<Vec<String>, Error> {
         match (&mut self.cell, moved) {
             (CellSpec::Instruments(logged), Some(now)) => *logged = now,
             (CellSpec::Simulated, Some(_)) => {
@@ -146,7 +146,8 @@ impl Kind for Pour {
             }
             (_, None) => {}
         }
-        Ok(())
+        // Where the instruments are is not a learned setting.
+        Ok(Vec::new())
     }
 
     fn build(&self, note: &mut dyn FnMut(Note) -> Result<(), Error>) -> Result<Prepared, Error> {

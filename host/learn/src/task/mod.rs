@@ -9,6 +9,7 @@
 //! and that they pass the limits, and fits the skill.
 
 pub mod build;
+pub mod change;
 pub mod check;
 pub mod evaluator;
 pub mod report;

@@ -30,6 +30,7 @@ use crate::pour::skill::{DemoFile, SkillSpec, Space};
 use crate::rollouts::{Entry, Record, query_text};
 use crate::run::{Cell, Execute, Kind, LearnerSpec, ON_SCALE, Start};
 
+use super::change::Changes;
 use super::evaluator::{Evaluator, Operator, Program, Prompt};
 use super::report::{Finished, write_task};
 use super::trial::{TaskTrial, score};
@@ -53,7 +54,7 @@ impl Kind for TaskRun {
     type Trial = TaskTrial;
     type Built = Built;
     type Person = Box<dyn Prompt>;
-    type Moved = ();
+    type Moved = Changes;
     type Note = std::convert::Infallible;
     type Finished = Finished;
 
@@ -69,8 +70,11 @@ impl Kind for TaskRun {
         Ok(())
     }
 
-    fn check_moved((): &()) -> Result<(), Error> {
-        Ok(())
+    fn check_moved(changes: &Changes) -> Result<(), Error> {
+        match changes.max_rollouts {
+            Some(0) => Err(Error::Invalid("a budget of 0 roll-outs makes none".into())),
+            _ => Ok(()),
+        }
     }
 
     /// Version 1 logs are the same.
@@ -78,8 +82,8 @@ impl Kind for TaskRun {
         version == 1
     }
 
-    fn resume(&mut self, (): (), _: &Path) -> Result<(), Error> {
-        Ok(())
+    fn resume(&mut self, changes: Changes, _: &Path) -> Result<Vec<String>, Error> {
+        self.task.take(changes)
     }
 
     fn build(&self, _: &mut dyn FnMut(Self::Note) -> Result<(), Error>) -> Result<Built, Error> {
