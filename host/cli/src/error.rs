@@ -145,6 +145,9 @@ impl From<primo_learn::Error> for CliError {
             Error::Occupied { .. } => Self::input(format!(
                 "{e}: continue it with --resume, or choose another --out"
             )),
+            Error::HoldsResult { .. } => Self::input(format!(
+                "{e}: choose another --out, or give --force to replace it"
+            )),
             Error::NoLog(ref log) => Self::input(format!(
                 "--resume {}: no run log ({}) there",
                 log.parent().unwrap_or(log).display(),

@@ -76,9 +76,6 @@ pub fn run(args: &LearnArgs) -> Result<(), CliError> {
         (None, Some(file)) => {
             let mut task = Task::load(file)?;
             if let Some(n) = args.max_rollouts {
-                if n == 0 {
-                    return Err(CliError::input("--max-rollouts 0: must be at least 1"));
-                }
                 task.learner.max_rollouts = n;
             }
             if let Some(mut start) = task.pour_start(args.out.clone(), args.force, args.seed) {
