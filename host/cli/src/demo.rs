@@ -50,7 +50,7 @@ pub fn run(command: DemoCommand) -> Result<(), CliError> {
         out,
     } = command;
     if let Some(out) = &out {
-        check_out_file("--out", out)?;
+        check_out_file("--out", out, &[])?;
     }
     let cell = CellConfig::standard(GlassKind::Normal);
     let demo = synthesize(&cell, bottle, pour, &Style { elbow, seed })?;

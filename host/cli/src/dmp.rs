@@ -125,7 +125,7 @@ pub fn run(command: DmpCommand) -> Result<(), CliError> {
                 )));
             }
             if let Some(out) = &out {
-                check_out_file("--out", out)?;
+                check_out_file("--out", out, &[("DMP", &dmp)])?;
             }
             let rows = match dmpfile::parse(&file, &read(&dmp)?)? {
                 Fitted::Discrete(dmp) => {
@@ -194,7 +194,7 @@ fn fit(
         )));
     }
     if let Some(out) = out {
-        check_out_file("--out", out)?;
+        check_out_file("--out", out, &[("--demo", demo_path)])?;
     }
     let demo = parse_demo(&file, &read(demo_path)?)?;
     let json = match rhythmic {

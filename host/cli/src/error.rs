@@ -147,6 +147,9 @@ impl From<primo_learn::Error> for CliError {
                 "{e}: continue it with --resume, choose another --out, or give --force to start \
                  anew (the run is moved aside)"
             )),
+            Error::HoldsResult { .. } => Self::input(format!(
+                "{e}: choose another --out, or give --force to replace it"
+            )),
             Error::NoLog(ref log) => Self::input(format!(
                 "--resume {}: no run log ({}) there",
                 log.parent().unwrap_or(log).display(),

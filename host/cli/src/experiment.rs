@@ -4,11 +4,12 @@ use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
 use primo_learn::algorithm::{Algorithm, ERROR_LEARNERS};
+use primo_learn::experiment::claim::{check, claim};
 use primo_learn::experiment::{
-    Done, THRESHOLDS, Variant, golden_settings, golden_skill, power_skill,
+    Done, THRESHOLDS, Variant, check_power, check_volumes, golden_settings, golden_skill,
+    power_skill,
 };
 use primo_learn::experiment::{PowerSetup, median_rollouts, write_golden, write_power_experiment};
-use primo_learn::output::{check_dir, create_dir};
 use primo_learn::stats::Estimate;
 
 use crate::args::Glass;
@@ -37,6 +38,9 @@ pub enum ExperimentCommand {
         /// Output directory.
         #[arg(long, default_value = "experiment-golden")]
         out: PathBuf,
+        /// Replace an earlier result in --out.
+        #[arg(long)]
+        force: bool,
     },
     /// Figs. 5–6: extended against ordinary PoWER in joint space, and PoWER
     /// with the query learned from the error.
@@ -59,6 +63,9 @@ pub enum ExperimentCommand {
         /// Output directory.
         #[arg(long, default_value = "experiment-power")]
         out: PathBuf,
+        /// Replace an earlier result in --out.
+        #[arg(long)]
+        force: bool,
     },
 }
 
@@ -70,7 +77,8 @@ pub fn run(command: ExperimentCommand) -> Result<(), CliError> {
             precision,
             seed,
             out,
-        } => golden(&volumes, precision, seed, &out),
+            force,
+        } => golden(&volumes, precision, seed, &out, force),
         ExperimentCommand::Power {
             runs,
             kernels,
@@ -78,7 +86,8 @@ pub fn run(command: ExperimentCommand) -> Result<(), CliError> {
             glass,
             seed,
             out,
-        } => power(runs, kernels, updates, glass, seed, &out),
+            force,
+        } => power(runs, kernels, updates, glass, seed, &out, force),
     }
 }
 
@@ -98,23 +107,30 @@ fn with_runs<T>(name: &str, experiment: impl FnOnce(&(dyn Fn(Done) + Sync)) -> T
     result
 }
 
-fn golden(volumes: &[f64], precision: f64, seed: u64, out: &Path) -> Result<(), CliError> {
+fn golden(
+    volumes: &[f64],
+    precision: f64,
+    seed: u64,
+    out: &Path,
+    force: bool,
+) -> Result<(), CliError> {
     let started = std::time::Instant::now();
-    check_dir(out)?;
+    check(out, &primo_learn::experiment::golden::FILES, force)?;
     if !(precision.is_finite() && precision > 0.0) {
         return Err(CliError::input(format!(
             "--precision {precision}: must be a positive volume in litres"
         )));
     }
+    check_volumes(volumes)?;
     let (cell, skill) = golden_skill()?;
     for v in volumes {
         golden_settings(&cell, *v, Algorithm::Golden, precision, seed)
             .map_err(|e| CliError::input(format!("--volumes {v}: {e}")))?;
     }
+    let _held = claim(out, &primo_learn::experiment::golden::FILES, force)?;
     let runs = with_runs("golden", |progress| {
         primo_learn::experiment::golden(&skill, &cell, volumes, precision, seed, progress)
     })?;
-    create_dir(out)?;
     write_golden(out, &runs, precision)?;
     let names = [
         "golden",
@@ -172,19 +188,18 @@ fn power(
     glass: Glass,
     seed: u64,
     out: &Path,
+    force: bool,
 ) -> Result<(), CliError> {
     let started = std::time::Instant::now();
-    if runs == 0 || updates == 0 {
-        return Err(CliError::input("--runs and --updates must be at least 1"));
-    }
-    check_dir(out)?;
+    check_power(runs, updates)?;
+    check(out, &primo_learn::experiment::power::FILES, force)?;
     let (cell, skill) = power_skill(glass.into(), kernels)?;
+    let _held = claim(out, &primo_learn::experiment::power::FILES, force)?;
     let curves = with_runs("power", |progress| {
         primo_learn::experiment::power(&skill, &cell, runs, updates, seed, progress)
     })?;
     let parameters = skill.param_len() + 1;
     let seconds = started.elapsed().as_secs_f64();
-    create_dir(out)?;
     let setup = PowerSetup {
         updates,
         kernels,

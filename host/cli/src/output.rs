@@ -3,6 +3,8 @@
 use std::io::Write;
 use std::path::Path;
 
+use primo_learn::output::{check_writable, same_file};
+
 use crate::error::CliError;
 
 /// Prints `line` on stdout at once: another program may be waiting for it.
@@ -34,8 +36,9 @@ pub fn emit(out: Option<&Path>, bytes: &[u8]) -> Result<(), CliError> {
 }
 
 /// Checks, before any work, that a file can be written at `out`: not a
-/// directory, and its directory exists.
-pub fn check_out_file(flag: &str, out: &Path) -> Result<(), CliError> {
+/// directory, its directory exists, this user may write it if it exists,
+/// and it is none of `inputs` (flag, file: the same file under any name).
+pub fn check_out_file(flag: &str, out: &Path, inputs: &[(&str, &Path)]) -> Result<(), CliError> {
     if out.is_dir() {
         return Err(CliError::input(format!(
             "{flag} {}: is a directory, not a file",
@@ -43,12 +46,21 @@ pub fn check_out_file(flag: &str, out: &Path) -> Result<(), CliError> {
         )));
     }
     let dir = out.parent().filter(|p| !p.as_os_str().is_empty());
-    match dir {
-        Some(d) if !d.is_dir() => Err(CliError::input(format!(
+    if let Some(d) = dir
+        && !d.is_dir()
+    {
+        return Err(CliError::input(format!(
             "{flag} {}: no directory {}",
             out.display(),
             d.display()
-        ))),
-        _ => Ok(()),
+        )));
     }
+    if let Some((input, file)) = inputs.iter().find(|(_, file)| same_file(out, file)) {
+        return Err(CliError::input(format!(
+            "{flag} {}: is the same file as {input} {}: the output would destroy the input",
+            out.display(),
+            file.display()
+        )));
+    }
+    check_writable(out).map_err(|e| CliError::input(format!("{flag} {e}")))
 }

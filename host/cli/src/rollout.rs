@@ -2,7 +2,7 @@
 //! objective for any optimizer.
 
 use std::io::{BufRead, Write};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use primo_learn::pour::objective::{Objective, Start, layout};
 use primo_learn::pour::settings::check_target;
@@ -96,12 +96,18 @@ fn roll_out(
 /// Runs `primo rollout`.
 pub fn run(args: &RolloutArgs) -> Result<(), CliError> {
     check_target(args.bottle, args.target)?;
-    if let Some(series) = &args.series {
-        check_out_file("--series", series)?;
-    }
     let spec = args
         .skill
         .spec(primo_learn::pour::skill::Space::Joint, Glass::Small)?;
+    if let Some(series) = &args.series {
+        let mut inputs: Vec<(&str, &Path)> = spec
+            .demos
+            .iter()
+            .map(|d| ("--demo", d.file.as_path()))
+            .collect();
+        inputs.extend(args.params.as_deref().map(|p| ("--params", p)));
+        check_out_file("--series", series, &inputs)?;
+    }
     let objective = Objective::new(&spec, args.bottle, args.target)?;
     for c in objective.converted() {
         eprintln!("primo rollout: {c}");

@@ -126,9 +126,12 @@ fn pour_converges(
     name: &str,
 ) -> (std::path::PathBuf, Vec<String>) {
     let out = tmp(name);
+    // The simulated KRC's glass is never full: no glass bound, on purpose.
     let mut argv = vec![
         "pour",
         "--confirm",
+        "--glass-holds",
+        "none",
         "--bottle",
         "0.5",
         "--out",
@@ -251,10 +254,14 @@ fn pour_learns_on_primo_scale_in_qemu_with_the_learner_on_the_scale() {
     let (on_scale, in_process) = (rows(&out), rows(&sim));
     println!("on the scale: {on_scale:?}\nin process: {in_process:?}");
     assert_eq!(on_scale.len(), in_process.len(), "{transcript}\n{stdout}");
+    // The queries bit for bit; the volumes to the real-time cell's timing:
+    // where the scale's stable reading falls in the last drops differed by
+    // up to 1.5 ml on 3 of 8 roll-outs (three runs here, the same before
+    // the learner's protocol 7), under the pour's 2 ml precision.
     for ((q, poured), (q_sim, poured_sim)) in on_scale.iter().zip(&in_process) {
         assert_eq!(q, q_sim);
         assert!(
-            (poured - poured_sim).abs() < 1e-4,
+            (poured - poured_sim).abs() < 2e-3,
             "{poured} l, in process {poured_sim} l"
         );
     }
@@ -272,6 +279,8 @@ fn a_robot_that_stops_mid_rollout_ends_the_run_with_status_1_and_a_resumable_log
         &robot,
         "--scale",
         &scale,
+        "--glass-holds",
+        "none",
         "--bottle",
         "0.5",
         "--out",

@@ -56,6 +56,30 @@ pub enum Error {
         /// unfinished run is never replaced, only continued.
         finished: bool,
     },
+    /// An output directory another process holds ([`crate::lock`]).
+    #[error("{}", crate::lock::describe(dir, pid, command))]
+    InUse {
+        /// The directory.
+        dir: PathBuf,
+        /// The holder's pid, if it said.
+        pid: Option<u32>,
+        /// The holder's command line, if it said.
+        command: Option<String>,
+    },
+    /// An experiment's earlier result in the directory it was to write.
+    #[error("{}: an earlier result is here", file.display())]
+    HoldsResult {
+        /// The result's file found.
+        file: PathBuf,
+    },
+    /// An existing file this user may not write: left as it is.
+    #[error("{}: not writable by this user (mode {mode:o}): left as it is", path.display())]
+    ReadOnly {
+        /// The file.
+        path: PathBuf,
+        /// Its permission bits.
+        mode: u32,
+    },
     /// No run log where a run was to be continued: the log's path.
     #[error("{}: not found: there is no run to continue", .0.display())]
     NoLog(PathBuf),
@@ -140,6 +164,8 @@ impl Error {
                 | Error::Conflict { .. }
                 | Error::NotADirectory { .. }
                 | Error::Occupied { .. }
+                | Error::InUse { .. }
+                | Error::HoldsResult { .. }
                 | Error::NoLog(_)
                 | Error::OtherKind { .. }
                 | Error::Skill(_)
@@ -190,6 +216,10 @@ pub enum Setting {
     Gain,
     /// PoWER updates per run of the power experiment.
     Updates,
+    /// Seeded runs per variant of the power experiment.
+    Runs,
+    /// The golden experiment's bottle volumes.
+    Volumes,
     /// Where the learner runs.
     Coprocessor,
     /// The real cell's scale.
@@ -217,6 +247,8 @@ impl Setting {
             Setting::MaxRollouts => "max_rollouts",
             Setting::Gain => "gain",
             Setting::Updates => "updates",
+            Setting::Runs => "runs",
+            Setting::Volumes => "volumes",
             Setting::Coprocessor => "coprocessor",
             Setting::Scale => "scale",
             Setting::Baud => "baud",

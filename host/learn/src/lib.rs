@@ -10,7 +10,8 @@
 //!   of each roll-out.
 //! - [`learner`]: the learner (in this process or on a coprocessor) and
 //!   its setup; [`algorithm`]: the learning algorithms.
-//! - [`runlog`]: the durable log of a run, and its recovery.
+//! - [`runlog`]: the durable log of a run, and its recovery; [`lock`]:
+//!   an output directory held by one process at a time.
 //! - [`coprocessor`]: primo's devices (the learning coprocessor, the
 //!   load-cell scale) over a serial port, and their firmware booted in QEMU.
 //! - [`output`], [`plot`], [`stats`]: result files written safely, PNG
@@ -30,6 +31,7 @@ pub mod coprocessor;
 mod error;
 pub mod experiment;
 pub mod learner;
+pub mod lock;
 pub mod output;
 pub mod plot;
 pub mod pour;

@@ -2,7 +2,9 @@
 //! a torn mix, and only regular files are replaced.
 //!
 //! A regular file (or a new one) is written through a temporary file in
-//! the same directory and a rename. A symbolic link is followed: its target
+//! the same directory and a rename; a file replaced keeps its mode, and
+//! one this user may not write (as `open` for writing would refuse) is
+//! refused, left as it is. A symbolic link is followed: its target
 //! is written, the link stays. Anything else that exists (a device such as
 //! `/dev/null` or `/dev/stdout`, a FIFO, a socket) is written in place,
 //! since renaming over it would replace the node itself.
@@ -20,7 +22,9 @@
 //! # std::fs::remove_dir_all(&dir).unwrap();
 //! ```
 
+use std::fs::Permissions;
 use std::io::Write;
+use std::os::unix::fs::{MetadataExt, PermissionsExt};
 use std::path::{Path, PathBuf};
 
 use crate::Error;
@@ -42,7 +46,50 @@ pub fn write_file(path: &Path, bytes: &[u8]) -> Result<(), Error> {
                 .and_then(|mut f| f.write_all(bytes))
                 .map_err(Error::io(path))
         }
-        _ => replace(&target, bytes).map_err(Error::io(path)),
+        Ok(meta) => {
+            check_writable(path)?;
+            replace(&target, bytes, Some(meta.permissions())).map_err(Error::io(path))
+        }
+        Err(_) => replace(&target, bytes, None).map_err(Error::io(path)),
+    }
+}
+
+/// Checks, before any work, that this user may write `path` if it is an
+/// existing regular file (links followed): as `open` for writing would,
+/// without changing it.
+pub fn check_writable(path: &Path) -> Result<(), Error> {
+    let target = resolve(path)?;
+    let Ok(meta) = std::fs::metadata(&target) else {
+        return Ok(());
+    };
+    if !meta.is_file() {
+        return Ok(());
+    }
+    // Opened without truncating: a probe of the permissions, nothing more.
+    match std::fs::OpenOptions::new().write(true).open(&target) {
+        Ok(_) => Ok(()),
+        Err(e)
+            if matches!(
+                e.kind(),
+                std::io::ErrorKind::PermissionDenied | std::io::ErrorKind::ReadOnlyFilesystem
+            ) =>
+        {
+            Err(Error::ReadOnly {
+                path: path.to_path_buf(),
+                mode: meta.permissions().mode() & 0o7777,
+            })
+        }
+        Err(e) => Err(Error::io(path)(e)),
+    }
+}
+
+/// Whether `a` and `b` name the same existing file (the same device and
+/// inode, links followed): a hard link, a symbolic link or another
+/// spelling of one path is the same file.
+pub fn same_file(a: &Path, b: &Path) -> bool {
+    match (std::fs::metadata(a), std::fs::metadata(b)) {
+        (Ok(a), Ok(b)) => (a.dev(), a.ino()) == (b.dev(), b.ino()),
+        _ => false,
     }
 }
 
@@ -69,8 +116,9 @@ fn resolve(path: &Path) -> Result<PathBuf, Error> {
     )))
 }
 
-/// Writes a regular file through a temporary file and a rename.
-fn replace(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+/// Writes a regular file through a temporary file and a rename; the new
+/// file gets `mode` (the old one's), else the default for a new file.
+fn replace(path: &Path, bytes: &[u8], mode: Option<Permissions>) -> std::io::Result<()> {
     let dir = path
         .parent()
         .filter(|p| !p.as_os_str().is_empty())
@@ -85,6 +133,9 @@ fn replace(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     ));
     let result = (|| {
         let mut f = std::fs::File::create(&tmp)?;
+        if let Some(mode) = mode {
+            f.set_permissions(mode)?;
+        }
         f.write_all(bytes)?;
         f.sync_all()?;
         std::fs::rename(&tmp, path)
@@ -193,6 +244,37 @@ mod tests {
         write_file(Path::new("/dev/null"), b"nothing").unwrap();
         let meta = std::fs::metadata("/dev/null").unwrap();
         assert!(meta.file_type().is_char_device());
+    }
+
+    #[test]
+    fn a_replaced_file_keeps_its_mode() {
+        use std::os::unix::fs::PermissionsExt;
+        let d = dir("mode");
+        let f = d.join("private.json");
+        std::fs::write(&f, b"old").unwrap();
+        std::fs::set_permissions(&f, std::fs::Permissions::from_mode(0o600)).unwrap();
+        write_file(&f, b"new").unwrap();
+        assert_eq!(std::fs::read(&f).unwrap(), b"new");
+        let mode = std::fs::metadata(&f).unwrap().permissions().mode() & 0o7777;
+        assert_eq!(mode, 0o600);
+    }
+
+    #[test]
+    fn the_same_file_is_known_by_its_inode_not_its_name() {
+        let d = dir("same");
+        let f = d.join("a.csv");
+        std::fs::write(&f, b"a").unwrap();
+        let hard = d.join("hard.csv");
+        std::fs::hard_link(&f, &hard).unwrap();
+        let soft = d.join("soft.csv");
+        symlink("a.csv", &soft).unwrap();
+        let other = d.join("b.csv");
+        std::fs::write(&other, b"a").unwrap();
+        for same in [&f, &hard, &soft, &d.join(".").join("a.csv")] {
+            assert!(same_file(&f, same), "{}", same.display());
+        }
+        assert!(!same_file(&f, &other));
+        assert!(!same_file(&f, &d.join("missing.csv")));
     }
 
     #[test]

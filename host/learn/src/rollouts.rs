@@ -78,6 +78,10 @@ fn check(asked: &Rollout, delta: &[f32], status: &Status) -> Result<u32, Error> 
     Ok(crc::Crc::<u32>::new(&crc::CRC_32_ISCSI).checksum(&bytes))
 }
 
+/// The most roll-outs a run may be given (its budget): a run log of this
+/// many roll-outs is some tens of megabytes, and a real cell makes tens.
+pub const MAX_ROLLOUTS: u32 = 100_000;
+
 /// Runs the learner of `setup` on `skill` for at most `max_rollouts`:
 /// `roll(i, q̂, Δθ)` makes roll-out `i` (on a rig, through an evaluator),
 /// and `each` is called after every roll-out (with `true` for a replayed

@@ -20,6 +20,7 @@ use crate::Error;
 use crate::algorithm::Algorithm;
 use crate::coprocessor::{Image, Link, Qemu};
 use crate::learner::{Learner, check_examples, examples_crc};
+use crate::lock;
 use crate::output::{check_dir, create_dir};
 use crate::rollouts::{Entry, Scored, check_replay, learn_logged};
 use crate::runlog::{self, RunEvent, RunLog};
@@ -180,17 +181,20 @@ impl<K: Kind> Start<K> {
         }
     }
 
-    /// Checks every setting, and that the output may be written, without
-    /// creating anything or touching an instrument.
+    /// Checks every setting, and that the output may be written (no other
+    /// process holds its directory, [`crate::lock`]), without creating
+    /// anything or touching an instrument.
     pub fn validate(&self, learner: &LearnerSpec) -> Result<(), Error> {
         match self {
             Start::New { out, force, run } => {
                 run.validate(learner)?;
                 check_dir(out)?;
+                lock::check_free(out)?;
                 RunLog::check_free(out, *force)
             }
             Start::Resume { dir, moved } => {
                 K::check_moved(moved)?;
+                lock::check_free(dir)?;
                 let log = dir.join(runlog::FILE);
                 if !log.is_file() {
                     return Err(Error::NoLog(log));
@@ -271,7 +275,9 @@ pub fn logged_kind(dir: &Path) -> Result<String, Error> {
 }
 
 /// Runs `start`: checks the settings, connects the learner of `learner`,
-/// learns, logging every roll-out, and writes the reports; `person` is
+/// learns, logging every roll-out, and writes the reports, holding the
+/// run's directory ([`crate::lock`]) from before its log is created or
+/// opened to the end; `person` is
 /// asked what only a person can do, `event` told what happens. An error
 /// from `event` (the output is gone) ends the run.
 pub fn run<K: Kind>(
@@ -287,7 +293,7 @@ pub fn run<K: Kind>(
     if let Some(what) = place {
         event(Event::Run(RunEvent::Learner(what)))?;
     }
-    let (dir, header, logged, mut log, ended, built, changes) = match start {
+    let (dir, header, logged, mut log, ended, built, changes, _held) = match start {
         Start::New { out, force, run } => {
             let built = run.build(&mut |n| event(Event::Note(n)))?;
             run.setup(&built)?;
@@ -297,14 +303,30 @@ pub fn run<K: Kind>(
                 examples: examples_crc(K::skill(&built)),
                 run,
             };
-            if force && let Some(to) = runlog::set_aside(&out)? {
-                event(Event::Run(RunEvent::SetAside { dir: &out, to: &to }))?;
+            if force && out.join(runlog::FILE).exists() {
+                // Held while it is moved: no run is moved from under its
+                // process.
+                let _aside = lock::hold(&out)?;
+                if let Some(to) = runlog::set_aside(&out)? {
+                    event(Event::Run(RunEvent::SetAside { dir: &out, to: &to }))?;
+                }
             }
             create_dir(&out)?;
+            let held = lock::hold(&out)?;
             let log = RunLog::create(&out, &header)?;
-            (out, header, Vec::new(), log, false, Some(built), Vec::new())
+            (
+                out,
+                header,
+                Vec::new(),
+                log,
+                false,
+                Some(built),
+                Vec::new(),
+                held,
+            )
         }
         Start::Resume { dir, moved } => {
+            let held = lock::hold(&dir)?;
             let kind = logged_kind(&dir)?;
             if kind != K::NAME {
                 return Err(Error::OtherKind { dir, kind }.into());
@@ -328,16 +350,8 @@ pub fn run<K: Kind>(
                 ))
                 .into());
             }
-            let log = opened.log;
-            (
-                dir,
-                header,
-                opened.entries,
-                log,
-                opened.ended,
-                None,
-                changes,
-            )
+            let (entries, log, ended) = (opened.entries, opened.log, opened.ended);
+            (dir, header, entries, log, ended, None, changes, held)
         }
     };
     let fail = |error: Error| Failure {

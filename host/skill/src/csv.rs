@@ -20,6 +20,10 @@ pub struct Demo {
 /// The fewest data rows a demonstration may have (second differences need 3).
 pub const MIN_ROWS: usize = 3;
 
+/// The most data rows a demonstration may have (1000 s recorded at
+/// 1 kHz): more are refused before they are stored.
+pub const MAX_DEMO_ROWS: usize = 1_000_000;
+
 /// Parses demonstration CSV text; `file` names it in error messages.
 pub fn parse_demo(file: &str, text: &str) -> Result<Demo, Error> {
     let err = |line: usize, col: Option<usize>, msg: String| {
@@ -78,6 +82,13 @@ pub fn parse_demo(file: &str, text: &str) -> Result<Demo, Error> {
     for (line, row) in lines {
         if row.trim().is_empty() {
             continue;
+        }
+        if times.len() == MAX_DEMO_ROWS {
+            return Err(err(
+                line,
+                None,
+                format!("a demonstration has at most {MAX_DEMO_ROWS} data rows"),
+            ));
         }
         let cells: Vec<&str> = row.split(',').map(str::trim).collect();
         if cells.len() != width {
@@ -555,6 +566,22 @@ mod tests {
         }
         let plain = parse_demo("d.csv", "t,x\n0,1\n1,2\n2,3\n").unwrap();
         assert!(rotation_vectors_as_quaternions(&plain).is_none());
+    }
+
+    #[test]
+    fn a_demo_of_too_many_rows_is_refused() {
+        let mut text = String::from("t,x\n");
+        for i in 0..=MAX_DEMO_ROWS {
+            text.push_str(&format!("{i},0\n"));
+        }
+        let e = parse_demo("d.csv", &text).unwrap_err().to_string();
+        assert_eq!(
+            e,
+            format!(
+                "d.csv:{}: a demonstration has at most 1000000 data rows",
+                MAX_DEMO_ROWS + 2
+            )
+        );
     }
 
     #[test]

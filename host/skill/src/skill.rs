@@ -368,9 +368,11 @@ impl Skill {
     }
 
     /// The movement sampled every `dt` seconds from 0 to τ, one value per
-    /// column.
+    /// column; a movement beyond [`check_duration`]'s bounds is refused
+    /// before anything is allocated.
     pub fn plan(&self, query: &[f32], delta: &[f32], dt: f64) -> Result<Plan, Error> {
         let file = self.movement(query, delta)?;
+        check_duration(file.dmp.tau(), dt)?;
         let (prepared, mut steps) = file
             .steps(dt as f32, None, None, None)
             .map_err(|e| Error::Movement(format!("integrating the movement: {e}")))?;
@@ -411,7 +413,31 @@ impl Skill {
     }
 }
 
-/// The plan's samples as fixed-size rows (`N` = its DoF).
+/// The longest movement a skill plans, s (a pour lasts seconds): a
+/// longer one, given or learned, is refused before it is computed.
+pub const MAX_DURATION: f32 = 600.0;
+
+/// The most samples a skill plans for one movement (600 s at 1 ms
+/// steps, with room): each is a row of every column.
+pub const MAX_SAMPLES: usize = 1_000_000;
+
+/// Checks a movement of `tau` seconds sampled every `dt` seconds against
+/// [`MAX_DURATION`] and [`MAX_SAMPLES`].
+pub fn check_duration(tau: f32, dt: f64) -> Result<(), Error> {
+    if !(tau.is_finite() && tau > 0.0 && tau <= MAX_DURATION) {
+        return Err(Error::Movement(format!(
+            "τ {tau} s: a movement lasts more than 0 and at most {MAX_DURATION} s"
+        )));
+    }
+    let samples = f64::from(tau) / dt;
+    if samples.is_nan() || samples > MAX_SAMPLES as f64 {
+        return Err(Error::Movement(format!(
+            "τ {tau} s sampled every {dt} s: {samples:.0} samples, at most {MAX_SAMPLES}"
+        )));
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -444,6 +470,30 @@ mod tests {
     fn last_orientation(plan: &Plan) -> Quaternion {
         let row = &plan.rows[plan.rows.len() - 5..];
         Quaternion::from_array([row[1], row[2], row[3], row[4]].map(|v| v as f32))
+    }
+
+    #[test]
+    fn a_movement_too_long_is_refused_before_it_is_computed() {
+        let skill = Skill::fit(
+            &[
+                (&[0.0], &demo(0.2, 0.0, 10.0)),
+                (&[1.0], &demo(0.4, 0.0, 20.0)),
+            ],
+            10,
+            Method::Lwr { bandwidth: None },
+        )
+        .unwrap();
+        let mut delta = vec![0.0; skill.param_len()];
+        let tau = delta.len() - 1;
+        delta[tau] = 1e5;
+        let e = skill.plan(&[0.5], &delta, 0.002).unwrap_err().to_string();
+        assert!(
+            e.contains("a movement lasts more than 0 and at most 600 s"),
+            "{e}"
+        );
+        let e = skill.plan(&[0.5], &[], 1e-7).unwrap_err().to_string();
+        assert!(e.contains("samples, at most 1000000"), "{e}");
+        assert!(skill.plan(&[0.5], &[], 0.002).is_ok());
     }
 
     #[test]

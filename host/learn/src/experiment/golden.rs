@@ -11,6 +11,7 @@ use serde::Serialize;
 
 use crate::Error;
 use crate::algorithm::{Algorithm, ERROR_LEARNERS};
+use crate::error::Setting;
 use crate::learner::Learner;
 use crate::output::{write_file, write_json};
 use crate::plot::panels::write_png;
@@ -113,6 +114,22 @@ pub fn golden_run(
     Ok(SearchRun::of(volume, method, precision, records))
 }
 
+/// The most bottle volumes of one golden experiment (the paper's: 8),
+/// each learned by every error learner.
+pub const MAX_VOLUMES: usize = 1_000;
+
+/// Checks the number of a golden experiment's volumes.
+pub fn check_volumes(volumes: &[f64]) -> Result<(), Error> {
+    if !(1..=MAX_VOLUMES).contains(&volumes.len()) {
+        return Err(Error::setting(
+            Setting::Volumes,
+            format!("({} values)", volumes.len()),
+            format!("at least 1 and at most {MAX_VOLUMES} volumes"),
+        ));
+    }
+    Ok(())
+}
+
 /// Fig. 3: every error learner ([`ERROR_LEARNERS`]: golden section,
 /// Illinois, secant, and the paper's fixed-gain rules) for every volume,
 /// volume by volume; `progress` hears of every run finished.
@@ -124,6 +141,7 @@ pub fn golden(
     seed: u64,
     progress: impl Fn(Done) + Sync,
 ) -> Result<Vec<SearchRun>, Error> {
+    check_volumes(volumes)?;
     let jobs: Vec<(f64, Algorithm)> = volumes
         .iter()
         .flat_map(|v| ERROR_LEARNERS.map(|m| (*v, m)))
@@ -159,6 +177,9 @@ pub fn median_rollouts(runs: &[SearchRun], method: Algorithm) -> Option<f64> {
         .collect();
     (!counts.is_empty()).then(|| median(&counts))
 }
+
+/// The files [`write_golden`] writes.
+pub const FILES: [&str; 3] = ["golden.csv", "golden.png", "summary.json"];
 
 /// Writes `golden.csv`, `golden.png` and `summary.json` into `dir`.
 pub fn write_golden(dir: &Path, runs: &[SearchRun], precision: f64) -> Result<(), Error> {

@@ -6,23 +6,31 @@
 //!   space, many seeded runs: per update the mean, std and the range of
 //!   the middle 90 % of runs.
 //!
+//! An experiment claims its output directory before its runs begin
+//! ([`claim`](mod@claim)): held by it alone, an earlier result replaced
+//! only when forced.
+//!
 //! Runs are independent and seeded, and spread over all cores; the results
 //! do not depend on how many cores there are. One seeded run of each is
 //! one function ([`golden::golden_run`], [`power::power_run`]): the command line's
 //! parallel loops and the Python package's sweeps (local processes or
 //! Ray) call the same.
 
+pub mod claim;
 pub mod golden;
 pub mod parallel;
 pub mod power;
 
 pub use golden::write_golden;
-pub use golden::{SearchRun, golden, golden_run, golden_settings, golden_skill, median_rollouts};
+pub use golden::{
+    MAX_VOLUMES, SearchRun, check_volumes, golden, golden_run, golden_settings, golden_skill,
+    median_rollouts,
+};
 pub use parallel::{Done, parallel, parallel_reporting};
 pub use power::{
-    Curve, PER_UPDATE, PowerComparison, PowerCurves, PowerRun, PowerSetup, PowerStats,
-    PowerSummary, SPREAD, THRESHOLDS, Variant, power, power_budget, power_run, power_skill,
-    write_power, write_power_experiment,
+    Curve, MAX_EXPERIMENT_ROLLOUTS, MAX_RUNS, MAX_UPDATES, PER_UPDATE, PowerComparison,
+    PowerCurves, PowerRun, PowerSetup, PowerStats, PowerSummary, SPREAD, THRESHOLDS, Variant,
+    check_power, power, power_budget, power_run, power_skill, write_power, write_power_experiment,
 };
 
 #[cfg(test)]
@@ -57,9 +65,22 @@ mod tests {
     #[test]
     fn settings_out_of_range_are_refused() {
         assert_eq!(power_budget(100).unwrap(), 401);
-        for updates in [0, u32::MAX / 2] {
+        for updates in [0, MAX_UPDATES + 1, u32::MAX / 2] {
             assert!(matches!(power_budget(updates), Err(Error::Setting { .. })));
         }
+        check_power(20, 100).unwrap();
+        let e = check_power(100_000_000, 1).unwrap_err().to_string();
+        assert_eq!(e, "runs 100000000: must be from 1 to 10000 runs");
+        let e = check_power(10_000, 10_000).unwrap_err().to_string();
+        assert!(e.contains("at most 1000000 in one experiment"), "{e}");
+        // Refused before anything is allocated (this would need terabytes).
+        let (cell, skill) = power_skill(GlassKind::Small, 4).unwrap();
+        let refused = power(&skill, &cell, MAX_RUNS + 1, 1, 1, |_| {});
+        assert!(matches!(refused, Err(Error::Setting { .. })));
+        let (cell, skill) = golden_skill().unwrap();
+        let volumes = vec![0.5; MAX_VOLUMES + 1];
+        let refused = golden(&skill, &cell, &volumes, 0.002, 1, |_| {});
+        assert!(matches!(refused, Err(Error::Setting { .. })));
         let cell = CellConfig::standard(GlassKind::Normal);
         for (volume, method) in [(0.5, Algorithm::Power), (1.2, Algorithm::Golden)] {
             let refused = golden_settings(&cell, volume, method, 0.002, 1);

@@ -297,23 +297,57 @@ impl Variant {
 /// Roll-outs per PoWER update in the power experiment.
 pub const PER_UPDATE: u32 = 4;
 
+/// The most seeded runs per variant of a power experiment (the paper
+/// made 20).
+pub const MAX_RUNS: usize = 10_000;
+
+/// The most PoWER updates per run (the paper made 100).
+pub const MAX_UPDATES: u32 = 10_000;
+
+/// The most roll-outs of a whole power experiment, all variants' runs
+/// together (the paper's: 24 060): every roll-out is kept until the curves
+/// are drawn, a few hundred bytes each.
+pub const MAX_EXPERIMENT_ROLLOUTS: u64 = 1_000_000;
+
 /// The roll-outs of a power-experiment run of `updates` updates: 4 per
 /// update, then the final mean's.
 pub fn power_budget(updates: u32) -> Result<u32, Error> {
-    updates
-        .checked_mul(PER_UPDATE)
-        .and_then(|n| n.checked_add(1))
-        .filter(|_| updates > 0)
-        .ok_or_else(|| {
-            Error::setting(
-                Setting::Updates,
-                updates,
-                format!(
-                    "must be at least 1 and at most {}",
-                    (u32::MAX - 1) / PER_UPDATE
-                ),
-            )
-        })
+    if !(1..=MAX_UPDATES).contains(&updates) {
+        return Err(Error::setting(
+            Setting::Updates,
+            updates,
+            format!("must be from 1 to {MAX_UPDATES} updates"),
+        ));
+    }
+    Ok(updates * PER_UPDATE + 1)
+}
+
+/// Checks a power experiment's size before anything is allocated: `runs`
+/// per variant and `updates` per run, each and together within bounds.
+pub fn check_power(runs: usize, updates: u32) -> Result<(), Error> {
+    if !(1..=MAX_RUNS).contains(&runs) {
+        return Err(Error::setting(
+            Setting::Runs,
+            runs,
+            format!("must be from 1 to {MAX_RUNS} runs"),
+        ));
+    }
+    let budget = power_budget(updates)?;
+    let all = (Variant::ALL.len() * runs) as u64 * u64::from(budget);
+    if all > MAX_EXPERIMENT_ROLLOUTS {
+        return Err(Error::Conflict {
+            setting: Setting::Runs,
+            value: runs.to_string(),
+            other: Setting::Updates,
+            other_value: updates.to_string(),
+            why: format!(
+                "{all} roll-outs ({} variants x {runs} runs x {budget}), at most \
+                 {MAX_EXPERIMENT_ROLLOUTS} in one experiment",
+                Variant::ALL.len()
+            ),
+        });
+    }
+    Ok(())
 }
 
 /// The power experiment's cell and skill: joint space, `kernels` per
@@ -387,6 +421,7 @@ pub fn power(
     seed: u64,
     progress: impl Fn(Done) + Sync,
 ) -> Result<[PowerCurves; 3], Error> {
+    check_power(runs, updates)?;
     // Seed by seed, every variant's run of a seed together: runs of one
     // variant take alike, so the finished share tracks the time spent.
     let jobs: Vec<(Variant, u64)> = (0..runs as u64)
@@ -501,6 +536,9 @@ pub fn write_power_experiment(
 
 /// A curve's points and its band, `(low, high)` per point.
 type Band = (Vec<(f64, f64)>, Vec<(f64, f64)>);
+
+/// The files [`write_power`] writes.
+pub const FILES: [&str; 4] = ["power.csv", "power_runs.csv", "power.png", "summary.json"];
 
 /// Writes `power.csv`, `power_runs.csv` (one row per variant and seed),
 /// `power.png` and `summary.json` into `dir`.

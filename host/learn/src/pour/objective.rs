@@ -8,6 +8,7 @@
 use std::borrow::Cow;
 
 use primo_skill::Skill;
+use primo_skill::skill::check_duration;
 
 use crate::Error;
 use crate::learner::{QUERY_DECAY, power_blocks};
@@ -120,7 +121,8 @@ impl Objective {
     }
 
     /// `values` as the vector: [`Objective::len`] numbers, each a finite
-    /// `f32`. The message says what is wrong (the caller names the input).
+    /// `f32`, its τ a movement the skill plans ([`check_duration`]). The
+    /// message says what is wrong (the caller names the input).
     pub fn vector(&self, values: &[f64]) -> Result<Vec<f32>, String> {
         let len = self.len();
         if values.len() != len {
@@ -140,7 +142,12 @@ impl Objective {
                     (false, false) => Err(format!("value {} is {v}, not a finite number", i + 1)),
                 }
             })
-            .collect()
+            .collect::<Result<Vec<f32>, String>>()
+            .and_then(|x| {
+                // τ is θ's last value, before the query.
+                check_duration(x[len - 2], self.rig.dt()).map_err(|e| e.to_string())?;
+                Ok(x)
+            })
     }
 
     /// One roll-out of the vector `x` ([`Objective::vector`]), the scale's

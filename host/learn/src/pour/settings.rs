@@ -11,6 +11,7 @@ use crate::Error;
 use crate::algorithm::Algorithm;
 use crate::error::Setting;
 use crate::learner::{QUERY_DECAY, power_blocks, setup as learner_setup, wire_query};
+use crate::rollouts::MAX_ROLLOUTS;
 
 /// What to learn and how.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -141,8 +142,12 @@ impl Settings {
                 "must be a positive volume in litres".into(),
             );
         }
-        if self.max_rollouts == 0 {
-            return bad(Setting::MaxRollouts, &0, "must be at least 1".into());
+        if !(1..=MAX_ROLLOUTS).contains(&self.max_rollouts) {
+            return bad(
+                Setting::MaxRollouts,
+                &self.max_rollouts,
+                format!("must be from 1 to {MAX_ROLLOUTS} roll-outs"),
+            );
         }
         if !(self.gain.is_finite() && self.gain != 0.0) {
             return bad(

@@ -13,11 +13,12 @@ use crate::Error;
 use crate::algorithm::Algorithm;
 use crate::error::Setting;
 use crate::learner::QUERY_DECAY;
+use crate::rollouts::MAX_ROLLOUTS;
 
 use super::schema::{EvaluateKeys, File, GoalKeys, LearnerKeys, MovementKeys};
 use super::spec::{
-    DEFAULT_TIMEOUT, Evaluate, Goal, LearnerSettings, LimitsSpec, PourTask, RewardRule, Task,
-    TaskDemo, VERSION, robot_preset,
+    DEFAULT_TIMEOUT, Evaluate, Goal, LearnerSettings, LimitsSpec, MAX_TIMEOUT, PourTask,
+    RewardRule, Task, TaskDemo, VERSION, robot_preset,
 };
 
 /// Messages that name a place in the task file.
@@ -391,8 +392,15 @@ fn learner(
         ));
     }
     let max_rollouts = match &l.max_rollouts {
-        Some(v) if *v.get_ref() == 0 => {
-            return Err(p.at(v.span(), "[learner] max_rollouts", "must be at least 1"));
+        Some(v) if !(1..=MAX_ROLLOUTS).contains(v.get_ref()) => {
+            return Err(p.at(
+                v.span(),
+                "[learner] max_rollouts",
+                format!(
+                    "{}: must be from 1 to {MAX_ROLLOUTS} roll-outs",
+                    v.get_ref()
+                ),
+            ));
         }
         Some(v) => *v.get_ref(),
         None if power => 200,
@@ -605,7 +613,14 @@ fn evaluate(p: &Place, raw: &Spanned<EvaluateKeys>, dir: &Path) -> Result<Evalua
         let timeout = e
             .timeout
             .as_ref()
-            .map(|t| positive(p, t, "[evaluate] timeout"))
+            .map(|t| match positive(p, t, "[evaluate] timeout")? {
+                secs if secs > MAX_TIMEOUT => Err(p.at(
+                    t.span(),
+                    "[evaluate] timeout",
+                    format!("an evaluator may take at most {MAX_TIMEOUT} s"),
+                )),
+                secs => Ok(secs),
+            })
             .transpose()?
             .unwrap_or(DEFAULT_TIMEOUT);
         return Ok(Evaluate::Command {

@@ -27,7 +27,7 @@ use crate::output::{create_dir, write_file};
 use crate::pour::run::{CellSpec, Pour};
 use crate::pour::settings::Settings;
 use crate::pour::skill::{DemoFile, SkillSpec, Space};
-use crate::rollouts::{Entry, Record, query_text};
+use crate::rollouts::{Entry, MAX_ROLLOUTS, Record, query_text};
 use crate::run::{Cell, Execute, Kind, LearnerSpec, ON_SCALE, Start};
 
 use super::change::Changes;
@@ -65,6 +65,14 @@ impl Kind for TaskRun {
                 ON_SCALE,
                 "a task's own evaluator weighs nothing of primo's: the learner runs on \
                  primo's scale only in the built-in pour on a real cell",
+            ));
+        }
+        let budget = self.task.learner.max_rollouts;
+        if !(1..=MAX_ROLLOUTS).contains(&budget) {
+            return Err(Error::setting(
+                Setting::MaxRollouts,
+                budget,
+                format!("must be from 1 to {MAX_ROLLOUTS} roll-outs"),
             ));
         }
         Ok(())

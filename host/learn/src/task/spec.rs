@@ -19,6 +19,9 @@ pub const VERSION: u32 = 1;
 /// Seconds an evaluator program may take for one roll-out, by default.
 pub const DEFAULT_TIMEOUT: f64 = 60.0;
 
+/// The longest an evaluator may be given for one roll-out, s (a day).
+pub const MAX_TIMEOUT: f64 = 86_400.0;
+
 /// How a reward is made from the error when the evaluator gives none.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
