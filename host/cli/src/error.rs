@@ -94,9 +94,13 @@ impl CliError {
                     dir.display()
                 ))
             }
-            Error::OtherKind { ref kind, .. } => {
+            Error::OtherKind { ref kind, ref dir } => {
+                // `primo learn` continues either kind.
                 let other = if kind == "pour" { "pour" } else { "learn" };
-                Self::input(format!("{e}: continue it with `primo {other} --resume`"))
+                Self::input(format!(
+                    "{e}, written by `primo {other}`: continue it with `primo {other} --resume {}`",
+                    dir.display()
+                ))
             }
             e => e.into(),
         }

@@ -510,6 +510,37 @@ fn a_resumed_run_takes_changed_bounds_budget_and_evaluator_that_keep_its_roll_ou
 }
 
 #[test]
+fn each_command_names_the_command_that_continues_the_others_log() {
+    // A task run that stopped: its advice is `primo learn --resume`, and
+    // `primo pour --resume` sends the user there, calling nothing corrupt.
+    let file = flaky("advice", "crash");
+    let out = tmp("out-advice");
+    let o = out.to_str().unwrap();
+    let (code, _, err) = learn(&file, &out, &[]);
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains(&format!("continue with `primo learn --resume {o}`")), "{err}");
+    let log = std::fs::read(out.join("run.log")).unwrap();
+    let (code, _, err) = primo(&["pour", "--resume", o]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains(&format!(
+            "is a task run, written by `primo learn`: continue it with `primo learn --resume {o}`"
+        )),
+        "{err}"
+    );
+    assert!(!err.contains("corrupt"), "{err}");
+    assert_eq!(std::fs::read(out.join("run.log")).unwrap(), log);
+    // A pour's log is continued (here: reported again) by `primo learn`.
+    let pour = tmp("out-advice-pour");
+    let p = pour.to_str().unwrap();
+    let (code, _, err) = primo(&["pour", "--max-rollouts", "3", "--out", p]);
+    assert_eq!(code, 0, "{err}");
+    let (code, stdout, err) = primo(&["learn", "--resume", p]);
+    assert_eq!(code, 0, "{err}");
+    assert!(stdout.contains("the run is complete: reporting"), "{stdout}");
+}
+
+#[test]
 fn a_killed_run_resumes_with_nothing_lost() {
     // A slow evaluator, so the kill lands mid-run.
     let slow = tmp("slow.py");
