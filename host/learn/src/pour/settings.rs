@@ -135,7 +135,9 @@ impl Settings {
         // The glass raises the search's low end to bottle + target − holds,
         // below the bottle (the glass holds more than the target): the
         // bottle, where error learning starts, stays inside.
-        if !(self.precision.is_finite() && self.precision > 0.0) {
+        // The learners take it as f32: it must stay positive and finite there.
+        let precision = self.precision as f32;
+        if !(precision.is_finite() && precision > 0.0) {
             return bad(
                 Setting::Precision,
                 &self.precision,
