@@ -9,7 +9,7 @@ mod common;
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::hash::{Hash, Hasher};
-use std::io::Read;
+use std::io::{Read, Write};
 use std::os::unix::process::CommandExt;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
@@ -46,6 +46,7 @@ const VALID: &[&str] = &[
     "rollout --serve",
     "learn --task task.toml --out o --max-rollouts !2",
     "learn --task task.toml --out o --max-rollouts !2 --seed 5 --force",
+    "learn --task operator.toml --out o --max-rollouts !2",
     "learn --resume run",
     "learn --resume run --task task.toml --max-rollouts !3",
     "learn --resume pour-run",
@@ -150,7 +151,8 @@ fn value() -> impl Strategy<Value = String> {
             "=", "a=b", "auto", "none", "joint", "cartesian", "small", "golden", "power",
             "fri:", "fri:127.0.0.1:0", "fri:999.1.1.1", "postcard:", "qemu:missing",
             "missing.csv", "dir", "dir/", "dir/x.csv", "/dev/null", "o", "o.json", "o.csv",
-            "reach.csv", "reach.json", "wave.json", "task.toml", "params.json", "run",
+            "reach.csv", "reach.json", "wave.json", "task.toml", "operator.toml", "params.json",
+            "run",
             "pour-run", "run/run.log", "missing/x",
         ])
         .prop_map(String::from),
@@ -350,7 +352,11 @@ fn inputs() -> &'static Path {
         let task = std::fs::read_to_string(throw.join("throw.toml"))
             .unwrap()
             .replace("demos/", "");
+        let operator = task
+            .replace("command = [\"python3\", \"throw.py\"]", "operator = true")
+            .replace("timeout = 30", "");
         std::fs::write(dir.join("task.toml"), task).unwrap();
+        std::fs::write(dir.join("operator.toml"), operator).unwrap();
         let at = |name: &str| dir.join(name).display().to_string();
         let made = |args: &[&str]| {
             let (code, _, err) = primo(args);
@@ -423,12 +429,26 @@ fn inputs() -> &'static Path {
     })
 }
 
-/// One generated run: its arguments, and an input file changed first (with
-/// the run logs' CRCs then made right, or not).
+/// One generated run: its arguments, an input file changed first (with
+/// the run logs' CRCs then made right, or not), and the lines on its stdin
+/// (`@params` is params.json's).
 #[derive(Debug, Clone)]
 struct Case {
     args: Vec<String>,
     mutation: Option<(String, Mutation, bool)>,
+    stdin: Vec<String>,
+}
+
+/// Lines for an operator's answers or `rollout --serve`'s requests.
+fn stdin() -> impl Strategy<Value = Vec<String>> {
+    let line = prop_oneof![
+        3 => value(),
+        2 => Just("@params".to_string()),
+        1 => (0.5..2.5f64).prop_map(|x| format!("{x:.3}")),
+        1 => prop::sample::select(vec!["failed it fell", "reward 0.5", "1 reward 2", "1e300"])
+            .prop_map(String::from),
+    ];
+    prop::collection::vec(line, 0..4)
 }
 
 /// A line's tokens, and which of them bound its size (marked `!`, with
@@ -469,8 +489,11 @@ fn inputs_of(args: &[String]) -> Vec<String> {
         } else if path.is_file() {
             files.push(name.to_string());
         }
+        if name == "task.toml" || name == "operator.toml" {
+            files.extend(["fast.csv", "slow.csv"].map(String::from));
+        }
         if name == "task.toml" {
-            files.extend(["fast.csv", "slow.csv", "throw.py"].map(String::from));
+            files.push("throw.py".into());
         }
     }
     files
@@ -491,7 +514,8 @@ fn corrupted(files: bool) -> impl Strategy<Value = Case> {
         mutation(),
         any::<bool>(),
     );
-    (line, corruption).prop_map(move |(line, (how, at, flag, value, mutation, recrc))| {
+    (line, corruption, stdin()).prop_map(move |(line, corruption, stdin)| {
+        let (how, at, flag, value, mutation, recrc) = corruption;
         let (mut args, pinned) = tokens(line);
         let free: Vec<usize> = (0..args.len()).filter(|i| !pinned.contains(i)).collect();
         let flag = FLAGS[flag.index(FLAGS.len())].to_string();
@@ -512,6 +536,7 @@ fn corrupted(files: bool) -> impl Strategy<Value = Case> {
             return Case {
                 args,
                 mutation: Some((file, mutation, recrc)),
+                stdin,
             };
         }
         let pick = |from: &[usize]| (!from.is_empty()).then(|| from[at.index(from.len())]);
@@ -544,6 +569,7 @@ fn corrupted(files: bool) -> impl Strategy<Value = Case> {
         Case {
             args,
             mutation: None,
+            stdin,
         }
     })
 }
@@ -574,7 +600,8 @@ fn random_flags() -> impl Strategy<Value = Case> {
         ),
         0..6,
     );
-    (prop::sample::select(RANDOM.to_vec()), flags).prop_map(|((command, bound), flags)| {
+    let command = prop::sample::select(RANDOM.to_vec());
+    (command, flags, stdin()).prop_map(|((command, bound), flags, stdin)| {
         let mut args: Vec<String> = command.split(' ').map(String::from).collect();
         args.extend(bound.split(' ').filter(|t| !t.is_empty()).map(String::from));
         for (flag, value) in flags {
@@ -584,6 +611,7 @@ fn random_flags() -> impl Strategy<Value = Case> {
         Case {
             args,
             mutation: None,
+            stdin,
         }
     })
 }
@@ -657,22 +685,25 @@ fn outputs(args: &[String]) -> Vec<PathBuf> {
 /// Cases run, by the test and exit status.
 static STATUSES: Mutex<BTreeMap<(&str, i32), usize>> = Mutex::new(BTreeMap::new());
 
-/// Runs `primo args` in `dir`, its stdin empty, within [`LIMIT`]: exit
-/// status (128 + the signal if one ended it), stdout, stderr.
-fn run(dir: &Path, args: &[String]) -> Result<(i32, String, String), String> {
+/// Runs `primo args` in `dir` with `input` on its stdin, within [`LIMIT`]:
+/// exit status (128 + the signal if one ended it), stdout, stderr.
+fn run(dir: &Path, args: &[String], input: Vec<u8>) -> Result<(i32, String, String), String> {
     use std::os::unix::process::ExitStatusExt;
     let mut child = Command::new(env!("CARGO_BIN_EXE_primo"))
         .args(args)
         .current_dir(dir)
         .env_remove("RUST_BACKTRACE")
         .env_remove("PRIMO_FIRMWARE")
-        .stdin(Stdio::null())
+        .stdin(Stdio::piped())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         // Its own group, so that a timeout ends an evaluator it started too.
         .process_group(0)
         .spawn()
         .unwrap();
+    let mut stdin = child.stdin.take().unwrap();
+    // Written aside: primo may read none of it, or exit before.
+    std::thread::spawn(move || stdin.write_all(&input));
     let (tx, rx) = std::sync::mpsc::channel();
     for (k, mut pipe) in [
         Box::new(child.stdout.take().unwrap()) as Box<dyn Read + Send>,
@@ -756,7 +787,14 @@ fn check(test: &'static str, case: &Case) -> Result<(), TestCaseError> {
     let outputs = outputs(&case.args);
     let before = snapshot(&dir, &outputs);
     let shown = format!("`primo {}` in {}", case.args.join(" "), dir.display());
-    let (code, _, stderr) = run(&dir, &case.args).map_err(|e| fail(&shown, &e))?;
+    let params = std::fs::read_to_string(dir.join("params.json")).unwrap_or_default();
+    let input: String = case
+        .stdin
+        .iter()
+        .map(|l| l.replace("@params", params.trim()) + "\n")
+        .collect();
+    let (code, _, stderr) =
+        run(&dir, &case.args, input.into_bytes()).map_err(|e| fail(&shown, &e))?;
     *STATUSES.lock().unwrap().entry((test, code)).or_default() += 1;
     if matches!(code, 101 | 134) || code > 128 && code != 130 && code != 141 {
         return Err(fail(&shown, &format!("exit status {code}: {stderr}")));
@@ -809,7 +847,9 @@ fn robust(test: &'static str, seed: u8, cases: u32, strategy: impl Strategy<Valu
         .filter(|((t, _), _)| *t == test)
         .map(|((_, code), n)| (*code, *n))
         .collect();
-    println!(
+    // Past the harness's capture: the counts are the test's report.
+    let _ = writeln!(
+        std::io::stderr(),
         "{test}: {} cases in {:.0?}, by exit status: {statuses:?}",
         statuses.values().sum::<usize>(),
         started.elapsed()
