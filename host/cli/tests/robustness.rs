@@ -2,8 +2,9 @@
 //! corrupted (a flag dropped, duplicated or replaced, a value replaced, an
 //! input file mutated) and random flag lists. Whatever it is given, primo
 //! must not panic or abort, must end within a bound, must say why on
-//! stderr when it exits non-zero, and must touch no file but its named
-//! output. Seeded: every run tries the same cases.
+//! stderr when it exits non-zero, must refuse a setting before the learner
+//! does, and must touch no file but its named output. Seeded: every run
+//! tries the same cases.
 
 mod common;
 
@@ -806,6 +807,13 @@ fn check(test: &'static str, case: &Case) -> Result<(), TestCaseError> {
         return Err(fail(
             &shown,
             &format!("exit status {code} and nothing on stderr"),
+        ));
+    }
+    // What the learner refuses, the checks before any work must have.
+    if stderr.contains("learner: invalid") {
+        return Err(fail(
+            &shown,
+            &format!("refused only by the learner: {stderr}"),
         ));
     }
     let after = snapshot(&dir, &outputs);
