@@ -116,7 +116,9 @@ fn golden(
 ) -> Result<(), CliError> {
     let started = std::time::Instant::now();
     check(out, &primo_learn::experiment::golden::FILES, force)?;
-    if !(precision.is_finite() && precision > 0.0) {
+    // The learners take it as f32: it must stay positive and finite there.
+    let single = precision as f32;
+    if !(single.is_finite() && single > 0.0) {
         return Err(CliError::input(format!(
             "--precision {precision}: must be a positive volume in litres"
         )));

@@ -154,3 +154,21 @@ fn a_roll_outs_duration_is_bounded_and_the_server_goes_on() {
         "at most 600 s",
     );
 }
+
+/// A precision that is 0 or infinite as the learners' f32 is refused
+/// before a run starts, not by the learner in a run that can never go on.
+#[test]
+fn a_precision_beyond_f32_is_refused() {
+    let out = tmp("precision-beyond-f32");
+    let o = out.to_str().unwrap();
+    for precision in ["1e-300", "1e300"] {
+        // The value is said in full decimals.
+        let says = ": must be a positive volume in litres";
+        refused(&["pour", "--precision", precision, "--out", o], says);
+        refused(
+            &["experiment", "golden", "--precision", precision, "--out", o],
+            says,
+        );
+    }
+    assert!(!out.exists(), "nothing was created");
+}

@@ -122,7 +122,10 @@ impl Settings {
                     "must be a positive volume in litres".into(),
                 );
             }
-            if holds <= self.target {
+            // The learner's bounds are f32: there the raised low end must
+            // stay below the bottle too.
+            let raised = (self.bottle + self.target - holds) as f32;
+            if holds <= self.target || raised >= self.bottle as f32 {
                 return Err(Error::Conflict {
                     setting: Setting::Target,
                     value: self.target.to_string(),
@@ -135,7 +138,9 @@ impl Settings {
         // The glass raises the search's low end to bottle + target − holds,
         // below the bottle (the glass holds more than the target): the
         // bottle, where error learning starts, stays inside.
-        if !(self.precision.is_finite() && self.precision > 0.0) {
+        // The learners take it as f32: it must stay positive and finite there.
+        let precision = self.precision as f32;
+        if !(precision.is_finite() && precision > 0.0) {
             return bad(
                 Setting::Precision,
                 &self.precision,
@@ -208,6 +213,26 @@ mod tests {
     use crate::pour::skill::built_in_skill;
     use primo_sim::cell::CellConfig;
     use primo_sim::cell::GlassKind;
+
+    /// A glass that holds more than the target by less than f32 resolves
+    /// is refused, not by the learner once the run has started.
+    #[test]
+    fn a_glass_that_holds_the_target_but_for_f32_rounding_is_refused() {
+        let mut s = Settings::paper(Algorithm::Golden, 0.5, 1e-41, 1);
+        s.glass_holds = Some(1e-40);
+        let e = s.validate().unwrap_err();
+        assert!(
+            matches!(
+                e,
+                Error::Conflict {
+                    setting: Setting::Target,
+                    other: Setting::GlassHolds,
+                    ..
+                }
+            ),
+            "{e}"
+        );
+    }
 
     #[test]
     fn power_blocks_explore_a_fraction_of_each_blocks_spread() {

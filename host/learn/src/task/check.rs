@@ -510,6 +510,13 @@ fn goal(p: &Place, raw: &Spanned<GoalKeys>, dim: usize, method: Algorithm) -> Re
         .as_ref()
         .map(|v| positive(p, v, "[goal] precision"))
         .transpose()?;
+    // The learners take it as f32: it must stay positive and finite there.
+    if let (Some(v), Some(x)) = (&g.precision, precision)
+        && !((x as f32).is_finite() && x as f32 > 0.0)
+    {
+        let why = format!("{x}: must be a positive number");
+        return Err(p.at(v.span(), "[goal] precision", why));
+    }
     let need = |what: &str| {
         Error::Invalid(format!(
             "{}:{}: [goal]: error learning needs `{what}`",
@@ -796,6 +803,17 @@ target = 0.2
         let task = parse(pour).unwrap();
         assert!(task.demos.is_empty() && task.limits.is_none());
         assert!(matches!(task.evaluate, Evaluate::Pour(PourTask { target, .. }) if target == 0.2));
+    }
+
+    /// A precision the f32 learners would see as 0 or infinite is refused
+    /// here, not by the learner once the run has started.
+    #[test]
+    fn a_precision_beyond_f32_is_refused() {
+        for precision in ["1e-300", "1e300"] {
+            let e = refused(&THROW.replace("0.005", precision));
+            assert!(e.contains("[goal] precision: "), "{e}");
+            assert!(e.ends_with(": must be a positive number"), "{e}");
+        }
     }
 
     #[test]

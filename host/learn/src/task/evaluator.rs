@@ -117,12 +117,14 @@ fn check(a: Answer, dim: usize) -> Result<Answer, String> {
                 m.len()
             ));
         }
-        if m.iter().any(|v| !v.is_finite()) {
+        // The learners take them as f32: finite there too, or a measured
+        // 1e300 would end the run in the learner instead of being refused.
+        if m.iter().any(|v| !(*v as f32).is_finite()) {
             return Err("`measured` holds a value that is not a finite number".into());
         }
     }
     if let Some(r) = a.reward
-        && !(r.is_finite() && r >= 0.0)
+        && !((r as f32).is_finite() && r >= 0.0)
     {
         return Err(format!("`reward` {r}: must be a finite number >= 0"));
     }
@@ -468,6 +470,16 @@ mod tests {
         );
         assert!(parse_typed("1 2", 1).unwrap_err().contains("has 2 values"));
         assert!(parse_typed("", 1).is_err());
+        // Beyond f32, as the learners take them: asked again.
+        assert!(
+            parse_typed("1e300", 1)
+                .unwrap_err()
+                .contains("not a finite number")
+        );
+        let e = parse_typed("1 reward 1e300", 1).unwrap_err();
+        assert!(e.contains("must be a finite number >= 0"), "{e}");
+        let e = parse_answer(r#"{"rollout": 1, "measured": [1e39]}"#, 1, 1).unwrap_err();
+        assert!(e.contains("not a finite number"), "{e}");
     }
 
     struct Script(Vec<&'static str>, Vec<String>);
