@@ -20,7 +20,8 @@ use crate::progress::Progress;
 /// `primo experiment …`.
 #[derive(Debug, clap::Subcommand)]
 pub enum ExperimentCommand {
-    /// Fig. 3: error learning (golden section and Illinois) per volume.
+    /// Fig. 3: error learning per volume, by each of the five error
+    /// learners (golden section, Illinois, secant, fixed gain, weighted gain).
     Golden {
         /// Bottle volumes, l.
         #[arg(

@@ -18,6 +18,7 @@ use primo_sim::scale_device::{Control, Device, DeviceConfig, LoadHandle, PtyServ
 
 use crate::error::CliError;
 use crate::output::say;
+use crate::terminal::in_background;
 
 /// `primo scale` subcommands.
 #[derive(Debug, Subcommand)]
@@ -29,7 +30,8 @@ pub enum ScaleCommand {
     /// (`ok ...` or `error: ...`): `load <grams>` puts a load on the pan,
     /// `garbage <text>` sends a raw line (`\xNN`, `\r`, `\n`, `\t`, `\\`
     /// escapes), `silent <seconds>` answers nothing for a while (0 ends
-    /// it), `power-on` sends the power-on line. Serves until stdin closes.
+    /// it), `power-on` sends the power-on line. Serves on after stdin closes,
+    /// until the process is killed.
     Serve(ServeArgs),
     /// Read one stable weight from a scale and print it: an MT-SICS scale,
     /// or primo's load-cell scale (`postcard:PORT`, or its firmware in
@@ -206,20 +208,25 @@ fn serve(args: &ServeArgs) -> Result<(), CliError> {
     let server = PtyServer::start(device)
         .map_err(|e| CliError::other(format!("cannot serve on a pseudo-terminal: {e}")))?;
     say(server.path())?;
-    for (i, line) in std::io::stdin().lock().split(b'\n').enumerate() {
-        let line = line.map_err(|e| CliError::other(format!("stdin: {e}")))?;
-        let line = line.strip_suffix(b"\r").unwrap_or(&line);
-        if line.trim_ascii().is_empty() {
-            continue;
+    // Operator commands while stdin is open (not read from the background
+    // of a terminal, which would stop the process); the scale is served
+    // on until the process is killed, as `primo robot sim-krc` serves.
+    if !in_background() {
+        for (i, line) in std::io::stdin().lock().split(b'\n').enumerate() {
+            let line = line.map_err(|e| CliError::other(format!("stdin: {e}")))?;
+            let line = line.strip_suffix(b"\r").unwrap_or(&line);
+            if line.trim_ascii().is_empty() {
+                continue;
+            }
+            let reply = match operate(&server, &load, line) {
+                Ok(done) => format!("ok {done}"),
+                Err(e) => format!("error: stdin line {}: {e}", i + 1),
+            };
+            say(&reply)?;
         }
-        let reply = match operate(&server, &load, line) {
-            Ok(done) => format!("ok {done}"),
-            Err(e) => format!("error: stdin line {}: {e}", i + 1),
-        };
-        say(&reply)?;
     }
     server
-        .stop()
+        .serve_on()
         .map_err(|e| CliError::other(format!("serving failed: {e}")))
 }
 
@@ -461,7 +468,14 @@ fn set(args: &ScaleArgs, setting: Setting) -> Result<(), CliError> {
         }
         (Opened::MtSics(mut client), Setting::Tare) => {
             let tare = client.tare()?;
-            say(&format!("tared {tare}"))
+            say(&format!("tared {tare}"))?;
+            // Every connection begins with the reset `@`, which clears it.
+            eprintln!(
+                "primo scale tare: warning: an MT-SICS balance keeps this tare only until \
+                 primo next connects (each connection begins with the reset `@`): the next \
+                 `primo scale read` weighs the gross load again"
+            );
+            Ok(())
         }
         (Opened::MtSics(_), Setting::Calibrate(_)) => Err(CliError::input(
             "calibrate: an MT-SICS balance calibrates itself (its own menu or `C` \

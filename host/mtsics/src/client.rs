@@ -150,13 +150,30 @@ impl fmt::Display for ScaleError {
                     waited.as_secs_f64()
                 ),
             ),
-            (ErrorKind::Overload(line), _) => {
-                got(f, line, "overload: the load is beyond the scale's range")
-            }
+            // `Z` and `T` answer `+`/`-` for their own ranges, not the
+            // weighing range `S` answers it for.
+            (ErrorKind::Overload(line), _) => got(
+                f,
+                line,
+                match sent.as_str() {
+                    "Z" => {
+                        "the load is beyond the balance's zero-setting range (it zeroes only \
+                        near its empty pan): empty the pan, or tare instead"
+                    }
+                    "T" => "the load is beyond the balance's taring range",
+                    _ => "overload: the load is beyond the scale's weighing range",
+                },
+            ),
             (ErrorKind::Underload(line), _) => got(
                 f,
                 line,
-                "underload: the load is below the scale's zero range",
+                match sent.as_str() {
+                    "Z" => {
+                        "the load is below the balance's zero-setting range (it zeroes only \
+                        near its empty pan)"
+                    }
+                    _ => "underload: the load is below the scale's zero range",
+                },
             ),
             (ErrorKind::Rejected(line), _) => {
                 let why = match line.as_str() {

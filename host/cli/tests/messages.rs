@@ -1,0 +1,97 @@
+//! Messages in the user's terms: no internal names, the values and what
+//! they bound, and one answer for one fault whichever command meets it.
+use std::path::Path;
+
+mod common;
+use common::{primo, tmp};
+
+fn reach() -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples/reach.csv")
+        .display()
+        .to_string()
+}
+
+/// `reach.csv` fitted, in this test's own file.
+fn fitted(name: &str) -> String {
+    let json = tmp(name).display().to_string();
+    let (code, _, err) = primo(&["dmp", "fit", "--demo", &reach(), "--out", &json]);
+    assert_eq!(code, 0, "{err}");
+    json
+}
+
+#[test]
+fn a_spreadsheets_byte_order_mark_is_accepted() {
+    let bom = tmp("bom.csv");
+    let text = std::fs::read_to_string(reach()).unwrap();
+    std::fs::write(&bom, format!("\u{feff}{text}")).unwrap();
+    let (code, out, err) = primo(&["dmp", "fit", "--demo", bom.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("\"names\""), "{out}");
+}
+
+#[test]
+fn a_csv_given_as_a_dmp_file_is_named_for_what_it_is() {
+    let (code, _, err) = primo(&["dmp", "run", &reach()]);
+    assert_eq!((code, err.lines().count()), (2, 1), "{err}");
+    assert!(err.contains("not a primo DMP file"), "{err}");
+    assert!(err.contains("primo dmp fit"), "{err}");
+    assert!(!err.contains("expected ident"), "{err}");
+}
+
+#[test]
+fn bounds_are_named_by_their_values_not_their_constants() {
+    let json = fitted("bounds.json");
+    for (args, says) in [
+        (
+            &["--tau", "1e-8"][..],
+            "tau must be finite and at least 0.001 s",
+        ),
+        (
+            &["--goal", "1e12,1"][..],
+            "beyond ±1e6, the bound on any position",
+        ),
+    ] {
+        let mut all = vec!["dmp", "run", json.as_str()];
+        all.extend_from_slice(args);
+        let (code, _, err) = primo(&all);
+        assert_eq!(code, 2, "{err}");
+        assert!(err.contains(says), "{args:?}: {err}");
+        assert!(
+            !err.contains("MIN_TAU") && !err.contains("MAX_ABS"),
+            "{err}"
+        );
+    }
+}
+
+#[test]
+fn experiment_golden_names_its_five_learners() {
+    let (code, out, _) = primo(&["experiment", "golden", "--help"]);
+    assert_eq!(code, 0);
+    let first = out.lines().next().unwrap_or("");
+    for learner in [
+        "golden section",
+        "Illinois",
+        "secant",
+        "fixed gain",
+        "weighted gain",
+    ] {
+        assert!(out.contains(learner), "{learner}: {first}");
+    }
+}
+
+#[test]
+fn the_real_cells_settings_without_it_are_refused_in_one_line() {
+    for args in [
+        &["pour", "--density", "0"][..],
+        &["pour", "--baud", "19200"][..],
+        &["learn", "--task", "t.toml", "--confirm"][..],
+    ] {
+        let (code, out, err) = primo(args);
+        assert_eq!((code, err.lines().count()), (2, 1), "{args:?}: {err}");
+        assert!(out.is_empty());
+        assert!(err.contains("is for the real cell's scale"), "{err}");
+        assert!(err.contains("--robot and --scale"), "{err}");
+        assert!(!err.contains("required arguments"), "{err}");
+    }
+}
