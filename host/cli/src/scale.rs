@@ -382,7 +382,9 @@ fn open(args: &ScaleArgs) -> Result<Opened, CliError> {
         e => e.into(),
     })?;
     Ok(match spec {
-        ScaleSpec::Postcard(port) => Opened::Primo(PrimoScale::open(&port, settle)?, None),
+        ScaleSpec::Postcard(port) => {
+            Opened::Primo(PrimoScale::open(&port, settle).map_err(on_port)?, None)
+        }
         ScaleSpec::Qemu(cell) => Opened::Primo(
             PrimoScale::boot(&Qemu::find(Image::Scale)?, &cell, settle)?,
             None,
@@ -395,9 +397,19 @@ fn open(args: &ScaleArgs) -> Result<Opened, CliError> {
                 settle,
                 ..ClientConfig::default()
             };
-            Opened::MtSics(Client::open(&port, config)?)
+            Opened::MtSics(Client::open(&port, config).map_err(|e| on_port(e.into()))?)
         }
     })
+}
+
+/// A scale's error, a port that would not open named by its flag here.
+fn on_port(e: primo_learn::Error) -> CliError {
+    match e {
+        primo_learn::Error::Open { path, fault, .. } => {
+            CliError::opening(format!("--port {}: {fault}", path.display()), &fault)
+        }
+        e => e.into(),
+    }
 }
 
 fn read(args: &ReadArgs) -> Result<(), CliError> {

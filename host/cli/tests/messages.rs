@@ -95,3 +95,84 @@ fn the_real_cells_settings_without_it_are_refused_in_one_line() {
         assert!(!err.contains("required arguments"), "{err}");
     }
 }
+
+#[test]
+fn a_bad_port_gets_one_answer_from_every_command() {
+    let not_a_port = "/dev/null: not a serial port: it is a device that is not a terminal";
+    for (args, flag) in [
+        (&["pour", "--coprocessor", "/dev/null"][..], "--coprocessor"),
+        (&["scale", "read", "--port", "/dev/null"][..], "--port"),
+        (
+            &["scale", "read", "--port", "postcard:/dev/null"][..],
+            "--port",
+        ),
+        (
+            &[
+                "pour",
+                "--robot",
+                "fri:127.0.0.1:49951",
+                "--scale",
+                "/dev/null",
+                "--glass-holds",
+                "none",
+                "--out",
+                tmp("bad-scale").to_str().unwrap(),
+            ][..],
+            "--scale",
+        ),
+    ] {
+        let (code, _, err) = primo(args);
+        let err = err.lines().last().unwrap_or("");
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert_eq!(err, format!("primo: {flag} {not_a_port}"), "{args:?}");
+    }
+    let (code, _, err) = primo(&["pour", "--coprocessor", "/no/such/tty"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("--coprocessor /no/such/tty: no such file or device"),
+        "{err}"
+    );
+}
+
+#[test]
+fn a_directory_given_as_a_file_is_named_a_directory() {
+    let dir = tmp("a-directory");
+    std::fs::create_dir_all(&dir).unwrap();
+    let d = dir.to_str().unwrap();
+    let task = tmp("dir-demo.toml");
+    std::fs::write(
+        &task,
+        format!(
+            "version = 1\n[[demo]]\nfile = \"{d}\"\nquery = [1.0]\n[[demo]]\nfile = \"{}\"\n\
+             query = [2.0]\n[goal]\ndesired = [1.5]\nlow = [1.0]\nhigh = [2.0]\n\
+             precision = 0.01\n[learner]\nmethod = \"golden\"\nmax_rollouts = 3\n\
+             [evaluate]\ncommand = [\"true\"]\n",
+            reach()
+        ),
+    )
+    .unwrap();
+    let first = format!("--demo {d}=0.2");
+    let first: Vec<&str> = first.split(' ').collect();
+    for (args, says) in [
+        (
+            &["pour", first[0], first[1], "--demo", "/tmp=0.3"][..],
+            format!("--demo {d}: not a file: it is a directory"),
+        ),
+        (
+            &["dmp", "fit", "--demo", d][..],
+            format!("{d}: not a file: it is a directory"),
+        ),
+        (
+            &["learn", "--task", task.to_str().unwrap()][..],
+            format!("{d}: not a file: it is a directory"),
+        ),
+        (
+            &["learn", "--task", d][..],
+            format!("--task {d}: not a file: it is a directory"),
+        ),
+    ] {
+        let (code, _, err) = primo(args);
+        assert_eq!((code, err.lines().count()), (2, 1), "{args:?}: {err}");
+        assert!(err.contains(&says), "{args:?}: {err}");
+    }
+}

@@ -376,8 +376,11 @@ fn primo_scale_read_prints_one_stable_weight() {
         );
     }
     let (code, _, err) = primo(&["scale", "read", "--port", "/nonexistent/tty"]);
-    assert_eq!(code, 1);
-    assert!(err.contains("/nonexistent/tty: cannot open"), "{err}");
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("--port /nonexistent/tty: no such file or device"),
+        "{err}"
+    );
 
     let served = Served::start(&["--load", "5000"]);
     let (code, _, err) = primo(&["scale", "read", "--port", &served.path]);
@@ -677,7 +680,7 @@ fn a_path_that_is_no_serial_port_is_refused() {
         assert_eq!((code, out.as_str()), (2, ""), "{err}");
         assert_eq!(
             err.trim_end(),
-            format!("primo: {port}: not a serial port: it is {what}")
+            format!("primo: --port {port}: not a serial port: it is {what}")
         );
     }
 }

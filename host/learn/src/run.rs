@@ -16,7 +16,6 @@ use primo_skill::Skill;
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 
-use crate::Error;
 use crate::algorithm::Algorithm;
 use crate::coprocessor::{Image, Link, Qemu};
 use crate::learner::{Learner, check_examples, examples_crc};
@@ -24,6 +23,7 @@ use crate::lock;
 use crate::output::{check_dir, create_dir};
 use crate::rollouts::{Entry, Scored, check_replay, learn_logged};
 use crate::runlog::{self, RunEvent, RunLog};
+use crate::{Error, Setting};
 use primo_protocol::learner::Setup;
 
 /// The run log's format version, one for every kind. Version 4: the
@@ -458,7 +458,7 @@ pub fn open_learner(spec: &LearnerSpec) -> Result<(Option<Qemu>, Learner, Option
                 None => Qemu::find(Image::Coprocessor)?,
             };
             let qemu = Qemu::start(&elf)?;
-            let link = Link::open(qemu.pty())?;
+            let link = Link::open(qemu.pty(), Setting::Coprocessor)?;
             let what = format!(
                 "learner: firmware {} on QEMU mps2-an386, {}",
                 elf.display(),
@@ -467,7 +467,7 @@ pub fn open_learner(spec: &LearnerSpec) -> Result<(Option<Qemu>, Learner, Option
             (Some(qemu), Learner::Remote(link), Some(what))
         }
         Some(port) => {
-            let link = Link::open(port)?;
+            let link = Link::open(port, Setting::Coprocessor)?;
             (
                 None,
                 Learner::Remote(link),

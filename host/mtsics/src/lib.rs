@@ -8,11 +8,15 @@
 //!   port, with timeouts, re-sends, waiting for a stable reading, and
 //!   skipping of line noise and power-on lines (feature `serial`, on by
 //!   default).
+//! - [`path`]: what is wrong with a port or file that would not open, one
+//!   wording for every command (feature `serial`).
 //!
 #![deny(missing_docs)]
 
 #[cfg(feature = "serial")]
 mod client;
+#[cfg(feature = "serial")]
+pub mod path;
 mod protocol;
 
 #[cfg(feature = "serial")]
