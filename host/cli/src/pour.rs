@@ -12,6 +12,7 @@ use primo_learn::pour::settings::Settings;
 use primo_learn::pour::skill::{DemoFile, SkillSpec};
 use primo_learn::run::{Event, Failure, LearnerSpec, Start};
 use primo_learn::runlog::RunEvent;
+use primo_mtsics::Fixed;
 
 use crate::args::{Glass, Method, Space};
 use crate::error::CliError;
@@ -465,10 +466,10 @@ fn show(event: Event<Pour>, progress: &mut Progress) -> Result<(), Error> {
             };
             let last = &f.last;
             format!(
-                "primo pour: {verdict}; last: q {:.4} l, poured {:.1} ml, spilled {:.1} ml, reward {:.3}; series.csv: {series}; wrote {}",
+                "primo pour: {verdict}; last: q {:.4} l, poured {} ml, spilled {} ml, reward {:.3}; series.csv: {series}; wrote {}",
                 last.volume(),
-                last.trial.poured * 1e3,
-                last.trial.spilled * 1e3,
+                Fixed(last.trial.poured * 1e3, 1),
+                Fixed(last.trial.spilled * 1e3, 1),
                 last.trial.reward,
                 f.dir.display()
             )

@@ -10,7 +10,7 @@ use std::time::Duration;
 use primo_fri::session::SessionConfig;
 use primo_fri::udp::{Ended, Event, PlayConfig, PlayResult, bind, play};
 use primo_fri::{DEFAULT_PORT, parse_robot};
-use primo_mtsics::quote;
+use primo_mtsics::{Fixed, quote};
 use primo_robot::JOINT_COLUMNS as JOINT_NAMES;
 use primo_robot::envelope::joint_index;
 use primo_robot::safety::check_joints;
@@ -395,10 +395,10 @@ fn sim_krc(cfg: KrcConfig, scale: bool, load_cell: bool) -> Result<(), CliError>
         report.max_excursion.to_degrees()
     ))?;
     say(&format!(
-        "primo robot sim-krc: in the glass {:.1} ml, spilled {:.1} ml, in the bottle {:.1} ml",
-        totals.glass * 1e3,
-        totals.spilled * 1e3,
-        totals.bottle * 1e3
+        "primo robot sim-krc: in the glass {} ml, spilled {} ml, in the bottle {} ml",
+        Fixed(totals.glass * 1e3, 1),
+        Fixed(totals.spilled * 1e3, 1),
+        Fixed(totals.bottle * 1e3, 1)
     ))?;
     Ok(())
 }

@@ -8,7 +8,7 @@ use clap::{Args, Subcommand, ValueEnum};
 
 use primo_learn::coprocessor::{Image, Qemu};
 use primo_learn::pour::weigh::{Density, PrimoScale, ScaleSpec};
-use primo_mtsics::{Client, ClientConfig, Unit, quote};
+use primo_mtsics::{Client, ClientConfig, Fixed, Unit, quote};
 use primo_protocol::scale::{
     CalibrationPoint, Reading, ScaleRequest, Unit as ScaleUnit, WeighMode,
 };
@@ -339,10 +339,8 @@ fn primo_read(mut scale: PrimoScale, args: &ReadArgs, density: Density) -> Resul
 fn shown(r: &Reading, unit: OutputUnit, density: Density) -> String {
     let decimals = usize::try_from(-i32::from(r.exponent)).unwrap_or(0);
     match unit {
-        OutputUnit::Ml => format!("{:.*} ml", decimals, density.millilitres(r.grams())),
-        _ => {
-            format!("{:.*} {}", decimals, r.value(), r.unit.symbol())
-        }
+        OutputUnit::Ml => format!("{} ml", Fixed(density.millilitres(r.grams()), decimals)),
+        _ => format!("{} {}", Fixed(r.value(), decimals), r.unit.symbol()),
     }
 }
 
@@ -430,9 +428,11 @@ fn read(args: &ReadArgs) -> Result<(), CliError> {
         OutputUnit::Mg => weight.to(Unit::Mg).to_string(),
         OutputUnit::Kg => weight.to(Unit::Kg).to_string(),
         OutputUnit::Ml => format!(
-            "{:.*} ml",
-            usize::from(weight.to(Unit::G).decimals),
-            density.millilitres(weight.grams())
+            "{} ml",
+            Fixed(
+                density.millilitres(weight.grams()),
+                usize::from(weight.to(Unit::G).decimals)
+            )
         ),
     };
     say(&text)

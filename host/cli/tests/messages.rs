@@ -176,3 +176,50 @@ fn a_directory_given_as_a_file_is_named_a_directory() {
         assert!(err.contains(&says), "{args:?}: {err}");
     }
 }
+
+/// A number of `summary.json` (pretty JSON: `"key": value` on its line).
+fn field(summary: &str, key: &str) -> f64 {
+    summary
+        .lines()
+        .find_map(|l| l.trim().strip_prefix(&format!("\"{key}\": ")))
+        .and_then(|v| v.trim_end_matches(',').parse().ok())
+        .unwrap_or_else(|| panic!("{key}: {summary}"))
+}
+
+#[test]
+fn the_summary_gives_the_bounds_searched_and_the_time_over_every_session() {
+    let out = tmp("summary");
+    let dir = out.to_str().unwrap();
+    let pour = [
+        "pour",
+        "--bottle",
+        "1.0",
+        "--target",
+        "0.3",
+        "--max-rollouts",
+        "2",
+    ];
+    let (code, _, err) = primo(&[&pour[..], &["--out", dir]].concat());
+    assert_eq!(code, 0, "{err}");
+    let first = std::fs::read_to_string(out.join("summary.json")).unwrap();
+    // The glass (0.423 l) raises the low end to 1.0 + 0.3 - 0.423.
+    let searched: String = first
+        .split("\"searched\": [")
+        .nth(1)
+        .and_then(|rest| rest.split(']').next())
+        .unwrap_or_else(|| panic!("{first}"))
+        .split_whitespace()
+        .collect();
+    assert_eq!(searched, "0.87667036,1.5", "{first}");
+    let (total, session) = (field(&first, "seconds"), field(&first, "session_seconds"));
+    assert_eq!(total, session, "{first}");
+    // A second session (it only reports) adds to the first one's time.
+    let (code, _, err) = primo(&["pour", "--resume", dir]);
+    assert_eq!(code, 0, "{err}");
+    let again = std::fs::read_to_string(out.join("summary.json")).unwrap();
+    let (total, session) = (field(&again, "seconds"), field(&again, "session_seconds"));
+    assert!(
+        total >= field(&first, "seconds") + session,
+        "{first}\n{again}"
+    );
+}

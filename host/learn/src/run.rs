@@ -17,6 +17,7 @@ use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 
 use crate::algorithm::Algorithm;
+use crate::clock::{Clock, Seconds};
 use crate::coprocessor::{Image, Link, Qemu};
 use crate::learner::{Learner, check_examples, examples_crc};
 use crate::lock;
@@ -87,7 +88,7 @@ pub trait Kind: Clone + Serialize + DeserializeOwned {
         built: &Self::Built,
         dir: &Path,
         run: &[Entry<Self::Trial>],
-        seconds: f64,
+        seconds: Seconds,
     ) -> Result<Self::Finished, Error>;
 }
 
@@ -354,6 +355,8 @@ pub fn run<K: Kind>(
             (dir, header, entries, log, ended, None, changes, held)
         }
     };
+    // Dropped before the directory is let go, on every way out.
+    let clock = Clock::start(&dir, started);
     let fail = |error: Error| Failure {
         error: Box::new(error),
         resumable: Some(dir.clone()),
@@ -428,7 +431,7 @@ pub fn run<K: Kind>(
     .map_err(fail)?;
     drop(execution);
     let finished = run
-        .report(&built, &dir, &rollouts, started.elapsed().as_secs_f64())
+        .report(&built, &dir, &rollouts, clock.now())
         .map_err(fail)?;
     event(Event::Finished(&finished)).map_err(fail)
 }

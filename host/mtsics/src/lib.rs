@@ -15,12 +15,14 @@
 
 #[cfg(feature = "serial")]
 mod client;
+mod fixed;
 #[cfg(feature = "serial")]
 pub mod path;
 mod protocol;
 
 #[cfg(feature = "serial")]
 pub use client::{ASK_AGAIN, Client, ClientConfig, ErrorKind, Noise, ScaleError};
+pub use fixed::Fixed;
 pub use protocol::{
     Lines, MAX_LINE, Reply, Response, ResponseError, Stability, Unit, Weight, parse_response,
     parse_tail, parse_value, quote,
