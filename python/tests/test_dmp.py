@@ -144,7 +144,7 @@ def test_bad_run_arguments_are_value_errors():
         ({"tau": -1.0}, "tau"),
         ({"goal": [1.0]}, "goal: 1 values, expected one per column"),
         ({"start": [np.nan, 0.0]}, "not a finite number"),
-        ({"goal": [1e7, 0.0]}, "MAX_ABS_POSITION"),
+        ({"goal": [1e7, 0.0]}, "the bound on any position"),
         ({"frequency": 1.0}, "rhythmic DMP only"),
     ]:
         with pytest.raises(ValueError, match=message):

@@ -10,6 +10,7 @@ use std::sync::atomic::Ordering;
 use std::time::{Duration, Instant};
 
 use primo_device::scale::Settings as ScaleSettings;
+use primo_learn::Setting;
 use primo_learn::algorithm::Algorithm as Method;
 use primo_learn::coprocessor::{Image, Link, Qemu};
 use primo_learn::learner::Learner;
@@ -61,7 +62,7 @@ fn golden(learner: &mut Learner) -> Vec<Record<Trial>> {
 }
 
 fn coprocessor(qemu: &Qemu) -> Learner {
-    Learner::Remote(Link::open(qemu.pty()).unwrap())
+    Learner::Remote(Link::open(qemu.pty(), Setting::Coprocessor).unwrap())
 }
 
 #[test]
@@ -87,7 +88,7 @@ fn power_on_the_mcu_gives_the_host_only_roll_outs() {
 fn a_lossy_line_changes_nothing_but_the_time() {
     let qemu = Qemu::start(&Qemu::find(Image::Coprocessor).unwrap()).unwrap();
     let relay = Relay::start(qemu.pty(), 0.01, 5);
-    let mut link = Learner::Remote(Link::open(&relay.path).unwrap());
+    let mut link = Learner::Remote(Link::open(&relay.path, Setting::Coprocessor).unwrap());
     let host = run(Method::Power, Space::Joint, 10, 8, &mut Learner::local());
     let mcu = run(Method::Power, Space::Joint, 10, 8, &mut link);
     assert_eq!(bits(&mcu), bits(&host));

@@ -243,7 +243,7 @@ impl<const P: usize, const L: usize> Power<P, L> {
         check_bounded(
             initial,
             MAX_ABS_PARAM,
-            "initial parameters beyond MAX_ABS_PARAM",
+            "initial parameters beyond ±1e9, the bound on any parameter",
         )?;
         let total = cfg
             .blocks
@@ -252,9 +252,7 @@ impl<const P: usize, const L: usize> Power<P, L> {
         check_len("sum of block lengths", n, total.unwrap_or(usize::MAX))?;
         for b in &cfg.blocks {
             if !(b.variance >= 0.0 && b.variance <= MAX_VARIANCE) {
-                return Err(Error::OutOfRange(
-                    "block variance must be in [0, MAX_VARIANCE]",
-                ));
+                return Err(Error::OutOfRange("block variance must be in [0, 1e12]"));
             }
             if !(b.decay > 0.0 && b.decay <= 1.0) {
                 return Err(Error::OutOfRange("block decay must be in (0, 1]"));
@@ -349,7 +347,7 @@ impl<const P: usize, const L: usize> Power<P, L> {
             check_bounded(
                 params.get(..error.len()).unwrap_or(&[]),
                 MAX_ABS_PARAM,
-                "corrected query beyond MAX_ABS_PARAM",
+                "corrected query beyond ±1e9, the bound on any parameter",
             )?;
         }
         self.pending = false;

@@ -129,7 +129,7 @@ impl<const D: usize, const K: usize> RhythmicDmp<D, K> {
         check_bounded(
             positions,
             MAX_ABS_POSITION,
-            "positions beyond MAX_ABS_POSITION",
+            "positions beyond ±1e6, the bound on any position",
         )?;
         if times.windows(2).any(|w| !matches!(w, [a, b] if b > a)) {
             return Err(Error::OutOfRange("times must be strictly increasing"));
@@ -203,7 +203,11 @@ impl<const D: usize, const K: usize> RhythmicDmp<D, K> {
         let mut cycle: Vec<[f32; 2], D> = Vec::new();
         for (d, w) in fitted.iter().enumerate().take(dof) {
             let row: Vec<f32, K> = w.iter().copied().take(kernels).collect();
-            check_bounded(&row, MAX_ABS_WEIGHT, "fitted weights beyond MAX_ABS_WEIGHT")?;
+            check_bounded(
+                &row,
+                MAX_ABS_WEIGHT,
+                "fitted weights beyond ±1e9, the bound on kernel weights",
+            )?;
             // The cycle at φ = 0: anchor plus the responses' weighted sum.
             let dot = |s: &[f64; K]| -> f64 {
                 s.iter()
@@ -410,7 +414,7 @@ impl<const D: usize> RhythmicRun<D> {
     /// step on; the phase goes on from where it is.
     pub fn set_frequency(&mut self, hz: f32) -> Result<(), Error> {
         if !(FREQUENCY_RANGE[0]..=FREQUENCY_RANGE[1]).contains(&hz) {
-            return Err(Error::OutOfRange("frequency outside FREQUENCY_RANGE"));
+            return Err(Error::OutOfRange("frequency outside 0.001 to 1000 Hz"));
         }
         // `z` is `τ ẏ`: keep the velocity across the change of `τ`.
         let omega = core::f32::consts::TAU * hz;
@@ -439,7 +443,11 @@ impl<const D: usize> RhythmicRun<D> {
     /// onto it (see the module docs).
     pub fn set_anchor(&mut self, anchor: &[f32]) -> Result<(), Error> {
         check_len("anchor", self.dof, anchor.len())?;
-        check_bounded(anchor, MAX_ABS_POSITION, "anchor beyond MAX_ABS_POSITION")?;
+        check_bounded(
+            anchor,
+            MAX_ABS_POSITION,
+            "anchor beyond ±1e6, the bound on any position",
+        )?;
         for (a, g) in self.anchor_target.iter_mut().zip(anchor) {
             *a = *g;
         }

@@ -317,7 +317,8 @@ impl<const P: usize, const E: usize, const K: usize> Service<P, E, K> {
         check_capacity("examples", usize::from(setup.examples), E)?;
         let query_dim = usize::from(setup.query_dim);
         if !(1..=MAX_QUERY).contains(&query_dim) {
-            return Err(Error::OutOfRange("query_dim must be 1..=MAX_QUERY"));
+            const _: () = assert!(MAX_QUERY == 4, "the message names the value");
+            return Err(Error::OutOfRange("a query has 1 to 4 values"));
         }
         let learner = match &setup.learner {
             LearnerSetup::Golden(cfg) => {

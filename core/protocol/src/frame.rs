@@ -69,10 +69,13 @@ pub enum FrameError {
     Overflow,
 }
 
+// `TooLong`'s message names the value.
+const _: () = assert!(MAX_FRAME == 160);
+
 impl fmt::Display for FrameError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(match self {
-            FrameError::TooLong => "frame longer than MAX_FRAME",
+            FrameError::TooLong => "frame longer than 160 bytes",
             FrameError::Empty => "empty frame",
             FrameError::Cobs => "invalid COBS encoding",
             FrameError::Crc => "CRC mismatch",

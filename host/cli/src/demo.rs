@@ -2,6 +2,7 @@
 
 use std::path::PathBuf;
 
+use primo_mtsics::Fixed;
 use primo_sim::cell::{CellConfig, GlassKind};
 use primo_sim::expert::{Style, synthesize};
 use primo_skill::csv::write_rows;
@@ -55,9 +56,9 @@ pub fn run(command: DemoCommand) -> Result<(), CliError> {
     let cell = CellConfig::standard(GlassKind::Normal);
     let demo = synthesize(&cell, bottle, pour, &Style { elbow, seed })?;
     eprintln!(
-        "primo: the expert poured {:.1} ml (spilled {:.1} ml) from {bottle} l in {:.2} s",
-        demo.poured * 1e3,
-        demo.spilled * 1e3,
+        "primo: the expert poured {} ml (spilled {} ml) from {bottle} l in {:.2} s",
+        Fixed(demo.poured * 1e3, 1),
+        Fixed(demo.spilled * 1e3, 1),
         demo.t.last().copied().unwrap_or(0.0)
     );
     let csv = primo_learn::pour::skill::to_csv_demo(&demo, space.into());

@@ -134,6 +134,14 @@ impl From<primo_learn::Error> for CliError {
                 flag(other)
             )),
             Error::Address(e) => e.into(),
+            Error::Open {
+                setting,
+                ref path,
+                ref fault,
+            } => Self::opening(
+                format!("{} {}: {fault}", flag(setting), path.display()),
+                fault,
+            ),
             // The coprocessor's image, unlike the scale's, has a flag.
             e @ Error::NoFirmware {
                 name: "primo-firmware",
@@ -200,12 +208,25 @@ impl From<primo_sim::Error> for CliError {
 }
 
 impl From<primo_mtsics::ScaleError> for CliError {
-    /// A path that is no serial port is a refused setting; the rest
-    /// happened while talking to the scale.
+    /// A port that would not open is bad input unless opening failed
+    /// otherwise ([`CliError::opening`]); the rest happened while talking
+    /// to the scale.
     fn from(e: primo_mtsics::ScaleError) -> Self {
-        match e.kind {
-            primo_mtsics::ErrorKind::NotAPort(_) => Self::input(e.to_string()),
+        match &e.kind {
+            primo_mtsics::ErrorKind::Open(fault) => Self::opening(e.to_string(), fault),
             _ => Self::other(e.to_string()),
+        }
+    }
+}
+
+impl CliError {
+    /// A port or file that would not open (`message` says which and why):
+    /// the one status for the one fault, whichever command met it, 2 for
+    /// a bad path (missing, a directory, no serial port, not permitted).
+    pub fn opening(message: String, fault: &primo_mtsics::path::Fault) -> Self {
+        match fault.is_input() {
+            true => Self::input(message),
+            false => Self::other(message),
         }
     }
 }

@@ -9,7 +9,9 @@ use primo_learn::experiment::{
     Done, THRESHOLDS, Variant, check_power, check_volumes, golden_settings, golden_skill,
     power_skill,
 };
-use primo_learn::experiment::{PowerSetup, median_rollouts, write_golden, write_power_experiment};
+use primo_learn::experiment::{
+    PowerSetup, PowerStats, median_rollouts, power_budget, write_golden, write_power_experiment,
+};
 use primo_learn::stats::Estimate;
 
 use crate::args::Glass;
@@ -20,7 +22,8 @@ use crate::progress::Progress;
 /// `primo experiment …`.
 #[derive(Debug, clap::Subcommand)]
 pub enum ExperimentCommand {
-    /// Fig. 3: error learning (golden section and Illinois) per volume.
+    /// Fig. 3: error learning per volume, by each of the five error
+    /// learners (golden section, Illinois, secant, fixed gain, weighted gain).
     Golden {
         /// Bottle volumes, l.
         #[arg(
@@ -235,18 +238,17 @@ fn power(
             x.high * scale
         )
     };
+    // A run that never reached a level counts as the budget plus one.
+    let never = f64::from(power_budget(updates).map_err(CliError::from)? + 1);
     for (k, level) in THRESHOLDS.iter().enumerate() {
         let c = &comparison;
+        let to = |s: &PowerStats| reached_in(&s.rollouts_to[k], s.reached[k], runs, never);
         say(&format!(
-            "to mean reward {level}: roll-outs, median [90 % CI]: extended {} ({}/{runs} reached), \
-             ordinary {} ({}/{runs}), error-learned {} ({}/{runs}); saved against ordinary: by \
-             extended {}, by error-learned {}",
-            e(&c.extended.rollouts_to[k], 1.0, 0),
-            c.extended.reached[k],
-            e(&c.ordinary.rollouts_to[k], 1.0, 0),
-            c.ordinary.reached[k],
-            e(&c.error_learned.rollouts_to[k], 1.0, 0),
-            c.error_learned.reached[k],
+            "to mean reward {level}: roll-outs, median [90 % CI]: extended {}, ordinary {}, \
+             error-learned {}; saved against ordinary: by extended {}, by error-learned {}",
+            to(&c.extended),
+            to(&c.ordinary),
+            to(&c.error_learned),
             e(&c.rollouts_saved[k], 1.0, 0),
             e(&c.rollouts_saved_by_error_learning[k], 1.0, 0),
         ))?;
@@ -264,4 +266,43 @@ fn power(
         seconds,
         out.display()
     ))
+}
+
+/// Roll-outs to a level over `runs` runs of which `reached` reached it:
+/// the median and its interval, but never the count that stands for
+/// "not reached" (`never`) as if it were one.
+fn reached_in(x: &Estimate, reached: usize, runs: usize, never: f64) -> String {
+    if 2 * reached <= runs {
+        return format!("not reached by the median run ({reached}/{runs} reached)");
+    }
+    let high = match x.high >= never {
+        true => "not reached".to_string(),
+        false => format!("{:.0}", x.high),
+    };
+    format!(
+        "{:.0} [{:.0}, {high}] ({reached}/{runs} reached)",
+        x.value, x.low
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_level_the_median_run_never_reached_is_said_so() {
+        let x = |value, low, high| Estimate { value, low, high };
+        assert_eq!(
+            reached_in(&x(62.0, 21.0, 62.0), 1, 3, 62.0),
+            "not reached by the median run (1/3 reached)"
+        );
+        assert_eq!(
+            reached_in(&x(25.0, 21.0, 62.0), 2, 3, 62.0),
+            "25 [21, not reached] (2/3 reached)"
+        );
+        assert_eq!(
+            reached_in(&x(25.0, 21.0, 33.0), 3, 3, 62.0),
+            "25 [21, 33] (3/3 reached)"
+        );
+    }
 }

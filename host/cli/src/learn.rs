@@ -58,7 +58,7 @@ pub struct LearnArgs {
 
 /// Runs `primo learn`.
 pub fn run(args: &LearnArgs) -> Result<(), CliError> {
-    let instruments = args.cell.instruments();
+    let instruments = args.cell.instruments()?;
     let learner = args.learner.spec();
     if args.max_rollouts == Some(0) {
         return Err(CliError::input("--max-rollouts 0: must be at least 1"));

@@ -17,6 +17,7 @@ mod progress;
 mod robot;
 mod rollout;
 mod scale;
+mod terminal;
 
 use clap::{Parser, Subcommand};
 

@@ -17,8 +17,8 @@ pub fn say(line: &str) -> Result<(), CliError> {
 
 /// Reads a file named on the command line.
 pub fn read(path: &Path) -> Result<String, CliError> {
-    std::fs::read_to_string(path)
-        .map_err(|e| CliError::input(format!("{}: cannot read: {e}", path.display())))
+    primo_mtsics::path::read_text(path)
+        .map_err(|fault| CliError::opening(format!("{}: {fault}", path.display()), &fault))
 }
 
 /// Writes to `out` (safely: [`primo_learn::output`]), or to stdout.

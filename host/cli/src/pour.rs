@@ -12,6 +12,7 @@ use primo_learn::pour::settings::Settings;
 use primo_learn::pour::skill::{DemoFile, SkillSpec};
 use primo_learn::run::{Event, Failure, LearnerSpec, Start};
 use primo_learn::runlog::RunEvent;
+use primo_mtsics::Fixed;
 
 use crate::args::{Glass, Method, Space};
 use crate::error::CliError;
@@ -156,32 +157,46 @@ pub struct CellArgs {
         value_name = "PORT|postcard:PORT|qemu:LOAD_CELL"
     )]
     scale: Option<String>,
-    /// An MT-SICS scale's baud rate.
-    #[arg(long, requires = "robot", default_value_t = 9600)]
-    baud: u32,
-    /// The liquid's density, g/ml (the scale weighs, the learner wants
-    /// volumes).
-    #[arg(long, requires = "robot", default_value_t = 0.998)]
-    density: f64,
+    /// With --robot: an MT-SICS scale's baud rate [default: 9600].
+    #[arg(long)]
+    baud: Option<u32>,
+    /// With --robot: the liquid's density, g/ml (the scale weighs, the
+    /// learner wants volumes) [default: 0.998, water].
+    #[arg(long, value_name = "G_PER_ML")]
+    density: Option<f64>,
     /// With --robot: before every roll-out, ask the operator to refill the
     /// bottle and empty the glass, and wait for Enter.
-    #[arg(long, requires = "robot")]
+    #[arg(long)]
     confirm: bool,
 }
 
 impl CellArgs {
-    /// The real cell's instruments, if given.
-    pub fn instruments(&self) -> Option<InstrumentsSpec> {
-        match (&self.robot, &self.scale) {
-            (Some(robot), Some(scale)) => Some(InstrumentsSpec {
-                robot: robot.clone(),
-                scale: scale.clone(),
-                baud: self.baud,
-                density: self.density,
-                confirm: self.confirm,
-            }),
-            _ => None,
-        }
+    /// The real cell's instruments, if given; the real cell's settings
+    /// without it are refused in one line (not clap's usage).
+    pub fn instruments(&self) -> Result<Option<InstrumentsSpec>, CliError> {
+        let (Some(robot), Some(scale)) = (&self.robot, &self.scale) else {
+            let given = [
+                (self.baud.is_some(), "--baud"),
+                (self.density.is_some(), "--density"),
+                (self.confirm, "--confirm"),
+            ];
+            return match given.iter().find(|(given, _)| *given) {
+                Some((_, flag)) => Err(CliError::input(format!(
+                    "{flag}: is for the real cell's scale: give it with --robot and --scale \
+                     (the simulated cell pours water)"
+                ))),
+                None => Ok(None),
+            };
+        };
+        Ok(Some(InstrumentsSpec {
+            robot: robot.clone(),
+            scale: scale.clone(),
+            baud: self.baud.unwrap_or(9600),
+            density: self
+                .density
+                .unwrap_or(primo_learn::pour::weigh::Density::WATER.g_per_ml()),
+            confirm: self.confirm,
+        }))
     }
 }
 
@@ -239,7 +254,7 @@ fn bounds(text: &str) -> Result<[f32; 2], String> {
 
 /// Runs `primo pour`.
 pub fn run(args: &PourArgs) -> Result<(), CliError> {
-    let instruments = args.cell.instruments();
+    let instruments = args.cell.instruments()?;
     let start = match &args.resume {
         Some(dir) => Start::Resume {
             dir: dir.clone(),
@@ -451,10 +466,10 @@ fn show(event: Event<Pour>, progress: &mut Progress) -> Result<(), Error> {
             };
             let last = &f.last;
             format!(
-                "primo pour: {verdict}; last: q {:.4} l, poured {:.1} ml, spilled {:.1} ml, reward {:.3}; series.csv: {series}; wrote {}",
+                "primo pour: {verdict}; last: q {:.4} l, poured {} ml, spilled {} ml, reward {:.3}; series.csv: {series}; wrote {}",
                 last.volume(),
-                last.trial.poured * 1e3,
-                last.trial.spilled * 1e3,
+                Fixed(last.trial.poured * 1e3, 1),
+                Fixed(last.trial.spilled * 1e3, 1),
                 last.trial.reward,
                 f.dir.display()
             )

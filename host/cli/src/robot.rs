@@ -1,7 +1,7 @@
 //! The `primo robot` commands: stream a joint trajectory to a KUKA LWR4 over
 //! FRI (`play`), or be the KRC with the simulated arm and cell (`sim-krc`).
 
-use std::io::{BufRead, IsTerminal};
+use std::io::BufRead;
 use std::net::SocketAddr;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
@@ -10,7 +10,7 @@ use std::time::Duration;
 use primo_fri::session::SessionConfig;
 use primo_fri::udp::{Ended, Event, PlayConfig, PlayResult, bind, play};
 use primo_fri::{DEFAULT_PORT, parse_robot};
-use primo_mtsics::quote;
+use primo_mtsics::{Fixed, quote};
 use primo_robot::JOINT_COLUMNS as JOINT_NAMES;
 use primo_robot::envelope::joint_index;
 use primo_robot::safety::check_joints;
@@ -21,6 +21,7 @@ use primo_skill::csv::parse_demo;
 use crate::args::Glass;
 use crate::error::CliError;
 use crate::output::say;
+use crate::terminal::in_background;
 
 /// `primo robot …`.
 #[derive(Debug, clap::Subcommand)]
@@ -394,31 +395,12 @@ fn sim_krc(cfg: KrcConfig, scale: bool, load_cell: bool) -> Result<(), CliError>
         report.max_excursion.to_degrees()
     ))?;
     say(&format!(
-        "primo robot sim-krc: in the glass {:.1} ml, spilled {:.1} ml, in the bottle {:.1} ml",
-        totals.glass * 1e3,
-        totals.spilled * 1e3,
-        totals.bottle * 1e3
+        "primo robot sim-krc: in the glass {} ml, spilled {} ml, in the bottle {} ml",
+        Fixed(totals.glass * 1e3, 1),
+        Fixed(totals.spilled * 1e3, 1),
+        Fixed(totals.bottle * 1e3, 1)
     ))?;
     Ok(())
-}
-
-/// Whether stdin is a terminal this process is in the background of (a
-/// shell's `&`): reading it would stop the process (SIGTTIN). From
-/// `/proc/self/stat` (process group and the terminal's foreground group);
-/// without it, assume the foreground.
-fn in_background() -> bool {
-    if !std::io::stdin().is_terminal() {
-        return false;
-    }
-    let Ok(stat) = std::fs::read_to_string("/proc/self/stat") else {
-        return false;
-    };
-    // After `pid (comm)`: state, ppid, pgrp, session, tty_nr, tpgid.
-    let fields: Vec<&str> = stat
-        .rsplit_once(')')
-        .map(|(_, rest)| rest.split_whitespace().collect())
-        .unwrap_or_default();
-    matches!((fields.get(2), fields.get(5)), (Some(pgrp), Some(tpgid)) if pgrp != tpgid)
 }
 
 /// The operator's commands on stdin, one a line, until it closes: `reset`

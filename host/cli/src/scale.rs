@@ -8,7 +8,7 @@ use clap::{Args, Subcommand, ValueEnum};
 
 use primo_learn::coprocessor::{Image, Qemu};
 use primo_learn::pour::weigh::{Density, PrimoScale, ScaleSpec};
-use primo_mtsics::{Client, ClientConfig, Unit, quote};
+use primo_mtsics::{Client, ClientConfig, Fixed, Unit, quote};
 use primo_protocol::scale::{
     CalibrationPoint, Reading, ScaleRequest, Unit as ScaleUnit, WeighMode,
 };
@@ -18,6 +18,7 @@ use primo_sim::scale_device::{Control, Device, DeviceConfig, LoadHandle, PtyServ
 
 use crate::error::CliError;
 use crate::output::say;
+use crate::terminal::in_background;
 
 /// `primo scale` subcommands.
 #[derive(Debug, Subcommand)]
@@ -29,7 +30,8 @@ pub enum ScaleCommand {
     /// (`ok ...` or `error: ...`): `load <grams>` puts a load on the pan,
     /// `garbage <text>` sends a raw line (`\xNN`, `\r`, `\n`, `\t`, `\\`
     /// escapes), `silent <seconds>` answers nothing for a while (0 ends
-    /// it), `power-on` sends the power-on line. Serves until stdin closes.
+    /// it), `power-on` sends the power-on line. Serves on after stdin closes,
+    /// until the process is killed.
     Serve(ServeArgs),
     /// Read one stable weight from a scale and print it: an MT-SICS scale,
     /// or primo's load-cell scale (`postcard:PORT`, or its firmware in
@@ -206,20 +208,25 @@ fn serve(args: &ServeArgs) -> Result<(), CliError> {
     let server = PtyServer::start(device)
         .map_err(|e| CliError::other(format!("cannot serve on a pseudo-terminal: {e}")))?;
     say(server.path())?;
-    for (i, line) in std::io::stdin().lock().split(b'\n').enumerate() {
-        let line = line.map_err(|e| CliError::other(format!("stdin: {e}")))?;
-        let line = line.strip_suffix(b"\r").unwrap_or(&line);
-        if line.trim_ascii().is_empty() {
-            continue;
+    // Operator commands while stdin is open (not read from the background
+    // of a terminal, which would stop the process); the scale is served
+    // on until the process is killed, as `primo robot sim-krc` serves.
+    if !in_background() {
+        for (i, line) in std::io::stdin().lock().split(b'\n').enumerate() {
+            let line = line.map_err(|e| CliError::other(format!("stdin: {e}")))?;
+            let line = line.strip_suffix(b"\r").unwrap_or(&line);
+            if line.trim_ascii().is_empty() {
+                continue;
+            }
+            let reply = match operate(&server, &load, line) {
+                Ok(done) => format!("ok {done}"),
+                Err(e) => format!("error: stdin line {}: {e}", i + 1),
+            };
+            say(&reply)?;
         }
-        let reply = match operate(&server, &load, line) {
-            Ok(done) => format!("ok {done}"),
-            Err(e) => format!("error: stdin line {}: {e}", i + 1),
-        };
-        say(&reply)?;
     }
     server
-        .stop()
+        .serve_on()
         .map_err(|e| CliError::other(format!("serving failed: {e}")))
 }
 
@@ -332,10 +339,8 @@ fn primo_read(mut scale: PrimoScale, args: &ReadArgs, density: Density) -> Resul
 fn shown(r: &Reading, unit: OutputUnit, density: Density) -> String {
     let decimals = usize::try_from(-i32::from(r.exponent)).unwrap_or(0);
     match unit {
-        OutputUnit::Ml => format!("{:.*} ml", decimals, density.millilitres(r.grams())),
-        _ => {
-            format!("{:.*} {}", decimals, r.value(), r.unit.symbol())
-        }
+        OutputUnit::Ml => format!("{} ml", Fixed(density.millilitres(r.grams()), decimals)),
+        _ => format!("{} {}", Fixed(r.value(), decimals), r.unit.symbol()),
     }
 }
 
@@ -375,7 +380,9 @@ fn open(args: &ScaleArgs) -> Result<Opened, CliError> {
         e => e.into(),
     })?;
     Ok(match spec {
-        ScaleSpec::Postcard(port) => Opened::Primo(PrimoScale::open(&port, settle)?, None),
+        ScaleSpec::Postcard(port) => {
+            Opened::Primo(PrimoScale::open(&port, settle).map_err(on_port)?, None)
+        }
         ScaleSpec::Qemu(cell) => Opened::Primo(
             PrimoScale::boot(&Qemu::find(Image::Scale)?, &cell, settle)?,
             None,
@@ -388,9 +395,19 @@ fn open(args: &ScaleArgs) -> Result<Opened, CliError> {
                 settle,
                 ..ClientConfig::default()
             };
-            Opened::MtSics(Client::open(&port, config)?)
+            Opened::MtSics(Client::open(&port, config).map_err(|e| on_port(e.into()))?)
         }
     })
+}
+
+/// A scale's error, a port that would not open named by its flag here.
+fn on_port(e: primo_learn::Error) -> CliError {
+    match e {
+        primo_learn::Error::Open { path, fault, .. } => {
+            CliError::opening(format!("--port {}: {fault}", path.display()), &fault)
+        }
+        e => e.into(),
+    }
 }
 
 fn read(args: &ReadArgs) -> Result<(), CliError> {
@@ -411,9 +428,11 @@ fn read(args: &ReadArgs) -> Result<(), CliError> {
         OutputUnit::Mg => weight.to(Unit::Mg).to_string(),
         OutputUnit::Kg => weight.to(Unit::Kg).to_string(),
         OutputUnit::Ml => format!(
-            "{:.*} ml",
-            usize::from(weight.to(Unit::G).decimals),
-            density.millilitres(weight.grams())
+            "{} ml",
+            Fixed(
+                density.millilitres(weight.grams()),
+                usize::from(weight.to(Unit::G).decimals)
+            )
         ),
     };
     say(&text)
@@ -461,7 +480,14 @@ fn set(args: &ScaleArgs, setting: Setting) -> Result<(), CliError> {
         }
         (Opened::MtSics(mut client), Setting::Tare) => {
             let tare = client.tare()?;
-            say(&format!("tared {tare}"))
+            say(&format!("tared {tare}"))?;
+            // Every connection begins with the reset `@`, which clears it.
+            eprintln!(
+                "primo scale tare: warning: an MT-SICS balance keeps this tare only until \
+                 primo next connects (each connection begins with the reset `@`): the next \
+                 `primo scale read` weighs the gross load again"
+            );
+            Ok(())
         }
         (Opened::MtSics(_), Setting::Calibrate(_)) => Err(CliError::input(
             "calibrate: an MT-SICS balance calibrates itself (its own menu or `C` \

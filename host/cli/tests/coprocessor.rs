@@ -39,9 +39,9 @@ fn pour_with_the_learner_on_the_emulated_mcu() {
 #[test]
 fn an_unreachable_coprocessor_is_a_clear_error() {
     let (status, _, stderr) = primo(&["pour", "--coprocessor", "/dev/primo-no-such-port"]);
-    assert_eq!(status, 1);
+    assert_eq!(status, 2);
     assert!(
-        stderr.contains("/dev/primo-no-such-port: cannot open"),
+        stderr.contains("--coprocessor /dev/primo-no-such-port: no such file or device"),
         "{stderr}"
     );
     let (status, _, stderr) = primo(&[

@@ -15,7 +15,7 @@ use primo_sim::scale_device::{Control, Device, DeviceConfig, LoadHandle, PtyServ
 use serialport::{SerialPort, TTYPort};
 
 mod common;
-use common::{primo, primo_with_input};
+use common::primo;
 
 /// A running `primo scale serve`, driven through its stdin.
 struct Served {
@@ -76,17 +76,9 @@ impl Served {
 }
 
 impl Drop for Served {
-    /// Closing stdin ends the server; kill it only if it does not end.
+    /// The server serves until it is killed.
     fn drop(&mut self) {
         drop(self.stdin.take());
-        let until = Instant::now() + Duration::from_secs(20);
-        while Instant::now() < until {
-            if let Ok(Some(status)) = self.child.try_wait() {
-                assert!(status.success() || std::thread::panicking(), "{status}");
-                return;
-            }
-            std::thread::sleep(Duration::from_millis(20));
-        }
         let _ = self.child.kill();
         let _ = self.child.wait();
     }
@@ -235,6 +227,27 @@ fn overload_and_underload_are_typed_errors() {
 }
 
 #[test]
+fn zero_names_the_zero_setting_range_and_tare_warns_it_will_not_last() {
+    let served = Served::start(&["--load", "200"]);
+    let port = served.path.as_str();
+    let (code, _, err) = primo(&["scale", "zero", "--port", port]);
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        err.contains("beyond the balance's zero-setting range"),
+        "{err}"
+    );
+    assert!(!err.contains("beyond the scale's range"), "{err}");
+    let (code, out, err) = primo(&["scale", "read", "--port", port]);
+    assert_eq!((code, out.trim()), (0, "200.00 g"), "{err}");
+    let (code, out, err) = primo(&["scale", "tare", "--port", port]);
+    assert_eq!((code, out.trim()), (0, "tared 200.00 g"), "{err}");
+    assert!(
+        err.contains("warning") && err.contains("until primo next connects"),
+        "{err}"
+    );
+}
+
+#[test]
 fn a_scale_that_cannot_settle_is_asked_again_until_the_settling_time_is_over() {
     let mut served = Served::start(&["--stable-timeout", "0.3"]);
     let config = ClientConfig {
@@ -363,8 +376,11 @@ fn primo_scale_read_prints_one_stable_weight() {
         );
     }
     let (code, _, err) = primo(&["scale", "read", "--port", "/nonexistent/tty"]);
-    assert_eq!(code, 1);
-    assert!(err.contains("/nonexistent/tty: cannot open"), "{err}");
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("--port /nonexistent/tty: no such file or device"),
+        "{err}"
+    );
 
     let served = Served::start(&["--load", "5000"]);
     let (code, _, err) = primo(&["scale", "read", "--port", &served.path]);
@@ -374,18 +390,41 @@ fn primo_scale_read_prints_one_stable_weight() {
 
 #[test]
 fn serve_answers_every_operator_line() {
-    let (code, text, err) = primo_with_input(
-        &["scale", "serve"],
-        b"load x\nsilent -1\njump\n\ngarbage \\q\npower-on\n",
-    );
-    assert_eq!(code, 0, "{err}");
-    let lines: Vec<&str> = text.lines().collect();
-    assert_eq!(lines.len(), 6, "{text}");
-    assert!(lines[1].starts_with("error: stdin line 1: load <grams>: `x` is not a number"));
-    assert!(lines[2].starts_with("error: stdin line 2: silent <seconds>: -1 is not a duration"));
-    assert!(lines[3].starts_with("error: stdin line 3: `jump`: expected"));
-    assert!(lines[4].starts_with("error: stdin line 5: garbage: unknown escape"));
-    assert_eq!(lines[5], "ok power-on");
+    let mut served = Served::start(&[]);
+    let stdin = served.stdin.as_mut().unwrap();
+    stdin
+        .write_all(b"load x\nsilent -1\njump\n\ngarbage \\q\npower-on\n")
+        .unwrap();
+    stdin.flush().unwrap();
+    let lines: Vec<String> = (0..5)
+        .map(|_| served.replies.recv_timeout(REPLY).unwrap())
+        .collect();
+    assert!(lines[0].starts_with("error: stdin line 1: load <grams>: `x` is not a number"));
+    assert!(lines[1].starts_with("error: stdin line 2: silent <seconds>: -1 is not a duration"));
+    assert!(lines[2].starts_with("error: stdin line 3: `jump`: expected"));
+    assert!(lines[3].starts_with("error: stdin line 5: garbage: unknown escape"));
+    assert_eq!(lines[4], "ok power-on");
+}
+
+#[test]
+fn serve_serves_on_after_stdin_closes() {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_primo"))
+        .args(["scale", "serve", "--load", "12.5"])
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut path = String::new();
+    BufReader::new(child.stdout.take().unwrap())
+        .read_line(&mut path)
+        .unwrap();
+    std::thread::sleep(Duration::from_millis(300));
+    let running = child.try_wait().unwrap().is_none();
+    let (code, out, err) = primo(&["scale", "read", "--port", path.trim()]);
+    let _ = child.kill();
+    let _ = child.wait();
+    assert!(running, "`primo scale serve < /dev/null` ended at once");
+    assert_eq!((code, out.trim()), (0, "12.50 g"), "{err}");
 }
 
 /// `TTYPort::pair` is not thread-safe: in-process servers start one at a time.
@@ -641,7 +680,7 @@ fn a_path_that_is_no_serial_port_is_refused() {
         assert_eq!((code, out.as_str()), (2, ""), "{err}");
         assert_eq!(
             err.trim_end(),
-            format!("primo: {port}: not a serial port: it is {what}")
+            format!("primo: --port {port}: not a serial port: it is {what}")
         );
     }
 }

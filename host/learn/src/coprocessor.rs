@@ -29,7 +29,8 @@ use primo_protocol::scale::{Reply, Request, STREAM};
 use serde::Serialize;
 use serialport::SerialPort;
 
-use crate::Error;
+use crate::{Error, Setting};
+use primo_mtsics::path::Wanted;
 
 /// How long to wait for a reply before sending the request again.
 pub const REPLY_TIMEOUT: Duration = Duration::from_millis(200);
@@ -69,14 +70,14 @@ struct Line {
 }
 
 impl Link {
-    /// Opens the serial port at `path` (115200 8N1; a pseudo-terminal
-    /// ignores the rate) and greets the device: it must speak
-    /// [`VERSION`].
-    pub fn open(path: &str) -> Result<Link, Error> {
+    /// Opens the serial port at `path`, named by `setting` (115200 8N1; a
+    /// pseudo-terminal ignores the rate), and greets the device: it must
+    /// speak [`VERSION`].
+    pub fn open(path: &str, setting: Setting) -> Result<Link, Error> {
         let port = serialport::new(path, 115_200)
             .timeout(Duration::from_millis(20))
             .open()
-            .map_err(|e| Error::Coprocessor(format!("coprocessor {path}: cannot open: {e}")))?;
+            .map_err(|e| Error::open(setting, path, Wanted::Port)(e.into()))?;
         // Sequence numbers start somewhere new each time, so that a reply
         // cached from an earlier session is never taken for ours.
         let seq = std::time::SystemTime::now()

@@ -1,4 +1,6 @@
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+
+use primo_mtsics::path::{Fault, Wanted, read_text};
 
 /// What goes wrong in the learning library. [`Error::is_input`] tells bad
 /// input and refused settings (the user can fix them before anything
@@ -112,9 +114,20 @@ pub enum Error {
     /// The robot's FRI socket failed.
     #[error(transparent)]
     Socket(#[from] primo_fri::udp::SocketError),
+    /// A port or file named by a setting would not open: why
+    /// ([`primo_mtsics::path`]).
+    #[error("{} {}: {fault}", setting.name(), path.display())]
+    Open {
+        /// The setting that named it.
+        setting: Setting,
+        /// As given.
+        path: PathBuf,
+        /// Why it would not open.
+        fault: Fault,
+    },
     /// The scale failed.
     #[error(transparent)]
-    Scale(#[from] primo_mtsics::ScaleError),
+    Scale(primo_mtsics::ScaleError),
     /// An instrument or the operator failed in a roll-out.
     #[error("{0}")]
     Instrument(String),
@@ -157,6 +170,9 @@ impl Error {
     /// Bad input or a refused configuration (exit status 2 on the command
     /// line), as opposed to a failure while running (status 1).
     pub fn is_input(&self) -> bool {
+        if let Error::Open { fault, .. } = self {
+            return fault.is_input();
+        }
         matches!(
             self,
             Error::Invalid(_)
@@ -183,10 +199,47 @@ impl Error {
         }
     }
 
+    /// `path`, named by `setting`, would not open as `wanted` with `e`.
+    pub fn open(
+        setting: Setting,
+        path: impl Into<PathBuf>,
+        wanted: Wanted,
+    ) -> impl FnOnce(std::io::Error) -> Error {
+        let path = path.into();
+        move |e| Error::Open {
+            fault: Fault::of(&path, wanted, e),
+            setting,
+            path,
+        }
+    }
+
+    /// The text file `path` named by `setting`, read.
+    pub fn read(setting: Setting, path: &Path) -> Result<String, Error> {
+        read_text(path).map_err(|fault| Error::Open {
+            setting,
+            path: path.to_path_buf(),
+            fault,
+        })
+    }
+
     /// An I/O error on `path`.
     pub fn io(path: impl Into<PathBuf>) -> impl FnOnce(std::io::Error) -> Error {
         let path = path.into();
         move |source| Error::Io { path, source }
+    }
+}
+
+impl From<primo_mtsics::ScaleError> for Error {
+    /// The real cell's scale: a port that would not open is its setting's.
+    fn from(e: primo_mtsics::ScaleError) -> Self {
+        match e.kind {
+            primo_mtsics::ErrorKind::Open(fault) => Error::Open {
+                setting: Setting::Scale,
+                path: e.port.into(),
+                fault,
+            },
+            _ => Error::Scale(e),
+        }
     }
 }
 

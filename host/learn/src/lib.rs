@@ -27,6 +27,7 @@
 #![deny(missing_docs)]
 
 pub mod algorithm;
+pub mod clock;
 pub mod coprocessor;
 mod error;
 pub mod experiment;

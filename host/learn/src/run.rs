@@ -16,14 +16,15 @@ use primo_skill::Skill;
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 
-use crate::Error;
 use crate::algorithm::Algorithm;
+use crate::clock::{Clock, Seconds};
 use crate::coprocessor::{Image, Link, Qemu};
 use crate::learner::{Learner, check_examples, examples_crc};
 use crate::lock;
 use crate::output::{check_dir, create_dir};
 use crate::rollouts::{Entry, Scored, check_replay, learn_logged};
 use crate::runlog::{self, RunEvent, RunLog};
+use crate::{Error, Setting};
 use primo_protocol::learner::Setup;
 
 /// The run log's format version, one for every kind. Version 4: the
@@ -87,7 +88,7 @@ pub trait Kind: Clone + Serialize + DeserializeOwned {
         built: &Self::Built,
         dir: &Path,
         run: &[Entry<Self::Trial>],
-        seconds: f64,
+        seconds: Seconds,
     ) -> Result<Self::Finished, Error>;
 }
 
@@ -354,6 +355,8 @@ pub fn run<K: Kind>(
             (dir, header, entries, log, ended, None, changes, held)
         }
     };
+    // Dropped before the directory is let go, on every way out.
+    let clock = Clock::start(&dir, started);
     let fail = |error: Error| Failure {
         error: Box::new(error),
         resumable: Some(dir.clone()),
@@ -428,7 +431,7 @@ pub fn run<K: Kind>(
     .map_err(fail)?;
     drop(execution);
     let finished = run
-        .report(&built, &dir, &rollouts, started.elapsed().as_secs_f64())
+        .report(&built, &dir, &rollouts, clock.now())
         .map_err(fail)?;
     event(Event::Finished(&finished)).map_err(fail)
 }
@@ -458,7 +461,7 @@ pub fn open_learner(spec: &LearnerSpec) -> Result<(Option<Qemu>, Learner, Option
                 None => Qemu::find(Image::Coprocessor)?,
             };
             let qemu = Qemu::start(&elf)?;
-            let link = Link::open(qemu.pty())?;
+            let link = Link::open(qemu.pty(), Setting::Coprocessor)?;
             let what = format!(
                 "learner: firmware {} on QEMU mps2-an386, {}",
                 elf.display(),
@@ -467,7 +470,7 @@ pub fn open_learner(spec: &LearnerSpec) -> Result<(Option<Qemu>, Learner, Option
             (Some(qemu), Learner::Remote(link), Some(what))
         }
         Some(port) => {
-            let link = Link::open(port)?;
+            let link = Link::open(port, Setting::Coprocessor)?;
             (
                 None,
                 Learner::Remote(link),

@@ -2,10 +2,12 @@
 
 use std::fmt;
 use std::io::{self, Read, Write};
+use std::path::Path;
 use std::time::{Duration, Instant};
 
 use serialport::{ClearBuffer, DataBits, FlowControl, Parity, SerialPort, StopBits};
 
+use crate::path::{Fault, Wanted};
 use crate::protocol::{
     Lines, Reply, Response, ResponseError, Stability, Weight, parse_response, parse_tail, quote,
 };
@@ -54,8 +56,8 @@ impl Default for ClientConfig {
 pub enum ErrorKind {
     /// Opening, reading or writing the port failed.
     Port(io::Error),
-    /// The path is no serial port: what it is instead.
-    NotAPort(&'static str),
+    /// The port would not open: why ([`crate::path`]).
+    Open(Fault),
     /// No MT-SICS answer within the timeout.
     Timeout {
         /// Times the command was sent.
@@ -112,11 +114,8 @@ impl fmt::Display for ScaleError {
             write!(f, "{port}: sent `{sent}`, received `{line}`: {why}")
         };
         match (&self.kind, &self.noise) {
-            (ErrorKind::Port(e), _) if sent.is_empty() => write!(f, "{port}: cannot open: {e}"),
+            (ErrorKind::Open(fault), _) => write!(f, "{port}: {fault}"),
             (ErrorKind::Port(e), _) => write!(f, "{port}: sent `{sent}`: {e}"),
-            (ErrorKind::NotAPort(what), _) => {
-                write!(f, "{port}: not a serial port: it is {what}")
-            }
             (ErrorKind::Timeout { attempts }, None) => write!(
                 f,
                 "{port}: sent `{sent}` {attempts} time(s), no answer within {:.1} s: is the \
@@ -150,13 +149,30 @@ impl fmt::Display for ScaleError {
                     waited.as_secs_f64()
                 ),
             ),
-            (ErrorKind::Overload(line), _) => {
-                got(f, line, "overload: the load is beyond the scale's range")
-            }
+            // `Z` and `T` answer `+`/`-` for their own ranges, not the
+            // weighing range `S` answers it for.
+            (ErrorKind::Overload(line), _) => got(
+                f,
+                line,
+                match sent.as_str() {
+                    "Z" => {
+                        "the load is beyond the balance's zero-setting range (it zeroes only \
+                        near its empty pan): empty the pan, or tare instead"
+                    }
+                    "T" => "the load is beyond the balance's taring range",
+                    _ => "overload: the load is beyond the scale's weighing range",
+                },
+            ),
             (ErrorKind::Underload(line), _) => got(
                 f,
                 line,
-                "underload: the load is below the scale's zero range",
+                match sent.as_str() {
+                    "Z" => {
+                        "the load is below the balance's zero-setting range (it zeroes only \
+                        near its empty pan)"
+                    }
+                    _ => "underload: the load is below the scale's zero range",
+                },
             ),
             (ErrorKind::Rejected(line), _) => {
                 let why = match line.as_str() {
@@ -241,9 +257,12 @@ impl Client {
             .flow_control(FlowControl::None)
             .timeout(config.timeout.min(LONGEST))
             .open()
-            .map_err(|e| match not_a_port(path) {
-                Some(what) => failed(ErrorKind::NotAPort(what)),
-                None => failed(ErrorKind::Port(e.into())),
+            .map_err(|e| {
+                failed(ErrorKind::Open(Fault::of(
+                    Path::new(path),
+                    Wanted::Port,
+                    e.into(),
+                )))
             })?;
         let mut scale = Client {
             port,
@@ -499,38 +518,4 @@ impl Client {
         let attempts = *attempts;
         Err(self.error(command, ErrorKind::Timeout { attempts }))
     }
-}
-
-/// What `path` is, if it is no serial port: asked once opening it as one
-/// failed.
-#[cfg(unix)]
-fn not_a_port(path: &str) -> Option<&'static str> {
-    use std::io::IsTerminal;
-    use std::os::unix::fs::{FileTypeExt, OpenOptionsExt};
-    let kind = std::fs::metadata(path).ok()?.file_type();
-    if kind.is_char_device() {
-        // Non-blocking: a terminal without carrier would block the open.
-        let file = std::fs::OpenOptions::new()
-            .read(true)
-            .custom_flags(libc::O_NONBLOCK | libc::O_NOCTTY)
-            .open(path)
-            .ok()?;
-        return (!file.is_terminal()).then_some("a device that is not a terminal");
-    }
-    Some(if kind.is_file() {
-        "a regular file"
-    } else if kind.is_dir() {
-        "a directory"
-    } else if kind.is_fifo() {
-        "a named pipe"
-    } else if kind.is_socket() {
-        "a socket"
-    } else {
-        "not a character device"
-    })
-}
-
-#[cfg(not(unix))]
-fn not_a_port(_: &str) -> Option<&'static str> {
-    None
 }

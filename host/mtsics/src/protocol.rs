@@ -3,6 +3,8 @@
 
 use std::fmt;
 
+use crate::Fixed;
+
 /// The longest line (without CR LF) either side accepts, bytes. MT-SICS
 /// lines are short; anything longer is a broken line, not a response.
 pub const MAX_LINE: usize = 128;
@@ -50,12 +52,7 @@ impl fmt::Display for Weight {
 
 impl Weight {
     fn value_text(&self) -> String {
-        let decimals = usize::from(self.decimals.min(9));
-        let text = format!("{:.*}", decimals, self.value);
-        match text.strip_prefix('-') {
-            Some(abs) if abs.bytes().all(|b| b == b'0' || b == b'.') => abs.to_string(),
-            _ => text,
-        }
+        Fixed(self.value, usize::from(self.decimals.min(9))).to_string()
     }
 }
 

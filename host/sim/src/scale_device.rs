@@ -455,6 +455,19 @@ impl PtyServer {
         wait.recv().map_err(|_| stopped())
     }
 
+    /// Serves on until the process ends: returns only the serving loop's
+    /// error, if it fails.
+    pub fn serve_on(self) -> io::Result<()> {
+        let PtyServer {
+            control, thread, ..
+        } = self;
+        let served = thread
+            .join()
+            .map_err(|_| io::Error::other("the scale server panicked"))?;
+        drop(control);
+        served
+    }
+
     /// Stops serving and closes the pseudo-terminal; the serving loop's
     /// error, if it failed.
     pub fn stop(self) -> io::Result<()> {

@@ -24,8 +24,10 @@ pub const MIN_ROWS: usize = 3;
 /// 1 kHz): more are refused before they are stored.
 pub const MAX_DEMO_ROWS: usize = 1_000_000;
 
-/// Parses demonstration CSV text; `file` names it in error messages.
+/// Parses demonstration CSV text; `file` names it in error messages. A
+/// leading byte-order mark (a spreadsheet's "CSV UTF-8") is skipped.
 pub fn parse_demo(file: &str, text: &str) -> Result<Demo, Error> {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let err = |line: usize, col: Option<usize>, msg: String| {
         Error::File(match col {
             Some(c) => format!("{file}:{line}:{c}: {msg}"),
@@ -582,6 +584,12 @@ mod tests {
                 MAX_DEMO_ROWS + 2
             )
         );
+    }
+
+    #[test]
+    fn skips_a_byte_order_mark() {
+        let demo = parse_demo("d.csv", "\u{feff}t,x\n0,1\n1,2\n2,3\n").unwrap();
+        assert_eq!(demo.names, ["x"]);
     }
 
     #[test]

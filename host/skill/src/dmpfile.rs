@@ -126,6 +126,17 @@ fn at(file: &str, e: serde_json::Error) -> Error {
 
 /// The header, checked.
 fn header(file: &str, text: &str) -> Result<Header, Error> {
+    // Anything but a JSON object (a CSV, say) is no DMP file at all:
+    // say so rather than where the JSON parser stopped.
+    if !text.trim_start().starts_with('{') {
+        let first = text.lines().next().unwrap_or("");
+        let first: String = first.chars().take(40).collect();
+        return Err(Error::File(format!(
+            "{file}: not a primo DMP file (the JSON object `{{\"format\": \"{FORMAT}\", ...}}` \
+             that `primo dmp fit` writes); it begins `{}`",
+            first.escape_debug()
+        )));
+    }
     let header: Header = serde_json::from_str(text).map_err(|e| at(file, e))?;
     if header.format != FORMAT {
         return Err(Error::File(format!(
@@ -642,6 +653,15 @@ mod tests {
 
     fn names(s: &str) -> Vec<String> {
         s.split(',').map(String::from).collect()
+    }
+
+    #[test]
+    fn a_csv_is_named_no_dmp_file() {
+        let e = parse("reach.csv", "t,x,z\n0,0,0.1\n")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("reach.csv: not a primo DMP file"), "{e}");
+        assert!(e.contains("it begins `t,x,z`"), "{e}");
     }
 
     #[test]

@@ -123,7 +123,10 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
             }
         };
         let tau = t_end - t0;
-        check_tau(tau, "demonstration duration must be finite and >= MIN_TAU")?;
+        check_tau(
+            tau,
+            "demonstration duration must be finite and at least 0.001 s",
+        )?;
         // One pass: the rows' count and bounds, start, goal and ranges.
         let mut count = 0usize;
         let mut bounded = true;
@@ -154,7 +157,9 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
         });
         check_len("positions", n, count)?;
         if !bounded {
-            return Err(Error::OutOfRange("positions beyond MAX_ABS_POSITION"));
+            return Err(Error::OutOfRange(
+                "positions beyond ±1e6, the bound on any position",
+            ));
         }
         let start: Vec<f32, D> = first.iter().copied().take(dof).collect();
         let goal: Vec<f32, D> = last.iter().copied().take(dof).collect();
@@ -292,7 +297,7 @@ fn fit_layout<const D: usize, const K: usize>(
         check_bounded(
             row.get(..demo.kernels).unwrap_or(&[]),
             MAX_ABS_WEIGHT,
-            "fitted weights beyond MAX_ABS_WEIGHT (demo too short or too noisy for the kernels?)",
+            "fitted weights beyond ±1e9, the bound on kernel weights (demo too short or too noisy for the kernels?)",
         )?;
     }
     Ok((residual, width))

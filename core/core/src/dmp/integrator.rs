@@ -29,14 +29,17 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
         check_bounded(
             &exec.start,
             MAX_ABS_POSITION,
-            "execution start beyond MAX_ABS_POSITION",
+            "execution start beyond ±1e6, the bound on any position",
         )?;
         check_bounded(
             &exec.goal,
             MAX_ABS_POSITION,
-            "execution goal beyond MAX_ABS_POSITION",
+            "execution goal beyond ±1e6, the bound on any position",
         )?;
-        check_tau(exec.tau, "execution tau must be finite and >= MIN_TAU")
+        check_tau(
+            exec.tau,
+            "execution tau must be finite and at least 0.001 s",
+        )
     }
 
     /// Starts an execution at rest at `exec.start`; advance it with
@@ -191,7 +194,11 @@ impl<const D: usize> Run<D> {
     ) -> Result<(), Error> {
         check_len("position", self.dof, y.len())?;
         check_len("DMP DoF", self.dof, dmp.dof())?;
-        check_bounded(y, MAX_ABS_POSITION, "position beyond MAX_ABS_POSITION")?;
+        check_bounded(
+            y,
+            MAX_ABS_POSITION,
+            "position beyond ±1e6, the bound on any position",
+        )?;
         for ((dst, carry), src) in self.y.iter_mut().zip(self.y_carry.iter_mut()).zip(y) {
             (*dst, *carry) = (*src, 0.0);
         }
@@ -203,7 +210,11 @@ impl<const D: usize> Run<D> {
     pub fn set_goal<const K: usize>(&mut self, dmp: &Dmp<D, K>, goal: &[f32]) -> Result<(), Error> {
         check_len("goal", self.dof, goal.len())?;
         check_len("DMP DoF", self.dof, dmp.dof())?;
-        check_bounded(goal, MAX_ABS_POSITION, "goal beyond MAX_ABS_POSITION")?;
+        check_bounded(
+            goal,
+            MAX_ABS_POSITION,
+            "goal beyond ±1e6, the bound on any position",
+        )?;
         for (d, (dst, &g)) in self.goal.iter_mut().zip(goal).enumerate() {
             *dst = g;
             if let (Some(a), Some(&y0)) = (self.amplitude.get_mut(d), self.start.get(d)) {

@@ -56,11 +56,23 @@ impl<const D: usize, const K: usize> TryFrom<DmpFields<D, K>> for Dmp<D, K> {
         }
         for row in &f.weights {
             check_len("weights (row)", k, row.len())?;
-            check_bounded(row, MAX_ABS_WEIGHT, "weights beyond MAX_ABS_WEIGHT")?;
+            check_bounded(
+                row,
+                MAX_ABS_WEIGHT,
+                "weights beyond ±1e9, the bound on kernel weights",
+            )?;
         }
-        check_bounded(&f.start, MAX_ABS_POSITION, "start beyond MAX_ABS_POSITION")?;
-        check_bounded(&f.goal, MAX_ABS_POSITION, "goal beyond MAX_ABS_POSITION")?;
-        check_tau(f.tau, "tau must be finite and >= MIN_TAU")?;
+        check_bounded(
+            &f.start,
+            MAX_ABS_POSITION,
+            "start beyond ±1e6, the bound on any position",
+        )?;
+        check_bounded(
+            &f.goal,
+            MAX_ABS_POSITION,
+            "goal beyond ±1e6, the bound on any position",
+        )?;
+        check_tau(f.tau, "tau must be finite and at least 0.001 s")?;
         check_alpha(f.alpha)?;
         check_positive(f.width, "width must be finite and > 0")?;
         check_margin(f.margin, k)?;
@@ -176,14 +188,18 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
         check_len("parameter vector", self.param_len(), theta.len())?;
         let (k, n) = (self.kernels(), self.dof());
         let (weights, rest) = theta.split_at(n * k);
-        check_bounded(weights, MAX_ABS_WEIGHT, "weights beyond MAX_ABS_WEIGHT")?;
+        check_bounded(
+            weights,
+            MAX_ABS_WEIGHT,
+            "weights beyond ±1e9, the bound on kernel weights",
+        )?;
         check_bounded(
             rest.get(..n).unwrap_or(&[]),
             MAX_ABS_POSITION,
-            "goals beyond MAX_ABS_POSITION",
+            "goals beyond ±1e6, the bound on any position",
         )?;
         let tau = theta.last().copied().unwrap_or(0.0);
-        check_tau(tau, "tau must be finite and >= MIN_TAU")?;
+        check_tau(tau, "tau must be finite and at least 0.001 s")?;
         for (row, chunk) in self.weights.iter_mut().zip(theta.chunks_exact(k)) {
             row.copy_from_slice(chunk);
         }
@@ -196,7 +212,11 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
     /// Sets the default goal (one value per DoF).
     pub(crate) fn set_goal_vector(&mut self, goal: &[f32]) -> Result<(), Error> {
         check_len("goal", self.dof(), goal.len())?;
-        check_bounded(goal, MAX_ABS_POSITION, "goals beyond MAX_ABS_POSITION")?;
+        check_bounded(
+            goal,
+            MAX_ABS_POSITION,
+            "goals beyond ±1e6, the bound on any position",
+        )?;
         self.goal.copy_from_slice(goal);
         Ok(())
     }

@@ -155,6 +155,6 @@ pub(crate) fn check_alpha(alpha: f32) -> Result<(), Error> {
     if (MIN_ALPHA..=MAX_ALPHA).contains(&alpha) {
         Ok(())
     } else {
-        Err(Error::OutOfRange("alpha must be in [MIN_ALPHA, MAX_ALPHA]"))
+        Err(Error::OutOfRange("alpha must be in [0.01, 10000]"))
     }
 }

@@ -4,10 +4,12 @@
 
 use std::path::Path;
 
+use primo_mtsics::Fixed;
 use primo_skill::csv::Csv;
 use serde::Serialize;
 
 use crate::Error;
+use crate::clock::Seconds;
 use crate::output::{write_file, write_json};
 use crate::plot::panels::{per_rollout, reward_lines, rewards, write_convergence};
 use crate::plot::{Line, Panel};
@@ -62,12 +64,12 @@ pub fn rollout_line(r: &Record<Trial>) -> String {
             r.volume()
         ),
         None => format!(
-            "roll-out {:>3}: q {:.4} l  poured {:6.1} ml  spilled {:5.1} ml  error {:+6.1} ml  reward {:.3}{}",
+            "roll-out {:>3}: q {:.4} l  poured {:6} ml  spilled {:5} ml  error {:+6} ml  reward {:.3}{}",
             r.rollout,
             r.volume(),
-            t.poured * 1e3,
-            t.spilled * 1e3,
-            t.error * 1e3,
+            Fixed(t.poured * 1e3, 1),
+            Fixed(t.spilled * 1e3, 1),
+            Fixed(t.error * 1e3, 1),
             t.reward,
             if r.mean { "  (mean)" } else { "" }
         ),
@@ -95,8 +97,15 @@ pub struct PourSummary<'a> {
     /// The best executed roll-out (highest reward, the later of equals):
     /// `series.csv` is its time series.
     pub best: Option<RolloutSummary>,
-    /// Wall-clock time, s.
-    pub seconds: f64,
+    /// Error learning: the queries it searched, l, as it searched them:
+    /// `settings.search` with its low end raised so that the glass does
+    /// not overflow ([`Settings::search_bounds`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub searched: Option<[f32; 2]>,
+    /// Wall-clock time, s: `seconds` over all the run's sessions,
+    /// `session_seconds` this one's.
+    #[serde(flatten)]
+    pub seconds: Seconds,
 }
 
 /// One roll-out in a summary.
@@ -194,4 +203,32 @@ pub fn write_pour(
     }
     panels.push(per_rollout("Learned query", "q [l]", &q));
     write_convergence(dir, &panels)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::pour::trial::Measured;
+
+    #[test]
+    fn a_pour_of_a_hair_less_than_nothing_is_no_negative_zero() {
+        let m = Measured {
+            poured: -2e-6,
+            spilled: -0.0,
+            series: None,
+            readings: None,
+        };
+        let r = Record {
+            rollout: 1,
+            update: 0,
+            mean: true,
+            query: vec![0.5],
+            trial: Trial::scored(0.0, m),
+        };
+        let line = rollout_line(&r);
+        assert!(
+            line.contains("poured    0.0 ml  spilled   0.0 ml  error   +0.0 ml"),
+            "{line}"
+        );
+    }
 }

@@ -13,6 +13,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::Error;
 use crate::algorithm::Algorithm;
+use crate::clock::Seconds;
 use crate::error::Setting;
 use crate::learner::Learner;
 use crate::rollouts::{Ending, Entry, Record, Stop};
@@ -215,7 +216,7 @@ impl Kind for Pour {
         built: &Prepared,
         dir: &Path,
         run: &[Entry<Trial>],
-        seconds: f64,
+        seconds: Seconds,
     ) -> Result<Finished, Error> {
         let s = &self.settings;
         let skill = &built.built.skill;
@@ -230,6 +231,7 @@ impl Kind for Pour {
             verdict: ending.stop.verdict(),
             last: RolloutSummary::of(ending.last),
             best: ending.best.map(|e| RolloutSummary::of(&e.record)),
+            searched: (!s.method.is_power()).then(|| s.search_bounds()),
             seconds,
         };
         write_pour(dir, &records, &summary)?;

@@ -142,8 +142,7 @@ impl SkillSpec {
         let mut demos = Vec::new();
         let mut converted = Vec::new();
         for d in &self.demos {
-            let text = std::fs::read_to_string(&d.file)
-                .map_err(|e| Error::Invalid(format!("{}: cannot read: {e}", d.file.display())))?;
+            let text = Error::read(Setting::Demo, &d.file)?;
             let name = d.file.display().to_string();
             let mut demo = parse_demo(&name, &text)?;
             if self.space == Space::Cartesian

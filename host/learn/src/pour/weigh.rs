@@ -178,7 +178,7 @@ impl PrimoScale {
     /// The scale on serial port `port`; stable readings are waited for up
     /// to `settle`.
     pub fn open(port: &str, settle: Duration) -> Result<PrimoScale, Error> {
-        Self::with(Link::open(port)?, settle, None)
+        Self::with(Link::open(port, Setting::Scale)?, settle, None)
     }
 
     /// Boots the scale `firmware` in QEMU, its ADC line on `load_cell`,
@@ -186,7 +186,7 @@ impl PrimoScale {
     pub fn boot(firmware: &Path, load_cell: &str, settle: Duration) -> Result<PrimoScale, Error> {
         let page = LoadCellModel::default().factory_settings();
         let qemu = Qemu::start_scale(firmware, load_cell, &page)?;
-        Self::with(Link::open(qemu.pty())?, settle, Some(qemu))
+        Self::with(Link::open(qemu.pty(), Setting::Scale)?, settle, Some(qemu))
     }
 
     fn with(link: Link, settle: Duration, qemu: Option<Qemu>) -> Result<PrimoScale, Error> {

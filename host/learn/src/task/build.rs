@@ -2,6 +2,7 @@
 //! checked (by name, across demonstrations) and against the limits, and
 //! the skill fitted.
 
+use primo_mtsics::path::read_text;
 use primo_robot::envelope::{ColumnLimit, Limits};
 use primo_skill::Skill;
 use primo_skill::csv::{Demo, check_rotation_vectors, parse_demo};
@@ -25,8 +26,9 @@ impl Task {
         let mut demos: Vec<(String, Demo)> = Vec::new();
         for d in &self.demos {
             let name = d.file.display().to_string();
-            let text = std::fs::read_to_string(&d.file)
-                .map_err(|e| Error::Invalid(format!("{name}: cannot read: {e}")))?;
+            // Named in the task file, not by a setting: checked when it was
+            // loaded, so this is rare.
+            let text = read_text(&d.file).map_err(|f| Error::Invalid(format!("{name}: {f}")))?;
             let demo = parse_demo(&name, &text)?;
             check_rotation_vectors(&name, &demo)?;
             if let Some((first, reference)) = demos.first() {

@@ -5,6 +5,7 @@ use std::ops::Range;
 use std::path::Path;
 
 use primo_core::generalize::Method as Regression;
+use primo_mtsics::path::{Wanted, check};
 use primo_skill::skill::MAX_EXAMPLES;
 use primo_skill::{MAX_KERNELS, MAX_QUERY};
 use toml::Spanned;
@@ -95,9 +96,7 @@ impl Task {
     /// Reads and checks the task file at `path`: every key, every value,
     /// the demonstrations' files named (they are read by [`Task::build`]).
     pub fn load(path: &Path) -> Result<Task, Error> {
-        let text = std::fs::read_to_string(path).map_err(|e| {
-            Error::setting(Setting::Task, path.display(), format!("cannot read: {e}"))
-        })?;
+        let text = Error::read(Setting::Task, path)?;
         let file = std::path::absolute(path)
             .map_err(|e| Error::setting(Setting::Task, path.display(), e.to_string()))?;
         Task::parse(&file, &text)
@@ -222,11 +221,11 @@ fn demos(p: &Place, raw: &File, dir: &Path, pour: bool) -> Result<Vec<TaskDemo>,
             ));
         }
         let file = dir.join(d.file.get_ref());
-        if !file.is_file() {
+        if let Err(fault) = check(&file, Wanted::File) {
             return Err(p.at(
                 d.file.span(),
                 "[[demo]] file",
-                format!("{}: no such file", file.display()),
+                format!("{}: {fault}", file.display()),
             ));
         }
         out.push(TaskDemo { file, query: q });
@@ -822,13 +821,14 @@ target = 0.2
         assert!(
             matches!(
                 e,
-                Error::Setting {
+                Error::Open {
                     setting: Setting::Task,
                     ..
                 }
             ),
             "{e}"
         );
-        assert!(e.to_string().contains("cannot read"), "{e}");
+        assert!(e.is_input(), "{e}");
+        assert!(e.to_string().contains("no such file or device"), "{e}");
     }
 }

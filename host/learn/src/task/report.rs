@@ -10,6 +10,7 @@ use serde::Serialize;
 
 use crate::Error;
 use crate::algorithm::Algorithm;
+use crate::clock::Seconds;
 use crate::output::{write_file, write_json};
 use crate::plot::panels::{per_rollout, reward_lines, rewards, write_convergence};
 use crate::plot::{Line, Panel};
@@ -47,7 +48,8 @@ struct Summary<'a> {
     verdict: Verdict,
     last: &'a Record<TaskTrial>,
     best: Option<&'a Record<TaskTrial>>,
-    seconds: f64,
+    #[serde(flatten)]
+    seconds: Seconds,
 }
 
 /// Writes `rollouts.csv`, `summary.json` and `convergence.png` of the
@@ -57,7 +59,7 @@ pub fn write_task(
     task: &Task,
     skill: &Skill,
     run: &[Entry<TaskTrial>],
-    seconds: f64,
+    seconds: Seconds,
 ) -> Result<Finished, Error> {
     let ending = Ending::of(run, task.learner.method.is_power(), task.goal.precision)?;
     let records: Vec<&Record<TaskTrial>> = run.iter().map(|e| &e.record).collect();

@@ -21,6 +21,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::Error;
 use crate::algorithm::Algorithm;
+use crate::clock::Seconds;
 use crate::error::Setting;
 use crate::learner::{power_blocks, setup, wire_query};
 use crate::output::{create_dir, write_file};
@@ -154,7 +155,7 @@ impl Kind for TaskRun {
         built: &Built,
         dir: &Path,
         run: &[Entry<TaskTrial>],
-        seconds: f64,
+        seconds: Seconds,
     ) -> Result<Finished, Error> {
         write_task(dir, &self.task, &built.skill, run, seconds)
     }
