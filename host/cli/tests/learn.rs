@@ -518,7 +518,10 @@ fn each_command_names_the_command_that_continues_the_others_log() {
     let o = out.to_str().unwrap();
     let (code, _, err) = learn(&file, &out, &[]);
     assert_eq!(code, 1, "{err}");
-    assert!(err.contains(&format!("continue with `primo learn --resume {o}`")), "{err}");
+    assert!(
+        err.contains(&format!("continue with `primo learn --resume {o}`")),
+        "{err}"
+    );
     let log = std::fs::read(out.join("run.log")).unwrap();
     let (code, _, err) = primo(&["pour", "--resume", o]);
     assert_eq!(code, 2, "{err}");
@@ -537,7 +540,10 @@ fn each_command_names_the_command_that_continues_the_others_log() {
     assert_eq!(code, 0, "{err}");
     let (code, stdout, err) = primo(&["learn", "--resume", p]);
     assert_eq!(code, 0, "{err}");
-    assert!(stdout.contains("the run is complete: reporting"), "{stdout}");
+    assert!(
+        stdout.contains("the run is complete: reporting"),
+        "{stdout}"
+    );
 }
 
 #[test]
