@@ -44,8 +44,8 @@ pub struct LearnArgs {
     force: bool,
     /// Continue the run logged in DIR: its task and settings come from the
     /// log, and no roll-out is lost or repeated. With --task, the task file
-    /// as it is now may change the [goal] low/high bounds, [learner]
-    /// max_rollouts and [evaluate] (each change is said, and kept in the
+    /// as it is now may change the `[goal]` low/high bounds, `[learner]`
+    /// max_rollouts and `[evaluate]` (each change is said, and kept in the
     /// log); with --max-rollouts, the budget.
     #[arg(long, value_name = "DIR", conflicts_with_all = ["out", "seed", "force"])]
     resume: Option<PathBuf>,
