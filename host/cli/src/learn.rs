@@ -16,7 +16,7 @@ use primo_learn::task::{Evaluate, Task};
 
 use crate::error::CliError;
 use crate::pour::{
-    CellArgs, LearnerArgs, execute, finish, print, run_line, show_rollout, with_progress,
+    CellArgs, LearnerArgs, bounded, execute, finish, print, run_line, show_rollout, with_progress,
 };
 use crate::progress::Progress;
 
@@ -189,18 +189,6 @@ fn show(event: Event<TaskRun>, progress: &mut Progress) -> Result<(), Error> {
         }
     };
     print(&line)
-}
-
-/// A roll-out's line, and if the error learner takes it as a bound of its
-/// search, that it does.
-pub fn bounded(line: String, bounds: bool, query: &[f32]) -> String {
-    match bounds {
-        true => format!(
-            "{line}; error learning now searches away from q = {}",
-            query_text(query)
-        ),
-        false => line,
-    }
 }
 
 /// The operator at the terminal: questions on stdout, answers on stdin.

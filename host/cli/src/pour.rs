@@ -10,6 +10,7 @@ use primo_learn::pour::rig::{InstrumentsSpec, Operator};
 use primo_learn::pour::run::{CellSpec, Note, Pour};
 use primo_learn::pour::settings::Settings;
 use primo_learn::pour::skill::{DemoFile, SkillSpec};
+use primo_learn::rollouts::query_text;
 use primo_learn::run::{Event, Failure, LearnerSpec, Start};
 use primo_learn::runlog::RunEvent;
 use primo_mtsics::Fixed;
@@ -445,8 +446,7 @@ fn show(event: Event<Pour>, progress: &mut Progress) -> Result<(), Error> {
             bounds,
         } => {
             let note = format!("error {:+.1} ml", entry.record.trial.error * 1e3);
-            let line =
-                crate::learn::bounded(rollout_line(&entry.record), bounds, &entry.record.query);
+            let line = bounded(rollout_line(&entry.record), bounds, &entry.record.query);
             return show_rollout(progress, &line, logged, entry.record.rollout, &note);
         }
         Event::Finished(f) => {
@@ -476,6 +476,18 @@ fn show(event: Event<Pour>, progress: &mut Progress) -> Result<(), Error> {
         }
     };
     print(&line)
+}
+
+/// A roll-out's line, and if the error learner takes it as a bound of its
+/// search, that it does.
+pub fn bounded(line: String, bounds: bool, query: &[f32]) -> String {
+    match bounds {
+        true => format!(
+            "{line}; error learning now searches away from q = {}",
+            query_text(query)
+        ),
+        false => line,
+    }
 }
 
 /// A roll-out's line (marked when replayed from the log), then the
