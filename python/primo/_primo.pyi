@@ -160,6 +160,9 @@ class Generalizer:
     def __len__(self) -> int: ...
 
 class _ErrorLearner:
+    def tell_infeasible(self) -> Status:
+        """The asked query could not be rolled out or measured: it bounds
+        the search, and counts against the budget."""
     @property
     def status(self) -> Status: ...
     @property

@@ -267,15 +267,7 @@ impl Cell {
                 "thetas: expected a 2-D array (one vector per row), got shape {shape:?}"
             )));
         };
-        let xs = thetas
-            .as_array()
-            .outer_iter()
-            .enumerate()
-            .map(|(r, row)| {
-                let row: Vec<f64> = row.iter().copied().collect();
-                self.vector(&format!("thetas[{r}]"), &row)
-            })
-            .collect::<PyResult<Vec<_>>>()?;
+        // The shapes first: a count mismatch is said before any row.
         let seeds: Vec<u64> = match seeds {
             None => (0..rows as u64)
                 .map(|i| self.seed.wrapping_add(i))
@@ -289,6 +281,15 @@ impl Cell {
                 return Err(invalid(format!("seeds: {} seeds for {rows} rows", s.len())));
             }
         };
+        let xs = thetas
+            .as_array()
+            .outer_iter()
+            .enumerate()
+            .map(|(r, row)| {
+                let row: Vec<f64> = row.iter().copied().collect();
+                self.vector(&format!("thetas[{r}]"), &row)
+            })
+            .collect::<PyResult<Vec<_>>>()?;
         let objective = &self.objective;
         let trials = py.detach(|| parallel(rows, |i| objective.roll_out(&xs[i], seeds[i], false)));
         trials

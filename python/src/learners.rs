@@ -63,7 +63,8 @@ macro_rules! scalar_learner {
         pub struct $name {
             learner: $core,
             cfg: SearchConfig,
-            told: Vec<f64>,
+            /// What it was told, in order (None: an infeasible query).
+            told: Vec<Option<f64>>,
         }
 
         #[pymethods]
@@ -99,7 +100,17 @@ macro_rules! scalar_learner {
             /// The error of the asked query (> 0: the query must grow).
             fn tell(&mut self, error: f64) -> PyResult<&'static str> {
                 let s = self.learner.tell(scalar("error", error)?).map_err(core)?;
-                self.told.push(error);
+                self.told.push(Some(error));
+                Ok(status(s))
+            }
+
+            /// The asked query could not be rolled out or measured (it was
+            /// rejected, or the trial failed): it bounds the search on its
+            /// side, and counts against the budget. At the first query,
+            /// `desired`, the search ends as ``"infeasible"``.
+            fn tell_infeasible(&mut self) -> PyResult<&'static str> {
+                let s = self.learner.tell_infeasible().map_err(core)?;
+                self.told.push(None);
                 Ok(status(s))
             }
 
@@ -139,9 +150,12 @@ macro_rules! scalar_learner {
                 reduce(slf.as_any(), args, this.told.clone())
             }
 
-            fn __setstate__(&mut self, told: Vec<f64>) -> PyResult<()> {
+            fn __setstate__(&mut self, told: Vec<Option<f64>>) -> PyResult<()> {
                 for e in told {
-                    self.tell(e)?;
+                    match e {
+                        Some(e) => self.tell(e)?,
+                        None => self.tell_infeasible()?,
+                    };
                 }
                 Ok(())
             }
@@ -195,7 +209,8 @@ steps, then Illinois regula falsi); golden section's settings and interface.
 pub struct Secant {
     learner: primo_core::secant::Secant<MAX_QUERY>,
     args: (Vec<f32>, Vec<f32>, Vec<f32>, f32, u32, f32, String),
-    told: Vec<Vec<f32>>,
+    /// What it was told, in order (None: an infeasible query).
+    told: Vec<Option<Vec<f32>>>,
 }
 
 /// A secant update rule by name.
@@ -275,7 +290,18 @@ impl Secant {
             )));
         }
         let s = self.learner.tell(&e).map_err(core)?;
-        self.told.push(e);
+        self.told.push(Some(e));
+        Ok(status(s))
+    }
+
+    /// The asked query could not be rolled out or measured (it was
+    /// rejected, or the trial failed): the next query lies halfway back
+    /// toward the one it stepped from, and the step's reach is halved until
+    /// a query is feasible again. It counts against the budget; at the
+    /// first query, `desired`, the search ends as ``"infeasible"``.
+    fn tell_infeasible(&mut self) -> PyResult<&'static str> {
+        let s = self.learner.tell_infeasible().map_err(core)?;
+        self.told.push(None);
         Ok(status(s))
     }
 
@@ -319,11 +345,18 @@ impl Secant {
         reduce(slf.as_any(), this.args.clone(), this.told.clone())
     }
 
-    fn __setstate__(&mut self, told: Vec<Vec<f64>>) -> PyResult<()> {
+    fn __setstate__(&mut self, told: Vec<Option<Vec<f64>>>) -> PyResult<()> {
         for e in told {
-            let e: Vec<f32> = e.iter().map(|v| *v as f32).collect();
-            self.learner.tell(&e).map_err(core)?;
-            self.told.push(e);
+            match e {
+                Some(e) => {
+                    let e: Vec<f32> = e.iter().map(|v| *v as f32).collect();
+                    self.learner.tell(&e).map_err(core)?;
+                    self.told.push(Some(e));
+                }
+                None => {
+                    self.tell_infeasible()?;
+                }
+            }
         }
         Ok(())
     }

@@ -29,6 +29,50 @@ def test_scalar_learners_pickle_mid_run(cls):
     assert copy.rollouts == 3 and copy.best == learner.best
 
 
+@pytest.mark.parametrize("cls", [primo.GoldenSection, primo.Illinois])
+def test_scalar_learners_narrow_past_an_infeasible_query(cls):
+    # Queries above 1.2 cannot be rolled out (the trial fails); the root,
+    # sqrt(0.5), lies below: the search narrows past them and converges.
+    learner = cls(0.0, 2.0, 0.5, precision=1e-3, max_rollouts=40)
+    infeasible = 0
+    while (q := learner.ask()) is not None:
+        if q > 1.2:
+            infeasible += 1
+            learner.tell_infeasible()
+        else:
+            learner.tell(0.5 - q * q)
+    assert infeasible > 0 and learner.status == "converged"
+    assert abs(learner.best[0] - 0.5**0.5) < 1e-3
+    # An infeasible first query, the desired one, ends the search.
+    first = cls(0.0, 2.0, 1.5)
+    assert first.tell_infeasible() == "infeasible" and first.done
+    with pytest.raises(ValueError):
+        first.tell_infeasible()
+    # What it was told, infeasible queries among it, survives a pickle.
+    mid = cls(0.0, 2.0, 0.5, precision=1e-4)
+    mid.tell(0.5 - 0.25)
+    while mid.ask() <= 1.2:
+        mid.tell(0.5 - mid.ask() ** 2)
+    mid.tell_infeasible()
+    copy = pickle.loads(pickle.dumps(mid))
+    assert copy.ask() == mid.ask() and copy.bracket == mid.bracket
+    assert copy.rollouts == mid.rollouts
+
+
+def test_secant_steps_back_from_an_infeasible_query():
+    learner = primo.Secant([-2], [2], [0.2], gain=4.0, precision=1e-4, max_rollouts=30)
+    while (q := learner.ask()) is not None:
+        if q[0] > 0.9:
+            learner.tell_infeasible()
+        else:
+            learner.tell([0.6 - q[0]])
+    assert learner.status == "converged"
+    assert abs(learner.best[0][0] - 0.6) < 1e-4
+    copy = pickle.loads(pickle.dumps(learner))
+    np.testing.assert_array_equal(copy.best[0], learner.best[0])
+    assert primo.Secant([-2], [2], [0.2]).tell_infeasible() == "infeasible"
+
+
 def test_scalar_learner_errors():
     with pytest.raises(ValueError):
         primo.GoldenSection(1.0, 0.0, 0.5)

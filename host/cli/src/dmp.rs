@@ -127,7 +127,7 @@ pub fn run(command: DmpCommand) -> Result<(), CliError> {
             if let Some(out) = &out {
                 check_out_file("--out", out, &[("DMP", &dmp)])?;
             }
-            let rows = match dmpfile::parse(&file, &read(&dmp)?)? {
+            let rows = match dmpfile::parse(&file, &read(None, &dmp)?)? {
                 Fitted::Discrete(dmp) => {
                     if duration.is_some()
                         || frequency.is_some()
@@ -196,7 +196,7 @@ fn fit(
     if let Some(out) = out {
         check_out_file("--out", out, &[("--demo", demo_path)])?;
     }
-    let demo = parse_demo(&file, &read(demo_path)?)?;
+    let demo = parse_demo(&file, &read(Some("--demo"), demo_path)?)?;
     let json = match rhythmic {
         None => DmpFile::fit(&file, &demo, kernels, margin)?.to_json(),
         Some(period) => RhythmicFile::fit(&file, &demo, kernels, period)?.to_json(),

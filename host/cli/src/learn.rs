@@ -6,7 +6,7 @@ use std::io::{BufRead, Write};
 use std::path::PathBuf;
 
 use primo_learn::Error;
-use primo_learn::pour::run::{CellSpec, Pour};
+use primo_learn::pour::run::{CellSpec, Pour, Resumed};
 use primo_learn::rollouts::{Stop, query_text};
 use primo_learn::run::{Event, Start, logged_kind};
 use primo_learn::task::change::Changes;
@@ -46,7 +46,8 @@ pub struct LearnArgs {
     /// log, and no roll-out is lost or repeated. With --task, the task file
     /// as it is now may change the `[goal]` low/high bounds, `[learner]`
     /// max_rollouts and `[evaluate]` (each change is said, and kept in the
-    /// log); with --max-rollouts, the budget.
+    /// log); with --max-rollouts, the budget (a run that used up its
+    /// budget goes on).
     #[arg(long, value_name = "DIR", conflicts_with_all = ["out", "seed", "force"])]
     resume: Option<PathBuf>,
     #[command(flatten)]
@@ -66,21 +67,24 @@ pub fn run(args: &LearnArgs) -> Result<(), CliError> {
     let start = match (&args.resume, &args.task) {
         (Some(dir), task) => match logged_kind(dir).map_err(|e| CliError::learning("learn", e))? {
             kind if kind == "pour" => {
-                if task.is_some() || args.max_rollouts.is_some() {
+                if task.is_some() || args.cell.glass_holds_given() {
                     return Err(CliError::input(format!(
                         "--resume {}: the run is the built-in pour, its settings all in its \
-                         log: --task and --max-rollouts change a task file's run",
+                         log (--glass-holds among them): --task changes a task file's run",
                         dir.display()
                     )));
                 }
                 let start = Start::<Pour>::Resume {
                     dir: dir.clone(),
-                    moved: instruments,
+                    moved: Resumed {
+                        instruments,
+                        max_rollouts: args.max_rollouts,
+                    },
                 };
                 return execute(start, &learner, "learn");
             }
             _ => {
-                refuse_cell(&instruments)?;
+                refuse_cell(&args.cell)?;
                 Start::Resume {
                     dir: dir.clone(),
                     moved: Changes {
@@ -96,12 +100,17 @@ pub fn run(args: &LearnArgs) -> Result<(), CliError> {
                 task.learner.max_rollouts = n;
             }
             if let Some(mut start) = task.pour_start(args.out.clone(), args.force, args.seed) {
-                if let (Start::New { run, .. }, Some(spec)) = (&mut start, instruments) {
-                    run.cell = CellSpec::Instruments(spec);
+                if let Start::New { run, .. } = &mut start {
+                    run.settings.glass_holds = args
+                        .cell
+                        .glass_holds(run.skill.cell().glass_litres(), &instruments)?;
+                    if let Some(spec) = instruments {
+                        run.cell = CellSpec::Instruments(spec);
+                    }
                 }
                 return execute(start, &learner, "learn");
             }
-            refuse_cell(&instruments)?;
+            refuse_cell(&args.cell)?;
             Start::New {
                 out: args.out.clone(),
                 force: args.force,
@@ -124,17 +133,21 @@ pub fn run(args: &LearnArgs) -> Result<(), CliError> {
     )
 }
 
-/// --robot and --scale are the built-in pour's instruments.
-fn refuse_cell(
-    instruments: &Option<primo_learn::pour::rig::InstrumentsSpec>,
-) -> Result<(), CliError> {
-    match instruments {
-        Some(_) => Err(CliError::input(
+/// --robot, --scale and --glass-holds are the built-in pour's cell.
+fn refuse_cell(cell: &CellArgs) -> Result<(), CliError> {
+    if cell.robot_given() {
+        return Err(CliError::input(
             "--robot/--scale: the task's own evaluator executes its roll-outs; the real cell's \
              instruments are for the built-in pour (builtin = \"pour\")",
-        )),
-        None => Ok(()),
+        ));
     }
+    if cell.glass_holds_given() {
+        return Err(CliError::input(
+            "--glass-holds: bounds the built-in pour's search (builtin = \"pour\"); the \
+             task's own search is its [goal] low and high",
+        ));
+    }
+    Ok(())
 }
 
 /// Prints what the run reports; a closed stdout or Ctrl-C ends the run.

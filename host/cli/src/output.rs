@@ -15,10 +15,15 @@ pub fn say(line: &str) -> Result<(), CliError> {
         .map_err(CliError::stdout)
 }
 
-/// Reads a file named on the command line.
-pub fn read(path: &Path) -> Result<String, CliError> {
-    primo_mtsics::path::read_text(path)
-        .map_err(|fault| CliError::opening(format!("{}: {fault}", path.display()), &fault))
+/// Reads a file named on the command line: by `flag`, or by position.
+pub fn read(flag: Option<&str>, path: &Path) -> Result<String, CliError> {
+    primo_mtsics::path::read_text(path).map_err(|fault| {
+        let named = match flag {
+            Some(flag) => format!("{flag} {}", path.display()),
+            None => path.display().to_string(),
+        };
+        CliError::opening(format!("{named}: {fault}"), &fault)
+    })
 }
 
 /// Writes to `out` (safely: [`primo_learn::output`]), or to stdout.

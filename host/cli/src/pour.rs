@@ -7,7 +7,7 @@ use primo_learn::Error;
 use primo_learn::algorithm::Algorithm;
 use primo_learn::pour::report::rollout_line;
 use primo_learn::pour::rig::{InstrumentsSpec, Operator};
-use primo_learn::pour::run::{CellSpec, Note, Pour};
+use primo_learn::pour::run::{CellSpec, Note, Pour, Resumed};
 use primo_learn::pour::settings::Settings;
 use primo_learn::pour::skill::{DemoFile, SkillSpec};
 use primo_learn::rollouts::query_text;
@@ -104,13 +104,6 @@ pub struct PourArgs {
     /// what the demonstrations support and the glass holds).
     #[arg(long, value_name = "LOW,HIGH", default_value = "0.1,1.5", value_parser = bounds)]
     search: [f32; 2],
-    /// What the glass holds, l, or `none`: error learning then tries no
-    /// query that would let more leave the bottle (it raises the search's
-    /// low end to bottle + target − this) [default: the simulated glass's
-    /// capacity; with --robot, required: give your glass's, or `none` to
-    /// search without that bound]
-    #[arg(long, value_name = "LITRES|none", value_parser = glass_holds)]
-    glass_holds: Option<Holds>,
     /// The error learners' gain K in l per l of error (the first for
     /// secant, the only one for fixed-gain, weighted-gain and power-el).
     #[arg(long, default_value_t = 1.0, allow_hyphen_values = true)]
@@ -126,9 +119,10 @@ pub struct PourArgs {
     force: bool,
     /// Continue the run logged in DIR (after a crash, a kill or a failed
     /// instrument): its settings come from the log, and no roll-out is
-    /// lost or repeated.
+    /// lost or repeated. With --max-rollouts, a new budget (a run that
+    /// used up its budget goes on).
     #[arg(long, value_name = "DIR", conflicts_with_all = [
-        "bottle", "target", "method", "seed", "max_rollouts", "precision", "gain", "search",
+        "bottle", "target", "method", "seed", "precision", "gain", "search",
         "glass_holds", "out",
         "force",
         "space", "kernels", "glass", "demos",
@@ -145,18 +139,14 @@ pub struct PourArgs {
 pub struct CellArgs {
     /// Roll out on a real cell: the robot, `fri:ADDR[:PORT]`, the local
     /// UDP address the KRC sends its FRI packets to (default port 49938).
-    #[arg(long, requires = "scale", value_name = "fri:ADDR[:PORT]")]
+    #[arg(long, value_name = "fri:ADDR[:PORT]")]
     robot: Option<String>,
     /// With --robot: the scale. An MT-SICS scale's serial port;
     /// `postcard:PORT`, primo's scale on a serial port; or
     /// `qemu:LOAD_CELL`, primo's scale firmware booted on an emulated
     /// Cortex-M4F, its ADC line on LOAD_CELL (`primo robot sim-krc
     /// --load-cell` prints it).
-    #[arg(
-        long,
-        requires = "robot",
-        value_name = "PORT|postcard:PORT|qemu:LOAD_CELL"
-    )]
+    #[arg(long, value_name = "PORT|postcard:PORT|qemu:LOAD_CELL")]
     scale: Option<String>,
     /// With --robot: an MT-SICS scale's baud rate [default: 9600].
     #[arg(long)]
@@ -169,25 +159,77 @@ pub struct CellArgs {
     /// bottle and empty the glass, and wait for Enter.
     #[arg(long)]
     confirm: bool,
+    /// What the glass holds, l, or `none`: error learning then tries no
+    /// query that would let more leave the bottle (it raises the search's
+    /// low end to bottle + target − this) [default: the simulated glass's
+    /// capacity; with --robot, required: give your glass's, or `none` to
+    /// search without that bound]
+    #[arg(long, value_name = "LITRES|none", value_parser = glass_holds)]
+    glass_holds: Option<Holds>,
 }
 
 impl CellArgs {
+    /// What error learning takes the glass to hold, l (`None`: no bound):
+    /// the simulated glass's `simulated` unless given, and on a real cell
+    /// always given, since a real glass overflows where the simulated one
+    /// would not.
+    pub fn glass_holds(
+        &self,
+        simulated: f64,
+        instruments: &Option<InstrumentsSpec>,
+    ) -> Result<Option<f64>, CliError> {
+        match (self.glass_holds, instruments) {
+            (Some(Holds::Litres(l)), _) => Ok(Some(l)),
+            (Some(Holds::Unbounded), _) => Ok(None),
+            (None, None) => Ok(Some(simulated)),
+            (None, Some(_)) => Err(CliError::input(
+                "--robot: give --glass-holds LITRES, what your glass holds (error learning \
+                 then never tries a volume that would overflow it), or --glass-holds none to \
+                 search without that bound",
+            )),
+        }
+    }
+
+    /// Whether a real cell is given.
+    pub fn robot_given(&self) -> bool {
+        self.robot.is_some()
+    }
+
+    /// Whether --glass-holds is given.
+    pub fn glass_holds_given(&self) -> bool {
+        self.glass_holds.is_some()
+    }
+
     /// The real cell's instruments, if given; the real cell's settings
     /// without it are refused in one line (not clap's usage).
     pub fn instruments(&self) -> Result<Option<InstrumentsSpec>, CliError> {
-        let (Some(robot), Some(scale)) = (&self.robot, &self.scale) else {
-            let given = [
-                (self.baud.is_some(), "--baud"),
-                (self.density.is_some(), "--density"),
-                (self.confirm, "--confirm"),
-            ];
-            return match given.iter().find(|(given, _)| *given) {
-                Some((_, flag)) => Err(CliError::input(format!(
-                    "{flag}: is for the real cell's scale: give it with --robot and --scale \
-                     (the simulated cell pours water)"
-                ))),
-                None => Ok(None),
-            };
+        let (robot, scale) = match (&self.robot, &self.scale) {
+            (Some(robot), Some(scale)) => (robot, scale),
+            (Some(_), None) => {
+                return Err(CliError::input(
+                    "--robot: give --scale too, the scale that weighs what the robot pours",
+                ));
+            }
+            (None, Some(_)) => {
+                return Err(CliError::input(
+                    "--scale: is for the real cell: give it with --robot (the simulated cell \
+                     has its own scale)",
+                ));
+            }
+            (None, None) => {
+                let given = [
+                    (self.baud.is_some(), "--baud"),
+                    (self.density.is_some(), "--density"),
+                    (self.confirm, "--confirm"),
+                ];
+                return match given.iter().find(|(given, _)| *given) {
+                    Some((_, flag)) => Err(CliError::input(format!(
+                        "{flag}: is for the real cell's scale: give it with --robot and \
+                         --scale (the simulated cell pours water)"
+                    ))),
+                    None => Ok(None),
+                };
+            }
         };
         Ok(Some(InstrumentsSpec {
             robot: robot.clone(),
@@ -259,7 +301,10 @@ pub fn run(args: &PourArgs) -> Result<(), CliError> {
     let start = match &args.resume {
         Some(dir) => Start::Resume {
             dir: dir.clone(),
-            moved: instruments,
+            moved: Resumed {
+                instruments,
+                max_rollouts: args.max_rollouts,
+            },
         },
         None => {
             let method: Algorithm = args.method.into();
@@ -274,19 +319,9 @@ pub fn run(args: &PourArgs) -> Result<(), CliError> {
                 primo_learn::pour::skill::Space::default_for(method),
                 Glass::Normal,
             )?;
-            settings.glass_holds = match (args.glass_holds, &instruments) {
-                (Some(Holds::Litres(l)), _) => Some(l),
-                (Some(Holds::Unbounded), _) => None,
-                (None, None) => Some(skill.cell().glass_litres()),
-                // A real glass overflows where the simulated one would not.
-                (None, Some(_)) => {
-                    return Err(CliError::input(
-                        "--robot: give --glass-holds LITRES, what your glass holds (error \
-                         learning then never tries a volume that would overflow it), or \
-                         --glass-holds none to search without that bound",
-                    ));
-                }
-            };
+            settings.glass_holds = args
+                .cell
+                .glass_holds(skill.cell().glass_litres(), &instruments)?;
             Start::New {
                 out: args.out.clone(),
                 force: args.force,

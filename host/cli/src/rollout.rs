@@ -122,8 +122,12 @@ pub fn run(args: &RolloutArgs) -> Result<(), CliError> {
         .params
         .as_deref()
         .ok_or_else(|| CliError::input("give --params FILE, --serve or --print-start"))?;
-    let x = parse_params(&objective, &path.display().to_string(), &read(path)?)
-        .map_err(CliError::input)?;
+    let x = parse_params(
+        &objective,
+        &path.display().to_string(),
+        &read(Some("--params"), path)?,
+    )
+    .map_err(CliError::input)?;
     let (answer, trial) =
         roll_out(&objective, &x, args.seed, args.series.is_some()).map_err(CliError::input)?;
     crate::output::say(&answer.to_string())?;

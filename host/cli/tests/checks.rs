@@ -3,6 +3,7 @@
 //! clobbered; a closed stdout ends a run quietly and `--resume` continues.
 mod common;
 use std::io::{BufRead, BufReader};
+use std::path::Path;
 use std::process::{Child, Command, Stdio};
 
 use common::{primo, tmp};
@@ -272,6 +273,64 @@ fn ctrl_c_stops_after_the_rollout_in_progress_and_resume_continues() {
     let (status, stdout, stderr) = primo(&["pour", "--resume", o]);
     assert_eq!(status, 0, "{stderr}");
     assert!(stdout.contains("primo pour: learned"), "{stdout}");
+}
+
+#[test]
+fn the_built_in_pour_task_on_a_real_cell_needs_what_its_glass_holds() {
+    let out = tmp("learn-real-glass");
+    let o = out.to_str().unwrap();
+    let task = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/pour.toml");
+    let t = task.to_str().unwrap();
+    let real = [
+        "learn",
+        "--task",
+        t,
+        "--robot",
+        "fri:127.0.0.1",
+        "--scale",
+        "/dev/null",
+        "--out",
+        o,
+    ];
+    let (status, _, stderr) = primo(&real);
+    assert_eq!(status, 2, "{stderr}");
+    assert!(
+        stderr.contains("--robot: give --glass-holds LITRES"),
+        "{stderr}"
+    );
+    assert!(!out.exists());
+    let (_, _, stderr) = primo(&[&real[..], &["--glass-holds", "none"]].concat());
+    assert!(!stderr.contains("--glass-holds"), "{stderr}");
+    // On the simulated cell, a given glass bounds the search and is logged.
+    let sim = tmp("learn-sim-glass");
+    let s = sim.to_str().unwrap();
+    let (status, _, stderr) = primo(&[
+        "learn",
+        "--task",
+        t,
+        "--out",
+        s,
+        "--max-rollouts",
+        "2",
+        "--glass-holds",
+        "0.25",
+    ]);
+    assert_eq!(status, 0, "{stderr}");
+    let log = std::fs::read_to_string(sim.join("run.log")).unwrap();
+    assert!(log.contains("\"glass_holds\":0.25"), "{log}");
+    // A task with its own evaluator has its own bounds.
+    let throw = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/throw/throw.toml");
+    let (status, _, stderr) = primo(&[
+        "learn",
+        "--task",
+        throw.to_str().unwrap(),
+        "--glass-holds",
+        "0.3",
+        "--out",
+        tmp("throw-glass").to_str().unwrap(),
+    ]);
+    assert_eq!(status, 2, "{stderr}");
+    assert!(stderr.contains("its [goal] low and high"), "{stderr}");
 }
 
 #[test]

@@ -97,6 +97,26 @@ fn the_real_cells_settings_without_it_are_refused_in_one_line() {
 }
 
 #[test]
+fn the_robot_and_the_scale_are_asked_for_together_in_one_line() {
+    for (args, says) in [
+        (
+            &["pour", "--scale", "/dev/null"][..],
+            "--scale: is for the real cell: give it with --robot",
+        ),
+        (
+            &["learn", "--task", "t.toml", "--robot", "fri:127.0.0.1"][..],
+            "--robot: give --scale too",
+        ),
+    ] {
+        let (code, out, err) = primo(args);
+        assert_eq!((code, err.lines().count()), (2, 1), "{args:?}: {err}");
+        assert!(out.is_empty());
+        assert!(err.contains(says), "{args:?}: {err}");
+        assert!(!err.contains("required"), "{err}");
+    }
+}
+
+#[test]
 fn a_bad_port_gets_one_answer_from_every_command() {
     let not_a_port = "/dev/null: not a serial port: it is a device that is not a terminal";
     for (args, flag) in [
@@ -160,7 +180,11 @@ fn a_directory_given_as_a_file_is_named_a_directory() {
         ),
         (
             &["dmp", "fit", "--demo", d][..],
-            format!("{d}: not a file: it is a directory"),
+            format!("--demo {d}: not a file: it is a directory"),
+        ),
+        (
+            &["rollout", "--params", d][..],
+            format!("--params {d}: not a file: it is a directory"),
         ),
         (
             &["learn", "--task", task.to_str().unwrap()][..],

@@ -249,3 +249,97 @@ fn a_run_resumes_on_the_coprocessor_where_the_host_left_it() {
     );
     assert_eq!(read(&dir.join("run.log")), finished);
 }
+
+#[test]
+fn a_log_that_cannot_be_read_or_appended_to_is_refused_before_anything_runs() {
+    // A directory where the log should be.
+    let dir = tmp("log-is-a-directory");
+    std::fs::create_dir_all(dir.join("run.log")).unwrap();
+    for command in ["pour", "learn"] {
+        let (code, _, err) = primo(&[command, "--resume", dir.to_str().unwrap()]);
+        assert_eq!((code, err.lines().count()), (2, 1), "{command}: {err}");
+        assert!(
+            err.contains(&format!(
+                "--resume {}: not a file: it is a directory",
+                dir.join("run.log").display()
+            )),
+            "{command}: {err}"
+        );
+    }
+    // Bytes that are no text at all are no run.
+    let dir = tmp("log-of-binary");
+    std::fs::create_dir_all(&dir).unwrap();
+    let garbage: Vec<u8> = (0..=255u8).rev().cycle().take(600).collect();
+    std::fs::write(dir.join("run.log"), &garbage).unwrap();
+    for command in ["pour", "learn"] {
+        let (code, _, err) = primo(&[command, "--resume", dir.to_str().unwrap()]);
+        assert_eq!((code, err.lines().count()), (2, 1), "{command}: {err}");
+        assert!(err.contains("run.log:1: "), "{command}: {err}");
+        assert_eq!(read(&dir.join("run.log")), garbage);
+    }
+}
+
+#[test]
+fn a_run_that_used_up_its_budget_goes_on_with_a_larger_one() {
+    // Error learning stopped by its budget, then given more: the same
+    // roll-outs as a run given the larger budget from the start.
+    let golden = |out: &Path, rollouts: &str| {
+        let (code, _, err) = primo(&[
+            "pour",
+            "--max-rollouts",
+            rollouts,
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0, "{err}");
+    };
+    let (short, whole) = (tmp("budget-short"), tmp("budget-whole"));
+    golden(&short, "3");
+    golden(&whole, "20");
+    let summary = std::fs::read_to_string(short.join("summary.json")).unwrap();
+    assert!(summary.contains("\"converged\": false"), "{summary}");
+    let (code, out, err) = primo(&[
+        "pour",
+        "--resume",
+        short.to_str().unwrap(),
+        "--max-rollouts",
+        "20",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("roll-out budget 3 -> 20"), "{err}");
+    assert!(out.contains("converged"), "{out}");
+    let rows = |dir: &Path| std::fs::read_to_string(dir.join("rollouts.csv")).unwrap();
+    assert_eq!(rows(&short), rows(&whole));
+    // The log as it was is kept beside the continued one.
+    let kept = std::fs::read_dir(&short)
+        .unwrap()
+        .filter(|e| {
+            let name = e.as_ref().unwrap().file_name();
+            name.to_string_lossy().starts_with("run.log.before-")
+        })
+        .count();
+    assert_eq!(kept, 1);
+    // PoWER's run, given more roll-outs on resume, makes the longer run's.
+    let (short, whole) = (tmp("budget-power-short"), tmp("budget-power-whole"));
+    run_to_end(&short, 4);
+    run_to_end(&whole, 8);
+    let (code, _, err) = primo(&[
+        "pour",
+        "--resume",
+        short.to_str().unwrap(),
+        "--max-rollouts",
+        "8",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(rows(&short), rows(&whole));
+    // A budget below what is logged would drop roll-outs: refused.
+    let (code, _, err) = primo(&[
+        "pour",
+        "--resume",
+        short.to_str().unwrap(),
+        "--max-rollouts",
+        "2",
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("the run has made 8 already"), "{err}");
+}

@@ -283,6 +283,8 @@ pub enum Setting {
     Density,
     /// A task file.
     Task,
+    /// The run to continue.
+    Resume,
 }
 
 impl Setting {
@@ -307,6 +309,7 @@ impl Setting {
             Setting::Baud => "baud",
             Setting::Density => "density",
             Setting::Task => "task",
+            Setting::Resume => "resume",
         }
     }
 }

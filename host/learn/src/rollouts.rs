@@ -1,7 +1,7 @@
 //! The roll-out loop: the learner asks, the task rolls out, the learner is
 //! told ([`learn_on`]); each roll-out's [`Record`] and what the run log
 //! keeps of it ([`Entry`]); a resumed run's learner checked against its
-//! log ([`verify_replayed`]). It knows no task: a roll-out is whatever
+//! log (`verify_replayed`). It knows no task: a roll-out is whatever
 //! [`Scored`] the caller's `roll` returns.
 
 use primo_core::golden::Status as SearchStatus;
@@ -93,7 +93,7 @@ pub const MAX_ROLLOUTS: u32 = 100_000;
 ///
 /// `logged` are the roll-outs of an interrupted run of the same settings:
 /// the learner is told their outcomes again instead of rolling them out,
-/// and [`verify_replayed`] checks it asks for exactly the logged roll-outs
+/// and `verify_replayed` checks it asks for exactly the logged roll-outs
 /// and reaches exactly the logged states, so the run goes on as if it had
 /// never stopped.
 pub fn learn_on<T: Scored + Clone>(
@@ -153,8 +153,23 @@ pub fn learn_on<T: Scored + Clone>(
             delta,
             status,
         };
+        let last_logged = run.len() + 1 == logged.len();
         if let Some(logged) = before {
-            verify_replayed(logged, &entry)?;
+            // A run that ended by its budget may go on with a larger one:
+            // its last logged roll-out left the learner out of budget,
+            // where it now searches on.
+            let reopened = last_logged
+                && logged.status.search == SearchStatus::BudgetExhausted
+                && entry.status.search == SearchStatus::Running;
+            let as_logged = Status {
+                search: SearchStatus::BudgetExhausted,
+                ..entry.status.clone()
+            };
+            let check = match reopened {
+                true => check(&asked, &entry.delta, &as_logged)?,
+                false => entry.check,
+            };
+            verify_replayed(logged, &entry, check)?;
         }
         each(&entry, before.is_some())?;
         // A series (megabytes) is not kept: the best one is replayed.
@@ -244,9 +259,10 @@ pub(crate) fn learn_logged<T: Scored + Clone + Serialize>(
 }
 
 /// A replayed roll-out must be the logged one: the learner asked for the
-/// same roll-out and `Δθ` and reached the same state, bit for bit.
-pub fn verify_replayed<T>(logged: &Entry<T>, replayed: &Entry<T>) -> Result<(), Error> {
-    if logged.check != replayed.check || logged.record.rollout != replayed.record.rollout {
+/// same roll-out and `Δθ` and reached the same state, bit for bit (`check`:
+/// the replayed one's [`Entry::check`] as the log would hold it).
+fn verify_replayed<T>(logged: &Entry<T>, replayed: &Entry<T>, check: u32) -> Result<(), Error> {
+    if logged.check != check || logged.record.rollout != replayed.record.rollout {
         return Err(Error::Log(format!(
             "the run log's roll-out {} is not what the learner asks for and reaches \
              as roll-out {} (q = {}, logged q = {}): the log is of another \

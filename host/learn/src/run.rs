@@ -25,6 +25,7 @@ use crate::output::{check_dir, create_dir};
 use crate::rollouts::{Entry, Scored, check_replay, learn_logged};
 use crate::runlog::{self, RunEvent, RunLog};
 use crate::{Error, Setting};
+use primo_mtsics::path::Wanted;
 use primo_protocol::learner::Setup;
 
 /// The run log's format version, one for every kind. Version 4: the
@@ -196,11 +197,7 @@ impl<K: Kind> Start<K> {
             Start::Resume { dir, moved } => {
                 K::check_moved(moved)?;
                 lock::check_free(dir)?;
-                let log = dir.join(runlog::FILE);
-                if !log.is_file() {
-                    return Err(Error::NoLog(log));
-                }
-                Ok(())
+                check_log(dir)
             }
         }
     }
@@ -254,17 +251,36 @@ impl From<Error> for Failure {
     }
 }
 
+/// Sets a resumed run's roll-out budget to `now`; says the change, if any.
+pub fn budget_change(budget: &mut u32, now: u32) -> Option<String> {
+    let was = std::mem::replace(budget, now);
+    (was != now).then(|| format!("roll-out budget {was} -> {now}"))
+}
+
+/// The log in `dir` is there and can be read and appended to: a run that
+/// could not continue is refused before anything starts.
+fn check_log(dir: &Path) -> Result<(), Error> {
+    let log = dir.join(runlog::FILE);
+    match std::fs::OpenOptions::new()
+        .read(true)
+        .append(true)
+        .open(&log)
+    {
+        Ok(_) => Ok(()),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Err(Error::NoLog(log)),
+        Err(e) => Err(Error::open(Setting::Resume, &log, Wanted::File)(e)),
+    }
+}
+
 /// The kind of run `dir`'s log holds: its [`Header::task_kind`], or for a log
 /// from before version 4, `task` if it logged a task file, else `pour`.
 pub fn logged_kind(dir: &Path) -> Result<String, Error> {
+    check_log(dir)?;
     let file = dir.join(runlog::FILE);
-    let text = match std::fs::read_to_string(&file) {
-        Ok(text) => text,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Err(Error::NoLog(file)),
-        Err(e) => return Err(Error::io(&file)(e)),
-    };
+    let bytes = std::fs::read(&file).map_err(Error::io(&file))?;
     // The header is the first record, `CRC JSON`; the log's own checks
     // come when it is opened.
+    let text = String::from_utf8_lossy(&bytes);
     let first = text.lines().next().unwrap_or("");
     let json = first.split_once(' ').map_or("", |(_, json)| json);
     let header: serde_json::Value = serde_json::from_str(json).unwrap_or_default();
@@ -343,15 +359,10 @@ pub fn run<K: Kind>(
             )?;
             let mut header = opened.header;
             let changes = header.run.resume(moved, &dir)?;
-            if opened.ended && !changes.is_empty() {
-                return Err(Error::Invalid(format!(
-                    "the run in {} is complete: a changed setting ({}) makes a new run",
-                    dir.display(),
-                    changes.join("; ")
-                ))
-                .into());
-            }
-            let (entries, log, ended) = (opened.entries, opened.log, opened.ended);
+            // A complete run whose settings changed (a larger budget) is
+            // continued where its log ends, once the changes are checked.
+            let ended = opened.ended && changes.is_empty();
+            let (entries, log) = (opened.entries, opened.log);
             (dir, header, entries, log, ended, None, changes, held)
         }
     };

@@ -184,9 +184,10 @@ impl RunLog {
     }
 
     /// Replaces the log's header by `header` (a resumed run's changed
-    /// settings), every record after it kept: the log as it was is kept
-    /// beside it as `run.log.before-<time>`, and the new one replaces it
-    /// whole.
+    /// settings), every roll-out after it kept, and drops the end record
+    /// of a complete run (the changed settings continue it): the log as
+    /// it was is kept beside it as `run.log.before-<time>`, and the new one
+    /// replaces it whole.
     pub fn rewrite_header<H: Serialize>(self, header: &H) -> Result<RunLog, Error> {
         let path = self.path;
         drop(self.file);
@@ -196,6 +197,12 @@ impl RunLog {
             .position(|b| *b == b'\n')
             .and_then(|end| old.get(end + 1..))
             .ok_or_else(|| Error::Log(format!("{}: no header record", path.display())))?;
+        let body = rest.strip_suffix(b"\n").unwrap_or(rest);
+        let last = body.iter().rposition(|b| *b == b'\n').map_or(0, |i| i + 1);
+        let rest = match body.get(last..).map(parse::<IgnoredAny, IgnoredAny>) {
+            Some(Ok(Line::End)) => rest.get(..last).unwrap_or(rest),
+            _ => rest,
+        };
         let before = path.with_file_name(format!("{FILE}.before-{}", stamp()));
         crate::output::write_file(&before, &old)?;
         let mut bytes = record::<H, ()>(&Line::Run(header))?;

@@ -83,6 +83,16 @@ pub struct Finished {
     pub dir: PathBuf,
 }
 
+/// What a resumed pour may take: where its instruments are now, and a
+/// new roll-out budget.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Resumed {
+    /// The real cell's instruments, if they moved.
+    pub instruments: Option<InstrumentsSpec>,
+    /// A new roll-out budget.
+    pub max_rollouts: Option<u32>,
+}
+
 /// A pour's skill fitted, and its cell.
 #[derive(Debug, Clone)]
 pub struct Prepared {
@@ -95,7 +105,7 @@ impl Kind for Pour {
     type Trial = Trial;
     type Built = Prepared;
     type Person = Box<dyn Operator>;
-    type Moved = Option<InstrumentsSpec>;
+    type Moved = Resumed;
     type Note = Note;
     type Finished = Finished;
 
@@ -125,7 +135,11 @@ impl Kind for Pour {
     }
 
     fn check_moved(moved: &Self::Moved) -> Result<(), Error> {
-        moved.as_ref().map_or(Ok(()), InstrumentsSpec::validate)
+        // A new budget is checked with the resumed run's settings.
+        moved
+            .instruments
+            .as_ref()
+            .map_or(Ok(()), InstrumentsSpec::validate)
     }
 
     /// Version 3 logs are the same; so are version 2 logs of joint-space
@@ -136,7 +150,7 @@ impl Kind for Pour {
     }
 
     fn resume(&mut self, moved: Self::Moved, dir: &Path) -> Result<Vec<String>, Error> {
-        match (&mut self.cell, moved) {
+        match (&mut self.cell, moved.instruments) {
             (CellSpec::Instruments(logged), Some(now)) => *logged = now,
             (CellSpec::Simulated, Some(_)) => {
                 return Err(Error::Invalid(format!(
@@ -147,8 +161,13 @@ impl Kind for Pour {
             }
             (_, None) => {}
         }
-        // Where the instruments are is not a learned setting.
-        Ok(Vec::new())
+        // Where the instruments are is not a learned setting; the budget is.
+        let budget = &mut self.settings.max_rollouts;
+        Ok(moved
+            .max_rollouts
+            .and_then(|n| crate::run::budget_change(budget, n))
+            .into_iter()
+            .collect())
     }
 
     fn build(&self, note: &mut dyn FnMut(Note) -> Result<(), Error>) -> Result<Prepared, Error> {
@@ -355,7 +374,7 @@ mod tests {
             RunLog::create(&dir, &header).unwrap();
             let resume = Start::Resume {
                 dir: dir.clone(),
-                moved: None,
+                moved: Resumed::default(),
             };
             let run = pour(
                 resume,

@@ -49,14 +49,8 @@ impl Task {
             self.evaluate = now.evaluate;
             self.file = now.file;
         }
-        if let Some(n) = changes.max_rollouts
-            && n != self.learner.max_rollouts
-        {
-            said.push(format!(
-                "roll-out budget {} -> {n}",
-                self.learner.max_rollouts
-            ));
-            self.learner.max_rollouts = n;
+        if let Some(n) = changes.max_rollouts {
+            said.extend(crate::run::budget_change(&mut self.learner.max_rollouts, n));
         }
         Ok(said)
     }
