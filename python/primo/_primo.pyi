@@ -354,8 +354,14 @@ def power_run(
     """One seeded run of the power experiment, as ``primo experiment power
     --seed SEED --runs 1`` runs it for ``variant`` (seed 1 by default)."""
 
-def write_golden(out: Path, runs: Sequence[Mapping[str, Any]]) -> None:
+def check_out(out: Path, kind: Literal["golden", "power"], force: bool = False) -> None:
+    """Refuses (ValueError) an ``out`` that holds an earlier result, unless
+    ``force``, or that another primo is writing into."""
+
+def write_golden(out: Path, runs: Sequence[Mapping[str, Any]], force: bool = False) -> None:
     """``primo experiment golden``'s files for runs of one precision and seed."""
 
-def write_power(out: Path, runs: Sequence[Mapping[str, Any]], seconds: float = 0.0) -> None:
+def write_power(
+    out: Path, runs: Sequence[Mapping[str, Any]], seconds: float = 0.0, force: bool = False
+) -> None:
     """``primo experiment power``'s files for runs of one setting."""

@@ -10,7 +10,9 @@ the GIL released and returns a plain dict (numbers, NumPy columns of
 every roll-out) that pickles: spread runs over threads, processes or Ray
 (``primo.sweep`` does) and gather them. ``write_golden`` and
 ``write_power`` write gathered runs into the files the command writes,
-with the command's own writers.
+with the command's own writers; like the command, they refuse a
+directory holding an earlier result unless ``force=True``
+(``check_out`` asks before a sweep's runs begin).
 
 >>> from primo.experiments import golden_run, power_run
 >>> run = golden_run(0.5, method="golden", seed=1)
@@ -21,7 +23,7 @@ with the command's own writers.
 ([0.95, 0.99], True)
 """
 
-from primo._primo import golden_run, power_run, write_golden, write_power
+from primo._primo import check_out, golden_run, power_run, write_golden, write_power
 
 #: The error learners of the golden experiment, in the order it reports them.
 METHODS = ("golden", "illinois", "secant", "fixed-gain", "weighted-gain")
@@ -35,6 +37,7 @@ __all__ = [
     "METHODS",
     "THRESHOLDS",
     "VARIANTS",
+    "check_out",
     "golden_run",
     "power_run",
     "write_golden",

@@ -33,7 +33,11 @@ optional extra: ``pip install './python[ray]'``.
 >>> [p.name for p in results.write(out)]
 ['seed=1', 'seed=2']
 >>> sorted(p.name for p in (out / "seed=1").iterdir())
-['golden.csv', 'golden.png', 'summary.json']
+['golden.csv', 'golden.png', 'primo.lock', 'summary.json']
+
+A directory that holds an earlier result is refused (``ValueError``)
+unless ``force=True``, as ``primo experiment`` refuses it without
+``--force``; ``Sweep.check_out`` asks before the runs begin.
 
 From a shell (``python -m primo.sweep --help``)::
 
@@ -60,7 +64,15 @@ from typing import Any, Dict, Iterable, Iterator, List, Mapping, Optional, Seque
 
 import numpy as np
 
-from primo.experiments import METHODS, VARIANTS, golden_run, power_run, write_golden, write_power
+from primo.experiments import (
+    METHODS,
+    VARIANTS,
+    check_out,
+    golden_run,
+    power_run,
+    write_golden,
+    write_power,
+)
 
 __all__ = ["AXES", "BACKENDS", "Results", "Sweep"]
 
@@ -152,6 +164,26 @@ class Sweep:
         ``power_run``), in the order the runs are gathered."""
         names = list(self.axes)
         return [dict(zip(names, combo)) for combo in itertools.product(*self.axes.values())]
+
+    def directories(self, out: Union[str, os.PathLike]) -> List[pathlib.Path]:
+        """Where ``Results.write(out)`` writes each group of runs (see
+        ``Results.groups``), in order: ``out`` itself if there is one
+        group, else ``out/NAME=VALUE,…`` naming the settings that vary."""
+        out = pathlib.Path(out)
+        keys = FILES_PER[self.kind]
+        varying = [k for k in keys if len(self.axes[k]) > 1]
+        seen: Dict[Tuple[Any, ...], pathlib.Path] = {}
+        for task in self.tasks():
+            name = ",".join(f"{k}={task[k]}" for k in varying)
+            seen.setdefault(tuple(task[k] for k in keys), out / name if name else out)
+        return list(seen.values())
+
+    def check_out(self, out: Union[str, os.PathLike], force: bool = False) -> None:
+        """Refuses (``ValueError``) before any run an ``out`` whose
+        directories (``directories``) hold an earlier result, unless
+        ``force``, or that another primo is writing into."""
+        for where in self.directories(out):
+            check_out(where, self.kind, force)
 
     def __len__(self) -> int:
         n = 1
@@ -253,22 +285,17 @@ class Results:
             out.setdefault(tuple(task[k] for k in keys), []).append(run)
         return [(dict(zip(keys, k)), runs) for k, runs in out.items()]
 
-    def write(self, out: Union[str, os.PathLike]) -> List[pathlib.Path]:
+    def write(self, out: Union[str, os.PathLike], force: bool = False) -> List[pathlib.Path]:
         """Writes the files ``primo experiment`` writes, one directory per
-        group (``groups()``): ``out`` itself if there is one, else
-        ``out/NAME=VALUE,…`` naming the settings that vary. Returns the
+        group (``groups()``, into ``Sweep.directories(out)``); an earlier
+        result there is replaced only with ``force``. Returns the
         directories."""
-        out = pathlib.Path(out)
-        groups = self.groups()
-        varying = [k for k in FILES_PER[self.sweep.kind] if len(self.sweep.axes[k]) > 1]
         written = []
-        for settings, runs in groups:
-            name = ",".join(f"{k}={settings[k]}" for k in varying)
-            where = out / name if name else out
+        for (_, runs), where in zip(self.groups(), self.sweep.directories(out)):
             if self.sweep.kind == "golden":
-                write_golden(where, runs)
+                write_golden(where, runs, force)
             else:
-                write_power(where, runs, self.seconds)
+                write_power(where, runs, self.seconds, force)
             written.append(where)
         return written
 
@@ -334,6 +361,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     p.add_argument("--workers", type=int, help="processes or threads (default: one per core)")
     p.add_argument("--address", help="ray: the cluster (\"auto\", ray://host:10001)")
     p.add_argument("--out", type=pathlib.Path, help="default: experiment-KIND")
+    p.add_argument("--force", action="store_true", help="replace an earlier result in --out")
     args = p.parse_args(argv)
     flags = {"volumes": "volume", "methods": "method", "precision": "precision",
              "variants": "variant", "kernels": "kernels", "updates": "updates", "glass": "glass"}
@@ -347,9 +375,10 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         grid[axis] = value
     try:
         sweep = Sweep(args.kind, grid, args.seeds)
-        results = sweep.run(args.backend, args.workers, args.address)
         out = args.out or pathlib.Path(f"experiment-{args.kind}")
-        dirs = results.write(out)
+        sweep.check_out(out, args.force)
+        results = sweep.run(args.backend, args.workers, args.address)
+        dirs = results.write(out, args.force)
     except (ValueError, OSError, ImportError) as e:
         print(f"error: {e}", file=sys.stderr)
         return 2 if isinstance(e, ValueError) else 1

@@ -238,12 +238,12 @@ impl Cell {
                 theta.shape()
             )));
         }
-        let values: Vec<f64> = theta.as_array().iter().copied().collect();
-        let x = self.vector("theta", &values)?;
         let seed = match seed {
             Some(s) => seed_of("seed", &s)?,
             None => self.seed,
         };
+        let values: Vec<f64> = theta.as_array().iter().copied().collect();
+        let x = self.vector("theta", &values)?;
         let objective = &self.objective;
         let trial = py
             .detach(|| objective.roll_out(&x, seed, series))

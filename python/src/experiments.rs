@@ -7,19 +7,19 @@
 //! gathered; `write_golden` and `write_power` rebuild the runs from
 //! those roll-outs and write them with the command line's writers.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::{Arc, Mutex};
 
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
 use primo_learn::algorithm::Algorithm;
+use primo_learn::experiment::claim::{check, claim};
 use primo_learn::experiment::{
     PowerCurves, PowerRun, SearchRun, THRESHOLDS, Variant, golden_run as golden_seeded,
     golden_skill, power_run as power_seeded, power_skill,
 };
 use primo_learn::experiment::{PowerSetup, write_golden as golden_files, write_power_experiment};
-use primo_learn::output::{check_dir, create_dir};
 use primo_learn::pour::trial::Trial;
 use primo_learn::rollouts::Record;
 use primo_sim::cell::CellConfig;
@@ -301,10 +301,48 @@ pub fn power_run<'py>(
     Ok(d)
 }
 
-/// `out`, checked to be a directory or creatable, then created.
-fn out_dir(out: &Path) -> PyResult<()> {
-    check_dir(out).map_err(learn)?;
-    create_dir(out).map_err(learn)
+/// The files an experiment `kind` writes.
+fn files(kind: &str) -> PyResult<&'static [&'static str]> {
+    match kind {
+        "golden" => Ok(&primo_learn::experiment::golden::FILES),
+        "power" => Ok(&primo_learn::experiment::power::FILES),
+        _ => Err(invalid(format!(
+            "kind: `{kind}`, expected \"golden\" or \"power\""
+        ))),
+    }
+}
+
+/// Checks, creating nothing, that the experiment ``kind`` (``"golden"``
+/// or ``"power"``) may write its files into ``out``: a directory or none
+/// yet, in use by no other primo, and holding no earlier result unless
+/// ``force`` (then it is replaced). A sweep asks before its runs begin,
+/// so that hours of runs are not lost to a directory that is taken.
+///
+/// >>> import tempfile, pathlib
+/// >>> from primo.experiments import check_out
+/// >>> out = pathlib.Path(tempfile.mkdtemp())
+/// >>> (out / "summary.json").write_text("an earlier result")
+/// 17
+/// >>> try:
+/// ...     check_out(out, "golden")
+/// ... except ValueError as e:
+/// ...     print(str(e).removeprefix(str(out / "summary.json")))
+/// : an earlier result is here: choose another directory, or give force=True to replace it
+/// >>> check_out(out, "golden", force=True)
+#[pyfunction]
+#[pyo3(signature = (out, kind, force=false))]
+pub fn check_out(out: PathBuf, kind: &str, force: bool) -> PyResult<()> {
+    check(&out, files(kind)?, force).map_err(claimed)
+}
+
+/// A refused output directory, in the Python arguments' terms.
+fn claimed(e: primo_learn::Error) -> PyErr {
+    match e {
+        e @ primo_learn::Error::HoldsResult { .. } => invalid(format!(
+            "{e}: choose another directory, or give force=True to replace it"
+        )),
+        e => learn(e),
+    }
 }
 
 /// The one value of `key` all `runs` share (`what` names the key in the
@@ -332,7 +370,9 @@ where
 
 /// Writes what ``primo experiment golden`` writes (``golden.csv``,
 /// ``summary.json``, ``golden.png``) into the directory ``out`` (made if
-/// missing) for ``runs``, dicts of ``golden_run`` (all of one
+/// missing; one holding an earlier result is refused unless ``force``,
+/// and one another primo is writing into always, as by ``check_out``)
+/// for ``runs``, dicts of ``golden_run`` (all of one
 /// ``precision`` and seed), in order: those of ``primo experiment golden
 /// --volumes V1,V2,… --seed S`` are each volume's five learners in the
 /// order golden, illinois, secant, fixed-gain, weighted-gain, and the
@@ -346,7 +386,13 @@ where
 /// >>> (out / "golden.csv").read_text().splitlines()[1]
 /// '0.5,golden,1,0.5,0.228517,0.028517'
 #[pyfunction]
-pub fn write_golden(py: Python<'_>, out: PathBuf, runs: Vec<Bound<'_, PyAny>>) -> PyResult<()> {
+#[pyo3(signature = (out, runs, force=false))]
+pub fn write_golden(
+    py: Python<'_>,
+    out: PathBuf,
+    runs: Vec<Bound<'_, PyAny>>,
+    force: bool,
+) -> PyResult<()> {
     let precision: f64 = shared(&runs, "precision")?;
     let _seed: u64 = shared(&runs, "seed")?;
     let searches = runs
@@ -365,14 +411,15 @@ pub fn write_golden(py: Python<'_>, out: PathBuf, runs: Vec<Bound<'_, PyAny>>) -
             ))
         })
         .collect::<PyResult<Vec<_>>>()?;
-    out_dir(&out)?;
+    let _held = claim(&out, &primo_learn::experiment::golden::FILES, force).map_err(claimed)?;
     py.detach(|| golden_files(&out, &searches, precision))
         .map_err(learn)
 }
 
 /// Writes what ``primo experiment power`` writes (``power_runs.csv``,
 /// ``power.csv``, ``summary.json``, ``power.png``) into the directory
-/// ``out`` (made if missing) for ``runs``, dicts of ``power_run`` of one
+/// ``out`` (made if missing; refused as by ``write_golden``) for ``runs``,
+/// dicts of ``power_run`` of one
 /// setting (kernels, updates, glass): each variant's runs in the order
 /// given, the variants on the same seeds in the same order (they are
 /// compared seed by seed). ``seconds`` is the wall-clock time the summary
@@ -388,12 +435,13 @@ pub fn write_golden(py: Python<'_>, out: PathBuf, runs: Vec<Bound<'_, PyAny>>) -
 /// >>> (out / "power_runs.csv").read_text().splitlines()[0]
 /// 'variant,seed,rollouts_to_0.95,updates_to_0.95,rollouts_to_0.99,updates_to_0.99,regret,final_error_l,final_spilled_l,final_reward'
 #[pyfunction]
-#[pyo3(signature = (out, runs, seconds=0.0))]
+#[pyo3(signature = (out, runs, seconds=0.0, force=false))]
 pub fn write_power(
     py: Python<'_>,
     out: PathBuf,
     runs: Vec<Bound<'_, PyAny>>,
     seconds: f64,
+    force: bool,
 ) -> PyResult<()> {
     let setup = PowerSetup {
         updates: shared(&runs, "updates")?,
@@ -428,7 +476,7 @@ pub fn write_power(
     if !(seconds.is_finite() && seconds >= 0.0) {
         return Err(invalid(format!("seconds: {seconds} is not a duration")));
     }
-    out_dir(&out)?;
+    let _held = claim(&out, &primo_learn::experiment::power::FILES, force).map_err(claimed)?;
     py.detach(|| {
         let curves = by_variant.map(|runs| PowerCurves::of(&runs));
         write_power_experiment(&out, setup, &curves, seconds).map(|_| ())

@@ -31,6 +31,7 @@ fn _primo(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<cell::Cell>()?;
     m.add_function(wrap_pyfunction!(experiments::golden_run, m)?)?;
     m.add_function(wrap_pyfunction!(experiments::power_run, m)?)?;
+    m.add_function(wrap_pyfunction!(experiments::check_out, m)?)?;
     m.add_function(wrap_pyfunction!(experiments::write_golden, m)?)?;
     m.add_function(wrap_pyfunction!(experiments::write_power, m)?)?;
     Ok(())

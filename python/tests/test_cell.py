@@ -113,5 +113,14 @@ def test_bad_input_is_a_value_error(cell):
             continue
         with pytest.raises(ValueError, match=message):
             call()
-    # A zero vector is a movement the gate refuses, not an error.
-    assert cell.rollout(np.zeros(n))["safe"] is False
+    # A duration outside (0, 600] s is out of bounds: refused before any
+    # work, naming the bound.
+    with pytest.raises(ValueError, match="τ 0 s: a movement lasts more than 0 and at most 600 s"):
+        cell.rollout(np.zeros(n))
+    # Joints driven 3 rad from zero, in a movement of the demonstrated
+    # duration: a movement the gate refuses, not an error.
+    theta = np.zeros(n)
+    dof, kernels = cell.start()["dof"], cell.start()["kernels"]
+    theta[dof * kernels : dof * kernels + dof] = 3.0
+    theta[-2] = cell.start()["start"][-2]
+    assert cell.rollout(theta)["safe"] is False

@@ -10,7 +10,7 @@ import sys
 import numpy as np
 import pytest
 
-from primo.experiments import golden_run, power_run, write_golden, write_power
+from primo.experiments import check_out, golden_run, power_run, write_golden, write_power
 from primo.sweep import Sweep, main
 
 POWER = {"kernels": 10, "updates": 3}
@@ -115,6 +115,51 @@ def test_a_grid_writes_a_directory_per_setting(tmp_path, run_primo):
     assert [d.name for d in power.run("serial").write(tmp_path / "p")] == ["kernels=6", "kernels=8"]
 
 
+def test_an_earlier_result_is_replaced_only_with_force(tmp_path, capsys):
+    run = golden_run(0.5, "secant")
+    write_golden(tmp_path, [run])
+    earlier = (tmp_path / "golden.csv").read_bytes()
+    (tmp_path / "summary.json").write_text("a long run's summary")
+    for call in [
+        lambda: write_golden(tmp_path, [run]),
+        lambda: write_power(tmp_path, [power_run(1, "extended", kernels=6, updates=1)]),
+        lambda: check_out(tmp_path, "golden"),
+        lambda: Sweep("golden", grid={"volume": 0.5, "method": "secant"}).check_out(tmp_path),
+    ]:
+        with pytest.raises(ValueError, match="an earlier result is here: .*force=True"):
+            call()
+    assert (tmp_path / "summary.json").read_text() == "a long run's summary"
+    assert (tmp_path / "golden.csv").read_bytes() == earlier
+    # The shell command refuses before any run, and replaces with --force.
+    argv = ["golden", "--volumes", "0.5", "--methods", "secant", "--backend", "serial",
+            "--out", str(tmp_path)]
+    assert main(argv) == 2
+    assert "an earlier result is here" in capsys.readouterr().err
+    assert main([*argv, "--force"]) == 0
+    assert (tmp_path / "summary.json").read_text().startswith("{")
+    with pytest.raises(ValueError, match="kind: `pour`"):
+        check_out(tmp_path, "pour")
+
+
+def test_a_directory_in_use_is_refused(tmp_path):
+    # A `primo learn` holding the directory: its lock, taken by another
+    # process, refuses the writer whatever the force.
+    holder = subprocess.Popen(
+        [sys.executable, "-c", "import fcntl, sys, time\n"
+         "f = open(sys.argv[1], 'a'); fcntl.flock(f, fcntl.LOCK_EX)\n"
+         "print('held', flush=True); time.sleep(60)", str(tmp_path / "primo.lock")],
+        stdout=subprocess.PIPE, text=True,
+    )
+    try:
+        assert holder.stdout.readline() == "held\n"
+        with pytest.raises(ValueError, match="in use"):
+            write_golden(tmp_path, [golden_run(0.5, "secant")], force=True)
+        assert not (tmp_path / "golden.csv").exists()
+    finally:
+        holder.kill()
+        holder.wait()
+
+
 def test_runs_pickle():
     run = power_run(seed=5, variant="extended", kernels=6, updates=1)
     assert same(pickle.loads(pickle.dumps(run)), run)
@@ -172,5 +217,6 @@ def test_bad_input_is_a_value_error(tmp_path, capsys):
     with pytest.raises(SystemExit):
         main(["power", "--volumes", "0.5"])
     assert "--volumes is not a setting of the power experiment" in capsys.readouterr().err
-    assert main(["golden", "--volumes", "5", "--backend", "serial", "--out", str(tmp_path)]) == 2
+    assert main(["golden", "--volumes", "5", "--backend", "serial",
+                 "--out", str(tmp_path / "new")]) == 2
     assert "error: volume 5: bottle 5" in capsys.readouterr().err
