@@ -81,6 +81,21 @@ pub(crate) fn score(task: &Task, rollout: u32, answer: Answer) -> Result<TaskTri
             )));
         }
     };
+    // Each is finite in f32, as the learners take them, yet two of opposite
+    // sign near f32's largest differ by more than it holds.
+    if let Some(((d, m), _)) = task
+        .goal
+        .desired
+        .iter()
+        .zip(answer.measured.iter().flatten())
+        .zip(&error)
+        .find(|(_, e)| !(**e as f32).is_finite())
+    {
+        return Err(Error::Instrument(format!(
+            "roll-out {rollout}: the evaluator measured {m}, so far from the desired {d} that \
+             the error is beyond what the learners compute with (about ±3.4e38)"
+        )));
+    }
     let reward = match answer.reward {
         Some(r) => r,
         None => reward(task.learner.reward, task.learner.reward_scale, &error),
@@ -92,4 +107,51 @@ pub(crate) fn score(task: &Task, rollout: u32, answer: Answer) -> Result<TaskTri
         rejected: None,
         failed: None,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A task desiring `desired`, its demonstrations' files in a scratch
+    /// directory (scoring reads none of them).
+    fn task(desired: f32) -> Task {
+        let dir = std::env::temp_dir().join(format!("primo-task-trial-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        for name in ["a", "b"] {
+            std::fs::write(dir.join(format!("{name}.csv")), "t,x\n0,0\n").unwrap();
+        }
+        let (low, high) = (desired * 0.5, desired * 1.1);
+        let text = format!(
+            "version = 1\n[[demo]]\nfile = \"a.csv\"\nquery = [{low:e}]\n[[demo]]\n\
+             file = \"b.csv\"\nquery = [{high:e}]\n[goal]\ndesired = [{desired:e}]\n\
+             low = [{low:e}]\nhigh = [{high:e}]\nprecision = 0.01\n\
+             [movement.limits]\nx = {{ min = -1.0, max = 1.0, max_speed = 1.0 }}\n[learner]\n\
+             method = \"golden\"\n[evaluate]\ncommand = [\"true\"]\n"
+        );
+        Task::parse(&dir.join("task.toml"), &text).unwrap()
+    }
+
+    fn measured(m: f64) -> Answer {
+        Answer {
+            measured: Some(vec![m]),
+            ..Answer::default()
+        }
+    }
+
+    #[test]
+    fn an_error_beyond_f32_is_refused_naming_both_values() {
+        let t = task(3.0e38);
+        let e = score(&t, 4, measured(-3.0e38)).unwrap_err().to_string();
+        assert!(
+            e.contains("roll-out 4: the evaluator measured -300000000"),
+            "{e}"
+        );
+        assert!(e.contains("beyond what the learners compute with"), "{e}");
+        // Large but representable errors are scored.
+        let trial = score(&t, 4, measured(1.0e38)).unwrap();
+        assert_eq!(trial.error(), vec![2.0e38_f32]);
+        let near = score(&task(1.0), 1, measured(-3.0e38)).unwrap();
+        assert!(near.error()[0].is_finite());
+    }
 }
