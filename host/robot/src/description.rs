@@ -14,19 +14,10 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::chain::{Chain, JointLimits, Link};
+
 /// Number of joints.
 pub const JOINTS: usize = 7;
-
-/// One link's standard DH parameters (`θ` is the joint angle, offset 0).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct Link {
-    /// Offset along the previous z, m.
-    pub d: f64,
-    /// Length along the new x, m.
-    pub a: f64,
-    /// Twist about the new x, rad.
-    pub alpha: f64,
-}
 
 /// A seven-joint arm: its DH table, its flange and its joint limits.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -87,6 +78,22 @@ impl Robot {
             position_limits_deg: [170.0, 120.0, 170.0, 120.0, 170.0, 120.0, 170.0],
             velocity_limits_deg: [110.0, 110.0, 128.0, 128.0, 204.0, 184.0, 184.0],
         }
+    }
+
+    /// The robot as a [`Chain`]: its DH table, the flange as the tip,
+    /// joints `a1`…`a7` with its limits in radians.
+    pub fn chain(&self) -> Chain {
+        self.chain_to(&nalgebra::Isometry3::translation(0.0, 0.0, self.flange))
+    }
+
+    /// The robot as a [`Chain`] ending at `tool`, in the last DH frame.
+    pub fn chain_to(&self, tool: &nalgebra::Isometry3<f64>) -> Chain {
+        let limits: [JointLimits; JOINTS] = std::array::from_fn(|j| JointLimits {
+            lower: -self.position_limits_deg[j].to_radians(),
+            upper: self.position_limits_deg[j].to_radians(),
+            velocity: self.velocity_limits_deg[j].to_radians(),
+        });
+        Chain::from_dh("lwr4", &self.dh, tool, &limits)
     }
 
     /// Reads a JSON description (`file` names it in errors) and checks it.

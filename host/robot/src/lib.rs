@@ -1,7 +1,13 @@
 //! primo's robot model and safety gate.
 //!
-//! - [`description`]: a robot's description ([`Robot`]: DH table, flange,
-//!   joint limits), built in for the KUKA LWR 4+ or read from JSON.
+//! - [`urdf`]: a URDF's links and joints, each placed at its line.
+//! - [`chain`]: any serial arm ([`Chain`]: its joints from a base link to
+//!   a tip, with their limits) from a URDF or a DH table; forward
+//!   kinematics and the geometric Jacobian on nalgebra.
+//! - [`ik`]: inverse kinematics of any chain (damped least squares within
+//!   the limits, a null-space pull toward a rest posture).
+//! - [`description`]: the built-in KUKA LWR 4+ ([`Robot`]: DH table,
+//!   flange, joint limits), or an arm of its structure read from JSON.
 //! - [`pose`]: [`Pose`], rigid transforms and their rotations (matrix,
 //!   rotation vector, quaternion).
 //! - [`kinematics`]: an [`Arm`] (a robot holding a tool): forward
@@ -18,15 +24,20 @@
 //! from here.
 #![deny(missing_docs)]
 
+pub mod chain;
 pub mod description;
 pub mod envelope;
+pub mod ik;
 pub mod kinematics;
 pub mod limits;
 pub mod pose;
 pub mod safety;
+pub mod urdf;
 
-pub use description::{DescriptionError, JOINTS, Link, Robot};
-pub use kinematics::{Arm, IkError};
+pub use chain::{Chain, JointLimits, Link, Tip};
+pub use description::{DescriptionError, JOINTS, Robot};
+pub use ik::IkError;
+pub use kinematics::Arm;
 pub use limits::Violation;
 pub use pose::Pose;
 pub use safety::{

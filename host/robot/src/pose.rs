@@ -204,6 +204,28 @@ impl Pose {
         Pose { rotation, position }
     }
 
+    /// The same transform as nalgebra's.
+    pub fn isometry(&self) -> nalgebra::Isometry3<f64> {
+        let r = &self.rotation;
+        let matrix = nalgebra::Matrix3::from_row_slice(&[
+            r[0][0], r[0][1], r[0][2], r[1][0], r[1][1], r[1][2], r[2][0], r[2][1], r[2][2],
+        ]);
+        nalgebra::Isometry3::from_parts(
+            nalgebra::Translation3::new(self.position[0], self.position[1], self.position[2]),
+            nalgebra::UnitQuaternion::from_matrix(&matrix),
+        )
+    }
+
+    /// nalgebra's transform as a pose.
+    pub fn from_isometry(iso: &nalgebra::Isometry3<f64>) -> Pose {
+        let m = iso.rotation.to_rotation_matrix();
+        let t = iso.translation.vector;
+        Pose {
+            rotation: std::array::from_fn(|i| std::array::from_fn(|j| m[(i, j)])),
+            position: [t.x, t.y, t.z],
+        }
+    }
+
     /// The frame's z axis in the parent frame (third column).
     pub fn z_axis(&self) -> [f64; 3] {
         [
@@ -224,18 +246,6 @@ pub(crate) fn norm(a: [f64; 3]) -> f64 {
     dot(a, a).sqrt()
 }
 
-pub(crate) fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-pub(crate) fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
@@ -247,7 +257,7 @@ pub(crate) mod tests {
     /// How far apart two poses are: metres, radians.
     pub(crate) fn distance(a: &Pose, b: &Pose) -> (f64, f64) {
         (
-            norm(sub(a.position, b.position)),
+            norm(std::array::from_fn(|i| a.position[i] - b.position[i])),
             norm(a.then(&b.inverse()).rotation_vector()),
         )
     }

@@ -272,7 +272,7 @@ pub const JOINT_COLUMNS: [&str; JOINTS] = ["a1", "a2", "a3", "a4", "a5", "a6", "
 /// The checks of a robot holding a tool: Cartesian trajectories of the
 /// tool's controlled point (`reach` metres along the tool frame's z axis,
 /// e.g. a bottle's mouth) and the joint trajectories they become.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct Gate {
     /// The robot and its tool.
     pub arm: Arm,
