@@ -31,7 +31,10 @@
 //! assert!((tip.translation.vector.y - 0.5).abs() < 1e-12);
 //! ```
 
-use nalgebra::{Isometry3, Matrix6xX, Translation3, Unit, UnitQuaternion, Vector3};
+use nalgebra::{
+    Isometry3, IsometryMatrix3, Matrix3, Matrix6xX, Rotation3, SMatrix, Translation3, Unit,
+    UnitQuaternion, Vector3,
+};
 
 use crate::urdf::{JointKind, Urdf, UrdfError, UrdfJoint};
 
@@ -102,7 +105,11 @@ pub struct Chain {
     pub tip: String,
     joints: Vec<Joint>,
     /// The tool frame in the last joint's moved frame.
-    pub tip_offset: Isometry3<f64>,
+    tip_offset: Isometry3<f64>,
+    /// The joints' origins and the tip offset as rotation matrices:
+    /// composing matrices is cheaper than quaternions in the loops below.
+    origins: Vec<IsometryMatrix3<f64>>,
+    tip_matrix: IsometryMatrix3<f64>,
 }
 
 /// One link's standard DH parameters, `Rz(θ) · Tz(d) · Tx(a) · Rx(α)`
@@ -145,13 +152,13 @@ impl Chain {
             });
             origin = twist(link);
         }
-        Chain {
-            robot: robot.to_string(),
-            base: "base".into(),
-            tip: "flange".into(),
+        Chain::new(
+            robot.to_string(),
+            "base".into(),
+            "flange".into(),
             joints,
-            tip_offset: origin * tool,
-        }
+            origin * tool,
+        )
     }
 
     /// The serial chain of `urdf` that `tip` names (see [`Tip`]); refused,
@@ -338,18 +345,41 @@ impl Chain {
                 )));
             }
         }
-        Ok(Chain {
-            robot: urdf.name.clone(),
+        Ok(Chain::new(
+            urdf.name.clone(),
             base,
-            tip: tip_link,
+            tip_link,
             joints,
-            tip_offset: origin * tip.tool.unwrap_or_else(Isometry3::identity),
-        })
+            origin * tip.tool.unwrap_or_else(Isometry3::identity),
+        ))
+    }
+
+    fn new(
+        robot: String,
+        base: String,
+        tip: String,
+        joints: Vec<Joint>,
+        tip_offset: Isometry3<f64>,
+    ) -> Chain {
+        Chain {
+            robot,
+            base,
+            tip,
+            origins: joints.iter().map(|j| matrix(&j.origin)).collect(),
+            tip_matrix: matrix(&tip_offset),
+            joints,
+            tip_offset,
+        }
     }
 
     /// The moving joints, base to tip.
     pub fn joints(&self) -> &[Joint] {
         &self.joints
+    }
+
+    /// The tool frame in the last joint's moved frame.
+    pub fn tip_offset(&self) -> &Isometry3<f64> {
+        &self.tip_offset
     }
 
     /// How many joints move.
@@ -370,67 +400,122 @@ impl Chain {
     /// The tool frame in the base's at joint positions `q` (one per joint;
     /// missing ones taken as 0, extra ones ignored).
     pub fn forward(&self, q: &[f64]) -> Isometry3<f64> {
-        let mut frame = Isometry3::identity();
-        for (joint, q) in self
-            .joints
-            .iter()
-            .zip(q.iter().chain(std::iter::repeat(&0.0)))
-        {
-            frame = frame * joint.origin * joint.moved(*q);
+        quaternion(&self.forward_matrix(q))
+    }
+
+    /// [`Chain::forward`] with the rotation as a matrix.
+    pub fn forward_matrix(&self, q: &[f64]) -> IsometryMatrix3<f64> {
+        let mut frame = IsometryMatrix3::identity();
+        for ((joint, origin), q) in self.joints.iter().zip(&self.origins).zip(padded(q)) {
+            frame = frame * origin * joint.moved(*q);
         }
-        frame * self.tip_offset
+        frame * self.tip_matrix
     }
 
     /// The tool frame and the geometric Jacobian at `q`: column `i` maps
     /// joint `i`'s speed to the tool's linear velocity (rows 0–2) and
     /// angular velocity (rows 3–5), both in the base frame.
     pub fn forward_and_jacobian(&self, q: &[f64]) -> (Isometry3<f64>, Matrix6xX<f64>) {
-        let mut frame = Isometry3::identity();
-        let mut axes = Vec::with_capacity(self.joints.len());
-        for (joint, q) in self
+        let (tool, jacobian) = self.forward_and_jacobian_matrix(q);
+        (quaternion(&tool), jacobian)
+    }
+
+    /// [`Chain::forward_and_jacobian`] with the rotation as a matrix.
+    pub fn forward_and_jacobian_matrix(&self, q: &[f64]) -> (IsometryMatrix3<f64>, Matrix6xX<f64>) {
+        let mut full = Jacobian::zeros();
+        let tool = self.jacobian_into(q, &mut full);
+        (tool, full.columns(0, self.dof()).into_owned())
+    }
+
+    /// The tool frame at `q`, its Jacobian written into the first
+    /// [`Chain::dof`] columns of `jacobian` (the rest left as they are):
+    /// the inverse kinematics' loop, without allocating.
+    pub(crate) fn jacobian_into(&self, q: &[f64], jacobian: &mut Jacobian) -> IsometryMatrix3<f64> {
+        let mut frame = IsometryMatrix3::identity();
+        // Each joint's origin and axis in the base frame, then the levers
+        // to the tool once it is known.
+        let mut axes = [(Vector3::zeros(), Vector3::zeros()); MAX_JOINTS];
+        for (((joint, origin), q), axis) in self
             .joints
             .iter()
-            .zip(q.iter().chain(std::iter::repeat(&0.0)))
+            .zip(&self.origins)
+            .zip(padded(q))
+            .zip(axes.iter_mut())
         {
-            let at = frame * joint.origin;
-            axes.push((
-                at.rotation * joint.axis.into_inner(),
-                at.translation.vector,
-                joint.motion,
-            ));
+            let at = frame * origin;
+            *axis = (at.translation.vector, at.rotation * joint.axis.into_inner());
             frame = at * joint.moved(*q);
         }
-        let tool = frame * self.tip_offset;
-        let mut jacobian = Matrix6xX::zeros(self.joints.len());
-        for (mut column, (axis, origin, motion)) in jacobian.column_iter_mut().zip(axes) {
-            let (linear, angular) = match motion {
+        let tool = frame * self.tip_matrix;
+        for ((mut column, joint), (origin, axis)) in
+            jacobian.column_iter_mut().zip(&self.joints).zip(axes)
+        {
+            let (linear, angular) = match joint.motion {
                 Motion::Revolute => (axis.cross(&(tool.translation.vector - origin)), axis),
                 Motion::Prismatic => (axis, Vector3::zeros()),
             };
             column.fixed_rows_mut::<3>(0).copy_from(&linear);
             column.fixed_rows_mut::<3>(3).copy_from(&angular);
         }
-        (tool, jacobian)
+        tool
     }
 
     /// The geometric Jacobian at `q` ([`Chain::forward_and_jacobian`]).
     pub fn jacobian(&self, q: &[f64]) -> Matrix6xX<f64> {
-        self.forward_and_jacobian(q).1
+        self.forward_and_jacobian_matrix(q).1
     }
+}
+
+/// A Jacobian of up to [`MAX_JOINTS`] columns, on the stack.
+pub(crate) type Jacobian = SMatrix<f64, 6, MAX_JOINTS>;
+
+/// `q`, then zeros.
+fn padded(q: &[f64]) -> impl Iterator<Item = &f64> {
+    q.iter().chain(std::iter::repeat(&0.0))
+}
+
+/// A transform with its rotation as a matrix.
+pub fn matrix(iso: &Isometry3<f64>) -> IsometryMatrix3<f64> {
+    IsometryMatrix3::from_parts(iso.translation, iso.rotation.to_rotation_matrix())
+}
+
+/// A transform with its rotation as a unit quaternion (Shepperd's closed
+/// form: the matrix is orthonormal already).
+pub fn quaternion(iso: &IsometryMatrix3<f64>) -> Isometry3<f64> {
+    Isometry3::from_parts(
+        iso.translation,
+        UnitQuaternion::from_rotation_matrix(&iso.rotation),
+    )
 }
 
 impl Joint {
     /// The joint's own motion at position `q`.
-    fn moved(&self, q: f64) -> Isometry3<f64> {
+    fn moved(&self, q: f64) -> IsometryMatrix3<f64> {
+        let a = self.axis.into_inner();
         match self.motion {
-            Motion::Revolute => Isometry3::from_parts(
-                Translation3::identity(),
-                UnitQuaternion::from_axis_angle(&self.axis, q),
-            ),
-            Motion::Prismatic => Isometry3::from_parts(
-                Translation3::from(self.axis.into_inner() * q),
-                UnitQuaternion::identity(),
-            ),
+            // Rodrigues: R = c·I + s·[a]× + (1 − c)·a aᵀ, for the unit axis a.
+            Motion::Revolute => {
+                let (s, c) = q.sin_cos();
+                let t = 1.0 - c;
+                let m = Matrix3::new(
+                    c + t * a.x * a.x,
+                    t * a.x * a.y - s * a.z,
+                    t * a.x * a.z + s * a.y,
+                    t * a.x * a.y + s * a.z,
+                    c + t * a.y * a.y,
+                    t * a.y * a.z - s * a.x,
+                    t * a.x * a.z - s * a.y,
+                    t * a.y * a.z + s * a.x,
+                    c + t * a.z * a.z,
+                );
+                IsometryMatrix3::from_parts(
+                    Translation3::identity(),
+                    Rotation3::from_matrix_unchecked(m),
+                )
+            }
+            Motion::Prismatic => {
+                IsometryMatrix3::from_parts(Translation3::from(a * q), Rotation3::identity())
+            }
         }
     }
 }

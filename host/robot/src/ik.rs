@@ -33,9 +33,9 @@
 //! assert!((reached.translation.vector - target.translation.vector).norm() < 1e-9);
 //! ```
 
-use nalgebra::{Cholesky, DVector, Isometry3, Matrix6, Matrix6xX, U6, Vector6};
+use nalgebra::{Cholesky, Isometry3, Matrix6, SVector, U6, UnitQuaternion, Vector6};
 
-use crate::chain::Chain;
+use crate::chain::{Chain, Jacobian, MAX_JOINTS};
 
 /// How [`inverse`] stops.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -111,22 +111,22 @@ pub fn inverse(
     options: &IkOptions,
 ) -> Result<Vec<f64>, IkError> {
     let n = chain.dof();
-    let lower: Vec<f64> = chain.joints().iter().map(|j| j.limits.lower).collect();
-    let upper: Vec<f64> = chain.joints().iter().map(|j| j.limits.upper).collect();
-    let rest = DVector::from_iterator(n, (0..n).map(|j| rest.get(j).copied().unwrap_or(0.0)));
-    let mut q = DVector::from_iterator(
+    // Every vector on the stack at the most joints a chain has; the
+    // entries past `n` stay 0, their joints locked.
+    let mut limits = Limits {
         n,
-        (0..n).map(|j| {
-            seed.get(j)
-                .copied()
-                .unwrap_or(0.0)
-                .clamp(lower[j], upper[j])
-        }),
-    );
-    let limits = Limits {
-        lower: &lower,
-        upper: &upper,
+        lower: Joints::zeros(),
+        upper: Joints::zeros(),
     };
+    for (j, joint) in chain.joints().iter().enumerate().take(MAX_JOINTS) {
+        limits.lower[j] = joint.limits.lower;
+        limits.upper[j] = joint.limits.upper;
+    }
+    let value = |v: &[f64], j: usize| v.get(j).copied().unwrap_or(0.0);
+    let rest = Joints::from_fn(|j, _| if j < n { value(rest, j) } else { 0.0 });
+    let mut q = Joints::from_fn(|j, _| limits.clamp(j, value(seed, j)));
+    let target = crate::chain::matrix(target);
+    let mut jacobian = Jacobian::zeros();
     let mut best = IkError {
         position_error: f64::INFINITY,
         orientation_error: f64::INFINITY,
@@ -137,11 +137,15 @@ pub fn inverse(
     // inverse curvature of |q − rest|² along the self-motion, from the
     // last pull step and how much the pull changed over it.
     let mut gain = 1.0;
-    let mut last_pull: Option<(DVector<f64>, DVector<f64>)> = None;
+    let mut last_pull: Option<(Joints, Joints)> = None;
+    let solution = |q: &Joints| q.iter().take(n).copied().collect::<Vec<f64>>();
     for _ in 0..options.iterations {
-        let (pose, jacobian) = chain.forward_and_jacobian(q.as_slice());
+        let pose = chain.jacobian_into(q.as_slice(), &mut jacobian);
         let position = target.translation.vector - pose.translation.vector;
-        let orientation = (target.rotation * pose.rotation.inverse()).scaled_axis();
+        // The rotation vector through the quaternion: accurate near zero,
+        // where an angle from the trace is not.
+        let turn = target.rotation * pose.rotation.inverse();
+        let orientation = UnitQuaternion::from_rotation_matrix(&turn).scaled_axis();
         let error = IkError {
             position_error: position.norm(),
             orientation_error: orientation.norm(),
@@ -154,7 +158,7 @@ pub fn inverse(
         let reached = error.position_error <= options.tolerance
             && error.orientation_error <= options.tolerance;
         if reached {
-            on_target = Some(q.clone());
+            on_target = Some(q);
             settling += 1;
         }
         let e = Vector6::new(
@@ -174,29 +178,41 @@ pub fn inverse(
             && (settling >= SETTLE_ITERATIONS
                 || step.pull_step.iter().all(|s| s.abs() <= options.tolerance))
         {
-            return Ok(q.as_slice().to_vec());
+            return Ok(solution(&q));
         }
         if let Some((s, pull)) = &last_pull {
-            let change = pull - &step.pull;
+            let change = pull - step.pull;
             let curvature = s.dot(&change);
             if curvature > 0.0 {
                 gain = (s.dot(s) / curvature).clamp(GAIN_MIN, GAIN_MAX);
             }
         }
         for j in 0..n {
-            q[j] = (q[j] + step.task[j] + step.pull_step[j]).clamp(lower[j], upper[j]);
+            q[j] = limits.clamp(j, q[j] + step.task[j] + step.pull_step[j]);
         }
         last_pull = Some((step.pull_step, step.pull));
     }
-    on_target.map(|q| q.as_slice().to_vec()).ok_or(best)
+    on_target.map(|q| solution(&q)).ok_or(best)
 }
 
-struct Limits<'a> {
-    lower: &'a [f64],
-    upper: &'a [f64],
+/// A value per joint, up to [`MAX_JOINTS`].
+type Joints = SVector<f64, MAX_JOINTS>;
+
+/// The joints' position limits; joints from `n` on are no joints.
+struct Limits {
+    n: usize,
+    lower: Joints,
+    upper: Joints,
 }
 
-impl Limits<'_> {
+impl Limits {
+    fn clamp(&self, j: usize, x: f64) -> f64 {
+        match j < self.n {
+            true => x.clamp(self.lower[j], self.upper[j]),
+            false => 0.0,
+        }
+    }
+
     /// Room from `x` to joint `j`'s limit in the direction of `sign`'s sign.
     fn room(&self, j: usize, x: f64, sign: f64) -> f64 {
         match sign.is_sign_positive() {
@@ -210,41 +226,42 @@ impl Limits<'_> {
 struct Step {
     /// Damped least-squares correction of the tool pose; joints it would
     /// carry past a limit stop there and the rest is re-solved without them.
-    task: DVector<f64>,
+    task: Joints,
     /// `rest − q` projected onto the null space of the free joints.
-    pull: DVector<f64>,
+    pull: Joints,
     /// `pull` times the gain, shortened to fit the limits and [`MAX_PULL`].
-    pull_step: DVector<f64>,
+    pull_step: Joints,
 }
 
 /// The task step `Jᵀ (J Jᵀ + λ² I)⁻¹ e` and the pull `z − Jᵀ (J Jᵀ + λ² I)⁻¹ J z`
 /// toward rest, with λ² = |e|² + [`DAMPING`]. `None` if the system is not
 /// solvable (non-finite input).
 fn step(
-    jacobian: &Matrix6xX<f64>,
+    jacobian: &Jacobian,
     e: &Vector6<f64>,
-    q: &DVector<f64>,
-    rest: &DVector<f64>,
+    q: &Joints,
+    rest: &Joints,
     limits: &Limits,
     gain: f64,
 ) -> Option<Step> {
-    let n = q.len();
+    let n = limits.n;
     let damping = e.norm_squared() + DAMPING;
-    let mut locked = vec![false; n];
-    let mut task = DVector::zeros(n);
+    let mut locked = [true; MAX_JOINTS];
+    for l in locked.iter_mut().take(n) {
+        *l = false;
+    }
+    let mut task = Joints::zeros();
     let factor = loop {
         let mut a = Matrix6::identity() * damping;
-        for (j, column) in jacobian.column_iter().enumerate() {
-            if !locked[j] {
-                a += column * column.transpose();
-            }
+        for (column, _) in jacobian.column_iter().zip(locked).filter(|(_, l)| !l) {
+            a += column * column.transpose();
         }
         let factor = Cholesky::<f64, U6>::new(a)?;
         // Locked joints move exactly to their limit; the free ones make up
         // for it.
-        let y = factor.solve(&(e - jacobian * &task));
+        let y = factor.solve(&(e - jacobian * task));
         let mut settled = true;
-        for (j, column) in jacobian.column_iter().enumerate() {
+        for (j, column) in jacobian.column_iter().enumerate().take(n) {
             if locked[j] {
                 continue;
             }
@@ -252,7 +269,7 @@ fn step(
             let next = q[j] + task[j];
             if next < limits.lower[j] || next > limits.upper[j] {
                 locked[j] = true;
-                task[j] = next.clamp(limits.lower[j], limits.upper[j]) - q[j];
+                task[j] = limits.clamp(j, next) - q[j];
                 settled = false;
             }
         }
@@ -264,14 +281,11 @@ fn step(
     if largest > MAX_STEP {
         task *= MAX_STEP / largest;
     }
-    let z = DVector::from_iterator(
-        n,
-        (0..n).map(|j| if locked[j] { 0.0 } else { rest[j] - q[j] }),
-    );
-    let y = factor.solve(&(jacobian * &z));
-    let mut pull = &z - jacobian.transpose() * y;
-    for j in (0..n).filter(|j| locked[*j]) {
-        pull[j] = 0.0;
+    let z = Joints::from_fn(|j, _| if locked[j] { 0.0 } else { rest[j] - q[j] });
+    let y = factor.solve(&(jacobian * z));
+    let mut pull = z - jacobian.transpose() * y;
+    for (p, _) in pull.iter_mut().zip(locked).filter(|(_, l)| *l) {
+        *p = 0.0;
     }
     // Shorten the pull, never its direction, so it stays tool-preserving.
     let mut scale = gain;
@@ -285,10 +299,9 @@ fn step(
             scale = (room / pull[j].abs()).max(0.0);
         }
     }
-    let pull_step = &pull * scale;
     Some(Step {
         task,
         pull,
-        pull_step,
+        pull_step: pull * scale,
     })
 }

@@ -69,7 +69,7 @@ impl Arm {
 
     /// Base → tool frame for joint angles `q` (radians).
     pub fn forward(&self, q: &[f64; JOINTS]) -> Pose {
-        Pose::from_isometry(&self.chain.forward(q))
+        Pose::from_matrix(&self.chain.forward_matrix(q))
     }
 
     /// The geometric Jacobian of the tool frame in the base frame at `q`:

@@ -210,15 +210,23 @@ impl Pose {
         let matrix = nalgebra::Matrix3::from_row_slice(&[
             r[0][0], r[0][1], r[0][2], r[1][0], r[1][1], r[1][2], r[2][0], r[2][1], r[2][2],
         ]);
+        // Closed form (Shepperd's): the rotation is orthonormal already.
         nalgebra::Isometry3::from_parts(
             nalgebra::Translation3::new(self.position[0], self.position[1], self.position[2]),
-            nalgebra::UnitQuaternion::from_matrix(&matrix),
+            nalgebra::UnitQuaternion::from_rotation_matrix(
+                &nalgebra::Rotation3::from_matrix_unchecked(matrix),
+            ),
         )
     }
 
     /// nalgebra's transform as a pose.
     pub fn from_isometry(iso: &nalgebra::Isometry3<f64>) -> Pose {
-        let m = iso.rotation.to_rotation_matrix();
+        Pose::from_matrix(&crate::chain::matrix(iso))
+    }
+
+    /// nalgebra's transform, its rotation a matrix, as a pose.
+    pub fn from_matrix(iso: &nalgebra::IsometryMatrix3<f64>) -> Pose {
+        let m = iso.rotation.matrix();
         let t = iso.translation.vector;
         Pose {
             rotation: std::array::from_fn(|i| std::array::from_fn(|j| m[(i, j)])),
