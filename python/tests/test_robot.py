@@ -18,10 +18,10 @@ import primo
 CONFIGURATIONS = 1000
 AGREE = 1e-9  # m, rad, and Jacobian entries
 IK_TOLERANCE = 1e-6  # m and rad
-# Measured (rest=seed): panda 98.2 %, iiwa14 98.4 %, xarm7 99.1 %, the UR
-# arms 99.5-99.8 %, kinova 100 %; the failures end a fraction of a mm off,
-# the null-space pull holding the tool short of the target.
-IK_SUCCESS = 0.98
+# Measured: rest=seed 99.7-100 %, the default rest 97.9-100 % (panda and
+# xarm7 the lowest); the failures end a fraction of a mm off, near a limit.
+IK_SUCCESS = 0.99  # rest=seed
+IK_SUCCESS_MID_RANGE = 0.97  # the default rest
 SEED_NOISE = 0.05  # rad: the seed is a nearby configuration, as on a path
 
 # name: (distribution, URDF path suffix, tip link); the base is the root link.
@@ -128,10 +128,9 @@ def test_the_forward_kinematics_and_jacobian_equal_pinocchios(arm):
 def test_the_inverse_kinematics_reaches_poses_from_a_nearby_seed(arm):
     """Seeded a little off the answer, as a path's previous sample is, and
     pulled toward that seed (rest=seed: stay where the arm is), the IK
-    reaches at least 98 % of the poses; every answer is within the limits
+    reaches at least 99 % of the poses; every answer is within the limits
     and, by Pinocchio's FK, within 1e-6 m and rad of the target. With the
-    default rest (mid-range) the pull fights the target more often: that
-    rate is printed and only held above a floor."""
+    default rest (mid-range), far from many of them, at least 97 %."""
     name, robot, ref = arm
     rng = np.random.default_rng(1 + sum(map(ord, name)))
     qs = random_configurations(robot, rng, CONFIGURATIONS)
@@ -156,7 +155,7 @@ def test_the_inverse_kinematics_reaches_poses_from_a_nearby_seed(arm):
           f"{rates['seed']:.1%} solved with rest=seed, {rates['mid-range']:.1%} with the "
           "default rest (mid-range)")
     assert rates["seed"] >= IK_SUCCESS
-    assert rates["mid-range"] >= 0.8
+    assert rates["mid-range"] >= IK_SUCCESS_MID_RANGE
 
 
 def test_a_path_is_solved_sample_by_sample(arm):
