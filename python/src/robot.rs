@@ -30,7 +30,10 @@ const ORTHONORMAL: f64 = 1e-6;
 /// 4 × 4 homogeneous matrices in the base frame). Read from a URDF
 /// (``Robot.from_urdf``; xacro files and mimic joints in the chain are
 /// refused) or the built-in KUKA LWR 4 (``Robot.lwr4()``, joints
-/// ``a1``…``a7``). Pickles as its URDF text and settings.
+/// ``a1``…``a7``). Bad input (a shape, a length, NaN) is a ``ValueError``,
+/// an unreadable file an ``OSError``, an inverse kinematics that does not
+/// converge a ``RuntimeError`` naming the errors reached. Pickles as its
+/// URDF text and settings.
 ///
 /// >>> import numpy as np, primo
 /// >>> robot = primo.Robot.lwr4()
@@ -372,7 +375,13 @@ impl Robot {
         Ok(PyArray1::from_vec(py, values).reshape([6, dof])?.into_any())
     }
 
-    /// Joint positions putting the tool at `target` (4 × 4), from `seed`.
+    /// Joint positions within the limits putting the tool at `target` (4 ×
+    /// 4) to `tolerance` (m and rad), searched from `seed` and pulled
+    /// toward `rest` in the null space (default: each joint's mid-range, 0
+    /// if continuous). A local search: seed it near the answer. Raises
+    /// `RuntimeError` naming the smallest position and orientation errors
+    /// reached if it does not converge within `iterations`; `ValueError`
+    /// for a wrong shape or length, or a value that is not finite.
     #[pyo3(signature = (target, seed, rest=None, tolerance=1e-9, iterations=200))]
     fn inverse<'py>(
         &self,
@@ -394,8 +403,11 @@ impl Robot {
         Ok(PyArray1::from_vec(py, solved))
     }
 
-    /// Each target of `targets` (m × 4 × 4) solved from the previous
-    /// sample's solution (the first from `seed`): m × dof.
+    /// Each target of `targets` (m × 4 × 4) solved as `inverse` does from
+    /// the previous sample's solution (the first from `seed`): m × dof,
+    /// the GIL released. A sample that does not converge raises
+    /// `RuntimeError` naming it, or with `on_failure="nan"` gives a row of
+    /// NaN (the next sample starts from the last solution).
     #[pyo3(signature = (targets, seed, rest=None, tolerance=1e-9, iterations=200, on_failure="raise"))]
     #[allow(clippy::too_many_arguments)] // inverse's keywords, and what to do on a failure
     fn inverse_path<'py>(
