@@ -3,7 +3,9 @@
 A thin, typed layer over the compiled module ``primo._primo`` (Rust,
 through PyO3): Dynamic Movement Primitives, statistical generalization
 over a task query, the error learners (golden section, Illinois, secant)
-and PoWER with ``ask()``/``tell()``, and the simulated pouring cell.
+and PoWER with ``ask()``/``tell()``, the simulated pouring cell, and
+robot models (``Robot``: a serial arm from its URDF, its forward and
+inverse kinematics and Jacobian, in float64).
 Arrays go in as anything NumPy turns into float64 and come out as
 float64 arrays; the core computes in float32 (the DMP fit's normal
 equations in float64), so values must be finite in float32.
@@ -36,6 +38,7 @@ from primo._primo import (
     GoldenSection,
     Illinois,
     Power,
+    Robot,
     Secant,
     __version__,
 )
@@ -48,6 +51,7 @@ __all__ = [
     "GoldenSection",
     "Illinois",
     "Power",
+    "Robot",
     "Secant",
     "__version__",
 ]

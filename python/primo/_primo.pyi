@@ -294,6 +294,102 @@ class Cell:
     ) -> list[dict[str, Any]]:
         """Every row on all cores, the GIL released."""
 
+class Robot:
+    """A serial arm from its base link to a tip (a link, or a tool frame in
+    it), with its joints' limits: forward kinematics, the geometric
+    Jacobian and inverse kinematics in float64 (metres, radians; poses are
+    4 × 4 homogeneous matrices in the base frame). Pickles as its URDF text
+    and settings."""
+
+    @staticmethod
+    def from_urdf(
+        path: Path,
+        base: Optional[str] = None,
+        tip: Optional[str] = None,
+        tool: Optional[ArrayLike] = None,
+        limits: Optional[Mapping[str, tuple[float, float, float]]] = None,
+    ) -> Robot:
+        """The chain of the URDF at ``path`` from ``base`` (default: the
+        root link) to ``tip`` (default: the one leaf below the base), ending
+        at ``tool`` (4 × 4, tip link → tool frame). ``limits``: joint name →
+        (lower, upper, velocity), for joints the URDF gives none or to
+        narrow them. A file that cannot be read: ``OSError``; a xacro file,
+        a mimic, floating or planar joint in the chain, a joint without
+        limits, a malformed URDF: ``ValueError`` naming its line and column."""
+    @staticmethod
+    def from_urdf_text(
+        text: str,
+        base: Optional[str] = None,
+        tip: Optional[str] = None,
+        tool: Optional[ArrayLike] = None,
+        limits: Optional[Mapping[str, tuple[float, float, float]]] = None,
+        file: str = "<string>",
+    ) -> Robot:
+        """``from_urdf`` of a URDF's text (``file`` names it in errors)."""
+    @staticmethod
+    def lwr4() -> Robot:
+        """The built-in KUKA LWR 4 (DH table, flange tip, joints a1..a7)."""
+    @property
+    def name(self) -> str:
+        """The URDF's robot name."""
+    @property
+    def base(self) -> str: ...
+    @property
+    def tip(self) -> str: ...
+    @property
+    def joint_names(self) -> list[str]:
+        """The moving joints, base to tip: the order of every q."""
+    @property
+    def dof(self) -> int: ...
+    @property
+    def lower(self) -> Array:
+        """Lowest positions (−inf for a continuous joint)."""
+    @property
+    def upper(self) -> Array:
+        """Highest positions (+inf for a continuous joint)."""
+    @property
+    def velocity(self) -> Array:
+        """Fastest speeds, rad/s or m/s."""
+    def forward(self, q: ArrayLike) -> Array:
+        """The tool's pose at ``q`` (dof), 4 × 4 homogeneous."""
+    def forward_many(self, qs: ArrayLike) -> Array:
+        """The tool's poses at each row of ``qs`` (m × dof): m × 4 × 4,
+        the GIL released."""
+    def jacobian(self, q: ArrayLike) -> Array:
+        """The geometric Jacobian at ``q``: 6 × dof, rows vx, vy, vz, wx,
+        wy, wz of the tool frame's origin, in the base frame."""
+    def inverse(
+        self,
+        target: ArrayLike,
+        seed: ArrayLike,
+        rest: Optional[ArrayLike] = None,
+        tolerance: float = 1e-9,
+        iterations: int = 200,
+    ) -> Array:
+        """Joint positions within the limits putting the tool at ``target``
+        (4 × 4) to ``tolerance`` (m and rad), searched from ``seed``
+        (damped least squares, pulled toward ``rest`` in the null space;
+        default rest: each joint's mid-range, 0 if continuous). A local
+        search: seed it near the answer (a path's previous sample). Not
+        converging within ``iterations`` is a ``RuntimeError`` naming the
+        smallest position and orientation errors reached; a wrong shape,
+        length or a non-finite value is a ``ValueError``."""
+    def inverse_path(
+        self,
+        targets: ArrayLike,
+        seed: ArrayLike,
+        rest: Optional[ArrayLike] = None,
+        tolerance: float = 1e-9,
+        iterations: int = 200,
+        on_failure: Literal["raise", "nan"] = "raise",
+    ) -> Array:
+        """Each of ``targets`` (m × 4 × 4) solved as ``inverse`` does from
+        the previous sample's solution (the first from ``seed``): m × dof,
+        the GIL released. A sample that does not converge is a
+        ``RuntimeError`` naming it, or with ``on_failure="nan"`` a row of
+        NaN (the next sample then starts from the last solution)."""
+    def __reduce__(self) -> Any: ...
+
 Method = Literal["golden", "illinois", "secant", "fixed-gain", "weighted-gain"]
 Variant = Literal["extended", "ordinary", "error-learned"]
 

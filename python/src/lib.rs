@@ -1,5 +1,6 @@
 //! The native module behind the `primo` Python package (`primo._primo`):
-//! primo's DMPs, generalization, learners, the simulated pouring cell and
+//! primo's DMPs, generalization, learners, the simulated pouring cell,
+//! robot models (URDF chains, kinematics) and
 //! one seeded run of each of the paper's experiments,
 //! with NumPy arrays in and out. The typed Python layer and its docs are
 //! in `primo/`; this crate only converts and checks.
@@ -17,6 +18,7 @@ mod errors;
 mod experiments;
 mod generalize;
 mod learners;
+mod robot;
 
 #[pymodule]
 fn _primo(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -29,6 +31,7 @@ fn _primo(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<learners::Secant>()?;
     m.add_class::<learners::Power>()?;
     m.add_class::<cell::Cell>()?;
+    m.add_class::<robot::Robot>()?;
     m.add_function(wrap_pyfunction!(experiments::golden_run, m)?)?;
     m.add_function(wrap_pyfunction!(experiments::power_run, m)?)?;
     m.add_function(wrap_pyfunction!(experiments::check_out, m)?)?;

@@ -15,7 +15,12 @@
 //! **Stop rule.** Success once the tool is within `tolerance` (metres and
 //! radians) of the target and the pull has settled (its step below the
 //! tolerance), or after [`SETTLE_ITERATIONS`] iterations on target (near a
-//! singularity the pull may never settle). Failure after `iterations`
+//! singularity the pull may never settle). Not on target after half the
+//! iterations, the pull is dropped for the rest of them: it is what holds
+//! the tool a fraction of a millimetre off the target when the arm is far
+//! from rest near a limit (of random Panda poses seeded 0.05 rad off and
+//! pulled toward mid-range, 15 % failed without this, 2 % with it).
+//! Failure after `iterations`
 //! without reaching the target, with the smallest errors reached. The
 //! search is local: seeded with a nearby solution, as when a path is
 //! solved sample by sample, it takes a handful of iterations; a far seed
@@ -139,7 +144,7 @@ pub fn inverse(
     let mut gain = 1.0;
     let mut last_pull: Option<(Joints, Joints)> = None;
     let solution = |q: &Joints| q.iter().take(n).copied().collect::<Vec<f64>>();
-    for _ in 0..options.iterations {
+    for iteration in 0..options.iterations {
         let pose = chain.jacobian_into(q.as_slice(), &mut jacobian);
         let position = target.translation.vector - pose.translation.vector;
         // The rotation vector through the quaternion: accurate near zero,
@@ -169,9 +174,16 @@ pub fn inverse(
             orientation.y,
             orientation.z,
         );
-        let Some(step) = step(&jacobian, &e, &q, &rest, &limits, gain) else {
+        let Some(mut step) = step(&jacobian, &e, &q, &rest, &limits, gain) else {
             break;
         };
+        // Not on target after half the budget: the pull toward rest is
+        // what holds the tool off it (each pull step, tangent to a curved
+        // self-motion, leaves the target by about what the task step
+        // recovers), so the rest is plain damped least squares.
+        if on_target.is_none() && 2 * iteration >= options.iterations {
+            step.pull_step.fill(0.0);
+        }
         // Near a singularity the pull can leak into the tool pose and be
         // undone by the task step, indefinitely: settle after a while.
         if reached
