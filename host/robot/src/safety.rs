@@ -26,7 +26,11 @@
 //! let lwr4 = Robot::lwr4();
 //! assert!(check_joints(&lwr4, times.clone(), vec![still; 3]).is_ok());
 //! let err = check_joints(&lwr4, times, vec![still, jump, jump]).unwrap_err();
-//! assert_eq!(err.to_string(), "joint 2 at sample 1: 572.96 deg/s beyond the 110 deg/s velocity limit");
+//! assert_eq!(
+//!     err.to_string(),
+//!     "joint a2 at sample 1 (t = 0.010 s): 10.0000 rad/s (572.96 deg/s) beyond its velocity \
+//!      limit 1.9199 rad/s (110.00 deg/s)"
+//! );
 //! ```
 
 use crate::{Arm, IkError, JOINTS, Pose, Robot, Violation};
@@ -542,8 +546,9 @@ mod tests {
         assert_eq!(cfg.check_point(&t, &p), Ok(()));
         assert_eq!(
             cfg.check_cartesian(&t, &p).unwrap_err().to_string(),
-            "joint 5 at sample 1: -253.61 deg/s beyond the 204 deg/s velocity limit \
-             (joint angles of the bottle poses, by inverse kinematics)"
+            "joint a5 at sample 1 (t = 0.002 s): -4.4263 rad/s (-253.61 deg/s) beyond its \
+             velocity limit 3.5605 rad/s (204.00 deg/s) (joint angles of the bottle poses, by \
+             inverse kinematics)"
         );
         // Slower, the same turn is fine.
         let slow: Vec<f64> = t.iter().map(|t| 2.0 * t).collect();
