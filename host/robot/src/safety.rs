@@ -33,6 +33,8 @@
 //! );
 //! ```
 
+use crate::ik::IkOptions;
+use crate::tool_path::{ToolPathError, check_tool_path};
 use crate::{Arm, IkError, JOINTS, Pose, Robot, Violation};
 
 /// Box the controlled point (the bottle's mouth) must stay in during
@@ -350,25 +352,45 @@ impl Gate {
         poses: &[[f64; 7]],
     ) -> Result<JointPath, Rejection> {
         self.check_point(times, poses)?;
-        let mut q = self.rest;
-        let mut joints = Vec::with_capacity(poses.len());
-        for (sample, p) in poses.iter().enumerate() {
-            let pose = self.tool_pose([p[0], p[1], p[2]], [p[3], p[4], p[5], p[6]]);
-            q = self
-                .arm
-                .inverse(&pose, &q, &self.rest)
-                .map_err(|ik| Rejection::Unreachable {
-                    sample,
-                    pose: *p,
-                    ik,
-                })?;
-            joints.push(q);
-        }
-        self.check_joints(times.to_vec(), joints)
-            .map_err(|e| match e {
-                Rejection::Limit(v) => Rejection::Joints(v),
-                other => other,
+        // The tool frames of the controlled point's poses, solved and
+        // checked as any chain's tool path, from and toward the rest.
+        let frames: Vec<[f64; 7]> = poses
+            .iter()
+            .map(|p| {
+                let frame = self
+                    .tool_pose([p[0], p[1], p[2]], [p[3], p[4], p[5], p[6]])
+                    .isometry();
+                let (t, r) = (frame.translation.vector, frame.rotation);
+                [t.x, t.y, t.z, r.w, r.i, r.j, r.k]
             })
+            .collect();
+        let joints = check_tool_path(
+            self.arm.chain(),
+            times,
+            &frames,
+            Some(&self.rest),
+            None,
+            &IkOptions::default(),
+        )
+        .map_err(|e| match e {
+            ToolPathError::Unreachable { sample, ik, .. } => Rejection::Unreachable {
+                sample,
+                pose: poses[sample],
+                ik,
+            },
+            ToolPathError::Joints(v) => Rejection::Joints(v),
+            // The point's checks have passed: times aligned and increasing,
+            // values finite, orientations unit.
+            other => Rejection::Columns(other.to_string()),
+        })?;
+        Ok(JointPath {
+            robot: *self.arm.robot(),
+            times: times.to_vec(),
+            positions: joints
+                .chunks_exact(JOINTS)
+                .map(|q| std::array::from_fn(|j| q[j]))
+                .collect(),
+        })
     }
 
     /// The point stays in the workspace and moves no faster than the
