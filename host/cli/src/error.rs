@@ -4,7 +4,7 @@
 //! | status | meaning |
 //! |---|---|
 //! | 0 | done |
-//! | 1 | a failure while running: an instrument, the robot stopping, I/O |
+//! | 1 | a failure while running: an instrument, the robot stopping, I/O; a trajectory failing `robot check` |
 //! | 2 | bad input or a refused setting: nothing was started |
 //! | 130 | interrupted (Ctrl-C); a learning run can be resumed |
 //! | 141 | standard output was closed (a pipe's reader left); a learning run can be resumed |

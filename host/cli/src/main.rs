@@ -15,6 +15,7 @@ mod output;
 mod pour;
 mod progress;
 mod robot;
+mod robot_check;
 mod rollout;
 mod scale;
 mod terminal;
@@ -57,7 +58,8 @@ enum Command {
     /// The precision scale over MT-SICS: serve the simulated one, read one.
     #[command(subcommand)]
     Scale(scale::ScaleCommand),
-    /// The robot over KUKA FRI: stream a trajectory, or simulate the KRC.
+    /// The robot: check a trajectory against its limits, stream one over
+    /// KUKA FRI, or simulate the KRC.
     #[command(subcommand)]
     Robot(robot::RobotCommand),
 }

@@ -1,5 +1,7 @@
-//! The `primo robot` commands: stream a joint trajectory to a KUKA LWR4 over
-//! FRI (`play`), or be the KRC with the simulated arm and cell (`sim-krc`).
+//! The `primo robot` commands: check a trajectory against a robot's limits
+//! (`check`, [`crate::robot_check`]), stream a joint trajectory to a KUKA
+//! LWR4 over FRI (`play`), or be the KRC with the simulated arm and cell
+//! (`sim-krc`).
 
 use std::io::BufRead;
 use std::net::SocketAddr;
@@ -26,6 +28,12 @@ use crate::terminal::in_background;
 /// `primo robot …`.
 #[derive(Debug, clap::Subcommand)]
 pub enum RobotCommand {
+    /// Check a trajectory against a robot's limits, without moving
+    /// anything: any serial arm from its URDF (default: the built-in LWR
+    /// 4), joint positions by the joints' names or the tool's poses
+    /// (solved by inverse kinematics). Exit 0 when it passes, 1 when it
+    /// does not (the first violation on stdout), 2 for bad input.
+    Check(crate::robot_check::CheckArgs),
     /// Stream a joint trajectory (CSV `t,a1,...,a7`, radians, as `primo dmp
     /// run` writes) to the robot after the joint limit checks, and report
     /// the tracking error.
@@ -118,6 +126,7 @@ pub enum RobotCommand {
 /// Runs a `primo robot` command.
 pub fn run(command: RobotCommand) -> Result<(), CliError> {
     match command {
+        RobotCommand::Check(args) => crate::robot_check::run(&args),
         RobotCommand::Play {
             trajectory,
             robot,

@@ -470,7 +470,8 @@ fn a_trajectory_crossing_a_joint_limit_is_rejected_before_anything_is_sent() {
         err.trim_end(),
         format!(
             "primo: {}: trajectory rejected, nothing sent to the robot: \
-             joint 2 at sample 190: 120.32 deg beyond the ±120 deg position limit",
+             joint a2 at sample 190 (t = 1.900 s): 2.1000 rad (120.32 deg) beyond its upper \
+             limit 2.0944 rad (120.00 deg)",
             file.display()
         )
     );

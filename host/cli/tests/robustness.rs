@@ -59,6 +59,8 @@ const VALID: &[&str] = &[
     "experiment golden --volumes !0.5 --precision 0.01 --out o",
     "experiment power --runs !1 --updates !1 --kernels !5 --out o",
     "robot play joints.csv --robot fri:127.0.0.1:49938 --start-timeout !0.3",
+    "robot check joints.csv",
+    "robot check joints.csv --model arm.urdf --base base --tip l7 --max-acceleration 50",
     "scale read --port /dev/null --timeout !0.3 --retries !0",
     "scale zero --port missing-port",
     "dmp run --help",
@@ -70,6 +72,7 @@ const FLAGS: &[&str] = &[
     "--amplitude",
     "--anchor",
     "--approach-speed",
+    "--base",
     "--baud",
     "--bottle",
     "--change",
@@ -94,8 +97,10 @@ const FLAGS: &[&str] = &[
     "--load",
     "--low",
     "--margin",
+    "--max-acceleration",
     "--max-rollouts",
     "--method",
+    "--model",
     "--no-realtime",
     "--out",
     "--params",
@@ -123,6 +128,7 @@ const FLAGS: &[&str] = &[
     "--task",
     "--tau",
     "--timeout",
+    "--tip",
     "--unit",
     "--version",
     "--volumes",
@@ -400,6 +406,22 @@ fn inputs() -> &'static Path {
                 &at(name),
             ]);
         }
+        // A seven-joint arm for `robot check --model`, its joints a1..a7.
+        let mut arm = String::from("<robot name=\"arm\"><link name=\"base\"/>");
+        for i in 1..=7 {
+            let axis = if i % 2 == 1 { "0 0 1" } else { "0 1 0" };
+            let parent = if i == 1 {
+                "base".to_string()
+            } else {
+                format!("l{}", i - 1)
+            };
+            arm.push_str(&format!(
+                "<link name=\"l{i}\"/><joint name=\"a{i}\" type=\"revolute\">\
+                 <parent link=\"{parent}\"/><child link=\"l{i}\"/><origin xyz=\"0 0 0.2\"/>\
+                 <axis xyz=\"{axis}\"/><limit lower=\"-3\" upper=\"3\" velocity=\"4\"/></joint>"
+            ));
+        }
+        std::fs::write(dir.join("arm.urdf"), arm + "</robot>\n").unwrap();
         let (code, start, err) = primo(&["rollout", "--print-start"]);
         assert_eq!(code, 0, "{err}");
         std::fs::write(dir.join("params.json"), start).unwrap();
@@ -587,6 +609,7 @@ const RANDOM: &[(&str, &str)] = &[
     ("experiment golden", "--volumes 0.5"),
     ("experiment power", "--runs 1 --updates 1 --kernels 5"),
     ("robot play joints.csv", "--start-timeout 0.3"),
+    ("robot check joints.csv", ""),
     ("scale read", "--timeout 0.3 --retries 0"),
     ("scale calibrate", "--timeout 0.3 --retries 0"),
 ];

@@ -792,7 +792,10 @@ mod tests {
                 why: Stop::Limit(why),
                 at: 0,
             } => assert!(
-                why.starts_with("setpoint 0: joint 1 at sample 0: 171.89 deg beyond"),
+                why.starts_with(
+                    "setpoint 0: joint a1 at sample 0 (t = 0.000 s): 3.0000 rad (171.89 deg) \
+                     beyond its upper limit"
+                ),
                 "{why}"
             ),
             p => panic!("{p:?}"),

@@ -302,7 +302,7 @@ mod tests {
         fast[1] = 0.6;
         let rows: Vec<f64> = [still, fast].concat();
         let err = lwr.check(&cols, vec![0.0, 0.01], &rows).unwrap_err();
-        assert!(err.to_string().contains("joint 2 at sample 1"), "{err}");
+        assert!(err.to_string().contains("joint a2 at sample 1"), "{err}");
     }
 
     #[test]

@@ -12,8 +12,10 @@
 //!   rotation vector, quaternion).
 //! - [`kinematics`]: an [`Arm`] (a robot holding a tool): forward
 //!   kinematics, the Jacobian and inverse kinematics.
-//! - [`limits`]: the joint position and velocity limits checked along a
-//!   trajectory.
+//! - [`limits`]: the joint position and velocity limits of any chain (and
+//!   an acceleration bound) checked along a trajectory.
+//! - [`tool_path`]: a trajectory of any chain's tool poses, solved to joint
+//!   positions by the inverse kinematics and checked.
 //! - [`envelope`]: the limits of a task's trajectory of named columns (a
 //!   robot preset, or per-column limits and a workspace box); its only
 //!   output is a [`envelope::Checked`] trajectory.
@@ -32,6 +34,7 @@ pub mod kinematics;
 pub mod limits;
 pub mod pose;
 pub mod safety;
+pub mod tool_path;
 pub mod urdf;
 
 pub use chain::{Chain, JointLimits, Link, Tip};

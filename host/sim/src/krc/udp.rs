@@ -163,7 +163,7 @@ mod tests {
             SimKrc::new(cfg)
                 .unwrap_err()
                 .to_string()
-                .starts_with("start position: joint 2")
+                .starts_with("start position: joint a2 at sample 0")
         );
         let mut cfg = KrcConfig::new(remote);
         cfg.thresholds = [0.9, 0.8, 0.98];
