@@ -201,13 +201,7 @@ impl Robot {
     fn rest(&self, rest: Option<Array<'_>>) -> PyResult<Vec<f64>> {
         match rest {
             Some(r) => joints("rest", &r, self.chain.dof()),
-            None => Ok(self.limit(|l| {
-                if l.lower.is_finite() && l.upper.is_finite() {
-                    0.5 * (l.lower + l.upper)
-                } else {
-                    0.0
-                }
-            })),
+            None => Ok(primo_robot::tool_path::mid_range(&self.chain)),
         }
     }
 }

@@ -88,12 +88,16 @@ impl Robot {
 
     /// The robot as a [`Chain`] ending at `tool`, in the last DH frame.
     pub fn chain_to(&self, tool: &nalgebra::Isometry3<f64>) -> Chain {
-        let limits: [JointLimits; JOINTS] = std::array::from_fn(|j| JointLimits {
+        Chain::from_dh("lwr4", &self.dh, tool, &self.joint_limits())
+    }
+
+    /// Each joint's limits in radians (± the position limit).
+    pub fn joint_limits(&self) -> [JointLimits; JOINTS] {
+        std::array::from_fn(|j| JointLimits {
             lower: -self.position_limits_deg[j].to_radians(),
             upper: self.position_limits_deg[j].to_radians(),
             velocity: self.velocity_limits_deg[j].to_radians(),
-        });
-        Chain::from_dh("lwr4", &self.dh, tool, &limits)
+        })
     }
 
     /// Reads a JSON description (`file` names it in errors) and checks it.

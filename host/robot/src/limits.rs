@@ -224,14 +224,11 @@ impl Robot {
         &self,
         samples: impl IntoIterator<Item = (f64, &'a [f64; JOINTS])>,
     ) -> Result<(), Violation> {
+        let limits = self.joint_limits();
         let joints: [Limited; JOINTS] = std::array::from_fn(|j| Limited {
             name: JOINT_COLUMNS[j],
             motion: Motion::Revolute,
-            limits: JointLimits {
-                lower: -self.position_limits_deg[j].to_radians(),
-                upper: self.position_limits_deg[j].to_radians(),
-                velocity: self.velocity_limits_deg[j].to_radians(),
-            },
+            limits: limits[j],
         });
         let samples = samples.into_iter().map(|(t, q)| (t, q.as_slice()));
         check(&joints, samples, None)

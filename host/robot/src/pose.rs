@@ -219,11 +219,6 @@ impl Pose {
         )
     }
 
-    /// nalgebra's transform as a pose.
-    pub fn from_isometry(iso: &nalgebra::Isometry3<f64>) -> Pose {
-        Pose::from_matrix(&crate::chain::matrix(iso))
-    }
-
     /// nalgebra's transform, its rotation a matrix, as a pose.
     pub fn from_matrix(iso: &nalgebra::IsometryMatrix3<f64>) -> Pose {
         let m = iso.rotation.matrix();
