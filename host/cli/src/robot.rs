@@ -14,7 +14,6 @@ use primo_fri::udp::{Ended, Event, PlayConfig, PlayResult, bind, play};
 use primo_fri::{DEFAULT_PORT, parse_robot};
 use primo_mtsics::{Fixed, quote};
 use primo_robot::JOINT_COLUMNS as JOINT_NAMES;
-use primo_robot::envelope::joint_index;
 use primo_robot::safety::check_joints;
 use primo_robot::{JOINTS, JointPath, Robot};
 use primo_sim::krc::{CellHandle, KrcConfig, LATE_SEND, SimKrc};
@@ -210,12 +209,13 @@ fn load_trajectory(path: &Path) -> Result<JointPath, CliError> {
     let text = std::fs::read_to_string(path)
         .map_err(|e| CliError::input(format!("{file}: cannot read: {e}")))?;
     let demo = parse_demo(&file, &text)?;
+    let lwr = Robot::lwr4().chain();
     let in_order = demo.names.len() == JOINTS
         && demo
             .names
             .iter()
             .enumerate()
-            .all(|(j, name)| joint_index(name) == Some(j));
+            .all(|(j, name)| lwr.index(name) == Some(j));
     if !in_order {
         return Err(CliError::input(format!(
             "{file}:1: columns `t,{}`: a joint trajectory has the columns t,{} (radians; \

@@ -6,11 +6,11 @@
 use std::path::PathBuf;
 
 use primo_robot::chain::Chain;
-use primo_robot::envelope::joint_index;
+use primo_robot::columns::Columns;
 use primo_robot::ik::IkOptions;
 use primo_robot::tool_path::check_tool_path;
 use primo_robot::urdf::Urdf;
-use primo_robot::{POSE_COLUMNS, Robot, Tip};
+use primo_robot::{Robot, Tip};
 use primo_skill::csv::parse_demo;
 
 use crate::error::CliError;
@@ -39,14 +39,6 @@ pub struct CheckArgs {
     max_acceleration: Option<f64>,
 }
 
-/// How the trajectory's columns map onto the chain.
-enum Columns {
-    /// Column `c` is joint `joints[c]`.
-    Joints(Vec<usize>),
-    /// Column `c` is pose coordinate `coordinates[c]` of [`POSE_COLUMNS`].
-    Pose(Vec<usize>),
-}
-
 /// Runs `primo robot check`: exit 0 when the trajectory passes, 1 when it
 /// does not (the violation on stdout), 2 for input that cannot be checked.
 pub fn run(args: &CheckArgs) -> Result<(), CliError> {
@@ -57,7 +49,7 @@ pub fn run(args: &CheckArgs) -> Result<(), CliError> {
             "--max-acceleration {a}: must be a positive number"
         )));
     }
-    let (chain, builtin) = match &args.model {
+    let chain = match &args.model {
         Some(path) => {
             let file = path.display().to_string();
             let urdf = Urdf::parse(&file, &read(Some("--model"), path)?)
@@ -67,38 +59,26 @@ pub fn run(args: &CheckArgs) -> Result<(), CliError> {
                 tip: args.tip.clone(),
                 ..Tip::default()
             };
-            let chain =
-                Chain::from_urdf(&urdf, &tip).map_err(|e| CliError::input(e.to_string()))?;
-            (chain, false)
+            Chain::from_urdf(&urdf, &tip).map_err(|e| CliError::input(e.to_string()))?
         }
-        None => (Robot::lwr4().chain(), true),
+        None => Robot::lwr4().chain(),
     };
     let file = args.trajectory.display().to_string();
     let demo = parse_demo(&file, &read(None, &args.trajectory)?)?;
     let times: Vec<f64> = demo.times.iter().map(|t| f64::from(*t)).collect();
-    let rows = demo.positions.chunks_exact(demo.names.len());
+    let rows: Vec<f64> = demo.positions.iter().map(|v| f64::from(*v)).collect();
     let robot = describe(&chain);
-    let checked = match columns(&file, &demo.names, &chain, builtin)? {
-        Columns::Joints(joints) => {
-            let mut positions = vec![0.0; times.len() * chain.dof()];
-            for (row, values) in positions.chunks_exact_mut(chain.dof()).zip(rows) {
-                for (&joint, &v) in joints.iter().zip(values) {
-                    row[joint] = f64::from(v);
-                }
-            }
-            chain
-                .check_path(&times, &positions, args.max_acceleration)
-                .map_err(|v| v.to_string())
-        }
-        Columns::Pose(coordinates) => {
-            let poses: Vec<[f64; 7]> = rows
-                .map(|values| {
-                    let mut pose = [0.0; 7];
-                    for (&k, &v) in coordinates.iter().zip(values) {
-                        pose[k] = f64::from(v);
-                    }
-                    pose
-                })
+    let columns =
+        Columns::of(&chain, &demo.names).map_err(|e| CliError::input(format!("{file}: {e}")))?;
+    let ordered = columns.reorder(&rows);
+    let checked = match columns {
+        Columns::Joints(_) => chain
+            .check_path(&times, &ordered, args.max_acceleration)
+            .map_err(|v| v.to_string()),
+        Columns::Pose(_) => {
+            let poses: Vec<[f64; 7]> = ordered
+                .chunks_exact(7)
+                .map(|p| std::array::from_fn(|k| p[k]))
                 .collect();
             check_tool_path(
                 &chain,
@@ -137,74 +117,4 @@ fn describe(chain: &Chain) -> String {
         chain.base,
         chain.tip
     )
-}
-
-/// The joint each column names, every joint once, or the pose
-/// coordinates; anything else is refused naming the column.
-fn columns(
-    file: &str,
-    names: &[String],
-    chain: &Chain,
-    builtin: bool,
-) -> Result<Columns, CliError> {
-    let joint = |name: &str| {
-        chain
-            .index(name)
-            .or_else(|| builtin.then(|| joint_index(name)).flatten())
-    };
-    let joints = chain.names().join(", ");
-    let pose = names.iter().all(|n| joint(n).is_none())
-        && names.iter().any(|n| POSE_COLUMNS.contains(&n.as_str()));
-    if pose {
-        let mut coordinates = Vec::with_capacity(names.len());
-        for (c, name) in names.iter().enumerate() {
-            let Some(k) = POSE_COLUMNS.iter().position(|p| p == name) else {
-                return Err(unknown(file, c, name, &joints));
-            };
-            coordinates.push(k);
-        }
-        if let Some(missing) = POSE_COLUMNS.iter().find(|p| !names.iter().any(|n| n == *p)) {
-            return Err(CliError::input(format!(
-                "{file}: no column `{missing}`: a tool trajectory has the columns t,{}",
-                POSE_COLUMNS.join(",")
-            )));
-        }
-        return Ok(Columns::Pose(coordinates));
-    }
-    let mut columns: Vec<usize> = Vec::with_capacity(names.len());
-    for (c, name) in names.iter().enumerate() {
-        let Some(j) = joint(name) else {
-            return Err(unknown(file, c, name, &joints));
-        };
-        if let Some(first) = columns.iter().position(|&k| k == j) {
-            return Err(CliError::input(format!(
-                "{file}: columns `{}` and `{name}` both name joint {}",
-                names[first],
-                chain.names()[j]
-            )));
-        }
-        columns.push(j);
-    }
-    if let Some(missing) = chain
-        .names()
-        .iter()
-        .enumerate()
-        .find(|(j, _)| !columns.contains(j))
-    {
-        return Err(CliError::input(format!(
-            "{file}: no column for joint `{}`: a joint trajectory of {} has every joint ({joints})",
-            missing.1, chain.robot
-        )));
-    }
-    Ok(Columns::Joints(columns))
-}
-
-/// A column that names no joint: which it is, and what the columns can be.
-fn unknown(file: &str, c: usize, name: &str, joints: &str) -> CliError {
-    CliError::input(format!(
-        "{file}: column {} `{name}` names no joint; the columns after t are the joints ({joints}) \
-         or the tool pose ({})",
-        c + 2,
-        POSE_COLUMNS.join(",")
-    ))
 }

@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{primo, tmp};
+use common::{primo, seven, tmp};
 
 /// A planar arm: two revolute joints about z (links 0.4 and 0.3 m, ±2 rad
 /// at 1 rad/s), then a prismatic slide along x (0 to 0.2 m at 0.1 m/s).
@@ -27,25 +27,6 @@ const PLANAR: &str = r#"<?xml version="1.0"?>
   </joint>
 </robot>
 "#;
-
-/// Seven revolute joints, axes alternating z and y as on the LWR, each
-/// ±2.9 rad at 2 rad/s, on a fixed base mount.
-fn seven() -> String {
-    let mut text = String::from("<robot name=\"seven\">\n<link name=\"world\"/>\n");
-    text.push_str("<link name=\"l0\"/>\n<joint name=\"mount\" type=\"fixed\">");
-    text.push_str("<parent link=\"world\"/><child link=\"l0\"/></joint>\n");
-    for i in 1..=7 {
-        let axis = if i % 2 == 1 { "0 0 1" } else { "0 1 0" };
-        text.push_str(&format!(
-            "<link name=\"l{i}\"/>\n<joint name=\"q{i}\" type=\"revolute\"><parent link=\"l{}\"/>\
-             <child link=\"l{i}\"/><origin xyz=\"0 0 0.2\"/><axis xyz=\"{axis}\"/>\
-             <limit lower=\"-2.9\" upper=\"2.9\" velocity=\"2\"/></joint>\n",
-            i - 1
-        ));
-    }
-    text.push_str("</robot>\n");
-    text
-}
 
 fn write(name: &str, text: &str) -> String {
     let path = tmp(name);
@@ -97,7 +78,7 @@ fn a_trajectory_within_the_limits_passes_in_any_column_order() {
     let (code, out, err) = check(&traj, Some(&model), &[]);
     assert_eq!(code, 0, "{out}{err}");
     assert!(
-        out.contains("within the limits of seven (7 joints, world to l7)"),
+        out.contains("within the limits of seven (7 joints, world to hand)"),
         "{out}"
     );
     // A chain of its middle: --base and --tip.

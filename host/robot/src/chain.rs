@@ -88,9 +88,9 @@ pub struct Tip {
     pub tip: Option<String>,
     /// A tool frame in the tip link's (default: the tip link's own).
     pub tool: Option<Isometry3<f64>>,
-    /// Limits by joint name, for joints whose URDF has none (or to
-    /// narrow them: a lab's own, tighter limits); each must name a joint
-    /// of the chain.
+    /// Limits by joint name, for joints whose URDF has none, or a lab's
+    /// own within the URDF's (wider ones are refused); each must name a
+    /// joint of the chain.
     pub limits: Vec<(String, JointLimits)>,
 }
 
@@ -110,6 +110,9 @@ pub struct Chain {
     /// composing matrices is cheaper than quaternions in the loops below.
     origins: Vec<IsometryMatrix3<f64>>,
     tip_matrix: IsometryMatrix3<f64>,
+    /// Joints named by number (a DH table's): also found as `A1`, `j1`,
+    /// `joint_1`.
+    numbered: bool,
 }
 
 /// One link's standard DH parameters, `Rz(θ) · Tz(d) · Tx(a) · Rx(α)`
@@ -127,7 +130,8 @@ pub struct Link {
 impl Chain {
     /// The chain of a standard DH table (all θ offsets 0) ending at
     /// `tool` in the last DH frame, with `limits` per joint; joints named
-    /// `a1`, `a2`, ….
+    /// `a1`, `a2`, … (and found by [`Chain::index`] as robot users write
+    /// them: `A1`, `j1`, `joint_1`).
     pub fn from_dh(
         robot: &str,
         links: &[Link],
@@ -152,13 +156,16 @@ impl Chain {
             });
             origin = twist(link);
         }
-        Chain::new(
-            robot.to_string(),
-            "base".into(),
-            "flange".into(),
-            joints,
-            origin * tool,
-        )
+        Chain {
+            numbered: true,
+            ..Chain::new(
+                robot.to_string(),
+                "base".into(),
+                "flange".into(),
+                joints,
+                origin * tool,
+            )
+        }
     }
 
     /// The serial chain of `urdf` that `tip` names (see [`Tip`]); refused,
@@ -302,19 +309,37 @@ impl Chain {
                 .iter()
                 .find(|(n, _)| *n == j.name)
                 .map(|(_, l)| *l);
-            let limits = match (supplied, j.limit, j.kind) {
-                (Some(l), _, _) => l,
-                (None, Some(l), JointKind::Continuous) => JointLimits {
-                    lower: f64::NEG_INFINITY,
-                    upper: f64::INFINITY,
-                    velocity: l.velocity.ok_or_else(|| place(no_limits("a velocity")))?,
+            // The URDF's own: a continuous joint has no position limits.
+            let own = j.limit.map(|l| match j.kind {
+                JointKind::Continuous => (f64::NEG_INFINITY, f64::INFINITY, l.velocity),
+                _ => (l.lower, l.upper, l.velocity),
+            });
+            let limits = match (supplied, own) {
+                (Some(given), Some((lower, upper, velocity))) => {
+                    let wider = given.lower < lower
+                        || given.upper > upper
+                        || velocity.is_some_and(|v| given.velocity > v);
+                    if wider {
+                        return Err(place(format!(
+                            "the limits given for it, [{}, {}] at {} per s, are wider than its \
+                             URDF's, [{lower}, {upper}] at {} per s: given limits may narrow \
+                             a URDF's, never widen them",
+                            given.lower,
+                            given.upper,
+                            given.velocity,
+                            velocity.map_or("any".into(), |v| v.to_string())
+                        )));
+                    }
+                    given
+                }
+                (Some(given), None) => given,
+                (None, Some((lower, upper, Some(velocity)))) => JointLimits {
+                    lower,
+                    upper,
+                    velocity,
                 },
-                (None, Some(l), _) => JointLimits {
-                    lower: l.lower,
-                    upper: l.upper,
-                    velocity: l.velocity.ok_or_else(|| place(no_limits("a velocity")))?,
-                },
-                (None, None, _) => return Err(place(no_limits("a <limit>"))),
+                (None, Some((_, _, None))) => return Err(place(no_limits("a velocity"))),
+                (None, None) => return Err(place(no_limits("a <limit>"))),
             };
             check_limits(&limits, motion).map_err(place)?;
             joints.push(Joint {
@@ -367,6 +392,7 @@ impl Chain {
             tip,
             origins: joints.iter().map(|j| matrix(&j.origin)).collect(),
             tip_matrix: matrix(&tip_offset),
+            numbered: false,
             joints,
             tip_offset,
         }
@@ -392,9 +418,21 @@ impl Chain {
         self.joints.iter().map(|j| j.name.as_str()).collect()
     }
 
-    /// The index of the joint named `name`.
+    /// The index of the joint named `name`; a DH table's joints (`a1`,
+    /// `a2`, …) also by `A1`, `j1` or `joint_1`.
     pub fn index(&self, name: &str) -> Option<usize> {
-        self.joints.iter().position(|j| j.name == name)
+        let numbered = || {
+            let digits = ["joint_", "a", "A", "j"]
+                .iter()
+                .find_map(|p| name.strip_prefix(p))
+                .filter(|d| d.bytes().all(|b| b.is_ascii_digit()))?;
+            let n: usize = digits.parse().ok()?;
+            (1..=self.dof()).contains(&n).then(|| n - 1)
+        };
+        self.joints
+            .iter()
+            .position(|j| j.name == name)
+            .or_else(|| self.numbered.then(numbered).flatten())
     }
 
     /// The tool frame in the base's at joint positions `q` (one per joint;

@@ -83,7 +83,12 @@ impl Robot {
     /// The robot as a [`Chain`]: its DH table, the flange as the tip,
     /// joints `a1`…`a7` with its limits in radians.
     pub fn chain(&self) -> Chain {
-        self.chain_to(&nalgebra::Isometry3::translation(0.0, 0.0, self.flange))
+        self.chain_with_tool(&nalgebra::Isometry3::identity())
+    }
+
+    /// The robot as a [`Chain`] ending at `tool`, in its flange's frame.
+    pub fn chain_with_tool(&self, tool: &nalgebra::Isometry3<f64>) -> Chain {
+        self.chain_to(&(nalgebra::Isometry3::translation(0.0, 0.0, self.flange) * tool))
     }
 
     /// The robot as a [`Chain`] ending at `tool`, in the last DH frame.

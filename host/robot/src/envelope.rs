@@ -1,6 +1,7 @@
 //! Limits of a trajectory of named coordinates, for skills that are not the
-//! pouring cell's: a robot preset (its joint limits, the columns being its
-//! joints) or per-column position and speed limits with an optional
+//! pouring cell's: a robot's (any [`Chain`]'s joint limits, the columns
+//! being its joints by name or its tool's pose, solved by inverse
+//! kinematics) or per-column position and speed limits with an optional
 //! workspace box over three position columns. What passes is a
 //! [`Checked`] trajectory, the only thing a task's evaluator is given.
 //!
@@ -16,7 +17,11 @@
 //! assert_eq!(err.to_string(), "column `x` at sample 1: speed 4.0000 per s beyond the limit of 2 per s");
 //! ```
 
-use crate::{JOINTS, Rejection, Robot, check_joints};
+use crate::Rejection;
+use crate::chain::Chain;
+use crate::columns::Columns;
+use crate::ik::IkOptions;
+use crate::tool_path::check_tool_path;
 
 /// Position and speed limits of one column.
 #[derive(Debug, Clone, PartialEq)]
@@ -53,24 +58,23 @@ pub struct Envelope {
     pub workspace: Option<WorkspaceBox>,
 }
 
+/// A robot's limits: its chain's joint limits, and an acceleration bound.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RobotLimits {
+    /// The robot, with its joints' limits.
+    pub chain: Chain,
+    /// Every joint's fastest acceleration (rad/s² or m/s²), if bounded.
+    pub max_acceleration: Option<f64>,
+}
+
 /// The limits a task's trajectories pass.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Limits {
-    /// A robot's joint limits; the columns are its joints in order, named
-    /// as robot users write them (see [`joint_index`]).
-    Robot(Robot),
+    /// A robot's: the columns are its joints by name ([`Chain::index`]) or
+    /// its tool's pose ([`Columns`]).
+    Robot(RobotLimits),
     /// Per-column limits.
     Envelope(Envelope),
-}
-
-/// The joint a column name stands for, from 0: `a1`…`a7`, KUKA's `A1`…`A7`,
-/// `j1`…`j7`, `joint_1`…`joint_7`.
-pub fn joint_index(name: &str) -> Option<usize> {
-    let digits = ["joint_", "a", "A", "j"]
-        .iter()
-        .find_map(|p| name.strip_prefix(p))?;
-    let n: usize = digits.parse().ok()?;
-    (1..=JOINTS).contains(&n).then(|| n - 1)
 }
 
 /// A trajectory that passed its [`Limits`]: times strictly increasing,
@@ -80,6 +84,16 @@ pub struct Checked {
     names: Vec<String>,
     times: Vec<f64>,
     rows: Vec<f64>,
+    /// For a robot's limits: its joints, and their positions (row-major, in
+    /// the chain's order), and whether they were solved from tool poses.
+    joints: Option<Joints>,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+struct Joints {
+    names: Vec<String>,
+    positions: Vec<f64>,
+    solved: bool,
 }
 
 impl Checked {
@@ -97,33 +111,44 @@ impl Checked {
     pub fn rows(&self) -> &[f64] {
         &self.rows
     }
+
+    /// For a robot's limits, its joints' names and positions (row-major,
+    /// in the chain's order): what was checked, a tool trajectory's by
+    /// inverse kinematics.
+    pub fn joints(&self) -> Option<(&[String], &[f64])> {
+        self.joints
+            .as_ref()
+            .map(|j| (&j.names[..], &j.positions[..]))
+    }
+
+    /// The trajectory as a table for whoever executes it: its own columns
+    /// and rows, then, for a tool trajectory on a robot, the joint
+    /// positions its poses were solved to.
+    pub fn table(&self) -> (Vec<String>, Vec<f64>) {
+        let Some(j) = self.joints.as_ref().filter(|j| j.solved) else {
+            return (self.names.clone(), self.rows.clone());
+        };
+        let names = self.names.iter().chain(&j.names).cloned().collect();
+        let (width, dof) = (self.names.len(), j.names.len());
+        let rows = self
+            .rows
+            .chunks_exact(width)
+            .zip(j.positions.chunks_exact(dof))
+            .flat_map(|(own, q)| own.iter().chain(q).copied())
+            .collect();
+        (names, rows)
+    }
 }
 
 impl Limits {
     /// Checks that the columns `names` can be limited at all: a robot's
-    /// joints in order, or a limit for every column (and the workspace's
-    /// columns among them). The message names the column.
+    /// joints or its tool's pose, or a limit for every column (and the
+    /// workspace's columns among them). The message names the column.
     pub fn covers(&self, names: &[String]) -> Result<(), String> {
         match self {
-            Limits::Robot(_) => {
-                if names.len() != JOINTS {
-                    return Err(format!(
-                        "the robot preset limits {JOINTS} joint columns (a1..a7), the \
-                         trajectory has {}",
-                        names.len()
-                    ));
-                }
-                for (i, n) in names.iter().enumerate() {
-                    if joint_index(n) != Some(i) {
-                        return Err(format!(
-                            "column {} `{n}` is not joint {} (a{0}, A{0}, j{0} or joint_{0})",
-                            i + 1,
-                            i + 1
-                        ));
-                    }
-                }
-                Ok(())
-            }
+            Limits::Robot(r) => Columns::of(&r.chain, names)
+                .map(drop)
+                .map_err(|e| e.to_string()),
             Limits::Envelope(e) => {
                 for n in names {
                     if !e.columns.iter().any(|c| &c.name == n) {
@@ -157,20 +182,54 @@ impl Limits {
             });
         }
         self.covers(names).map_err(Rejection::Columns)?;
-        match self {
-            Limits::Robot(robot) => {
-                let joints: Vec<[f64; JOINTS]> = rows
-                    .chunks_exact(JOINTS)
-                    .map(|r| std::array::from_fn(|j| r.get(j).copied().unwrap_or(f64::NAN)))
-                    .collect();
-                check_joints(robot, times.clone(), joints)?;
+        let joints = match self {
+            Limits::Robot(r) => Some(r.check(names, &times, rows)?),
+            Limits::Envelope(e) => {
+                e.check(names, &times, rows)?;
+                None
             }
-            Limits::Envelope(e) => e.check(names, &times, rows)?,
-        }
+        };
         Ok(Checked {
             names: names.to_vec(),
             times,
             rows: rows.to_vec(),
+            joints,
+        })
+    }
+}
+
+impl RobotLimits {
+    /// The joint positions of a trajectory of joints or tool poses, checked.
+    fn check(&self, names: &[String], times: &[f64], rows: &[f64]) -> Result<Joints, Rejection> {
+        let columns =
+            Columns::of(&self.chain, names).map_err(|e| Rejection::Columns(e.to_string()))?;
+        let ordered = columns.reorder(rows);
+        let (positions, solved) = match columns {
+            Columns::Joints(_) => {
+                self.chain
+                    .check_path(times, &ordered, self.max_acceleration)?;
+                (ordered, false)
+            }
+            Columns::Pose(_) => {
+                let poses: Vec<[f64; 7]> = ordered
+                    .chunks_exact(7)
+                    .map(|p| std::array::from_fn(|k| p.get(k).copied().unwrap_or(f64::NAN)))
+                    .collect();
+                let q = check_tool_path(
+                    &self.chain,
+                    times,
+                    &poses,
+                    None,
+                    self.max_acceleration,
+                    &IkOptions::default(),
+                )?;
+                (q, true)
+            }
+        };
+        Ok(Joints {
+            names: self.chain.names().iter().map(|n| n.to_string()).collect(),
+            positions,
+            solved,
         })
     }
 }
@@ -278,31 +337,73 @@ mod tests {
         })
     }
 
-    #[test]
-    fn joint_names_as_robot_users_write_them() {
-        for (n, i) in [("a1", 0), ("A7", 6), ("j3", 2), ("joint_4", 3)] {
-            assert_eq!(joint_index(n), Some(i), "{n}");
-        }
-        for n in ["a0", "a8", "x", "joint_", "a", "a1b", "J1", "joint5"] {
-            assert_eq!(joint_index(n), None, "{n}");
-        }
+    fn lwr(max_acceleration: Option<f64>) -> Limits {
+        Limits::Robot(RobotLimits {
+            chain: crate::Robot::lwr4().chain(),
+            max_acceleration,
+        })
     }
 
     #[test]
-    fn a_robot_preset_checks_its_joints_in_order() {
-        let lwr = Limits::Robot(Robot::lwr4());
+    fn a_robot_checks_its_joints_by_name_in_any_order() {
         let cols = names(&["A1", "A2", "A3", "A4", "A5", "A6", "A7"]);
         let still = [0.0, 0.5, 0.0, -1.0, 0.0, 0.5, 0.0];
         let rows: Vec<f64> = [still, still].concat();
-        assert!(lwr.check(&cols, vec![0.0, 0.01], &rows).is_ok());
+        let checked = lwr(None).check(&cols, vec![0.0, 0.01], &rows).unwrap();
+        assert_eq!(checked.table(), (cols.clone(), rows.clone()));
         let swapped = names(&["a2", "a1", "a3", "a4", "a5", "a6", "a7"]);
-        let err = lwr.check(&swapped, vec![0.0, 0.01], &rows).unwrap_err();
-        assert!(err.to_string().contains("`a2` is not joint 1"), "{err}");
+        let checked = lwr(None).check(&swapped, vec![0.0, 0.01], &rows).unwrap();
+        let (_, q) = checked.joints().unwrap();
+        assert_eq!(q[..2], [0.5, 0.0]);
         let mut fast = still;
         fast[1] = 0.6;
         let rows: Vec<f64> = [still, fast].concat();
-        let err = lwr.check(&cols, vec![0.0, 0.01], &rows).unwrap_err();
+        let err = lwr(None).check(&cols, vec![0.0, 0.01], &rows).unwrap_err();
         assert!(err.to_string().contains("joint a2 at sample 1"), "{err}");
+        // 0.01 rad in 10 ms from rest: 100 rad/s².
+        fast[1] = 0.51;
+        let rows: Vec<f64> = [still, still, fast].concat();
+        let times = vec![0.0, 0.01, 0.02];
+        assert!(lwr(Some(200.0)).check(&cols, times.clone(), &rows).is_ok());
+        let err = lwr(Some(50.0)).check(&cols, times, &rows).unwrap_err();
+        assert!(err.to_string().contains("acceleration"), "{err}");
+    }
+
+    #[test]
+    fn a_robots_tool_trajectory_is_solved_and_kept_with_its_joints() {
+        let chain = crate::Robot::lwr4().chain();
+        let pose = |q: &[f64]| {
+            let p = chain.forward(q);
+            let (t, r) = (p.translation.vector, p.rotation);
+            vec![r.w, r.i, r.j, r.k, t.x, t.y, t.z]
+        };
+        let cols = names(&["qw", "qx", "qy", "qz", "x", "y", "z"]);
+        let (a, b) = (
+            [0.1, 0.5, 0.0, -1.0, 0.0, 0.5, 0.0],
+            [0.12, 0.5, 0.0, -1.0, 0.0, 0.5, 0.0],
+        );
+        let rows = [pose(&a), pose(&b)].concat();
+        let checked = lwr(None).check(&cols, vec![0.0, 0.1], &rows).unwrap();
+        let (header, table) = checked.table();
+        assert_eq!(header.len(), 14);
+        assert_eq!(header[7..], ["a1", "a2", "a3", "a4", "a5", "a6", "a7"]);
+        assert_eq!(table[..7], rows[..7]);
+        let solved = &table[7..14];
+        let reached = pose(solved);
+        assert!(
+            reached
+                .iter()
+                .zip(&rows[..7])
+                .all(|(u, v)| (u - v).abs() < 1e-6)
+        );
+        let mut far = rows.clone();
+        far[11] = 2.0;
+        let err = lwr(None).check(&cols, vec![0.0, 0.1], &far).unwrap_err();
+        assert!(
+            err.to_string()
+                .starts_with("sample 1 (t = 0.100 s): tool pose"),
+            "{err}"
+        );
     }
 
     #[test]

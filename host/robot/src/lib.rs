@@ -4,6 +4,8 @@
 //! - [`chain`]: any serial arm ([`Chain`]: its joints from a base link to
 //!   a tip, with their limits) from a URDF or a DH table; forward
 //!   kinematics and the geometric Jacobian on nalgebra.
+//! - [`columns`]: a trajectory's columns as a chain's joints by name or
+//!   its tool's pose.
 //! - [`ik`]: inverse kinematics of any chain (damped least squares within
 //!   the limits, a null-space pull toward a rest posture).
 //! - [`description`]: the built-in KUKA LWR 4+ ([`Robot`]: DH table,
@@ -17,7 +19,7 @@
 //! - [`tool_path`]: a trajectory of any chain's tool poses, solved to joint
 //!   positions by the inverse kinematics and checked.
 //! - [`envelope`]: the limits of a task's trajectory of named columns (a
-//!   robot preset, or per-column limits and a workspace box); its only
+//!   robot's, or per-column limits and a workspace box); its only
 //!   output is a [`envelope::Checked`] trajectory.
 //! - [`safety`]: the one gate every trajectory passes before it moves a
 //!   robot, simulated or real; its only output is a [`JointPath`].
@@ -27,6 +29,7 @@
 #![deny(missing_docs)]
 
 pub mod chain;
+pub mod columns;
 pub mod description;
 pub mod envelope;
 pub mod ik;

@@ -187,6 +187,9 @@ pub enum Rejection {
     /// The joint angles of a Cartesian trajectory cross a joint limit.
     #[error("{0} (joint angles of the bottle poses, by inverse kinematics)")]
     Joints(Violation),
+    /// A robot's tool trajectory it cannot follow.
+    #[error("{0}")]
+    ToolPath(#[from] ToolPathError),
 }
 
 /// A joint trajectory that passed the checks: at least one sample, times

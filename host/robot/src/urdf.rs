@@ -383,10 +383,7 @@ impl Reader<'_, '_> {
             Some(o) => {
                 let xyz = self.triple(o, "xyz", [0.0; 3])?;
                 let rpy = self.triple(o, "rpy", [0.0; 3])?;
-                Isometry3::from_parts(
-                    Translation3::from(xyz),
-                    UnitQuaternion::from_euler_angles(rpy.x, rpy.y, rpy.z),
-                )
+                origin(xyz.into(), rpy.into())
             }
             None => Isometry3::identity(),
         };
@@ -431,6 +428,16 @@ impl Reader<'_, '_> {
             column,
         })
     }
+}
+
+/// The frame an `<origin xyz=".." rpy=".."/>` places: translated by `xyz`
+/// (m), turned by roll, pitch and yaw about the fixed x, y and z axes (rad).
+pub fn origin(xyz: [f64; 3], rpy: [f64; 3]) -> Isometry3<f64> {
+    let [roll, pitch, yaw] = rpy;
+    Isometry3::from_parts(
+        Translation3::from(xyz),
+        UnitQuaternion::from_euler_angles(roll, pitch, yaw),
+    )
 }
 
 #[cfg(test)]

@@ -74,3 +74,26 @@ pub fn primo_within(
     }
     outcome(child)
 }
+
+/// A URDF of seven revolute joints `q1`…`q7`, axes alternating z and y as
+/// on the LWR, 0.2 m apart along z, each ±2.9 rad at 2 rad/s, on a fixed
+/// mount (root link `world`), with a link `hand` 0.1 m beyond the last.
+pub fn seven() -> String {
+    let mut text = String::from("<robot name=\"seven\">\n<link name=\"world\"/>\n");
+    text.push_str("<link name=\"l0\"/>\n<joint name=\"mount\" type=\"fixed\">");
+    text.push_str("<parent link=\"world\"/><child link=\"l0\"/></joint>\n");
+    for i in 1..=7 {
+        let axis = if i % 2 == 1 { "0 0 1" } else { "0 1 0" };
+        text.push_str(&format!(
+            "<link name=\"l{i}\"/>\n<joint name=\"q{i}\" type=\"revolute\"><parent link=\"l{}\"/>\
+             <child link=\"l{i}\"/><origin xyz=\"0 0 0.2\"/><axis xyz=\"{axis}\"/>\
+             <limit lower=\"-2.9\" upper=\"2.9\" velocity=\"2\"/></joint>\n",
+            i - 1
+        ));
+    }
+    text.push_str(
+        "<link name=\"hand\"/>\n<joint name=\"tcp\" type=\"fixed\"><parent link=\"l7\"/>\
+         <child link=\"hand\"/><origin xyz=\"0 0 0.1\"/></joint>\n</robot>\n",
+    );
+    text
+}

@@ -65,7 +65,7 @@ impl Task {
             ("[movement] kernels", a.kernels == b.kernels),
             ("[movement] generalization", a.regression == b.regression),
             ("[movement] dt", a.dt == b.dt),
-            ("[movement.limits]", a.limits == b.limits),
+            ("[movement] robot and limits", a.limits == b.limits),
             ("[goal] desired", a.goal.desired == b.goal.desired),
             ("[goal] precision", a.goal.precision == b.goal.precision),
             ("[learner] method", la.method == lb.method),

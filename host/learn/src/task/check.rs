@@ -1,6 +1,7 @@
 //! Checking a task file: every key and value, before anything moves; a
 //! refusal names the file, the line and the key.
 
+use std::collections::BTreeMap;
 use std::ops::Range;
 use std::path::Path;
 
@@ -16,10 +17,10 @@ use crate::error::Setting;
 use crate::learner::QUERY_DECAY;
 use crate::rollouts::MAX_ROLLOUTS;
 
-use super::schema::{EvaluateKeys, File, GoalKeys, LearnerKeys, MovementKeys};
+use super::schema::{EvaluateKeys, File, GoalKeys, LearnerKeys, MovementKeys, ToolKeys};
 use super::spec::{
-    DEFAULT_TIMEOUT, Evaluate, Goal, LearnerSettings, LimitsSpec, MAX_TIMEOUT, PourTask,
-    RewardRule, Task, TaskDemo, VERSION, robot_preset,
+    ColumnRange, DEFAULT_TIMEOUT, Evaluate, Goal, LearnerSettings, LimitsSpec, MAX_TIMEOUT,
+    PourTask, RewardRule, RobotModel, RobotSpec, Task, TaskDemo, VERSION,
 };
 
 /// Messages that name a place in the task file.
@@ -162,7 +163,7 @@ impl Task {
             .and_then(|m| m.dt.as_ref())
             .map(|v| positive(&p, v, "[movement] dt"))
             .transpose()?;
-        let limits = limits(&p, movement, pour)?;
+        let limits = limits(&p, movement, &dir, pour)?;
         let learner = learner(&p, &raw.learner, dim, &demos, pour)?;
         let goal = goal(&p, &raw.goal, dim, learner.method)?;
         Ok(Task {
@@ -236,17 +237,32 @@ fn demos(p: &Place, raw: &File, dir: &Path, pour: bool) -> Result<Vec<TaskDemo>,
 fn limits(
     p: &Place,
     movement: Option<&Spanned<MovementKeys>>,
+    dir: &Path,
     pour: bool,
 ) -> Result<Option<LimitsSpec>, Error> {
     let m = movement.map(Spanned::get_ref);
     let robot = m.and_then(|m| m.robot.as_ref());
     let columns = m.and_then(|m| m.limits.as_ref());
     let workspace = m.and_then(|m| m.workspace.as_ref());
+    let robot_keys = [
+        ("base", m.and_then(|m| m.base.as_ref()).map(Spanned::span)),
+        ("tip", m.and_then(|m| m.tip.as_ref()).map(Spanned::span)),
+        ("tool", m.and_then(|m| m.tool.as_ref()).map(Spanned::span)),
+        (
+            "max_acceleration",
+            m.and_then(|m| m.max_acceleration.as_ref())
+                .map(Spanned::span),
+        ),
+    ];
+    let robot_key = robot_keys
+        .iter()
+        .find_map(|(key, span)| Some((*key, span.clone()?)));
     if pour {
         if let Some(span) = robot
             .map(Spanned::span)
             .or(columns.map(Spanned::span))
             .or(workspace.map(Spanned::span))
+            .or(robot_key.as_ref().map(|(_, s)| s.clone()))
         {
             return Err(p.at(
                 span,
@@ -257,9 +273,29 @@ fn limits(
         }
         return Ok(None);
     }
+    if let Some(c) = columns {
+        for (name, r) in c.get_ref() {
+            if !(r.min.is_finite() && r.max.is_finite() && r.min < r.max) {
+                return Err(p.at(
+                    c.span(),
+                    &format!("[movement.limits] {name}"),
+                    format!(
+                        "min {} and max {}: need min < max, both finite",
+                        r.min, r.max
+                    ),
+                ));
+            }
+            if !(r.max_speed.is_finite() && r.max_speed > 0.0) {
+                return Err(p.at(
+                    c.span(),
+                    &format!("[movement.limits] {name}"),
+                    format!("max_speed {}: must be a positive number", r.max_speed),
+                ));
+            }
+        }
+    }
     match (robot, columns) {
-        (Some(r), None) => {
-            robot_preset(r.get_ref()).map_err(|e| p.at(r.span(), "[movement] robot", e))?;
+        (Some(r), columns) => {
             if let Some(w) = workspace {
                 return Err(p.at(
                     w.span(),
@@ -267,27 +303,18 @@ fn limits(
                     "a workspace box limits position columns, not a robot's joints",
                 ));
             }
-            Ok(Some(LimitsSpec::Robot(r.get_ref().clone())))
+            let spec = robot_spec(p, r, m, columns, dir)?;
+            spec.chain()
+                .map_err(|e| p.at(r.span(), "[movement] robot", e))?;
+            Ok(Some(LimitsSpec::Robot(spec)))
         }
         (None, Some(c)) => {
-            for (name, r) in c.get_ref() {
-                if !(r.min.is_finite() && r.max.is_finite() && r.min < r.max) {
-                    return Err(p.at(
-                        c.span(),
-                        &format!("[movement.limits] {name}"),
-                        format!(
-                            "min {} and max {}: need min < max, both finite",
-                            r.min, r.max
-                        ),
-                    ));
-                }
-                if !(r.max_speed.is_finite() && r.max_speed > 0.0) {
-                    return Err(p.at(
-                        c.span(),
-                        &format!("[movement.limits] {name}"),
-                        format!("max_speed {}: must be a positive number", r.max_speed),
-                    ));
-                }
+            if let Some((key, span)) = robot_key {
+                return Err(p.at(
+                    span,
+                    &format!("[movement] {key}"),
+                    "a robot's setting: give the robot (`robot = \"lwr4\"` or its URDF file)",
+                ));
             }
             if let Some(w) = workspace {
                 let ws = w.get_ref();
@@ -315,18 +342,87 @@ fn limits(
                 workspace: workspace.map(|w| w.get_ref().clone()),
             }))
         }
-        (Some(r), Some(_)) => Err(p.at(
-            r.span(),
-            "[movement] robot",
-            "give a robot preset or per-column [movement.limits], not both",
-        )),
         (None, None) => Err(Error::Invalid(format!(
-            "{}:{}: [movement]: no limits: give `robot = \"lwr4\"` or [movement.limits] for \
-             every column (nothing leaves primo unchecked)",
+            "{}:{}: [movement]: no limits: give the robot (`robot = \"lwr4\"` or its URDF \
+             file) or [movement.limits] for every column (nothing leaves primo unchecked)",
             p.name,
             movement.map_or(1, |m| p.line(m.span().start))
         ))),
     }
+}
+
+/// `[movement] robot` and its settings: the preset `lwr4`, or a URDF file
+/// (beside the task file, or absolute) with its chain's base and tip and
+/// `[movement.limits]` by joint; a tool frame and an acceleration bound
+/// for either.
+fn robot_spec(
+    p: &Place,
+    r: &Spanned<String>,
+    m: Option<&MovementKeys>,
+    columns: Option<&Spanned<BTreeMap<String, ColumnRange>>>,
+    dir: &Path,
+) -> Result<RobotSpec, Error> {
+    let name = r.get_ref();
+    let preset = name == "lwr4";
+    let model = if preset {
+        RobotModel::Preset(name.clone())
+    } else {
+        let file = dir.join(name);
+        if let Err(fault) = check(&file, Wanted::File) {
+            return Err(p.at(
+                r.span(),
+                "[movement] robot",
+                format!(
+                    "`{name}`: {}: {fault} (give the preset `lwr4` or the robot's URDF file)",
+                    file.display()
+                ),
+            ));
+        }
+        RobotModel::Urdf(file)
+    };
+    let link = |v: Option<&Spanned<String>>, key: &str| -> Result<Option<String>, Error> {
+        match v {
+            Some(v) if preset => Err(p.at(
+                v.span(),
+                key,
+                "the preset `lwr4` is its own chain: base and tip name a URDF's links",
+            )),
+            v => Ok(v.map(|v| v.get_ref().clone())),
+        }
+    };
+    let base = link(m.and_then(|m| m.base.as_ref()), "[movement] base")?;
+    let tip = link(m.and_then(|m| m.tip.as_ref()), "[movement] tip")?;
+    if let Some(c) = columns.filter(|_| preset) {
+        return Err(p.at(
+            c.span(),
+            "[movement.limits]",
+            "the preset `lwr4` has its own joint limits; [movement.limits] gives a URDF's \
+             joints theirs",
+        ));
+    }
+    let tool = match m.and_then(|m| m.tool.as_ref()) {
+        Some(t) => {
+            let ToolKeys { xyz, rpy } = t.get_ref();
+            let frame = [xyz[0], xyz[1], xyz[2], rpy[0], rpy[1], rpy[2]];
+            if frame.iter().any(|v| !v.is_finite()) {
+                return Err(p.at(t.span(), "[movement] tool", "xyz and rpy must be finite"));
+            }
+            Some(frame)
+        }
+        None => None,
+    };
+    let max_acceleration = m
+        .and_then(|m| m.max_acceleration.as_ref())
+        .map(|v| positive(p, v, "[movement] max_acceleration"))
+        .transpose()?;
+    Ok(RobotSpec {
+        model,
+        base,
+        tip,
+        tool,
+        limits: columns.map(|c| c.get_ref().clone()).unwrap_or_default(),
+        max_acceleration,
+    })
 }
 
 fn learner(

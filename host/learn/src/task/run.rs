@@ -216,14 +216,14 @@ impl Execute<TaskTrial> for Rollouts<'_> {
             Err(why) => return Ok(rejected(why.to_string())),
         };
         let mut csv = Vec::new();
-        let width = checked.names().len();
+        let (names, rows) = checked.table();
         write_rows(
             &mut csv,
-            checked.names(),
+            &names,
             checked
                 .times()
                 .iter()
-                .zip(checked.rows().chunks_exact(width))
+                .zip(rows.chunks_exact(names.len()))
                 .map(|(t, row)| (*t as f32, row.iter().map(|v| *v as f32))),
         )
         .map_err(Error::io(&self.dir))?;

@@ -39,8 +39,21 @@ pub(super) struct MovementKeys {
     pub(super) generalization: Option<Spanned<String>>,
     pub(super) dt: Option<Spanned<f64>>,
     pub(super) robot: Option<Spanned<String>>,
+    pub(super) base: Option<Spanned<String>>,
+    pub(super) tip: Option<Spanned<String>>,
+    pub(super) tool: Option<Spanned<ToolKeys>>,
+    pub(super) max_acceleration: Option<Spanned<f64>>,
     pub(super) limits: Option<Spanned<BTreeMap<String, ColumnRange>>>,
     pub(super) workspace: Option<Spanned<Workspace>>,
+}
+
+/// A tool frame, as a URDF's `<origin>`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct ToolKeys {
+    pub(super) xyz: [f64; 3],
+    #[serde(default)]
+    pub(super) rpy: [f64; 3],
 }
 
 #[derive(Deserialize)]

@@ -6,8 +6,10 @@ use std::collections::BTreeMap;
 use std::path::PathBuf;
 
 use primo_core::generalize::Method as Regression;
-use primo_robot::Robot;
-use primo_robot::envelope::{ColumnLimit, Envelope, Limits, WorkspaceBox};
+use primo_mtsics::path::read_text;
+use primo_robot::envelope::{ColumnLimit, Envelope, Limits, RobotLimits, WorkspaceBox};
+use primo_robot::urdf::{Urdf, origin};
+use primo_robot::{Chain, JointLimits, Robot, Tip};
 use primo_skill::Skill;
 use serde::{Deserialize, Serialize};
 
@@ -71,8 +73,8 @@ pub struct Workspace {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum LimitsSpec {
-    /// A robot preset by name (`lwr4`).
-    Robot(String),
+    /// A robot's.
+    Robot(#[serde(deserialize_with = "logged_robot")] RobotSpec),
     /// Per-column limits and an optional workspace box.
     Columns {
         /// By column name.
@@ -82,11 +84,107 @@ pub enum LimitsSpec {
     },
 }
 
+/// Where a robot's description comes from.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum RobotModel {
+    /// A preset by name (`lwr4`).
+    Preset(String),
+    /// A URDF file, absolute.
+    Urdf(PathBuf),
+}
+
+/// A robot whose limits a task's trajectories keep to.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RobotSpec {
+    /// Its description.
+    pub model: RobotModel,
+    /// The chain's base link (a URDF's; default its root).
+    pub base: Option<String>,
+    /// The chain's tip link (a URDF's; default its one leaf).
+    pub tip: Option<String>,
+    /// A tool frame in the tip's (the preset's: its flange's): `x, y, z`
+    /// (m) then roll, pitch, yaw about the fixed axes (rad), as a URDF's
+    /// `<origin>`.
+    pub tool: Option<[f64; 6]>,
+    /// A URDF's joints' limits by name: for joints it gives none, or a
+    /// lab's own within it.
+    pub limits: BTreeMap<String, ColumnRange>,
+    /// Every joint's fastest acceleration, rad/s² or m/s².
+    pub max_acceleration: Option<f64>,
+}
+
+/// A logged robot: before URDF models, run logs held a preset's name alone.
+fn logged_robot<'de, D: serde::Deserializer<'de>>(d: D) -> Result<RobotSpec, D::Error> {
+    #[derive(Deserialize)]
+    #[serde(untagged)]
+    enum Logged {
+        Preset(String),
+        Spec(RobotSpec),
+    }
+    Ok(match Logged::deserialize(d)? {
+        Logged::Preset(name) => RobotSpec {
+            model: RobotModel::Preset(name),
+            base: None,
+            tip: None,
+            tool: None,
+            limits: BTreeMap::new(),
+            max_acceleration: None,
+        },
+        Logged::Spec(spec) => spec,
+    })
+}
+
+impl RobotSpec {
+    /// The robot's chain: the preset's, or the URDF's read and checked
+    /// (its faults name the file, the line and the element).
+    pub fn chain(&self) -> Result<Chain, Error> {
+        let tool = self
+            .tool
+            .map(|[x, y, z, roll, pitch, yaw]| origin([x, y, z], [roll, pitch, yaw]));
+        match &self.model {
+            RobotModel::Preset(name) => {
+                let robot = robot_preset(name)?;
+                Ok(match tool {
+                    Some(tool) => robot.chain_with_tool(&tool),
+                    None => robot.chain(),
+                })
+            }
+            RobotModel::Urdf(file) => {
+                let name = file.display().to_string();
+                let text = read_text(file).map_err(|f| Error::Invalid(format!("{name}: {f}")))?;
+                let urdf = Urdf::parse(&name, &text).map_err(|e| Error::Invalid(e.to_string()))?;
+                let tip = Tip {
+                    base: self.base.clone(),
+                    tip: self.tip.clone(),
+                    tool,
+                    limits: self
+                        .limits
+                        .iter()
+                        .map(|(joint, r)| {
+                            let limits = JointLimits {
+                                lower: r.min,
+                                upper: r.max,
+                                velocity: r.max_speed,
+                            };
+                            (joint.clone(), limits)
+                        })
+                        .collect(),
+                };
+                Chain::from_urdf(&urdf, &tip).map_err(|e| Error::Invalid(e.to_string()))
+            }
+        }
+    }
+}
+
 impl LimitsSpec {
     /// The limits to check with.
     pub fn limits(&self) -> Result<Limits, Error> {
         Ok(match self {
-            LimitsSpec::Robot(name) => Limits::Robot(robot_preset(name)?),
+            LimitsSpec::Robot(robot) => Limits::Robot(RobotLimits {
+                chain: robot.chain()?,
+                max_acceleration: robot.max_acceleration,
+            }),
             LimitsSpec::Columns { columns, workspace } => Limits::Envelope(Envelope {
                 columns: columns
                     .iter()
@@ -108,7 +206,7 @@ impl LimitsSpec {
     }
 }
 
-pub(super) fn robot_preset(name: &str) -> Result<Robot, Error> {
+fn robot_preset(name: &str) -> Result<Robot, Error> {
     match name {
         "lwr4" => Ok(Robot::lwr4()),
         other => Err(Error::Invalid(format!(
@@ -228,4 +326,22 @@ pub struct Built {
     pub limits: Limits,
     /// The trajectories' time step, s.
     pub dt: f64,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_run_log_of_a_robot_preset_before_urdf_models_still_reads() {
+        let logged: LimitsSpec = serde_json::from_str(r#"{"robot":"lwr4"}"#).unwrap();
+        let LimitsSpec::Robot(robot) = &logged else {
+            panic!("{logged:?}")
+        };
+        assert_eq!(robot.model, RobotModel::Preset("lwr4".into()));
+        let again: LimitsSpec =
+            serde_json::from_str(&serde_json::to_string(&logged).unwrap()).unwrap();
+        assert_eq!(again, logged);
+        assert_eq!(robot.chain().unwrap(), Robot::lwr4().chain());
+    }
 }
