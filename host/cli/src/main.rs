@@ -11,6 +11,7 @@ mod experiment;
 mod interrupt;
 mod learn;
 mod memory;
+mod model;
 mod output;
 mod pour;
 mod progress;

@@ -9,19 +9,21 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 use std::time::Duration;
 
+use primo_fri::path::FriPath;
 use primo_fri::session::SessionConfig;
 use primo_fri::udp::{Ended, Event, PlayConfig, PlayResult, bind, play};
 use primo_fri::{DEFAULT_PORT, parse_robot};
 use primo_mtsics::{Fixed, quote};
 use primo_robot::JOINT_COLUMNS as JOINT_NAMES;
-use primo_robot::safety::check_joints;
-use primo_robot::{JOINTS, JointPath, Robot};
+use primo_robot::columns::Columns;
+use primo_robot::safety::check_path;
 use primo_sim::krc::{CellHandle, KrcConfig, LATE_SEND, SimKrc};
 use primo_skill::csv::parse_demo;
 
 use crate::args::Glass;
 use crate::error::CliError;
-use crate::output::say;
+use crate::model::ModelArgs;
+use crate::output::{read, say};
 use crate::terminal::in_background;
 
 /// `primo robot …`.
@@ -33,13 +35,17 @@ pub enum RobotCommand {
     /// (solved by inverse kinematics). Exit 0 when it passes, 1 when it
     /// does not (the first violation on stdout), 2 for bad input.
     Check(crate::robot_check::CheckArgs),
-    /// Stream a joint trajectory (CSV `t,a1,...,a7`, radians, as `primo dmp
-    /// run` writes) to the robot after the joint limit checks, and report
-    /// the tracking error.
+    /// Stream a joint trajectory (CSV `t` and the seven joints, radians, as
+    /// `primo dmp run` writes) to a KUKA LWR over FRI after the joint limit
+    /// checks of its model, and report the tracking error.
     Play {
-        /// Trajectory CSV: header `t,a1,...,a7` (or `A1..A7`, `j1..j7`,
-        /// `joint_1..joint_7`), t in seconds, angles in rad.
+        /// Trajectory CSV: header `t` then the arm's seven joints by name,
+        /// any order (the LWR 4's `a1..a7`, `A1..A7`, `j1..j7` or
+        /// `joint_1..joint_7`; a URDF's joint names), t in seconds, angles
+        /// in rad.
         trajectory: PathBuf,
+        #[command(flatten)]
+        model: crate::model::ModelArgs,
         /// `fri:ADDR[:PORT]`: the local UDP address to bind, where the KRC
         /// sends its packets (default port 49938).
         #[arg(long)]
@@ -128,6 +134,7 @@ pub fn run(command: RobotCommand) -> Result<(), CliError> {
         RobotCommand::Check(args) => crate::robot_check::run(&args),
         RobotCommand::Play {
             trajectory,
+            model,
             robot,
             cycle_timeout,
             start_timeout,
@@ -147,7 +154,7 @@ pub fn run(command: RobotCommand) -> Result<(), CliError> {
                 realtime: !no_realtime,
                 ..PlayConfig::default()
             };
-            robot_play(&trajectory, &robot, &cfg)
+            robot_play(&trajectory, &model, &robot, &cfg)
         }
         RobotCommand::SimKrc {
             port,
@@ -203,49 +210,49 @@ fn seconds(flag: &str, v: f64) -> Result<Duration, CliError> {
         .ok_or_else(|| CliError::input(format!("{flag}: {v} is not a positive number of seconds")))
 }
 
-/// Reads a `t,a1..a7` trajectory and passes it through the safety checks.
-fn load_trajectory(path: &Path) -> Result<JointPath, CliError> {
+/// Reads a joint trajectory of `model`'s arm and passes it through its
+/// limit checks; FRI streams seven joints.
+fn load_trajectory(path: &Path, model: &ModelArgs) -> Result<FriPath, CliError> {
+    let chain = model.chain()?;
     let file = path.display().to_string();
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| CliError::input(format!("{file}: cannot read: {e}")))?;
-    let demo = parse_demo(&file, &text)?;
-    let lwr = Robot::lwr4().chain();
-    let in_order = demo.names.len() == JOINTS
-        && demo
-            .names
-            .iter()
-            .enumerate()
-            .all(|(j, name)| lwr.index(name) == Some(j));
-    if !in_order {
-        return Err(CliError::input(format!(
-            "{file}:1: columns `t,{}`: a joint trajectory has the columns t,{} (radians; \
-             or A1..A7, j1..j7, joint_1..joint_7)",
-            demo.names.join(","),
-            JOINT_NAMES.join(",")
-        )));
-    }
-    let times = demo.times.iter().map(|t| f64::from(*t)).collect();
-    let rows = demo
-        .positions
-        .chunks_exact(JOINTS)
-        .map(|r| std::array::from_fn(|j| f64::from(r[j])))
-        .collect();
-    check_joints(&Robot::lwr4(), times, rows).map_err(|why| {
+    let demo = parse_demo(&file, &read(None, path)?)?;
+    let rejected = |why: String| {
         CliError::input(format!(
             "{file}: trajectory rejected, nothing sent to the robot: {why}"
         ))
-    })
+    };
+    let columns = match Columns::of(&chain, &demo.names) {
+        Ok(c @ Columns::Joints(_)) => c,
+        Ok(Columns::Pose(_)) => {
+            return Err(CliError::input(format!(
+                "{file}: a tool trajectory: FRI streams joint angles; solve it with `primo robot \
+                 check` first or give the joints ({})",
+                chain.names().join(",")
+            )));
+        }
+        Err(e) => return Err(CliError::input(format!("{file}: {e}"))),
+    };
+    let rows: Vec<f64> = demo.positions.iter().map(|v| f64::from(*v)).collect();
+    let times = demo.times.iter().map(|t| f64::from(*t)).collect();
+    let checked = check_path(&chain, times, columns.reorder(&rows), None)
+        .map_err(|why| rejected(why.to_string()))?;
+    FriPath::try_from(&checked).map_err(|why| rejected(why.to_string()))
 }
 
-fn robot_play(trajectory: &Path, robot: &str, cfg: &PlayConfig) -> Result<(), CliError> {
+fn robot_play(
+    trajectory: &Path,
+    model: &ModelArgs,
+    robot: &str,
+    cfg: &PlayConfig,
+) -> Result<(), CliError> {
     let addr = parse_robot(robot)?;
-    let path = load_trajectory(trajectory)?;
+    let path = load_trajectory(trajectory, model)?;
     let socket = bind(addr)?;
     say(&format!(
         "primo robot play: {} samples over {:.3} s passed the limit checks; \
          waiting for the KRC's packets on {addr}",
-        path.times().len(),
-        path.duration()
+        path.rows().len(),
+        path.path().duration()
     ))?;
     let mut said = Ok(());
     let result = play(&socket, &path, cfg, &mut |event| {

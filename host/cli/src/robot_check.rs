@@ -5,15 +5,13 @@
 
 use std::path::PathBuf;
 
-use primo_robot::chain::Chain;
 use primo_robot::columns::Columns;
 use primo_robot::ik::IkOptions;
 use primo_robot::tool_path::check_tool_path;
-use primo_robot::urdf::Urdf;
-use primo_robot::{Robot, Tip};
 use primo_skill::csv::parse_demo;
 
 use crate::error::CliError;
+use crate::model::{ModelArgs, describe};
 use crate::output::{read, say};
 
 /// `primo robot check` options.
@@ -23,16 +21,8 @@ pub struct CheckArgs {
     /// (any order; rad or m), or `x,y,z,qw,qx,qy,qz` (the tool frame's
     /// pose in the base frame, m and a unit quaternion).
     trajectory: PathBuf,
-    /// The robot's URDF (default: the built-in KUKA LWR 4, joints
-    /// `a1..a7`, also `A1..A7`, `j1..j7`, `joint_1..joint_7`).
-    #[arg(long, value_name = "ROBOT.urdf")]
-    model: Option<PathBuf>,
-    /// The chain's base link (default: the URDF's root link).
-    #[arg(long, value_name = "LINK", requires = "model")]
-    base: Option<String>,
-    /// The chain's tip link (default: the one leaf below the base).
-    #[arg(long, value_name = "LINK", requires = "model")]
-    tip: Option<String>,
+    #[command(flatten)]
+    model: ModelArgs,
     /// Also bound every joint's acceleration (finite differences), rad/s²
     /// or m/s².
     #[arg(long, value_name = "A")]
@@ -49,20 +39,7 @@ pub fn run(args: &CheckArgs) -> Result<(), CliError> {
             "--max-acceleration {a}: must be a positive number"
         )));
     }
-    let chain = match &args.model {
-        Some(path) => {
-            let file = path.display().to_string();
-            let urdf = Urdf::parse(&file, &read(Some("--model"), path)?)
-                .map_err(|e| CliError::input(e.to_string()))?;
-            let tip = Tip {
-                base: args.base.clone(),
-                tip: args.tip.clone(),
-                ..Tip::default()
-            };
-            Chain::from_urdf(&urdf, &tip).map_err(|e| CliError::input(e.to_string()))?
-        }
-        None => Robot::lwr4().chain(),
-    };
+    let chain = args.model.chain()?;
     let file = args.trajectory.display().to_string();
     let demo = parse_demo(&file, &read(None, &args.trajectory)?)?;
     let times: Vec<f64> = demo.times.iter().map(|t| f64::from(*t)).collect();
@@ -106,15 +83,4 @@ pub fn run(args: &CheckArgs) -> Result<(), CliError> {
             )))
         }
     }
-}
-
-/// `NAME (J joints, BASE to TIP)`.
-fn describe(chain: &Chain) -> String {
-    format!(
-        "{} ({} joints, {} to {})",
-        chain.robot,
-        chain.dof(),
-        chain.base,
-        chain.tip
-    )
 }

@@ -20,6 +20,7 @@ use std::time::{Duration, Instant};
 
 use primo_core::power::{Power, PowerConfig};
 use primo_fri::packet::{Measurement, Quality, State};
+use primo_fri::path::FriPath;
 use primo_fri::session::{SessionConfig, Stop};
 use primo_fri::udp::{Ended, Event, PlayConfig, PlayResult, play};
 use primo_learn::learner::{MAX_EXTENDED, power_blocks};
@@ -30,8 +31,8 @@ use primo_learn::pour::skill::gate;
 use primo_learner::SAMPLER;
 use primo_mtsics::{Client, ClientConfig};
 use primo_robot::JOINTS;
+use primo_robot::Robot;
 use primo_robot::safety::check_joints;
-use primo_robot::{JointPath, Robot};
 use primo_sim::bottle::G;
 use primo_sim::cell::{CellConfig, GlassKind};
 use primo_sim::expert::{Style, rest_configuration, synthesize};
@@ -99,7 +100,7 @@ fn krc_config(remote: SocketAddr) -> KrcConfig {
 
 /// A 2 s movement near the rest posture: joints 1, 4 and 7 swing by up to
 /// 0.3 rad, starting 0.2 rad from where the KRC's arm stands.
-fn swing() -> JointPath {
+fn swing() -> FriPath {
     let rest = rest_configuration(0.0);
     let n = 201;
     let times = (0..n).map(|i| i as f64 * 0.01).collect();
@@ -114,7 +115,7 @@ fn swing() -> JointPath {
             q
         })
         .collect();
-    check_joints(&Robot::lwr4(), times, rows).unwrap()
+    FriPath::try_from(&check_joints(&Robot::lwr4(), times, rows).unwrap()).unwrap()
 }
 
 fn max_abs(a: &[f64; JOINTS], b: &[f64; JOINTS]) -> f64 {
@@ -137,7 +138,7 @@ fn fast_config() -> PlayConfig {
     }
 }
 
-fn assert_tracked(result: &PlayResult, report: &KrcReport, path: &JointPath) {
+fn assert_tracked(result: &PlayResult, report: &KrcReport, path: &FriPath) {
     println!(
         "KRC: {} cycles, {} answered on time, {} missed, {} stale",
         report.cycles, report.answered, report.missed, report.stale
@@ -158,7 +159,7 @@ fn assert_tracked(result: &PlayResult, report: &KrcReport, path: &JointPath) {
     // The KRC never saw a command faster than the limits or beyond them,
     // and its arm ended at the trajectory's end.
     assert_eq!((report.too_fast, report.beyond_limits), (0, 0));
-    let end = *path.positions().last().unwrap();
+    let end = *path.rows().last().unwrap();
     assert!(
         max_abs(&report.measured, &end) < 1e-3,
         "{:?}",
@@ -226,7 +227,7 @@ fn a_pouring_movement_is_streamed_tracked_and_pours() {
     let skill = built_in_skill(&cell_cfg, Space::Joint, 30).unwrap();
     let plan = skill.plan(&[0.5], &[], cell_cfg.dt).unwrap();
     let gate = gate(&cell_cfg);
-    let path = skill.check(&gate, &plan).unwrap();
+    let path = FriPath::try_from(&skill.check(&gate, &plan).unwrap()).unwrap();
     let mut rig = Simulated::new(cell_cfg, 0.5, 1).unwrap();
     let direct = roll_out(&mut rig, &skill, 0.2, 1, &[0.5], &[]).unwrap();
 
@@ -424,9 +425,9 @@ fn malformed_datagrams_get_clear_errors_and_crash_nothing() {
 }
 
 /// A `t,a1..a7` CSV of `path`.
-fn write_csv(name: &str, path: &JointPath) -> std::path::PathBuf {
+fn write_csv(name: &str, path: &FriPath) -> std::path::PathBuf {
     let mut text = String::from("t,a1,a2,a3,a4,a5,a6,a7\n");
-    for (t, q) in path.times().iter().zip(path.positions()) {
+    for (t, q) in path.path().times().iter().zip(path.rows()) {
         let row: Vec<String> = q.iter().map(|v| v.to_string()).collect();
         text.push_str(&format!("{t},{}\n", row.join(",")));
     }
@@ -626,42 +627,95 @@ fn the_binaries_play_against_sim_krc() {
 }
 
 #[test]
-fn joint_columns_as_robot_users_name_them_are_taken_in_order_only() {
+fn joint_columns_are_taken_by_name_in_any_order_for_the_lwr_or_a_urdf() {
     let _serial = serial();
     let swing = std::fs::read_to_string(write_csv("named.csv", &swing())).unwrap();
     let body = swing.split_once('\n').unwrap().1;
+    // Waiting for a KRC that never comes: the trajectory was taken.
+    let taken = |file: &std::path::Path, model: &[&str], what: &str| {
+        let (socket, addr) = client_socket();
+        drop(socket);
+        let mut extra = vec!["--start-timeout", "0.3"];
+        extra.extend(model);
+        let (code, out, err) = primo_play(file, &format!("fri:{addr}"), &extra);
+        assert_eq!(code, 1, "{what}: {out}{err}");
+        assert!(out.contains("passed the limit checks"), "{out}");
+        assert!(err.contains("no FRI packet from a KRC within"), "{err}");
+    };
     for names in [
         "A1,A2,A3,A4,A5,A6,A7",
         "j1,j2,j3,j4,j5,j6,j7",
         "joint_1,joint_2,joint_3,joint_4,joint_5,joint_6,joint_7",
-    ] {
-        let file = tmp(&format!("named-{}.csv", &names[..2]));
-        std::fs::write(&file, format!("t,{names}\n{body}")).unwrap();
-        let (socket, addr) = client_socket();
-        drop(socket);
-        let (code, out, err) =
-            primo_play(&file, &format!("fri:{addr}"), &["--start-timeout", "0.3"]);
-        // Taken: it waited for a KRC that never came.
-        assert_eq!(code, 1, "{names}: {out}{err}");
-        assert!(out.contains("passed the limit checks"), "{out}");
-        assert!(err.contains("no FRI packet from a KRC within"), "{err}");
-    }
-    for names in [
         "a1,a2,a3,a4,a5,a7,a6",
-        "a1,a2,a3,a4,a5,a6,a8",
-        "J1,J2,J3,J4,J5,J6,J7",
+    ] {
+        let file = tmp(&format!("named-{names}.csv"));
+        std::fs::write(&file, format!("t,{names}\n{body}")).unwrap();
+        taken(&file, &[], names);
+    }
+    for (names, why) in [
+        ("a1,a2,a3,a4,a5,a6,a8", "column 8 `a8` names no joint"),
+        ("J1,J2,J3,J4,J5,J6,J7", "column 2 `J1` names no joint"),
+        (
+            "a1,a2,a3,a4,a5,a6,A1",
+            "columns `a1` and `A1` both name joint a1",
+        ),
     ] {
         let file = tmp("misnamed.csv");
         std::fs::write(&file, format!("t,{names}\n{body}")).unwrap();
         let (code, out, err) = primo_play(&file, "fri:127.0.0.1", &[]);
         assert_eq!((code, out.as_str()), (2, ""), "{names}: {err}");
-        assert!(
-            err.contains(&format!(
-                "misnamed.csv:1: columns `t,{names}`: a joint trajectory"
-            )),
-            "{err}"
-        );
+        assert!(err.contains(&format!("misnamed.csv: {why}")), "{err}");
     }
+    // A URDF's seven joints, by its names, within its limits.
+    let urdf = tmp("seven.urdf");
+    std::fs::write(&urdf, common::seven()).unwrap();
+    let model = ["--model", urdf.to_str().unwrap()];
+    let file = tmp("named-q.csv");
+    std::fs::write(&file, format!("t,q7,q2,q3,q4,q5,q6,q1\n{body}")).unwrap();
+    taken(&file, &model, "seven.urdf");
+    // Its limits, not the LWR's: at 0.01 rad/s the swing is too fast.
+    let slow = tmp("slow.urdf");
+    std::fs::write(
+        &slow,
+        common::seven().replace("velocity=\"2\"", "velocity=\"0.01\""),
+    )
+    .unwrap();
+    let (code, _, err) = primo_play(&file, "fri:127.0.0.1", &["--model", slow.to_str().unwrap()]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("trajectory rejected, nothing sent to the robot: joint q"),
+        "{err}"
+    );
+    assert!(
+        err.contains("beyond its velocity limit 0.0100 rad/s"),
+        "{err}"
+    );
+    // FRI streams seven joints: the chain to l6 has six.
+    let (code, _, err) = primo_play(
+        &file,
+        "fri:127.0.0.1",
+        &["--model", urdf.to_str().unwrap(), "--tip", "l6"],
+    );
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("column 2 `q7` names no joint"), "{err}");
+    let six = tmp("six.csv");
+    let rows: String = body
+        .lines()
+        .map(|l| l.rsplit_once(',').unwrap().0.to_string() + "\n")
+        .collect();
+    std::fs::write(&six, format!("t,q1,q2,q3,q4,q5,q6\n{rows}")).unwrap();
+    let (code, _, err) = primo_play(
+        &six,
+        "fri:127.0.0.1",
+        &["--model", urdf.to_str().unwrap(), "--tip", "l6"],
+    );
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains(
+            "FRI streams the seven joints of a KUKA LWR; the path is for seven, which has 6 joints"
+        ),
+        "{err}"
+    );
 }
 
 #[test]
@@ -674,7 +728,7 @@ fn robot_commands_refuse_bad_input_with_one_line() {
     let cases: &[(&[&str], &str)] = &[
         (
             &["robot", "play", xy, "--robot", "fri:127.0.0.1"],
-            "xy.csv:1: columns `t,x,y`: a joint trajectory has the columns t,a1,a2,a3,a4,a5,a6,a7 (radians; or A1..A7, j1..j7, joint_1..joint_7)",
+            "xy.csv: no column `z`: a tool trajectory has the columns t,x,y,z,qw,qx,qy,qz",
         ),
         (
             &["robot", "play", swing, "--robot", "udp:1.2.3.4"],
@@ -717,7 +771,7 @@ fn robot_commands_refuse_bad_input_with_one_line() {
 /// A short pour (1 s, about 23 ml from 0.5 l): the expert's 50 ml
 /// demonstration cut to its pouring part and played twice as fast. It
 /// starts and ends within 0.07 rad of where it starts.
-fn short_pour() -> JointPath {
+fn short_pour() -> FriPath {
     let cfg = CellConfig::standard(GlassKind::Normal);
     let style = Style {
         elbow: 0.0,
@@ -730,7 +784,8 @@ fn short_pour() -> JointPath {
         .iter()
         .map(|t| (t - t0) / 2.0)
         .collect();
-    check_joints(&Robot::lwr4(), times, demo.joints[keep].to_vec()).unwrap()
+    FriPath::try_from(&check_joints(&Robot::lwr4(), times, demo.joints[keep].to_vec()).unwrap())
+        .unwrap()
 }
 
 /// Water, kg per litre.

@@ -3,8 +3,10 @@
 //! with exactly one command packet within the cycle.
 //!
 //! - [`packet`]: the measurement and command datagrams, byte for byte.
-//! - [`session`]: primo's side, sans I/O: a session that streams a checked
-//!   joint trajectory ([`primo_robot::JointPath`]) with the tracking error.
+//! - [`path`]: what FRI streams, a checked joint trajectory
+//!   ([`primo_robot::JointPath`]) of seven joints.
+//! - [`session`]: primo's side, sans I/O: a session that streams it with
+//!   the tracking error.
 //! - [`udp`]: the UDP loop around a session, on a thread of its own.
 //! - [`realtime`]: real-time scheduling and locked memory for that thread.
 //!
@@ -26,6 +28,7 @@
 #![deny(missing_docs)]
 
 pub mod packet;
+pub mod path;
 pub mod realtime;
 pub mod session;
 pub mod udp;

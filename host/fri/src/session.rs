@@ -2,7 +2,8 @@
 //! and gives exactly one command out ([`crate::udp::play`] is the UDP loop
 //! around it).
 //!
-//! The session streams a [`JointPath`] (so only trajectories that passed
+//! The session streams a [`FriPath`], a seven-joint
+//! [`primo_robot::JointPath`] (so only trajectories that passed
 //! [`primo_robot::safety`] can reach the robot, within its limits):
 //!
 //! 1. In monitor mode, or before the robot is powered and in command mode
@@ -35,6 +36,7 @@
 //! use primo_fri::packet::{Measurement, Quality, State};
 //! use primo_robot::{Robot, safety::check_joints};
 //! let path = check_joints(&Robot::lwr4(), vec![0.0, 1.0], vec![[0.1; 7], [0.2; 7]]).unwrap();
+//! let path = primo_fri::path::FriPath::try_from(&path).unwrap();
 //! let mut session = Session::new(&path, SessionConfig::default());
 //! let mut m = Measurement::default();
 //! m.intf.desired_cmd_sample_time = 0.002;
@@ -54,7 +56,9 @@
 
 use std::fmt;
 
-use primo_robot::{JOINTS, JointPath};
+use primo_robot::JOINTS;
+
+use crate::path::FriPath;
 
 use crate::packet::{Command, Measurement, Quality, State};
 
@@ -193,7 +197,7 @@ pub struct Tracking {
 #[derive(Debug, Clone)]
 pub struct Session {
     cfg: SessionConfig,
-    path: JointPath,
+    path: FriPath,
     phase: Phase,
     seq: u16,
     setpoints: Vec<[f64; JOINTS]>,
@@ -212,7 +216,7 @@ pub struct Session {
 
 impl Session {
     /// A session that will stream `path`.
-    pub fn new(path: &JointPath, cfg: SessionConfig) -> Self {
+    pub fn new(path: &FriPath, cfg: SessionConfig) -> Self {
         Session {
             cfg,
             path: path.clone(),
@@ -360,7 +364,7 @@ impl Session {
             self.path.start(),
             dt,
             self.cfg.approach_speed,
-            &self.path.robot().velocity_limits_deg,
+            self.path.velocity_limits(),
         );
         self.approach = approach.len();
         let trajectory = resample(&self.path, dt);
@@ -404,12 +408,10 @@ impl Session {
             }
             return last;
         };
+        let chain = self.path.path().chain();
         let step = match self.last {
-            Some(last) => self
-                .path
-                .robot()
-                .check_limits([(0.0, &last), (self.dt, &next)]),
-            None => self.path.robot().check_limits([(0.0, &next)]),
+            Some(last) => chain.check_samples([(0.0, &last[..]), (self.dt, &next[..])]),
+            None => chain.check_samples([(0.0, &next[..])]),
         };
         if let Err(v) = step {
             let why = format!("setpoint {}: {v}", self.next);
@@ -444,17 +446,17 @@ impl Session {
 
 /// Minimum-jerk setpoints every `dt` from `from` (the first) to `to` (the
 /// last), with each joint's peak speed at most `speed` times its limit
-/// (`limits_deg`, degrees per second).
+/// (`limits`, rad/s).
 fn approach(
     from: [f64; JOINTS],
     to: [f64; JOINTS],
     dt: f64,
     speed: f64,
-    limits_deg: &[f64; JOINTS],
+    limits: &[f64; JOINTS],
 ) -> impl ExactSizeIterator<Item = [f64; JOINTS]> {
     // Minimum jerk peaks at 1.875·Δ/T.
     let duration = (0..JOINTS)
-        .map(|j| 1.875 * (to[j] - from[j]).abs() / (speed * limits_deg[j].to_radians()))
+        .map(|j| 1.875 * (to[j] - from[j]).abs() / (speed * limits[j]))
         .fold(0.0, f64::max);
     let steps = (duration / dt).ceil().max(1.0) as usize;
     (0..steps + 1).map(move |k| {
@@ -466,13 +468,13 @@ fn approach(
 
 /// The path linearly interpolated every `dt` from its first sample, ending
 /// exactly on its last.
-fn resample(path: &JointPath, dt: f64) -> impl ExactSizeIterator<Item = [f64; JOINTS]> {
-    let (times, q) = (path.times(), path.positions());
+fn resample(path: &FriPath, dt: f64) -> impl ExactSizeIterator<Item = [f64; JOINTS]> {
+    let (times, q) = (path.path().times(), path.rows());
     let t0 = times.first().copied().unwrap_or(0.0);
     // A checked path has a sample at least.
     let last = q.last().copied().unwrap_or([0.0; JOINTS]);
     // Grid points strictly before the end (to rounding), then the end.
-    let steps = (path.duration() / dt - 1e-9).ceil().max(0.0) as usize;
+    let steps = (path.path().duration() / dt - 1e-9).ceil().max(0.0) as usize;
     let mut i = 0;
     (0..steps + 1).map(move |n| {
         let t = t0 + n as f64 * dt;
@@ -502,11 +504,10 @@ mod tests {
     use crate::packet::{COMMAND_ID, flags};
     use primo_robot::Robot;
 
-    fn check_joints(
-        t: Vec<f64>,
-        q: Vec<[f64; JOINTS]>,
-    ) -> Result<JointPath, primo_robot::Rejection> {
-        primo_robot::safety::check_joints(&Robot::lwr4(), t, q)
+    fn check_joints(t: Vec<f64>, q: Vec<[f64; JOINTS]>) -> Result<FriPath, String> {
+        let path =
+            primo_robot::safety::check_joints(&Robot::lwr4(), t, q).map_err(|e| e.to_string())?;
+        FriPath::try_from(&path).map_err(|e| e.to_string())
     }
 
     fn measurement(state: State, quality: Quality, q: [f32; JOINTS]) -> Measurement {
@@ -520,7 +521,7 @@ mod tests {
         m
     }
 
-    fn path() -> JointPath {
+    fn path() -> FriPath {
         // 0.2 rad on joint 1 in 1 s, then back in 1 s.
         let t = vec![0.0, 1.0, 2.0];
         let mut a = [0.0; JOINTS];

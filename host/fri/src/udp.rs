@@ -16,7 +16,7 @@ use std::sync::mpsc::{SyncSender, sync_channel};
 use std::sync::{Mutex, MutexGuard};
 use std::time::{Duration, Instant};
 
-use primo_robot::JointPath;
+use crate::path::FriPath;
 
 use crate::packet::{Measurement, Quality, State};
 use crate::realtime::{self, Realtime};
@@ -251,7 +251,7 @@ pub fn bind(addr: SocketAddr) -> Result<UdpSocket, SocketError> {
 /// back to monitor mode: the run starts with the handshake again.
 pub fn play(
     socket: &UdpSocket,
-    path: &JointPath,
+    path: &FriPath,
     cfg: &PlayConfig,
     on_event: &mut dyn FnMut(Event),
 ) -> Result<PlayResult, SocketError> {
@@ -397,7 +397,7 @@ struct Loop {
 }
 
 impl Loop {
-    fn new(path: &JointPath, cfg: SessionConfig) -> Self {
+    fn new(path: &FriPath, cfg: SessionConfig) -> Self {
         let started = Instant::now();
         Loop {
             session: Session::new(path, cfg),

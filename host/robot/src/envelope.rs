@@ -21,6 +21,7 @@ use crate::Rejection;
 use crate::chain::Chain;
 use crate::columns::Columns;
 use crate::ik::IkOptions;
+use crate::safety::{JointPath, check_path};
 use crate::tool_path::check_tool_path;
 
 /// Position and speed limits of one column.
@@ -84,16 +85,9 @@ pub struct Checked {
     names: Vec<String>,
     times: Vec<f64>,
     rows: Vec<f64>,
-    /// For a robot's limits: its joints, and their positions (row-major, in
-    /// the chain's order), and whether they were solved from tool poses.
-    joints: Option<Joints>,
-}
-
-#[derive(Debug, Clone, PartialEq)]
-struct Joints {
-    names: Vec<String>,
-    positions: Vec<f64>,
-    solved: bool,
+    /// For a robot's limits: the joint path, and whether it was solved
+    /// from tool poses.
+    joints: Option<(JointPath, bool)>,
 }
 
 impl Checked {
@@ -112,28 +106,27 @@ impl Checked {
         &self.rows
     }
 
-    /// For a robot's limits, its joints' names and positions (row-major,
-    /// in the chain's order): what was checked, a tool trajectory's by
-    /// inverse kinematics.
-    pub fn joints(&self) -> Option<(&[String], &[f64])> {
-        self.joints
-            .as_ref()
-            .map(|j| (&j.names[..], &j.positions[..]))
+    /// For a robot's limits, the joint path that was checked (a tool
+    /// trajectory's, by inverse kinematics): what a robot executes.
+    pub fn path(&self) -> Option<&JointPath> {
+        self.joints.as_ref().map(|(path, _)| path)
     }
 
     /// The trajectory as a table for whoever executes it: its own columns
     /// and rows, then, for a tool trajectory on a robot, the joint
     /// positions its poses were solved to.
     pub fn table(&self) -> (Vec<String>, Vec<f64>) {
-        let Some(j) = self.joints.as_ref().filter(|j| j.solved) else {
+        let Some((path, true)) = &self.joints else {
             return (self.names.clone(), self.rows.clone());
         };
-        let names = self.names.iter().chain(&j.names).cloned().collect();
-        let (width, dof) = (self.names.len(), j.names.len());
+        let joints = path.chain().names();
+        let names = (self.names.iter().cloned())
+            .chain(joints.iter().map(|n| n.to_string()))
+            .collect();
         let rows = self
             .rows
-            .chunks_exact(width)
-            .zip(j.positions.chunks_exact(dof))
+            .chunks_exact(self.names.len())
+            .zip(path.rows())
             .flat_map(|(own, q)| own.iter().chain(q).copied())
             .collect();
         (names, rows)
@@ -199,17 +192,19 @@ impl Limits {
 }
 
 impl RobotLimits {
-    /// The joint positions of a trajectory of joints or tool poses, checked.
-    fn check(&self, names: &[String], times: &[f64], rows: &[f64]) -> Result<Joints, Rejection> {
+    /// The joint path of a trajectory of joints or tool poses, checked;
+    /// whether it was solved from poses.
+    fn check(
+        &self,
+        names: &[String],
+        times: &[f64],
+        rows: &[f64],
+    ) -> Result<(JointPath, bool), Rejection> {
         let columns =
             Columns::of(&self.chain, names).map_err(|e| Rejection::Columns(e.to_string()))?;
         let ordered = columns.reorder(rows);
         let (positions, solved) = match columns {
-            Columns::Joints(_) => {
-                self.chain
-                    .check_path(times, &ordered, self.max_acceleration)?;
-                (ordered, false)
-            }
+            Columns::Joints(_) => (ordered, false),
             Columns::Pose(_) => {
                 let poses: Vec<[f64; 7]> = ordered
                     .chunks_exact(7)
@@ -226,11 +221,13 @@ impl RobotLimits {
                 (q, true)
             }
         };
-        Ok(Joints {
-            names: self.chain.names().iter().map(|n| n.to_string()).collect(),
+        let path = check_path(
+            &self.chain,
+            times.to_vec(),
             positions,
-            solved,
-        })
+            self.max_acceleration,
+        )?;
+        Ok((path, solved))
     }
 }
 
@@ -353,8 +350,8 @@ mod tests {
         assert_eq!(checked.table(), (cols.clone(), rows.clone()));
         let swapped = names(&["a2", "a1", "a3", "a4", "a5", "a6", "a7"]);
         let checked = lwr(None).check(&swapped, vec![0.0, 0.01], &rows).unwrap();
-        let (_, q) = checked.joints().unwrap();
-        assert_eq!(q[..2], [0.5, 0.0]);
+        let path = checked.path().unwrap();
+        assert_eq!(path.start()[..2], [0.5, 0.0]);
         let mut fast = still;
         fast[1] = 0.6;
         let rows: Vec<f64> = [still, fast].concat();

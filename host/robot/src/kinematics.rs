@@ -218,7 +218,10 @@ mod tests {
             assert!(dp < 1e-9 && dr < 1e-9, "{q:?}: {dp:e} m, {dr:e} rad");
             // Resting at q itself, the pull brings the elbow back there too.
             assert!(solution.iter().zip(q).all(|(a, b)| (a - b).abs() < 1e-6));
-            assert_eq!(Robot::lwr4().check_limits([(0.0, &solution)]), Ok(()));
+            assert_eq!(
+                Robot::lwr4().chain().check_samples([(0.0, &solution[..])]),
+                Ok(())
+            );
         }
     }
 
@@ -256,7 +259,10 @@ mod tests {
             (solution[0] - 170f64.to_radians()).abs() < 1e-9,
             "{solution:?}"
         );
-        assert_eq!(Robot::lwr4().check_limits([(0.0, &solution)]), Ok(()));
+        assert_eq!(
+            Robot::lwr4().chain().check_samples([(0.0, &solution[..])]),
+            Ok(())
+        );
     }
 
     #[test]

@@ -1,5 +1,5 @@
-//! The joint limits of any [`Chain`] (and of the built-in [`Robot`],
-//! through the same check) along a trajectory: every sample within each
+//! The joint limits of any [`Chain`] (the built-in LWR 4's too:
+//! [`crate::Robot::chain`]) along a trajectory: every sample within each
 //! joint's position limits, every step (finite difference) within its
 //! velocity limit and, when a bound is given, every pair of steps within
 //! an acceleration bound. The first violation names the sample, its time
@@ -18,8 +18,7 @@
 //! );
 //! ```
 
-use crate::chain::{Chain, JointLimits, Motion};
-use crate::{JOINT_COLUMNS, JOINTS, Robot};
+use crate::chain::{Chain, Joint, JointLimits, Motion};
 
 /// Which limit a trajectory crosses first.
 #[derive(Debug, Clone, PartialEq)]
@@ -173,13 +172,6 @@ fn amount(motion: Motion, value: f64, per: &str) -> String {
     }
 }
 
-/// What the check needs of a joint.
-struct Limited<'a> {
-    name: &'a str,
-    motion: Motion,
-    limits: JointLimits,
-}
-
 impl Chain {
     /// Checks a trajectory of this chain: `times[i]` (s) and row `i` of
     /// `positions` (row-major, one per joint in the chain's order), against
@@ -200,44 +192,24 @@ impl Chain {
                 joints: dof,
             });
         }
-        let joints: Vec<Limited> = self
-            .joints()
-            .iter()
-            .map(|j| Limited {
-                name: &j.name,
-                motion: j.motion,
-                limits: j.limits,
-            })
-            .collect();
         let samples = times.iter().copied().zip(positions.chunks_exact(dof));
-        check(&joints, samples, max_acceleration)
+        check(self.joints(), samples, max_acceleration)
     }
-}
 
-impl Robot {
-    /// Checks every sample `(t, q)` against the position limits and every
-    /// pair of consecutive samples against the velocity limits (finite
-    /// differences), as [`Chain::check_path`] does for the robot's chain
-    /// (joints `a1`…`a7`); the first violation is returned. Allocates
-    /// nothing until it finds one: a driver checks every setpoint.
-    pub fn check_limits<'a>(
+    /// Checks samples `(t, q)` as [`Chain::check_path`] does, without an
+    /// acceleration bound; allocates nothing until it finds a violation:
+    /// a driver checks every setpoint.
+    pub fn check_samples<'a>(
         &self,
-        samples: impl IntoIterator<Item = (f64, &'a [f64; JOINTS])>,
+        samples: impl IntoIterator<Item = (f64, &'a [f64])>,
     ) -> Result<(), Violation> {
-        let limits = self.joint_limits();
-        let joints: [Limited; JOINTS] = std::array::from_fn(|j| Limited {
-            name: JOINT_COLUMNS[j],
-            motion: Motion::Revolute,
-            limits: limits[j],
-        });
-        let samples = samples.into_iter().map(|(t, q)| (t, q.as_slice()));
-        check(&joints, samples, None)
+        check(self.joints(), samples, None)
     }
 }
 
 /// The one check: samples of `joints.len()` positions each.
 fn check<'a>(
-    joints: &[Limited],
+    joints: &[Joint],
     samples: impl IntoIterator<Item = (f64, &'a [f64])>,
     max_acceleration: Option<f64>,
 ) -> Result<(), Violation> {
@@ -245,6 +217,13 @@ fn check<'a>(
     let mut previous: Option<(f64, &[f64])> = None;
     let mut before: Option<(f64, &[f64])> = None;
     for (sample, (time, q)) in samples.into_iter().enumerate() {
+        if q.len() != joints.len() {
+            return Err(Violation::Shape {
+                samples: sample + 1,
+                values: q.len(),
+                joints: joints.len(),
+            });
+        }
         if !time.is_finite()
             || q.iter().any(|v| !v.is_finite())
             || previous.is_some_and(|(t0, _)| time <= t0)
@@ -308,35 +287,48 @@ mod tests {
 
     #[test]
     fn limits_are_checked_per_sample_and_per_step() {
-        let lwr4 = Robot::lwr4();
+        let lwr4 = crate::Robot::lwr4().chain();
         let ok = [0.0; 7];
         let mut far = [0.0; 7];
         far[1] = 121f64.to_radians();
         assert!(matches!(
-            lwr4.check_limits([(0.0, &far)]),
+            lwr4.check_samples([(0.0, &far[..])]),
             Err(Violation::Position { ref joint, sample: 0, .. }) if joint == "a2"
         ));
         // 1° in 10 ms is 100 °/s: fine for joint 1 (110), too fast for none.
         let mut step = [0.0; 7];
         step[0] = 1f64.to_radians();
-        assert_eq!(lwr4.check_limits([(0.0, &ok), (0.01, &step)]), Ok(()));
+        assert_eq!(
+            lwr4.check_samples([(0.0, &ok[..]), (0.01, &step[..])]),
+            Ok(())
+        );
         // 1.2° in 10 ms is 120 °/s: beyond joint 1's 110 °/s.
         step[0] = 1.2f64.to_radians();
-        let err = lwr4.check_limits([(0.0, &ok), (0.01, &step)]).unwrap_err();
+        let err = lwr4
+            .check_samples([(0.0, &ok[..]), (0.01, &step[..])])
+            .unwrap_err();
         assert_eq!(
             err.to_string(),
             "joint a1 at sample 1 (t = 0.010 s): 2.0944 rad/s (120.00 deg/s) beyond its \
              velocity limit 1.9199 rad/s (110.00 deg/s)"
         );
         assert!(matches!(
-            lwr4.check_limits([(0.0, &ok), (0.0, &ok)]),
+            lwr4.check_samples([(0.0, &ok[..]), (0.0, &ok[..])]),
             Err(Violation::Malformed { sample: 1 })
         ));
         let mut nan = ok;
         nan[3] = f64::NAN;
         assert!(matches!(
-            lwr4.check_limits([(0.0, &nan)]),
+            lwr4.check_samples([(0.0, &nan[..])]),
             Err(Violation::Malformed { sample: 0 })
+        ));
+        assert!(matches!(
+            lwr4.check_samples([(0.0, &ok[..3])]),
+            Err(Violation::Shape {
+                values: 3,
+                joints: 7,
+                ..
+            })
         ));
     }
 

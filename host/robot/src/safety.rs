@@ -4,9 +4,9 @@
 //! drivers (and the simulated cell's rig) take nothing else. A path carries
 //! the robot whose limits it passed, so a driver keeps to the same limits.
 //!
-//! - Joint trajectories: every sample within the robot's joint position
-//!   limits, every step within its joint velocity limits
-//!   ([`Robot::check_limits`]).
+//! - Joint trajectories of any robot ([`check_path`]): every sample within
+//!   its joints' position limits, every step within their velocity limits
+//!   (and an acceleration bound, if given: [`Chain::check_path`]).
 //! - Cartesian trajectories (tool poses: the controlled point's position
 //!   and the tool's orientation as a unit quaternion): the point stays in
 //!   the workspace box and moves no faster than the [`CartesianLimits`],
@@ -33,6 +33,7 @@
 //! );
 //! ```
 
+use crate::chain::Chain;
 use crate::ik::IkOptions;
 use crate::tool_path::{ToolPathError, check_tool_path};
 use crate::{Arm, IkError, JOINTS, Pose, Robot, Violation};
@@ -194,18 +195,18 @@ pub enum Rejection {
 
 /// A joint trajectory that passed the checks: at least one sample, times
 /// strictly increasing, every sample and step within the joint limits of
-/// [`JointPath::robot`].
+/// [`JointPath::chain`], the robot it is for.
 #[derive(Debug, Clone, PartialEq)]
 pub struct JointPath {
-    robot: Robot,
+    chain: Chain,
     times: Vec<f64>,
-    positions: Vec<[f64; JOINTS]>,
+    positions: Vec<f64>,
 }
 
 impl JointPath {
     /// The robot whose limits the path passed.
-    pub fn robot(&self) -> &Robot {
-        &self.robot
+    pub fn chain(&self) -> &Chain {
+        &self.chain
     }
 
     /// Sample times, s.
@@ -213,14 +214,20 @@ impl JointPath {
         &self.times
     }
 
-    /// Joint angles per sample, rad.
-    pub fn positions(&self) -> &[[f64; JOINTS]] {
+    /// Joint positions, row-major: one per joint of the chain per sample,
+    /// rad or m.
+    pub fn positions(&self) -> &[f64] {
         &self.positions
     }
 
-    /// The first sample's joint angles.
-    pub fn start(&self) -> [f64; JOINTS] {
-        self.positions.first().copied().unwrap_or_default()
+    /// Joint positions per sample.
+    pub fn rows(&self) -> std::slice::ChunksExact<'_, f64> {
+        self.positions.chunks_exact(self.chain.dof().max(1))
+    }
+
+    /// The first sample's joint positions.
+    pub fn start(&self) -> &[f64] {
+        self.positions.get(..self.chain.dof()).unwrap_or_default()
     }
 
     /// Time from the first to the last sample, s.
@@ -232,21 +239,34 @@ impl JointPath {
     }
 }
 
-/// Checks a joint trajectory (`times[i]`, `positions[i]` in rad) against
-/// `robot`'s joint position and velocity limits; the rejection names the
-/// first offending sample and joint.
+/// Checks a joint trajectory of `chain` (`times[i]`, row `i` of
+/// `positions`, row-major in the chain's joint order) against its joints'
+/// position and velocity limits and `max_acceleration` if given
+/// ([`Chain::check_path`]); the rejection names the first offending sample
+/// and joint.
+pub fn check_path(
+    chain: &Chain,
+    times: Vec<f64>,
+    positions: Vec<f64>,
+    max_acceleration: Option<f64>,
+) -> Result<JointPath, Rejection> {
+    aligned(times.len(), positions.len() / chain.dof().max(1))?;
+    chain.check_path(&times, &positions, max_acceleration)?;
+    Ok(JointPath {
+        chain: chain.clone(),
+        times,
+        positions,
+    })
+}
+
+/// [`check_path`] for `robot`'s chain, one array of joint angles (rad) per
+/// sample.
 pub fn check_joints(
     robot: &Robot,
     times: Vec<f64>,
     positions: Vec<[f64; JOINTS]>,
 ) -> Result<JointPath, Rejection> {
-    aligned(times.len(), positions.len())?;
-    robot.check_limits(times.iter().copied().zip(&positions))?;
-    Ok(JointPath {
-        robot: *robot,
-        times,
-        positions,
-    })
+    check_path(&robot.chain(), times, positions.concat(), None)
 }
 
 /// How fast and where a Cartesian movement's controlled point may go.
@@ -334,13 +354,13 @@ impl Gate {
         }
     }
 
-    /// [`check_joints`] with this gate's robot.
+    /// [`check_path`] with this gate's arm.
     pub fn check_joints(
         &self,
         times: Vec<f64>,
         positions: Vec<[f64; JOINTS]>,
     ) -> Result<JointPath, Rejection> {
-        check_joints(self.arm.robot(), times, positions)
+        check_path(self.arm.chain(), times, positions.concat(), None)
     }
 
     /// Checks a Cartesian trajectory of poses `[x, y, z, qw, qx, qy, qz]`
@@ -387,12 +407,9 @@ impl Gate {
             other => Rejection::Columns(other.to_string()),
         })?;
         Ok(JointPath {
-            robot: *self.arm.robot(),
+            chain: self.arm.chain().clone(),
             times: times.to_vec(),
-            positions: joints
-                .chunks_exact(JOINTS)
-                .map(|q| std::array::from_fn(|j| q[j]))
-                .collect(),
+            positions: joints,
         })
     }
 
@@ -549,8 +566,9 @@ mod tests {
             100,
         );
         let path = cfg.check_cartesian(&t, &p).unwrap();
-        for (q, pose) in path.positions().iter().zip(&p) {
-            let (mouth, turned) = cfg.point_and_orientation(&cfg.arm.forward(q));
+        for (q, pose) in path.rows().zip(&p) {
+            let q: [f64; JOINTS] = q.try_into().unwrap();
+            let (mouth, turned) = cfg.point_and_orientation(&cfg.arm.forward(&q));
             assert!((0..3).all(|k| (mouth[k] - pose[k]).abs() < 1e-6));
             assert!(turn(&turned, &pose[3..]) < 1e-6);
         }

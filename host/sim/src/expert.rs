@@ -271,7 +271,13 @@ pub fn synthesize(
         step += 1;
     }
     cfg.robot
-        .check_limits(demo.t.iter().copied().zip(&demo.joints))
+        .chain()
+        .check_samples(
+            demo.t
+                .iter()
+                .copied()
+                .zip(demo.joints.iter().map(|q| &q[..])),
+        )
         .map_err(|v| Error::Invalid(format!("demonstration from {volume} l: {v}")))?;
     let out = cell.finish();
     demo.poured = out.totals.glass;

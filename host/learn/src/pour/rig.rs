@@ -8,6 +8,7 @@ use std::net::UdpSocket;
 use std::time::Duration;
 
 use primo_fri::parse_robot;
+use primo_fri::path::FriPath;
 use primo_fri::session::SessionConfig;
 use primo_fri::udp::{Ended, Event, PlayConfig, bind, play};
 use primo_robot::{Gate, JointPath};
@@ -101,8 +102,15 @@ impl Simulated {
         noise: u64,
     ) -> Result<Measured, Error> {
         let mut sim = Cell::new(&self.cell, self.bottle, noise)?;
-        for q in path.positions() {
-            sim.step_joints(q);
+        for q in path.rows() {
+            let q = q.try_into().map_err(|_| {
+                Error::Invalid(format!(
+                    "the simulated cell's arm is an LWR 4 of 7 joints, the path's {} has {}",
+                    path.chain().robot,
+                    q.len()
+                ))
+            })?;
+            sim.step_joints(&q);
         }
         let out = sim.finish();
         let recorded = !out.series.is_empty();
@@ -280,7 +288,8 @@ impl Rig for Instruments {
         }
         let before = self.weigh()?;
         let mut slow = None;
-        let played = play(&self.socket, path, &self.play, &mut |event| {
+        let path = FriPath::try_from(path).map_err(|e| Error::Invalid(e.to_string()))?;
+        let played = play(&self.socket, &path, &self.play, &mut |event| {
             if let Event::Realtime(granted) = event
                 && !granted.is_full()
             {

@@ -84,7 +84,10 @@ impl KrcConfig {
                 self.drop
             )));
         }
-        if let Err(v) = primo_robot::Robot::lwr4().check_limits([(0.0, &self.start)]) {
+        if let Err(v) = primo_robot::Robot::lwr4()
+            .chain()
+            .check_samples([(0.0, &self.start[..])])
+        {
             return Err(Error::Invalid(format!("start position: {v}")));
         }
         let [bad, ok, perfect] = self.thresholds;
