@@ -58,9 +58,8 @@ use std::fmt;
 
 use primo_robot::JOINTS;
 
-use crate::path::FriPath;
-
 use crate::packet::{Command, Measurement, Quality, State};
+use crate::path::FriPath;
 
 /// Shortest and longest FRI cycle the session accepts, s.
 pub const CYCLE_RANGE: [f64; 2] = [0.0005, 0.1];
