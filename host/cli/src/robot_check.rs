@@ -6,8 +6,7 @@
 use std::path::PathBuf;
 
 use primo_robot::columns::Columns;
-use primo_robot::ik::IkOptions;
-use primo_robot::tool_path::check_tool_path;
+use primo_robot::envelope::{Limits, RobotLimits};
 use primo_skill::csv::parse_demo;
 
 use crate::error::CliError;
@@ -45,36 +44,23 @@ pub fn run(args: &CheckArgs) -> Result<(), CliError> {
     let times: Vec<f64> = demo.times.iter().map(|t| f64::from(*t)).collect();
     let rows: Vec<f64> = demo.positions.iter().map(|v| f64::from(*v)).collect();
     let robot = describe(&chain);
-    let columns =
-        Columns::of(&chain, &demo.names).map_err(|e| CliError::input(format!("{file}: {e}")))?;
-    let ordered = columns.reorder(&rows);
-    let checked = match columns {
-        Columns::Joints(_) => chain
-            .check_path(&times, &ordered, args.max_acceleration)
-            .map_err(|v| v.to_string()),
-        Columns::Pose(_) => {
-            let poses: Vec<[f64; 7]> = ordered
-                .chunks_exact(7)
-                .map(|p| std::array::from_fn(|k| p[k]))
-                .collect();
-            check_tool_path(
-                &chain,
-                &times,
-                &poses,
-                None,
-                args.max_acceleration,
-                &IkOptions::default(),
-            )
-            .map(drop)
-            .map_err(|e| e.to_string())
-        }
-    };
+    // Columns that are no trajectory of this robot are bad input, not a
+    // failed check.
+    Columns::of(&chain, &demo.names).map_err(|e| CliError::input(format!("{file}: {e}")))?;
     let duration = times.last().zip(times.first()).map_or(0.0, |(b, a)| b - a);
+    let samples = times.len();
+    let limits = Limits::Robot(RobotLimits {
+        chain,
+        max_acceleration: args.max_acceleration,
+    });
+    let checked = limits
+        .check(&demo.names, times, &rows)
+        .map(drop)
+        .map_err(|e| e.to_string());
     match checked {
         Ok(()) => say(&format!(
-            "primo robot check: {file} passes: {} samples over {duration:.3} s within the limits \
-             of {robot}",
-            times.len()
+            "primo robot check: {file} passes: {samples} samples over {duration:.3} s within the limits \
+             of {robot}"
         )),
         Err(why) => {
             say(&format!("primo robot check: {file} fails: {why}"))?;

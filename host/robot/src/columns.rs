@@ -139,6 +139,15 @@ impl Columns {
         }
         out
     }
+
+    /// Rows [`Columns::reorder`]ed from pose columns as poses `[x, y, z,
+    /// qw, qx, qy, qz]`.
+    pub fn poses(ordered: &[f64]) -> Vec<[f64; 7]> {
+        ordered
+            .chunks_exact(7)
+            .map(|p| std::array::from_fn(|k| p.get(k).copied().unwrap_or(f64::NAN)))
+            .collect()
+    }
 }
 
 #[cfg(test)]

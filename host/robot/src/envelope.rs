@@ -174,10 +174,11 @@ impl Limits {
                 samples: rows.len() / width.max(1),
             });
         }
-        self.covers(names).map_err(Rejection::Columns)?;
         let joints = match self {
+            // Its columns are mapped (and refused) as they are checked.
             Limits::Robot(r) => Some(r.check(names, &times, rows)?),
             Limits::Envelope(e) => {
+                self.covers(names).map_err(Rejection::Columns)?;
                 e.check(names, &times, rows)?;
                 None
             }
@@ -203,31 +204,20 @@ impl RobotLimits {
         let columns =
             Columns::of(&self.chain, names).map_err(|e| Rejection::Columns(e.to_string()))?;
         let ordered = columns.reorder(rows);
-        let (positions, solved) = match columns {
-            Columns::Joints(_) => (ordered, false),
-            Columns::Pose(_) => {
-                let poses: Vec<[f64; 7]> = ordered
-                    .chunks_exact(7)
-                    .map(|p| std::array::from_fn(|k| p.get(k).copied().unwrap_or(f64::NAN)))
-                    .collect();
-                let q = check_tool_path(
-                    &self.chain,
-                    times,
-                    &poses,
-                    None,
-                    self.max_acceleration,
-                    &IkOptions::default(),
-                )?;
-                (q, true)
-            }
-        };
-        let path = check_path(
+        if let Columns::Joints(_) = columns {
+            let path = check_path(&self.chain, times.to_vec(), ordered, self.max_acceleration)?;
+            return Ok((path, false));
+        }
+        let q = check_tool_path(
             &self.chain,
-            times.to_vec(),
-            positions,
+            times,
+            &Columns::poses(&ordered),
+            None,
             self.max_acceleration,
+            &IkOptions::default(),
         )?;
-        Ok((path, solved))
+        // `check_tool_path` has checked the joints it solved.
+        Ok((JointPath::solved(&self.chain, times.to_vec(), q), true))
     }
 }
 

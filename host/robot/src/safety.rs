@@ -237,6 +237,15 @@ impl JointPath {
             _ => 0.0,
         }
     }
+
+    /// The joint positions [`check_tool_path`] solved and checked.
+    pub(crate) fn solved(chain: &Chain, times: Vec<f64>, positions: Vec<f64>) -> JointPath {
+        JointPath {
+            chain: chain.clone(),
+            times,
+            positions,
+        }
+    }
 }
 
 /// Checks a joint trajectory of `chain` (`times[i]`, row `i` of
@@ -406,11 +415,7 @@ impl Gate {
             // values finite, orientations unit.
             other => Rejection::Columns(other.to_string()),
         })?;
-        Ok(JointPath {
-            chain: self.arm.chain().clone(),
-            times: times.to_vec(),
-            positions: joints,
-        })
+        Ok(JointPath::solved(self.arm.chain(), times.to_vec(), joints))
     }
 
     /// The point stays in the workspace and moves no faster than the
