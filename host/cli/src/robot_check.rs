@@ -5,7 +5,6 @@
 
 use std::path::PathBuf;
 
-use primo_robot::columns::Columns;
 use primo_robot::envelope::{Limits, RobotLimits};
 use primo_skill::csv::parse_demo;
 
@@ -26,6 +25,23 @@ pub struct CheckArgs {
     /// or m/s².
     #[arg(long, value_name = "A")]
     max_acceleration: Option<f64>,
+    /// For a tool trajectory: the robot's posture when it starts, every
+    /// joint by name (rad or m). Its first pose is solved from there, so
+    /// to the robot's own elbow (default: from the middle of the joints'
+    /// ranges).
+    #[arg(long, value_name = "JOINT=Q,...", value_delimiter = ',', value_parser = joint_position)]
+    start: Vec<(String, f64)>,
+}
+
+/// `JOINT=Q`.
+fn joint_position(arg: &str) -> Result<(String, f64), String> {
+    let (joint, value) = arg
+        .split_once('=')
+        .ok_or_else(|| format!("`{arg}`: give JOINT=POSITION"))?;
+    let value: f64 = (value.trim().parse().ok())
+        .filter(|v: &f64| v.is_finite())
+        .ok_or_else(|| format!("`{arg}`: the position `{value}` is not a number"))?;
+    Ok((joint.trim().to_string(), value))
 }
 
 /// Runs `primo robot check`: exit 0 when the trajectory passes, 1 when it
@@ -39,20 +55,29 @@ pub fn run(args: &CheckArgs) -> Result<(), CliError> {
         )));
     }
     let chain = args.model.chain()?;
+    let start = match args.start.as_slice() {
+        [] => None,
+        named => {
+            let named = named.iter().map(|(joint, v)| (joint.as_str(), *v));
+            let q = chain.posture(named);
+            Some(q.map_err(|e| CliError::input(format!("--start: {e}")))?)
+        }
+    };
     let file = args.trajectory.display().to_string();
     let demo = parse_demo(&file, &read(None, &args.trajectory)?)?;
     let times: Vec<f64> = demo.times.iter().map(|t| f64::from(*t)).collect();
     let rows: Vec<f64> = demo.positions.iter().map(|v| f64::from(*v)).collect();
     let robot = describe(&chain);
-    // Columns that are no trajectory of this robot are bad input, not a
-    // failed check.
-    Columns::of(&chain, &demo.names).map_err(|e| CliError::input(format!("{file}: {e}")))?;
     let duration = times.last().zip(times.first()).map_or(0.0, |(b, a)| b - a);
     let samples = times.len();
     let limits = Limits::Robot(RobotLimits {
         chain,
         max_acceleration: args.max_acceleration,
+        start,
     });
+    // Columns that are no trajectory of this robot are bad input, not a
+    // failed check.
+    (limits.covers(&demo.names)).map_err(|e| CliError::input(format!("{file}: {e}")))?;
     let checked = limits
         .check(&demo.names, times, &rows)
         .map(drop)

@@ -320,3 +320,52 @@ fn a_tool_trajectory_is_solved_and_its_first_unreachable_pose_named() {
     assert_eq!(code, 2);
     assert!(err.contains("no column `qz`"), "{err}");
 }
+
+#[test]
+fn a_start_posture_names_every_joint_within_its_limits() {
+    let model = write("planar.urdf", PLANAR);
+    let start = [0.3, 0.8, 0.1];
+    let path: Vec<[f64; 7]> = (0..5)
+        .map(|i| pose([start[0] + 0.02 * i as f64, start[1], start[2]]))
+        .collect();
+    let rows: Vec<&[f64]> = path.iter().map(|p| p.as_slice()).collect();
+    let traj = csv("tool-start.csv", "t,x,y,z,qw,qx,qy,qz", &rows);
+    let given = "--start=slide=0.1,shoulder=0.3,elbow=0.8";
+    let (code, out, err) = check(&traj, Some(&model), &[given]);
+    assert_eq!(code, 0, "{out}{err}");
+    let refused = |start: &str, traj: &str| {
+        let (code, out, err) = check(traj, Some(&model), &["--start", start]);
+        assert_eq!((code, out.as_str()), (2, ""), "{start}: {err}");
+        err
+    };
+    let err = refused("shoulder=0.3,elbow=0.8", &traj);
+    assert!(
+        err.contains("--start: no position for joint `slide`"),
+        "{err}"
+    );
+    let err = refused("shoulder=0.3,elbow=0.8,slide=0.1,wrist=0", &traj);
+    assert!(
+        err.contains("--start: `wrist` names no joint of planar"),
+        "{err}"
+    );
+    let err = refused("shoulder=0.3,elbow=0.8,slide=0.3", &traj);
+    assert!(
+        err.contains("--start: joint `slide`: 0.3000 m is outside its limits 0.0000 m to 0.2000 m"),
+        "{err}"
+    );
+    let err = refused("shoulder=0.3,elbow", &traj);
+    assert!(err.contains("`elbow`: give JOINT=POSITION"), "{err}");
+    let err = refused("shoulder=0.3,elbow=far,slide=0", &traj);
+    assert!(err.contains("the position `far` is not a number"), "{err}");
+    // A joint trajectory starts where its first sample is.
+    let joints = csv(
+        "joints-start.csv",
+        "t,shoulder,elbow,slide",
+        &[&start, &start, &start],
+    );
+    let err = refused("shoulder=0.3,elbow=0.8,slide=0.1", &joints);
+    assert!(
+        err.contains("a start posture is for a tool trajectory"),
+        "{err}"
+    );
+}

@@ -175,6 +175,55 @@ fn a_robots_settings_are_refused_before_anything_runs() {
             "the demonstration itself is beyond the task's limits: joint shoulder at sample",
         ),
         (
+            "start for a joint trajectory",
+            Box::new(move |t| {
+                t.replace(
+                    robot,
+                    "robot = \"arm.urdf\"\nstart = { shoulder = -2.0, elbow = 0.5 }",
+                )
+            }),
+            Box::new(|u| u),
+            "a start posture is for a tool trajectory",
+        ),
+        (
+            "start naming no joint",
+            Box::new(move |t| {
+                t.replace(
+                    robot,
+                    "robot = \"arm.urdf\"\nstart = { shoulder = -2.0, knee = 0.5 }",
+                )
+            }),
+            Box::new(|u| u),
+            "[movement] start: `knee` names no joint of",
+        ),
+        (
+            "start missing a joint",
+            Box::new(move |t| {
+                t.replace(robot, "robot = \"arm.urdf\"\nstart = { shoulder = -2.0 }")
+            }),
+            Box::new(|u| u),
+            "[movement] start: no position for joint `elbow`",
+        ),
+        (
+            "start beyond a limit",
+            Box::new(move |t| {
+                t.replace(
+                    robot,
+                    "robot = \"arm.urdf\"\nstart = { shoulder = -2.0, elbow = 2.0 }",
+                )
+            }),
+            Box::new(|u| u),
+            "[movement] start: joint `elbow`: 2.0000 rad (114.59 deg) is outside its limits",
+        ),
+        (
+            "start without a robot",
+            Box::new(move |t| {
+                t.replace(robot, "start = { shoulder = -2.0, elbow = 0.5 }").replace("max_acceleration = 100.0", "").replace("[goal]", "[movement.limits]\nshoulder = { min = -2.5, max = 1.0, max_speed = 10.0 }\nelbow = { min = 0.0, max = 1.0, max_speed = 5.0 }\n[goal]")
+            }),
+            Box::new(|u| u),
+            "[movement] start: a robot's setting",
+        ),
+        (
             "a column naming no joint",
             Box::new(|t| t),
             Box::new(|u| u.replace("\"elbow\"", "\"knee\"")),
@@ -229,6 +278,10 @@ def forward(q):
         r = mul(r, rot("z" if i % 2 == 0 else "y", a))
     return [p[k] + 0.1 * r[k][2] for k in range(3)]
 
+# The posture the robot starts from, if the task gives one: the first row
+# must be solved to it.
+start = json.loads(sys.argv[1]) if len(sys.argv) > 1 else None
+
 for line in sys.stdin:
     request = json.loads(line)
     with open(request["csv"], newline="") as f:
@@ -239,29 +292,32 @@ for line in sys.stdin:
         values = [float(v) for v in r]
         reached = forward(values[8:15])
         assert all(abs(u - v) < 1e-5 for u, v in zip(reached, values[1:4])), (reached, values[1:4])
+    first = [float(v) for v in rows[1][8:15]]
+    assert start is None or all(abs(u - v) < 1e-3 for u, v in zip(first, start)), (first, start)
     print(json.dumps({"rollout": request["rollout"], "measured": [float(rows[-1][1])]}), flush=True)
 "#;
 
 /// Two demonstrations of the tool moving from one pose to another (the
-/// arm's forward kinematics along a joint-space blend), ending at x =
-/// `end_x[k]`, written as tool poses.
-fn reach_task(name: &str, far: bool) -> PathBuf {
+/// arm's forward kinematics along a joint-space blend, its elbow out of
+/// the plane), ending at x = `end_x[k]`, written as tool poses; with
+/// `start`, the task gives the posture they were recorded from.
+fn reach_task(name: &str, far: bool, start: bool) -> PathBuf {
     let dir = tmp(name);
     std::fs::create_dir_all(&dir).unwrap();
     std::fs::write(dir.join("seven.urdf"), seven()).unwrap();
     std::fs::write(dir.join("reach.py"), REACH).unwrap();
     let urdf = primo_robot::urdf::Urdf::parse("seven.urdf", &seven()).unwrap();
     let chain = primo_robot::Chain::from_urdf(&urdf, &Default::default()).unwrap();
-    let start = [0.0, 0.6, 0.0, -1.2, 0.0, 0.8, 0.0];
+    let posture = [0.3, 0.6, 0.8, -1.2, -0.4, 0.8, 0.2];
     let mut queries = Vec::new();
     for (file, shoulder) in [("near.csv", 0.3), ("wide.csv", 0.6)] {
-        let end = [0.0, shoulder, 0.0, -1.0, 0.0, 0.6, 0.0];
+        let end = [0.3, shoulder, 0.8, -1.0, -0.4, 0.6, 0.2];
         let mut csv = String::from("t,x,y,z,qw,qx,qy,qz\n");
         let mut last = 0.0;
         for i in 0..=100 {
             let t = i as f64 / 100.0;
             let s = t * t * (3.0 - 2.0 * t);
-            let q: Vec<f64> = start
+            let q: Vec<f64> = posture
                 .iter()
                 .zip(&end)
                 .map(|(a, b)| a + s * (b - a))
@@ -275,6 +331,16 @@ fn reach_task(name: &str, far: bool) -> PathBuf {
         std::fs::write(dir.join(file), csv).unwrap();
         queries.push(last);
     }
+    let (start, argument) = match start {
+        true => {
+            let named: Vec<String> = (posture.iter().enumerate())
+                .map(|(i, q)| format!("q{} = {q}", i + 1))
+                .collect();
+            let start = format!("start = {{ {} }}\n", named.join(", "));
+            (start, format!(", \"{posture:?}\""))
+        }
+        false => (String::new(), String::new()),
+    };
     let file = dir.join("task.toml");
     std::fs::write(
         &file,
@@ -290,7 +356,7 @@ query = [{}]
 kernels = 15
 robot = "seven.urdf"
 tip = "hand"
-[goal]
+{start}[goal]
 desired = [{}]
 low = [{}]
 high = [{}]
@@ -299,7 +365,7 @@ precision = 0.001
 method = "secant"
 max_rollouts = 8
 [evaluate]
-command = ["python3", "reach.py"]
+command = ["python3", "reach.py"{argument}]
 "#,
             queries[0],
             queries[1],
@@ -314,13 +380,13 @@ command = ["python3", "reach.py"]
 
 #[test]
 fn a_tool_trajectory_reaches_its_evaluator_with_the_joints_it_was_solved_to() {
-    let file = reach_task("reach", false);
+    let file = reach_task("reach", false, false);
     let out = tmp("out-reach");
     let (code, stdout, err) = learn(&file, &out);
     assert_eq!(code, 0, "{stdout}\n{err}");
     assert!(stdout.contains("reached the precision"), "{stdout}");
     // A demonstration the arm cannot reach is refused, its sample named.
-    let file = reach_task("reach-far", true);
+    let file = reach_task("reach-far", true, false);
     let out = tmp("out-reach-far");
     let (code, _, err) = learn(&file, &out);
     assert_eq!(code, 2, "{err}");
@@ -329,4 +395,13 @@ fn a_tool_trajectory_reaches_its_evaluator_with_the_joints_it_was_solved_to() {
         "{err}"
     );
     assert!(!out.join("run.log").exists());
+}
+
+#[test]
+fn a_tool_trajectory_is_solved_from_the_robots_start_posture() {
+    let file = reach_task("reach-start", false, true);
+    let out = tmp("out-reach-start");
+    let (code, stdout, err) = learn(&file, &out);
+    assert_eq!(code, 0, "{stdout}\n{err}");
+    assert!(stdout.contains("reached the precision"), "{stdout}");
 }

@@ -66,6 +66,11 @@ pub struct RobotLimits {
     pub chain: Chain,
     /// Every joint's fastest acceleration (rad/s² or m/s²), if bounded.
     pub max_acceleration: Option<f64>,
+    /// The posture a tool trajectory starts from (one position per joint,
+    /// the chain's order, within its limits: [`Chain::posture`]): its
+    /// first pose is solved from there, so to the robot's own elbow.
+    /// Without it, from the middle of the joints' ranges.
+    pub start: Option<Vec<f64>>,
 }
 
 /// The limits a task's trajectories pass.
@@ -139,9 +144,7 @@ impl Limits {
     /// workspace's columns among them). The message names the column.
     pub fn covers(&self, names: &[String]) -> Result<(), String> {
         match self {
-            Limits::Robot(r) => Columns::of(&r.chain, names)
-                .map(drop)
-                .map_err(|e| e.to_string()),
+            Limits::Robot(r) => r.columns(names).map(drop),
             Limits::Envelope(e) => {
                 for n in names {
                     if !e.columns.iter().any(|c| &c.name == n) {
@@ -193,6 +196,19 @@ impl Limits {
 }
 
 impl RobotLimits {
+    /// What the columns `names` are to the robot: its joints, or its
+    /// tool's pose (the only trajectory a start posture is for).
+    fn columns(&self, names: &[String]) -> Result<Columns, String> {
+        match Columns::of(&self.chain, names) {
+            Ok(Columns::Joints(_)) if self.start.is_some() => Err(
+                "a start posture is for a tool trajectory: a joint trajectory starts at its first \
+                 sample"
+                    .into(),
+            ),
+            mapped => mapped.map_err(|e| e.to_string()),
+        }
+    }
+
     /// The joint path of a trajectory of joints or tool poses, checked;
     /// whether it was solved from poses.
     fn check(
@@ -201,8 +217,7 @@ impl RobotLimits {
         times: &[f64],
         rows: &[f64],
     ) -> Result<(JointPath, bool), Rejection> {
-        let columns =
-            Columns::of(&self.chain, names).map_err(|e| Rejection::Columns(e.to_string()))?;
+        let columns = self.columns(names).map_err(Rejection::Columns)?;
         let ordered = columns.reorder(rows);
         if let Columns::Joints(_) = columns {
             let path = check_path(&self.chain, times.to_vec(), ordered, self.max_acceleration)?;
@@ -212,7 +227,7 @@ impl RobotLimits {
             &self.chain,
             times,
             &Columns::poses(&ordered),
-            None,
+            self.start.as_deref(),
             self.max_acceleration,
             &IkOptions::default(),
         )?;
@@ -328,6 +343,7 @@ mod tests {
         Limits::Robot(RobotLimits {
             chain: crate::Robot::lwr4().chain(),
             max_acceleration,
+            start: None,
         })
     }
 
@@ -389,6 +405,51 @@ mod tests {
         assert!(
             err.to_string()
                 .starts_with("sample 1 (t = 0.100 s): tool pose"),
+            "{err}"
+        );
+    }
+
+    #[test]
+    fn a_tool_trajectory_is_solved_from_the_start_posture_to_the_robots_own_joints() {
+        let chain = crate::Robot::lwr4().chain();
+        let pose = |q: &[f64]| {
+            let p = chain.forward(q);
+            let (t, r) = (p.translation.vector, p.rotation);
+            vec![t.x, t.y, t.z, r.w, r.i, r.j, r.k]
+        };
+        let cols = names(&["x", "y", "z", "qw", "qx", "qy", "qz"]);
+        // Recorded on the redundant arm with its elbow turned well out of
+        // the plane; from the middle of the ranges the same poses are
+        // reached with the elbow elsewhere on its self-motion.
+        let recorded = |k: f64| [0.4, 0.6, 1.0, 1.2 + 0.01 * k, -0.4, -0.5, 0.3];
+        let times = vec![0.0, 0.1, 0.2];
+        let rows: Vec<f64> = (0..3).flat_map(|k| pose(&recorded(f64::from(k)))).collect();
+        let gap = |start: Option<Vec<f64>>| {
+            let limits = Limits::Robot(RobotLimits {
+                chain: chain.clone(),
+                max_acceleration: None,
+                start,
+            });
+            let checked = limits.check(&cols, times.clone(), &rows).unwrap();
+            let path = checked.path().unwrap();
+            (path.rows().enumerate())
+                .flat_map(|(k, q)| q.iter().zip(recorded(k as f64)).map(|(a, b)| (a - b).abs()))
+                .fold(0.0, f64::max)
+        };
+        let elsewhere = gap(None);
+        assert!(elsewhere > 0.3, "{elsewhere}");
+        let own = gap(Some(recorded(0.0).to_vec()));
+        assert!(own < 1e-6, "{own}");
+        // A start posture does not belong to a joint trajectory.
+        let limits = Limits::Robot(RobotLimits {
+            chain,
+            max_acceleration: None,
+            start: Some(recorded(0.0).to_vec()),
+        });
+        let joints = names(&["a1", "a2", "a3", "a4", "a5", "a6", "a7"]);
+        let err = limits.covers(&joints).unwrap_err();
+        assert!(
+            err.starts_with("a start posture is for a tool trajectory"),
             "{err}"
         );
     }

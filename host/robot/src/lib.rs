@@ -16,6 +16,7 @@
 //!   kinematics, the Jacobian and inverse kinematics.
 //! - [`limits`]: the joint position and velocity limits of any chain (and
 //!   an acceleration bound) checked along a trajectory.
+//! - [`posture`]: a chain's posture by joint name, within its limits.
 //! - [`tool_path`]: a trajectory of any chain's tool poses, solved to joint
 //!   positions by the inverse kinematics and checked.
 //! - [`envelope`]: the limits of a task's trajectory of named columns (a
@@ -36,6 +37,7 @@ pub mod ik;
 pub mod kinematics;
 pub mod limits;
 pub mod pose;
+pub mod posture;
 pub mod safety;
 pub mod tool_path;
 pub mod urdf;

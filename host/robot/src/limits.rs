@@ -165,7 +165,7 @@ impl std::error::Error for Violation {}
 
 /// `value` in a joint's units (`per`: "", "/s", "/s²"): rad with degrees
 /// for a revolute joint (what a robot's data sheet gives), m otherwise.
-fn amount(motion: Motion, value: f64, per: &str) -> String {
+pub(crate) fn amount(motion: Motion, value: f64, per: &str) -> String {
     match motion {
         Motion::Revolute => format!("{value:.4} rad{per} ({:.2} deg{per})", value.to_degrees()),
         Motion::Prismatic => format!("{value:.4} m{per}"),

@@ -253,6 +253,7 @@ fn limits(
             m.and_then(|m| m.max_acceleration.as_ref())
                 .map(Spanned::span),
         ),
+        ("start", m.and_then(|m| m.start.as_ref()).map(Spanned::span)),
     ];
     let robot_key = robot_keys
         .iter()
@@ -304,8 +305,13 @@ fn limits(
                 ));
             }
             let spec = robot_spec(p, r, m, columns, dir)?;
-            spec.chain()
+            let chain = spec
+                .chain()
                 .map_err(|e| p.at(r.span(), "[movement] robot", e))?;
+            if let Some(start) = m.and_then(|m| m.start.as_ref()) {
+                spec.start(&chain)
+                    .map_err(|e| p.at(start.span(), "[movement] start", e))?;
+            }
             Ok(Some(LimitsSpec::Robot(spec)))
         }
         (None, Some(c)) => {
@@ -422,6 +428,10 @@ fn robot_spec(
         tool,
         limits: columns.map(|c| c.get_ref().clone()).unwrap_or_default(),
         max_acceleration,
+        start: m
+            .and_then(|m| m.start.as_ref())
+            .map(|s| s.get_ref().clone())
+            .unwrap_or_default(),
     })
 }
 

@@ -43,6 +43,7 @@ pub(super) struct MovementKeys {
     pub(super) tip: Option<Spanned<String>>,
     pub(super) tool: Option<Spanned<ToolKeys>>,
     pub(super) max_acceleration: Option<Spanned<f64>>,
+    pub(super) start: Option<Spanned<BTreeMap<String, f64>>>,
     pub(super) limits: Option<Spanned<BTreeMap<String, ColumnRange>>>,
     pub(super) workspace: Option<Spanned<Workspace>>,
 }

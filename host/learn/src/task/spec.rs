@@ -8,6 +8,7 @@ use std::path::PathBuf;
 use primo_core::generalize::Method as Regression;
 use primo_mtsics::path::read_text;
 use primo_robot::envelope::{ColumnLimit, Envelope, Limits, RobotLimits, WorkspaceBox};
+use primo_robot::posture::PostureError;
 use primo_robot::urdf::{Urdf, origin};
 use primo_robot::{Chain, JointLimits, Robot, Tip};
 use primo_skill::Skill;
@@ -112,6 +113,10 @@ pub struct RobotSpec {
     pub limits: BTreeMap<String, ColumnRange>,
     /// Every joint's fastest acceleration, rad/s² or m/s².
     pub max_acceleration: Option<f64>,
+    /// The posture a tool trajectory starts from, by joint name (rad or
+    /// m): every joint, or none (logs from before it have none).
+    #[serde(default)]
+    pub start: BTreeMap<String, f64>,
 }
 
 /// A logged robot: before URDF models, run logs held a preset's name alone.
@@ -130,6 +135,7 @@ fn logged_robot<'de, D: serde::Deserializer<'de>>(d: D) -> Result<RobotSpec, D::
             tool: None,
             limits: BTreeMap::new(),
             max_acceleration: None,
+            start: BTreeMap::new(),
         },
         Logged::Spec(spec) => spec,
     })
@@ -175,16 +181,30 @@ impl RobotSpec {
             }
         }
     }
+
+    /// The start posture in `chain`'s order (the robot's chain), if given.
+    pub fn start(&self, chain: &Chain) -> Result<Option<Vec<f64>>, PostureError> {
+        if self.start.is_empty() {
+            return Ok(None);
+        }
+        let named = self.start.iter().map(|(joint, v)| (joint.as_str(), *v));
+        chain.posture(named).map(Some)
+    }
 }
 
 impl LimitsSpec {
     /// The limits to check with.
     pub fn limits(&self) -> Result<Limits, Error> {
         Ok(match self {
-            LimitsSpec::Robot(robot) => Limits::Robot(RobotLimits {
-                chain: robot.chain()?,
-                max_acceleration: robot.max_acceleration,
-            }),
+            LimitsSpec::Robot(robot) => {
+                let chain = robot.chain()?;
+                Limits::Robot(RobotLimits {
+                    start: (robot.start(&chain))
+                        .map_err(|e| Error::Invalid(format!("the robot's start posture: {e}")))?,
+                    chain,
+                    max_acceleration: robot.max_acceleration,
+                })
+            }
             LimitsSpec::Columns { columns, workspace } => Limits::Envelope(Envelope {
                 columns: columns
                     .iter()
