@@ -224,6 +224,17 @@ fn a_robots_settings_are_refused_before_anything_runs() {
             "[movement] start: a robot's setting",
         ),
         (
+            "tool beyond reach",
+            Box::new(move |t| {
+                t.replace(
+                    robot,
+                    "robot = \"arm.urdf\"\ntool = { xyz = [0, 0, 2e3], rpy = [0, 0, 0] }",
+                )
+            }),
+            Box::new(|u| u),
+            "[movement] tool: xyz is farther than 1000 m from the tip",
+        ),
+        (
             "a column naming no joint",
             Box::new(|t| t),
             Box::new(|u| u.replace("\"elbow\"", "\"knee\"")),

@@ -36,7 +36,7 @@ use nalgebra::{
     UnitQuaternion, Vector3,
 };
 
-use crate::urdf::{JointKind, Urdf, UrdfError, UrdfJoint};
+use crate::urdf::{JointKind, MAX_DISTANCE, Urdf, UrdfError, UrdfJoint};
 
 /// Most joints in a chain: more than any serial arm has (7 for the
 /// redundant ones, 8–9 on a linear axis), few enough that a chain's
@@ -370,12 +370,21 @@ impl Chain {
                 )));
             }
         }
+        let tool = tip.tool.unwrap_or_else(Isometry3::identity);
+        if let Some(far) =
+            (tool.translation.vector.iter()).find(|v| v.is_nan() || v.abs() > MAX_DISTANCE)
+        {
+            return Err(at_file(format!(
+                "the tool frame is {far:.3e} m from the tip link `{tip_link}`: farther than \
+                 {MAX_DISTANCE} m"
+            )));
+        }
         Ok(Chain::new(
             urdf.name.clone(),
             base,
             tip_link,
             joints,
-            origin * tip.tool.unwrap_or_else(Isometry3::identity),
+            origin * tool,
         ))
     }
 
@@ -581,6 +590,14 @@ fn check_limits(l: &JointLimits, motion: Motion) -> Result<(), String> {
         return Err(format!(
             "its velocity limit {} {unit}/s must be a positive number",
             l.velocity
+        ));
+    }
+    if motion == Motion::Prismatic && (l.lower.abs() > MAX_DISTANCE || l.upper.abs() > MAX_DISTANCE)
+    {
+        return Err(format!(
+            "its limits lower {} and upper {} m: a prismatic joint travels at most \
+             {MAX_DISTANCE} m either way",
+            l.lower, l.upper
         ));
     }
     Ok(())

@@ -310,6 +310,12 @@ pub const JOINT_COLUMNS: [&str; JOINTS] = ["a1", "a2", "a3", "a4", "a5", "a6", "
 /// The checks of a robot holding a tool: Cartesian trajectories of the
 /// tool's controlled point (`reach` metres along the tool frame's z axis,
 /// e.g. a bottle's mouth) and the joint trajectories they become.
+///
+/// It is the pouring cell's gate, so the LWR 4's ([`Arm`], seven joints,
+/// a Cartesian box and speed for the point): the paper's cell is that
+/// robot. Every other robot's trajectories go through
+/// [`crate::envelope::RobotLimits`]; both end in the same checks, a
+/// chain's tool path ([`check_tool_path`]) and joint path ([`check_path`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Gate {
     /// The robot and its tool.

@@ -382,6 +382,17 @@ impl Reader<'_, '_> {
         let origin = match self.child(node, "origin")? {
             Some(o) => {
                 let xyz = self.triple(o, "xyz", [0.0; 3])?;
+                if xyz.iter().any(|v| v.abs() > MAX_DISTANCE) {
+                    let text = o.attribute("xyz").unwrap_or_default();
+                    return Err(self.error(
+                        o,
+                        format!(
+                            "joint `{name}`: <origin> xyz `{text}` is farther than \
+                             {MAX_DISTANCE} m from its parent: no arm's link is (URDF lengths \
+                             are in m)"
+                        ),
+                    ));
+                }
                 let rpy = self.triple(o, "rpy", [0.0; 3])?;
                 origin(xyz.into(), rpy.into())
             }
@@ -390,13 +401,16 @@ impl Reader<'_, '_> {
         let axis = match self.child(node, "axis")? {
             Some(a) => {
                 let axis = self.triple(a, "xyz", [1.0, 0.0, 0.0])?;
-                if axis.norm() < 1e-9
+                if !(1e-9..f64::INFINITY).contains(&axis.norm())
                     && matches!(
                         kind,
                         JointKind::Revolute | JointKind::Continuous | JointKind::Prismatic
                     )
                 {
-                    return Err(self.error(a, format!("joint `{name}`: its axis has no length")));
+                    return Err(self.error(
+                        a,
+                        format!("joint `{name}`: its axis has no length (or no finite one)"),
+                    ));
                 }
                 axis
             }
@@ -429,6 +443,11 @@ impl Reader<'_, '_> {
         })
     }
 }
+
+/// The farthest, m, an `<origin>` or a tool frame may be from its parent
+/// and a prismatic joint may travel: beyond any arm's link, near enough
+/// that a chain's forward kinematics stays finite.
+pub const MAX_DISTANCE: f64 = 1000.0;
 
 /// The frame an `<origin xyz=".." rpy=".."/>` places: translated by `xyz`
 /// (m), turned by roll, pitch and yaw about the fixed x, y and z axes (rad).
@@ -477,6 +496,21 @@ mod tests {
         assert!(refused(rpy).contains("<origin> rpy `0 1`: expected three numbers"));
         let nan = rpy.replace("rpy=\"0 1\"", "xyz=\"0 NaN 1\"");
         assert!(refused(&nan).contains("<origin> xyz NaN is not a finite number"));
+        // Far enough to overflow a chain's forward kinematics.
+        let far = rpy.replace("rpy=\"0 1\"", "xyz=\"0 1e300 1\"");
+        let e = refused(&far);
+        assert!(
+            e.contains("joint `j`: <origin> xyz `0 1e300 1` is farther than 1000 m"),
+            "{e}"
+        );
+        let long = rpy
+            .replace("<origin rpy=\"0 1\"/>", "<axis xyz=\"1e300 1e300 0\"/>")
+            .replace("fixed", "continuous");
+        let e = refused(&long);
+        assert!(
+            e.contains("its axis has no length (or no finite one)"),
+            "{e}"
+        );
     }
 
     #[test]

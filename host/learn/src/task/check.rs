@@ -7,6 +7,7 @@ use std::path::Path;
 
 use primo_core::generalize::Method as Regression;
 use primo_mtsics::path::{Wanted, check};
+use primo_robot::urdf::MAX_DISTANCE;
 use primo_skill::skill::MAX_EXAMPLES;
 use primo_skill::{MAX_KERNELS, MAX_QUERY};
 use toml::Spanned;
@@ -412,6 +413,13 @@ fn robot_spec(
             let frame = [xyz[0], xyz[1], xyz[2], rpy[0], rpy[1], rpy[2]];
             if frame.iter().any(|v| !v.is_finite()) {
                 return Err(p.at(t.span(), "[movement] tool", "xyz and rpy must be finite"));
+            }
+            if xyz.iter().any(|v| v.abs() > MAX_DISTANCE) {
+                return Err(p.at(
+                    t.span(),
+                    "[movement] tool",
+                    format!("xyz is farther than {MAX_DISTANCE} m from the tip (it is in m)"),
+                ));
             }
             Some(frame)
         }
