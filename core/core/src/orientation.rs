@@ -76,7 +76,7 @@ fn rows(quaternions: &[f32]) -> impl DoubleEndedIterator<Item = Result<Quaternio
 /// orientation `g`, visited in order: `visit(e_i)`; returns `g`.
 ///
 /// The start's coordinates are found from the goal backwards (the goal's
-/// are 0), then each sample continues the previous one ([`follow`]), so
+/// are 0), then each sample continues the previous one, so
 /// a turn of any number of revolutions keeps its count.
 pub fn unwrapped(
     quaternions: &[f32],
