@@ -20,10 +20,16 @@
 //! The forcing term is not amplitude-scaled ([`Scaling::Never`]): scaling
 //! each axis of a rotation vector would not be a rotation.
 //!
-//! A recording's quaternions are normalized, and their signs made
-//! continuous (`q` and `−q` are the same orientation; a sign flip between
-//! two samples is undone), so the logarithm is continuous along the
-//! movement and a sweep through 180° is no discontinuity.
+//! A recording's quaternions are normalized, and each sample's rotation
+//! vector is the one of its equivalents (`n (θ + 2πk)` for any `k`, the
+//! same for `q` and `−q`) that continues the previous sample's
+//! ([`unwrapped`]), so `e` is continuous along the movement however far it
+//! turns: a sweep through 180°, a screw of three turns, a sign flip of the
+//! tracker are no discontinuity. Where `|e|` crosses a multiple of 2π the
+//! rotation vector is singular (every axis gives the same orientation);
+//! there the coordinate is followed by damped Gauss–Newton steps, which
+//! keep it continuous but follow a tilt across the turn's axis made there
+//! only approximately (a turn about one axis is exact).
 //!
 //! ```
 //! use primo_core::dmp::FitOptions;
@@ -57,49 +63,132 @@ use crate::Error;
 use crate::dmp::{Dmp, Execution, FitOptions, Run, Scaling};
 use crate::quaternion::Quaternion;
 
-/// Continuous-sign, normalized quaternions of a recording (`[w, x, y, z]`
-/// rows), visited in order: `visit(i, q_i)`.
-fn continuous(quaternions: &[f32], visit: &mut dyn FnMut(Quaternion)) -> Result<(), Error> {
-    let mut previous: Option<Quaternion> = None;
-    for row in quaternions.chunks_exact(4) {
-        let q = Quaternion::from_array([
-            row.first().copied().unwrap_or(0.0),
-            row.get(1).copied().unwrap_or(0.0),
-            row.get(2).copied().unwrap_or(0.0),
-            row.get(3).copied().unwrap_or(0.0),
-        ])
-        .normalized()?;
-        let q = match previous {
-            Some(p) if p.dot(&q) < 0.0 => q.neg(),
-            _ => q,
-        };
-        visit(q);
-        previous = Some(q);
-    }
-    Ok(())
+/// Normalized quaternions of a recording (`[w, x, y, z]` rows).
+fn rows(quaternions: &[f32]) -> impl DoubleEndedIterator<Item = Result<Quaternion, Error>> + '_ {
+    quaternions.chunks_exact(4).map(|row| {
+        Quaternion::from_array(core::array::from_fn(|k| row.get(k).copied().unwrap_or(0.0)))
+            .normalized()
+    })
 }
 
-/// The log coordinates `log(q_i ⊗ ḡ)` of a recording (`[w, x, y, z]`
-/// rows, normalized, signs made continuous) written to `out` (three per
-/// row), relative to its last orientation `g`, which is returned.
-pub fn log_coordinates(quaternions: &[f32], out: &mut [f32]) -> Result<Quaternion, Error> {
+/// Unwrapped log coordinates `log(q_i ⊗ ḡ)` of a recording (`[w, x, y,
+/// z]` rows, any sign, any non-zero norm) relative to its last
+/// orientation `g`, visited in order: `visit(e_i)`; returns `g`.
+///
+/// The start's coordinates are found from the goal backwards (the goal's
+/// are 0), then each sample continues the previous one, so
+/// a turn of any number of revolutions keeps its count.
+pub fn unwrapped(
+    quaternions: &[f32],
+    visit: &mut dyn FnMut(&[f32; 3]),
+) -> Result<Quaternion, Error> {
     crate::error::check_finite(quaternions, "quaternions")?;
+    let goal = rows(quaternions)
+        .next_back()
+        .unwrap_or(Ok(Quaternion::IDENTITY))?;
+    let mut e = [0.0; 3];
+    for q in rows(quaternions).rev() {
+        e = follow(&q?, &goal, &e);
+    }
+    for q in rows(quaternions) {
+        e = follow(&q?, &goal, &e);
+        visit(&e);
+    }
+    Ok(goal)
+}
+
+/// The log coordinates of a recording written to `out` (three per row),
+/// as [`unwrapped`] visits them, the last row exactly 0; returns the goal.
+pub fn log_coordinates(quaternions: &[f32], out: &mut [f32]) -> Result<Quaternion, Error> {
     let rows = quaternions.len() / 4;
     crate::error::check_len("quaternions", rows * 4, quaternions.len())?;
     crate::error::check_len("log coordinates", rows * 3, out.len())?;
-    let mut goal = Quaternion::IDENTITY;
-    continuous(quaternions, &mut |q| goal = q)?;
-    let inverse = goal.conj();
     let mut chunks = out.chunks_exact_mut(3);
-    continuous(quaternions, &mut |q| {
-        if let Some(e) = chunks.next() {
-            e.copy_from_slice(&q.mul(&inverse).log());
+    let goal = unwrapped(quaternions, &mut |e| {
+        if let Some(c) = chunks.next() {
+            c.copy_from_slice(e);
         }
     })?;
     if let Some(last) = out.rchunks_exact_mut(3).next() {
         last.copy_from_slice(&[0.0; 3]);
     }
     Ok(goal)
+}
+
+/// Tikhonov damping of [`follow`]'s steps where the rotation vector is
+/// singular (`|e|` near a multiple of 2π, where sideways moves of `e`
+/// barely turn): a sideways step is at most `1/(2·DAMPING)` times the
+/// turn it follows.
+const DAMPING: f32 = 0.15;
+
+/// The log coordinates of `q` relative to `goal` that continue `previous`
+/// (a neighbouring sample's): damped Gauss–Newton from `previous` on the
+/// residual turn, then the exact equivalent nearest the result
+/// ([`nearest_log`]) wherever that is within 1e-3 rad of it (everywhere
+/// but near a singular sphere).
+fn follow(q: &Quaternion, goal: &Quaternion, previous: &[f32; 3]) -> [f32; 3] {
+    let target = q.mul(&goal.conj());
+    let mut e = *previous;
+    for _ in 0..8 {
+        // The residual turn `target ⊗ exp(e)⁻¹`, the short way round.
+        let mut r = target.mul(&Quaternion::exp(e).conj());
+        if r.w < 0.0 {
+            r = r.neg();
+        }
+        let residual = r.log();
+        if norm(&residual) < 1e-6 {
+            break;
+        }
+        let step = damped_step(&e, &residual);
+        e = mix(1.0, &e, 1.0, &step);
+    }
+    let exact = nearest_log(q, goal, &e);
+    let gap = mix(1.0, &exact, -1.0, &e);
+    if norm(&gap) < 1e-3 { exact } else { e }
+}
+
+/// The step `δ` with `exp(e + δ) ≈ exp(residual) ⊗ exp(e)`: the damped
+/// inverse of the left Jacobian of the exponential map at `e`. Along `e`
+/// the Jacobian is 1; across it, `a I + b [u]×` with `a = sin θ / θ`,
+/// `b = (1 − cos θ)/θ`, which vanishes at `θ = 2πk`.
+fn damped_step(e: &[f32; 3], residual: &[f32; 3]) -> [f32; 3] {
+    let theta = norm(e);
+    if theta < 1e-4 {
+        return *residual;
+    }
+    let u = mix(1.0 / theta, e, 0.0, e);
+    let along = dot(&u, residual);
+    let across = mix(1.0, residual, -along, &u);
+    let (sin, cos) = (libm::sinf(theta), libm::cosf(theta));
+    let (a, b) = ((sin / theta), (1.0 - cos) / theta);
+    let scale = 1.0 / (a * a + b * b + DAMPING * DAMPING);
+    let turned = cross(&u, &across);
+    mix(
+        1.0,
+        &mix(along, &u, scale * a, &across),
+        -scale * b,
+        &turned,
+    )
+}
+
+/// `a x + b y`.
+fn mix(a: f32, x: &[f32; 3], b: f32, y: &[f32; 3]) -> [f32; 3] {
+    let ([x0, x1, x2], [y0, y1, y2]) = (x, y);
+    [a * x0 + b * y0, a * x1 + b * y1, a * x2 + b * y2]
+}
+
+fn norm(v: &[f32; 3]) -> f32 {
+    libm::sqrtf(dot(v, v))
+}
+
+fn dot(a: &[f32; 3], b: &[f32; 3]) -> f32 {
+    let ([a0, a1, a2], [b0, b1, b2]) = (a, b);
+    a0 * b0 + a1 * b1 + a2 * b2
+}
+
+fn cross(a: &[f32; 3], b: &[f32; 3]) -> [f32; 3] {
+    let ([a0, a1, a2], [b0, b1, b2]) = (a, b);
+    [a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0]
 }
 
 /// An orientation DMP with `K` kernels per axis.
@@ -138,13 +227,10 @@ impl<const K: usize> OrientationDmp<K> {
             times.len().saturating_mul(4),
             quaternions.len(),
         )?;
-        crate::error::check_finite(quaternions, "quaternions")?;
-        let mut goal = Quaternion::IDENTITY;
-        continuous(quaternions, &mut |q| goal = q)?;
-        let inverse = goal.conj();
+        let goal = unwrapped(quaternions, &mut |_| {})?;
         let rows = |visit: &mut dyn FnMut(&[f32])| {
             // Errors were found in the pass above; none can occur here.
-            let _ = continuous(quaternions, &mut |q| visit(&q.mul(&inverse).log()));
+            let _ = unwrapped(quaternions, &mut |e| visit(e));
         };
         let options = FitOptions {
             scaling: Scaling::Never,
@@ -254,19 +340,36 @@ pub fn from_log(e: &[f32], goal: &Quaternion) -> Quaternion {
     Quaternion::exp(e).mul(goal).renormalized()
 }
 
-/// `log(q ⊗ ḡ)` of `q` or `−q`, whichever is nearer `reference`: the log
-/// coordinates of a new start, kept on the demonstrated side.
+/// Of the rotation vectors of `q ⊗ ḡ` (`n (θ + 2πk)` for every whole
+/// `k`, so `q` and `−q` alike), the one nearest `reference`: the log
+/// coordinates of a new start kept on the demonstrated side and with the
+/// demonstrated number of turns.
 pub fn nearest_log(q: &Quaternion, goal: &Quaternion, reference: &[f32]) -> [f32; 3] {
-    let inverse = goal.conj();
-    let a = q.mul(&inverse).log();
-    let b = q.neg().mul(&inverse).log();
-    let distance = |e: &[f32; 3]| {
-        e.iter()
-            .zip(reference.iter().chain(core::iter::repeat(&0.0)))
-            .map(|(x, r)| (x - r) * (x - r))
-            .sum::<f32>()
-    };
-    if distance(&b) < distance(&a) { b } else { a }
+    let reference: [f32; 3] = core::array::from_fn(|k| reference.get(k).copied().unwrap_or(0.0));
+    let turn = q.mul(&goal.conj());
+    let e = turn.log();
+    let theta = norm(&e);
+    let full = 2.0 * core::f32::consts::PI;
+    if theta < 1e-6 {
+        // No turn: whole turns about the reference's own axis.
+        let r = norm(&reference);
+        let k = libm::roundf(r / full);
+        if k == 0.0 || r == 0.0 {
+            return e;
+        }
+        return mix(k * full / r, &reference, 1.0, &e);
+    }
+    // Nearest along the axis n: θ + 2πk nearest n · reference.
+    let k = libm::roundf((dot(&e, &reference) / theta - theta) / full);
+    if k == 0.0 {
+        e
+    } else if k == -1.0 {
+        // The other sign's logarithm: bit for bit what `−q` gives.
+        turn.neg().log()
+    } else {
+        let scale = (theta + k * full) / theta;
+        mix(scale, &e, 0.0, &e)
+    }
 }
 
 /// An orientation execution in progress.
@@ -293,8 +396,9 @@ impl OrientationRun {
     }
 
     /// Changes the goal during execution: the current orientation is
-    /// re-expressed relative to the new goal (the nearer way round), the
-    /// log coordinates' velocity is kept.
+    /// re-expressed relative to the new goal (with the turns still to go:
+    /// the equivalent nearest its present coordinates), the log
+    /// coordinates' velocity is kept.
     pub fn set_goal<const K: usize>(
         &mut self,
         dmp: &OrientationDmp<K>,
@@ -302,7 +406,7 @@ impl OrientationRun {
     ) -> Result<(), Error> {
         let goal = goal.normalized()?;
         let now = self.orientation();
-        let e = nearest_log(&now, &goal, &[0.0; 3]);
+        let e = nearest_log(&now, &goal, self.run.position());
         self.run.rebase(&dmp.log, &e)?;
         self.goal = goal;
         Ok(())

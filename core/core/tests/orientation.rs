@@ -232,3 +232,139 @@ proptest! {
         prop_assert!(angle(&q, &goal) < 1e-3, "ends {:?}, goal {goal:?}", q);
     }
 }
+
+/// A screw: `turns` revolutions about an axis tilted 20° off z, at rest
+/// at both ends, from a start tilted 30° about x; recorded over `seconds`
+/// at about 500 Hz with stamps jittered by up to ±0.4 ms and the
+/// quaternion's sign flipped on pseudo-random rows, as trackers record.
+fn screw(turns: f32, seconds: f32, at: f32) -> Quaternion {
+    let u = (at / seconds).clamp(0.0, 1.0);
+    let tilt = 20f32.to_radians();
+    let axis = [tilt.sin(), 0.0, tilt.cos()];
+    let angle = turns * std::f32::consts::TAU * smooth(u);
+    Quaternion::exp(axis.map(|a| a * angle)).mul(&Quaternion::exp([0.5, 0.0, 0.0]))
+}
+
+fn screw_recording(turns: f32, seconds: f32) -> (Vec<f32>, Vec<f32>) {
+    let rows = (seconds * 500.0) as usize;
+    let mut seed = 0x9e37_79b9u32;
+    let mut next = move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 17;
+        seed ^= seed << 5;
+        seed as f32 / u32::MAX as f32
+    };
+    let mut t: Vec<f32> = (0..=rows)
+        .map(|i| i as f32 / 500.0 + (next() - 0.5) * 8e-4)
+        .collect();
+    t[0] = 0.0;
+    t[rows] = seconds;
+    let q = t
+        .iter()
+        .flat_map(|&at| {
+            let q = screw(turns, seconds, at);
+            if next() < 0.3 { q.neg() } else { q }.to_array()
+        })
+        .collect();
+    (t, q)
+}
+
+#[test]
+fn turns_of_any_number_of_revolutions_are_reproduced() {
+    for turns in [370.0 / 360.0, 1.5, 2.0, 3.0, 3.5] {
+        let seconds = 2.0 + turns;
+        let (t, q) = screw_recording(turns, seconds);
+        for kernels in [10, 30] {
+            let dmp = OrientationDmp::<30>::fit(&t, &q, kernels, &FitOptions::default()).unwrap();
+            let worst = dmp
+                .trajectory(&dmp.execution(), 0.002)
+                .unwrap()
+                .map(|(time, q)| angle(&q, &screw(turns, seconds, time)))
+                .fold(0.0, f32::max);
+            println!(
+                "{:.0}° screw, {kernels} kernels: max error {:.3}°",
+                turns * 360.0,
+                worst.to_degrees()
+            );
+            assert!(
+                worst.to_degrees() < 0.2,
+                "{turns} turns, {kernels}: {worst}"
+            );
+        }
+    }
+}
+
+#[test]
+fn a_new_goal_keeps_the_start_and_the_turns_to_go() {
+    let (t, q) = screw_recording(2.5, 4.5);
+    let dmp = OrientationDmp::<30>::fit(&t, &q, 30, &FitOptions::default()).unwrap();
+    let demonstrated = dmp.start_orientation();
+    assert!(angle(&demonstrated, &screw(2.5, 4.5, 0.0)) < 1e-4);
+    let goal = Quaternion::exp([0.0, 0.2, 0.3]).mul(&dmp.goal());
+    let exec = OrientationExecution {
+        goal,
+        ..dmp.execution()
+    };
+    let path: Vec<Quaternion> = dmp.trajectory(&exec, 0.002).unwrap().map(|s| s.1).collect();
+    assert!(angle(&path[0], &demonstrated) < 1e-5, "the start stays");
+    assert!(
+        angle(path.last().unwrap(), &goal) < 1e-3,
+        "the goal is reached"
+    );
+    // Still two and a half turns: the angle travelled, summed step by step.
+    let travelled: f32 = path.windows(2).map(|w| angle(&w[0], &w[1])).sum();
+    assert!(travelled > 2.3 * std::f32::consts::TAU, "{travelled}");
+    // Online, half way: no jump, and the rest of the turn is still made.
+    let mut run = dmp.start(&dmp.execution()).unwrap();
+    while run.time() < 2.0 {
+        run.step(&dmp, 0.002).unwrap();
+    }
+    let before = run.orientation();
+    run.set_goal(&dmp, goal).unwrap();
+    assert!(angle(&before, &run.orientation()) < 1e-5);
+    let mut rest = 0.0;
+    let mut last = before;
+    for _ in 0..5000 {
+        run.step(&dmp, 0.002).unwrap();
+        rest += angle(&last, &run.orientation());
+        last = run.orientation();
+    }
+    assert!(angle(&last, &goal) < 1e-3);
+    assert!(rest > 0.8 * std::f32::consts::TAU, "{rest}");
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 24, ..ProptestConfig::default() })]
+
+    /// Any total turn up to three and a half revolutions and any new goal:
+    /// the run starts where it is told, moves continuously on unit
+    /// quaternions and ends at the goal.
+    #[test]
+    fn any_turn_and_any_goal_start_kept_continuous_goal_reached(
+        turns in 0.0f32..3.5,
+        goal in quaternion(),
+        start in quaternion(),
+        new_start in any::<bool>(),
+    ) {
+        let seconds = 2.0 + turns;
+        let (t, q) = screw_recording(turns, seconds);
+        let dmp = OrientationDmp::<20>::fit(&t, &q, 20, &FitOptions::default()).unwrap();
+        let exec = OrientationExecution {
+            goal,
+            start: if new_start { start } else { dmp.start_orientation() },
+            ..dmp.execution()
+        };
+        let path: Vec<Quaternion> =
+            dmp.trajectory(&exec, 0.002).unwrap().map(|s| s.1).collect();
+        prop_assert!(angle(&path[0], &exec.start) < 1e-5);
+        for w in path.windows(2) {
+            prop_assert!((w[1].norm() - 1.0).abs() < 1e-5);
+            prop_assert!(angle(&w[0], &w[1]) < 0.05, "a jump of {} rad", angle(&w[0], &w[1]));
+        }
+        let mut run = dmp.start(&exec).unwrap();
+        for _ in 0..200 {
+            run.step(&dmp, exec.tau).unwrap();
+        }
+        prop_assert!(angle(&run.orientation(), &goal) < 1e-3);
+    }
+}

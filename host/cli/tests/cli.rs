@@ -313,6 +313,23 @@ fn orientation_columns_fit_and_run_as_a_quaternion_dmp() {
         .collect();
     let dot: f64 = last[2..6].iter().zip(g).map(|(a, b)| a * b).sum();
     assert!((last[1] - 0.5).abs() < 5e-3, "{last:?}");
+    // The new goal leaves the start where it was demonstrated.
+    let first: Vec<f64> = out
+        .lines()
+        .nth(1)
+        .unwrap()
+        .split(',')
+        .map(|v| v.parse().unwrap())
+        .collect();
+    let dot_start: f64 = first[2..6]
+        .iter()
+        .zip(yaw(angle(0.0)))
+        .map(|(a, b)| a * b)
+        .sum();
+    assert!(
+        2.0 * dot_start.abs().min(1.0).acos().to_degrees() < 0.01,
+        "starts at {first:?}"
+    );
     assert!(
         2.0 * dot.abs().min(1.0).acos().to_degrees() < 0.5,
         "{last:?}"

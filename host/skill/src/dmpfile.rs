@@ -558,17 +558,28 @@ impl DmpFile {
         }
         if let Some(start) = start {
             self.check_len("start", start)?;
-            let demonstrated = self.dmp.start_position().to_vec();
-            for s in &layout {
-                match s.kind {
-                    Column::Scalar => exec.start[s.dof] = start[s.column],
-                    Column::Quaternion => {
-                        let values = &start[s.column..s.column + 4];
-                        let q = quaternion(values, "start", &self.names[s.column])?;
-                        let reference = &demonstrated[s.dof..s.dof + 3];
-                        let e = nearest_log(&q, &goals[s.orientation], reference);
-                        exec.start[s.dof..s.dof + 3].copy_from_slice(&e);
-                    }
+        }
+        // An orientation's start is its coordinates relative to its goal:
+        // re-expressed on the goal it runs to, so a new goal never moves it.
+        let demonstrated = self.dmp.start_position().to_vec();
+        for s in &layout {
+            match (s.kind, start) {
+                (Column::Scalar, Some(start)) => exec.start[s.dof] = start[s.column],
+                (Column::Scalar, None) => {}
+                (Column::Quaternion, _) => {
+                    let reference = &demonstrated[s.dof..s.dof + 3];
+                    let q = match start {
+                        Some(start) => {
+                            let values = &start[s.column..s.column + 4];
+                            quaternion(values, "start", &self.names[s.column])?
+                        }
+                        None => {
+                            let o = &self.orientations[s.orientation];
+                            from_log(reference, &Quaternion::from_array(o.goal))
+                        }
+                    };
+                    let e = nearest_log(&q, &goals[s.orientation], reference);
+                    exec.start[s.dof..s.dof + 3].copy_from_slice(&e);
                 }
             }
         }

@@ -21,7 +21,8 @@
 //!   then turn with that goal.) The log DMP's own goal stays 0;
 //! - `τ` is combined as a number; the start's log coordinates relative to
 //!   the new goal are taken on the side of the examples' combined ones
-//!   ([`nearest_log`]), so a demonstrated turn beyond 180° is kept.
+//!   ([`nearest_log`]), so a demonstrated turn beyond 180°, and any number
+//!   of whole turns, is kept.
 //!
 //! The examples' goals must lie within 180° of their mean for the chart to
 //! hold them all (a set of goals within 90° of each other always does).
