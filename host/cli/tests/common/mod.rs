@@ -47,9 +47,16 @@ fn outcome(child: std::process::Child) -> (i32, String, String) {
     )
 }
 
-/// A path in this test process's own temporary directory.
+/// A path in this test's own temporary directory.
 pub fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("primo-test-{}", std::process::id()));
+    // One folder per test: the harness runs tests on threads named after
+    // them, and two tests writing the same file name at once would read
+    // each other's half-written files.
+    let thread = std::thread::current();
+    let test = thread.name().unwrap_or("main").replace("::", "-");
+    let dir = std::env::temp_dir()
+        .join(format!("primo-test-{}", std::process::id()))
+        .join(test);
     std::fs::create_dir_all(&dir).unwrap();
     dir.join(name)
 }
