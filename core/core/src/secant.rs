@@ -611,4 +611,38 @@ mod tests {
             assert!(l.ask().is_none_or(|q| q.iter().all(|v| v.abs() <= 1.0)));
         }
     }
+
+    /// Issue 28: errors told on an external task. One Broyden update made
+    /// the gain about 25 in size; the queries bounced between the box's
+    /// corners and the learner stopped as `Stalled` after five roll-outs,
+    /// the target inside the box as far as anything told shows.
+    #[test]
+    fn a_wild_gain_update_neither_bounces_between_corners_nor_stalls() {
+        let mut c = cfg(&[-0.5, -0.5], &[0.5, 0.5], &[0.2279, -0.3578]);
+        c.precision = 0.002;
+        let mut l = Secant::new(c).unwrap();
+        let told = [
+            [0.3931f32, -0.0501],
+            [0.3639, -0.264],
+            [0.3199, -0.613],
+            [0.3725, -0.5377],
+            [0.3199, -0.613],
+        ];
+        let mut asked: std::vec::Vec<std::vec::Vec<f32>> = std::vec::Vec::new();
+        for e in told {
+            asked.push(l.ask().unwrap().to_vec());
+            assert_eq!(l.tell(&e).unwrap(), Status::Running, "{asked:?}");
+        }
+        let best = l.best().unwrap();
+        assert_eq!(best.size, 0.3639);
+        // Every roll-out after the second was worse than the best: each
+        // step from the best is at most half as long as the one before.
+        let next = l.ask().unwrap().to_vec();
+        asked.push(next);
+        let from_best = |q: &[f32]| size(&[q[0] - best.query[0], q[1] - best.query[1]]);
+        let lengths: std::vec::Vec<f32> = asked[2..].iter().map(|q| from_best(q)).collect();
+        for w in lengths.windows(2) {
+            assert!(w[1] <= 0.5 * w[0], "{asked:?}");
+        }
+    }
 }
