@@ -227,10 +227,13 @@ fn roll_out_counts() {
             }
             counts.sort();
             let mean = counts.iter().sum::<usize>() as f32 / counts.len() as f32;
+            let at = |p: usize| counts[(counts.len() - 1) * p / 100];
             println!(
-                "curved {curved} n {n}: runs {} mean {mean:.1} median {} max {} not converged {fails}",
+                "curved {curved} n {n}: runs {} mean {mean:.1} median {} p10 {} p90 {} max {} not converged {fails}",
                 counts.len(),
-                counts[counts.len() / 2],
+                at(50),
+                at(10),
+                at(90),
                 counts.last().unwrap()
             );
         }
