@@ -95,6 +95,9 @@ pub const MIN_CHANGE: f32 = 1e-5;
 /// damped until it does), so that one secant pair cannot make the gain
 /// explode or flip the sign it has learned.
 pub const MIN_DETERMINANT: f32 = 0.1;
+/// The first roll-outs' step and error change are fitted by a multiple of
+/// the guessed gain unless the cosine of their angle is below this.
+pub const MIN_COSINE: f32 = 0.1;
 /// The trust region's first radius: steps of [`Rule::Broyden`] reach at
 /// most this fraction of the box's span in each component, until a
 /// roll-out improves on the best one (twice the radius, up to the whole
@@ -434,6 +437,21 @@ impl<const Q: usize> Secant<Q> {
         let scale = size(&de);
         if !scale.is_finite() || !(scale > MIN_CHANGE * current.size.max(from.size)) {
             return;
+        }
+        // The first pair rescales the guessed K = gain · I as a whole to its
+        // least-squares fit, K Δε ≈ −Δq by a multiple of I (Shanno and
+        // Phua's scaling): a sign or a size the guess got wrong is then
+        // wrong in no direction, not only along Δq. Skipped when Δq and Δε
+        // are nearly orthogonal (the fit says nothing).
+        if self.gain == Self::identity(self.cfg.gain) {
+            let e: [f32; Q] = de.map(|e| e / scale);
+            let qe: f32 = dq.iter().zip(&e).map(|(q, e)| q * e).sum();
+            let ee: f32 = e.iter().map(|e| e * e).sum();
+            let qq: f32 = dq.iter().map(|q| q * q).sum();
+            let fit = -qe / ee / scale;
+            if libm::fabsf(qe) >= MIN_COSINE * libm::sqrtf(qq * ee) && fit.is_finite() && fit != 0.0 {
+                self.gain = Self::identity(fit);
+            }
         }
         // In the box's units, u = D⁻¹ Δq with D = diag(span): v = K Δε /
         // scale, w = uᵀ D⁻¹ K, uu = uᵀ u, γ = uᵀ D⁻¹ K Δε / uu.

@@ -28,7 +28,9 @@ struct Cell {
     n: usize,
     a: [[f32; 4]; 4],
     b: [f32; 4],
+    /// `c`, times the sign of row `i` in `signs`.
     curve: f32,
+    signs: [f32; 4],
 }
 
 impl Cell {
@@ -37,7 +39,7 @@ impl Cell {
             .map(|i| {
                 (0..self.n).map(|j| self.a[i][j] * q[j]).sum::<f32>()
                     + self.b[i]
-                    + self.curve * q[i].sin()
+                    + self.signs[i] * self.curve * q[i].sin()
             })
             .collect()
     }
@@ -54,32 +56,46 @@ impl Cell {
 /// `A = s (R + D)`: a random sign and scale, a diagonal `D` of 1 to 2 and
 /// off-diagonal terms `R` of at most 0.3/n, so `A` stays well conditioned
 /// (diagonally dominant) but is far from `I` and may flip the error's sign.
+#[allow(dead_code)]
 fn cell(n: usize, curved: bool) -> impl Strategy<Value = Cell> {
+    plant(n, curved, false)
+}
+
+/// As [`cell`], or `coupled`: `A = S (R + D)` with a sign per row in `S`
+/// (one outcome falls with its query while another rises, as a pour's
+/// does), a diagonal `D` of 0.5 to 4 and off-diagonal terms of up to 0.9/n
+/// of their row's diagonal: still monotone and diagonally dominant, but no
+/// multiple of `I` is near `−A⁻¹`.
+fn plant(n: usize, curved: bool, coupled: bool) -> impl Strategy<Value = Cell> {
     (
         prop::array::uniform4(prop::array::uniform4(-1.0f32..1.0)),
-        prop::array::uniform4(1.0f32..2.0),
+        prop::array::uniform4(if coupled { 0.5f32..4.0 } else { 1.0f32..2.0 }),
         prop::array::uniform4(-0.5f32..0.5),
-        prop_oneof![Just(1.0f32), Just(-1.0)],
+        prop::array::uniform4(prop_oneof![Just(1.0f32), Just(-1.0)]),
         0.3f32..3.0,
         0.0f32..0.2,
     )
-        .prop_map(move |(r, d, b, sign, scale, c)| {
+        .prop_map(move |(r, d, b, signs, scale, c)| {
             let mut a = [[0.0; 4]; 4];
+            let sign = |i: usize| if coupled { signs[i] } else { signs[0] };
             for i in 0..n {
                 for j in 0..n {
                     let off = if i == j {
                         d[i]
+                    } else if coupled {
+                        0.9 / n as f32 * d[i] * r[i][j]
                     } else {
                         0.3 / n as f32 * r[i][j]
                     };
-                    a[i][j] = sign * scale * off;
+                    a[i][j] = sign(i) * scale * off;
                 }
             }
             Cell {
                 n,
                 a,
                 b,
-                curve: if curved { sign * scale * c } else { 0.0 },
+                curve: if curved { scale * c } else { 0.0 },
+                signs: core::array::from_fn(sign),
             }
         })
 }
@@ -104,9 +120,14 @@ fn run(cell: &Cell, target: &[f32], start: &[f32]) -> (Secant<4>, Vec<Vec<f32>>)
 /// A target whose root lies well inside the box: the desired outcome of a
 /// query in [−1, 1]ⁿ, started from a query in [−1, 1]ⁿ.
 fn case(curved: bool) -> impl Strategy<Value = (Cell, Vec<f32>, Vec<f32>)> {
+    any_case(curved, false)
+}
+
+/// [`case`] on any [`plant`].
+fn any_case(curved: bool, coupled: bool) -> impl Strategy<Value = (Cell, Vec<f32>, Vec<f32>)> {
     (1usize..=4).prop_flat_map(move |n| {
         (
-            cell(n, curved),
+            plant(n, curved, coupled),
             prop::collection::vec(-1.0f32..1.0, n),
             prop::collection::vec(-1.0f32..1.0, n),
         )
@@ -194,6 +215,7 @@ fn pouring_like_decreasing_outcome_learns_a_negative_gain() {
         a: [[-0.5, 0.0, 0.0, 0.0]; 4],
         b: [1.2, 0.0, 0.0, 0.0],
         curve: 0.0,
+        signs: [1.0; 4],
     };
     let (l, asked) = run(&cell, &[0.6], &[0.6]);
     assert_eq!(l.status(), Status::Converged, "{asked:?}");
@@ -209,12 +231,12 @@ fn pouring_like_decreasing_outcome_learns_a_negative_gain() {
 fn roll_out_counts() {
     use proptest::strategy::ValueTree;
     let mut runner = proptest::test_runner::TestRunner::deterministic();
-    for curved in [false, true] {
+    for (curved, coupled) in [(false, false), (true, false), (false, true), (true, true)] {
         for n in 1..=4usize {
             let mut counts = Vec::new();
             let mut fails = 0;
             for _ in 0..40_000 {
-                let (cell, root, start) = case(curved).new_tree(&mut runner).unwrap().current();
+                let (cell, root, start) = any_case(curved, coupled).new_tree(&mut runner).unwrap().current();
                 if cell.n != n {
                     continue;
                 }
@@ -223,13 +245,17 @@ fn roll_out_counts() {
                 if l.status() != Status::Converged {
                     fails += 1;
                 }
+                if asked.len() >= 20 && std::env::var("SHOW").is_ok() {
+                    let sizes: Vec<f32> = asked.iter().map(|q| cell.error(&target, q).iter().fold(0f32, |m, e| m.max(e.abs()))).collect();
+                    println!("n {n} {:?} {sizes:.4?}", l.status());
+                }
                 counts.push(asked.len());
             }
             counts.sort();
             let mean = counts.iter().sum::<usize>() as f32 / counts.len() as f32;
             let at = |p: usize| counts[(counts.len() - 1) * p / 100];
             println!(
-                "curved {curved} n {n}: runs {} mean {mean:.1} median {} p10 {} p90 {} max {} not converged {fails}",
+                "curved {curved} coupled {coupled} n {n}: runs {} mean {mean:.1} median {} p10 {} p90 {} max {} not converged {fails}",
                 counts.len(),
                 at(50),
                 at(10),
