@@ -97,7 +97,7 @@ pub const MIN_CHANGE: f32 = 1e-5;
 pub const MIN_DETERMINANT: f32 = 0.1;
 /// The first roll-outs' step and error change are fitted by a multiple of
 /// the guessed gain unless the cosine of their angle is below this.
-pub const MIN_COSINE: f32 = 0.1;
+pub const MIN_COSINE: f32 = 0.9;
 /// The trust region's first radius: steps of [`Rule::Broyden`] reach at
 /// most this fraction of the box's span in each component, until a
 /// roll-out improves on the best one (twice the radius, up to the whole
@@ -211,8 +211,9 @@ pub struct Secant<const Q: usize> {
     /// unbounded until a query is infeasible, then halved at each
     /// infeasible query and doubled at each feasible one.
     radius: f32,
-    /// Where the query in flight was stepped from.
-    origin: [f32; Q],
+    /// The roll-out the query in flight was stepped from (none for the
+    /// first).
+    from: Option<Point<Q>>,
     /// [`Rule::Broyden`]: the error size the model predicts for the query
     /// in flight, if it predicts one (not for a probe, or a step the box
     /// bent).
@@ -272,7 +273,7 @@ impl<const Q: usize> Secant<Q> {
                 Rule::Broyden => FIRST_RADIUS,
                 Rule::Fixed | Rule::Weighted => f32::INFINITY,
             },
-            origin: query,
+            from: None,
             expected: None,
             probed: false,
             rollouts: 0,
@@ -313,8 +314,8 @@ impl<const Q: usize> Secant<Q> {
             .zip(error)
             .for_each(|(e, v)| *e = *v);
         self.rollouts += 1;
-        let previous = self.best;
-        let best = match previous {
+        let best_before = self.best.map_or(f32::INFINITY, |b| b.size);
+        let best = match self.best {
             Some(b) if b.size <= current.size => b,
             _ => current,
         };
@@ -329,20 +330,28 @@ impl<const Q: usize> Secant<Q> {
         if self.status != Status::Running {
             return Ok(self.status);
         }
-        self.query = match (self.cfg.rule, previous) {
+        self.query = match (self.cfg.rule, self.from) {
             (Rule::Broyden, Some(from)) => {
-                // The query told was stepped from `from`, the best before it.
+                // A step of the guessed gain that failed shows the guess
+                // wrong, not the learned model: the region keeps its size.
+                let guessed = self.gain == Self::identity(self.cfg.gain);
                 self.learn(&from, &current);
+                let taken = self.length(&current.query);
                 if current.size < from.size {
-                    // Four times the radius when the error fell by at
-                    // least 3/4 of what the model predicted, else twice.
+                    // A step the region held back that improved: four
+                    // times the radius when the error fell by at least 3/4
+                    // of what the model predicted, else twice.
                     let well = self
                         .expected
                         .is_some_and(|e| from.size - current.size >= 0.75 * (from.size - e));
-                    self.radius = (if well { 4.0 } else { 2.0 } * self.radius).min(1.0);
+                    if taken >= 0.999 * self.radius {
+                        self.radius = (if well { 4.0 } else { 2.0 } * self.radius).min(1.0);
+                    }
+                } else if !guessed {
+                    self.radius = self.radius.min(0.5 * taken);
+                }
+                if current.size < best_before {
                     self.probed = false;
-                } else {
-                    self.radius = self.radius.min(0.5 * self.length(&current.query));
                 }
                 self.broyden_step(&best)
             }
@@ -377,19 +386,20 @@ impl<const Q: usize> Secant<Q> {
             return Ok(self.status);
         }
         self.radius = self.radius.min(0.5 * self.length(&self.query));
+        let from = self.from.unwrap_or(best);
         if self.cfg.rule == Rule::Broyden {
-            // The same model from the best query, at most half as far; a
-            // probe that could not be made shows nothing.
+            // The same model from the best roll-out, at most half as far;
+            // a probe that could not be made shows nothing.
             self.probed = false;
             self.query = self.broyden_step(&best);
             return Ok(self.status);
         }
         // Halfway back along the step, from where it was taken.
-        let mut next = self.origin;
+        let mut next = from.query;
         for (n, q) in next.iter_mut().zip(&self.query) {
             *n += 0.5 * (q - *n);
         }
-        if same(&next, &self.origin) || same(&next, &self.query) {
+        if same(&next, &from.query) || same(&next, &self.query) {
             self.status = Status::Stalled;
         }
         self.query = next;
@@ -411,10 +421,12 @@ impl<const Q: usize> Secant<Q> {
             .fold(0.0, |m, (i, x)| m.max(libm::fabsf(*x) / self.span(i)))
     }
 
-    /// The length of the step from the origin to `query`.
+    /// The length of the step to `query` from the roll-out it was stepped
+    /// from.
     fn length(&self, query: &[f32; Q]) -> f32 {
+        let Some(from) = self.from else { return 0.0 };
         let mut d = [0.0f32; Q];
-        for ((d, q), o) in d.iter_mut().zip(query).zip(&self.origin) {
+        for ((d, q), o) in d.iter_mut().zip(query).zip(&from.query) {
             *d = q - o;
         }
         self.scaled(&d)
@@ -529,32 +541,48 @@ impl<const Q: usize> Secant<Q> {
         next
     }
 
+    /// The Newton step `K ε` at `from`, and the components it pushes out of
+    /// the box where `from` already sits on a limit.
+    fn newton_within(&mut self, from: &Point<Q>) -> ([f32; Q], [bool; Q]) {
+        let newton = self.newton(from);
+        let mut blocked = [false; Q];
+        let limits = self.cfg.low.iter().zip(&self.cfg.high);
+        for ((b, (q, s)), (low, high)) in blocked.iter_mut().zip(from.query.iter().zip(&newton)).zip(limits) {
+            *b = (*q >= *high && *s > 0.0) || (*q <= *low && *s < 0.0);
+        }
+        (newton, blocked)
+    }
+
+    /// The model's step from `from` within the trust region and the box,
+    /// with the error it predicts; `None` if it leaves the query where it
+    /// is.
+    fn model_step(&mut self, from: &Point<Q>) -> Option<[f32; Q]> {
+        let (newton, blocked) = self.newton_within(from);
+        let next = self.clip(&from.query, &self.within(&newton, &blocked, &from.error), false);
+        if same(&next, &from.query) {
+            return None;
+        }
+        // Linear, a step of the fraction t of K ε leaves (1 − t) ε.
+        let mut taken = [0.0f32; Q];
+        for ((d, n), b) in taken.iter_mut().zip(&next).zip(&from.query) {
+            *d = n - b;
+        }
+        let t = self.scaled(&taken) / self.scaled(&newton);
+        let bent = blocked.iter().any(|b| *b)
+            || taken.iter().zip(&newton).any(|(d, s)| libm::fabsf(d - t * s) > 1e-3 * libm::fabsf(*s));
+        self.expected = (!bent && t <= 1.0).then_some((1.0 - t) * from.size);
+        Some(next)
+    }
+
     /// [`Rule::Broyden`]'s next query, from the best roll-out (module
     /// docs), or the best query with the status set to `Stalled`.
     fn broyden_step(&mut self, best: &Point<Q>) -> [f32; Q] {
-        self.origin = best.query;
+        self.from = Some(*best);
         if !(self.radius >= MIN_RADIUS) {
             self.status = Status::Stalled;
             return best.query;
         }
-        let newton = self.newton(best);
-        // The components the step pushes out of the box where the best
-        // query already sits on a limit.
-        let mut blocked = [false; Q];
-        let limits = self.cfg.low.iter().zip(&self.cfg.high);
-        for ((b, (q, s)), (low, high)) in blocked.iter_mut().zip(best.query.iter().zip(&newton)).zip(limits) {
-            *b = (*q >= *high && *s > 0.0) || (*q <= *low && *s < 0.0);
-        }
-        let next = self.clip(&best.query, &self.within(&newton, &blocked, &best.error), false);
-        if !same(&next, &best.query) {
-            // Linear, a step of the fraction t of K ε leaves (1 − t) ε.
-            let mut taken = [0.0f32; Q];
-            for ((d, n), b) in taken.iter_mut().zip(&next).zip(&best.query) {
-                *d = n - b;
-            }
-            let t = self.scaled(&taken) / self.scaled(&newton);
-            let bent = blocked.iter().any(|b| *b) || taken.iter().zip(&newton).any(|(d, s)| libm::fabsf(d - t * s) > 1e-3 * libm::fabsf(*s));
-            self.expected = (!bent && t <= 1.0).then_some((1.0 - t) * best.size);
+        if let Some(next) = self.model_step(best) {
             return next;
         }
         self.expected = None;
@@ -566,6 +594,7 @@ impl<const Q: usize> Secant<Q> {
         // away, back into the box along the blocked components, on along
         // the others. Its error tests the gain that pushed outward.
         self.probed = true;
+        let (newton, blocked) = self.newton_within(best);
         let mut probe = newton;
         for (p, b) in probe.iter_mut().zip(blocked) {
             if b {
@@ -640,7 +669,7 @@ impl<const Q: usize> Secant<Q> {
             _ => 1.0,
         };
         let step = self.newton(from).map(|s| weight * s);
-        self.origin = from.query;
+        self.from = Some(*from);
         self.clip(&from.query, &step, false)
     }
 
@@ -866,6 +895,9 @@ mod tests {
         let lengths: std::vec::Vec<f32> = asked[2..].iter().map(|q| from_best(q)).collect();
         for w in lengths.windows(2) {
             assert!(w[1] <= 0.5 * w[0] * (1.0 + 1e-6), "{asked:?}");
+        }
+        if std::env::var("SHOW").is_ok() {
+            std::println!("{asked:?} {:?}", l.status());
         }
     }
 }
