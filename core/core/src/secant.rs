@@ -98,6 +98,12 @@ pub const MIN_DETERMINANT: f32 = 0.1;
 /// The first roll-outs' step and error change are fitted by a multiple of
 /// the guessed gain unless the cosine of their angle is below this.
 pub const MIN_COSINE: f32 = 0.9;
+/// Roll-outs kept for the least-squares fit of the gain after a failed
+/// step.
+pub const MEMORY: usize = 8;
+/// The fit's pull toward the gain it replaces, against pairs of unit size:
+/// it keeps `K` in directions the roll-outs have not explored.
+pub const PRIOR: f32 = 1e-2;
 /// The trust region's first radius: steps of [`Rule::Broyden`] reach at
 /// most this fraction of the box's span in each component, until a
 /// roll-out improves on the best one (twice the radius, up to the whole
@@ -214,6 +220,8 @@ pub struct Secant<const Q: usize> {
     /// The roll-out the query in flight was stepped from (none for the
     /// first).
     from: Option<Point<Q>>,
+    /// [`Rule::Broyden`]: the last [`MEMORY`] roll-outs, newest first.
+    recent: [Option<Point<Q>>; MEMORY],
     /// [`Rule::Broyden`]: the error size the model predicts for the query
     /// in flight, if it predicts one (not for a probe, or a step the box
     /// bent).
@@ -274,6 +282,7 @@ impl<const Q: usize> Secant<Q> {
                 Rule::Fixed | Rule::Weighted => f32::INFINITY,
             },
             from: None,
+            recent: [None; MEMORY],
             expected: None,
             probed: false,
             rollouts: 0,
@@ -336,6 +345,10 @@ impl<const Q: usize> Secant<Q> {
                 // wrong, not the learned model: the region keeps its size.
                 let guessed = self.gain == Self::identity(self.cfg.gain);
                 self.learn(&from, &current);
+                self.recent.rotate_right(1);
+                if let Some(newest) = self.recent.first_mut() {
+                    *newest = Some(current);
+                }
                 let taken = self.length(&current.query);
                 if current.size < from.size {
                     // A step the region held back that improved: four
@@ -349,6 +362,7 @@ impl<const Q: usize> Secant<Q> {
                     }
                 } else if !guessed {
                     self.radius = self.radius.min(0.5 * taken);
+                    self.refit(&best);
                 }
                 if current.size < best_before {
                     self.probed = false;
@@ -509,6 +523,65 @@ impl<const Q: usize> Secant<Q> {
         }
         if !self.gain.iter().flatten().all(|k| k.is_finite()) {
             self.gain = Self::identity(self.cfg.gain);
+        }
+    }
+
+    /// A failed step shows the model inconsistent: `K` refitted to the
+    /// recent roll-outs around the best one, `K f_j ≈ −d_j` for `d_j` and
+    /// `f_j` the query's and the error's differences from the best, by
+    /// least squares with each pair scaled to `max|f_j| = 1` and a pull
+    /// [`PRIOR`] toward the current `K`. Kept only if finite; needs two
+    /// pairs (one is Broyden's update).
+    fn refit(&mut self, best: &Point<Q>) {
+        let mut g = [[0.0f32; Q]; Q];
+        let mut r = [[0.0f32; Q]; Q];
+        let mut pairs = 0;
+        for p in self.recent.iter().flatten() {
+            let mut d = [0.0f32; Q];
+            let mut f = [0.0f32; Q];
+            for ((d, f), ((q, q0), (e, e0))) in d
+                .iter_mut()
+                .zip(&mut f)
+                .zip(p.query.iter().zip(&best.query).zip(p.error.iter().zip(&best.error)))
+            {
+                *d = q - q0;
+                *f = e - e0;
+            }
+            let scale = size(&f);
+            if !scale.is_finite() || !(scale > MIN_CHANGE * p.size.max(best.size)) {
+                continue;
+            }
+            pairs += 1;
+            for ((gi, ri), (fi, di)) in g.iter_mut().zip(&mut r).zip(f.iter().zip(&d)) {
+                for ((gij, rij), fj) in gi.iter_mut().zip(ri.iter_mut()).zip(&f) {
+                    *gij += fi / scale * fj / scale;
+                    *rij -= di / scale * fj / scale;
+                }
+            }
+        }
+        if pairs < 2 {
+            return;
+        }
+        // K (G + λI) = R + λ K, row by row: (G + λI) k_i = r_i + λ k_i.
+        for (i, gi) in g.iter_mut().enumerate() {
+            if let Some(gii) = gi.get_mut(i) {
+                *gii += PRIOR;
+            }
+        }
+        let mut fitted = self.gain;
+        for (row, ri) in fitted.iter_mut().zip(&r) {
+            for (k, rij) in row.iter_mut().zip(ri) {
+                *k = rij + PRIOR * *k;
+            }
+        }
+        if linalg::cholesky(&mut g, Q, "secant fit").is_err() {
+            return;
+        }
+        for row in &mut fitted {
+            linalg::cholesky_solve(&g, Q, row);
+        }
+        if fitted.iter().flatten().all(|k| k.is_finite()) {
+            self.gain = fitted;
         }
     }
 
