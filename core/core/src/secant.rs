@@ -109,10 +109,6 @@ pub const PRIOR: f32 = 1e-2;
 /// roll-out improves on the best one (twice the radius, up to the whole
 /// span) or does not (half the step it took).
 pub const FIRST_RADIUS: f32 = 0.5;
-/// A trust region shrunk below this fraction of the span without progress
-/// ends the search as [`Status::Stalled`].
-pub const MIN_RADIUS: f32 = 1e-6;
-
 /// Settings of the secant learner for a query of dimension `n = 1..=Q`:
 /// `low`, `high` and `desired` all hold `n` values (postcard writes each
 /// with its length, so the dimension travels with them).
@@ -190,7 +186,18 @@ struct Point<const Q: usize> {
     size: f32,
 }
 
-/// The best roll-out so far: smallest `max_i |ε_i|`.
+impl<const Q: usize> Point<Q> {
+    /// A smaller `max_i |ε_i|`, or the same and a smaller `Σ ε_i²` (when
+    /// a component the box blocks holds the largest error, the others
+    /// still count).
+    fn better(&self, other: &Self) -> bool {
+        let energy = |p: &Self| p.error.iter().map(|e| e * e).sum::<f32>();
+        self.size < other.size || (self.size == other.size && energy(self) < energy(other))
+    }
+}
+
+/// The best roll-out so far: smallest `max_i |ε_i|`, of those the
+/// smallest `Σ ε_i²`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Best<'a> {
     /// Its query.
@@ -226,6 +233,9 @@ pub struct Secant<const Q: usize> {
     /// in flight, if it predicts one (not for a probe, or a step the box
     /// bent).
     expected: Option<f32>,
+    /// [`Rule::Broyden`]: roll-outs in a row that made no progress (did
+    /// not reduce the best error by the precision).
+    failures: u8,
     /// [`Rule::Broyden`]: the best query's step was blocked by the box and
     /// a probe away from it was asked; a second block from the same best
     /// query stalls.
@@ -284,6 +294,7 @@ impl<const Q: usize> Secant<Q> {
             from: None,
             recent: [None; MEMORY],
             expected: None,
+            failures: 0,
             probed: false,
             rollouts: 0,
             status: Status::Running,
@@ -323,9 +334,11 @@ impl<const Q: usize> Secant<Q> {
             .zip(error)
             .for_each(|(e, v)| *e = *v);
         self.rollouts += 1;
-        let best_before = self.best.map_or(f32::INFINITY, |b| b.size);
+        let improved = self.best.is_none_or(|b| current.better(&b));
+        // Progress toward the precision: an error smaller by at least it.
+        let progress = self.best.is_none_or(|b| b.size - current.size >= self.cfg.precision);
         let best = match self.best {
-            Some(b) if b.size <= current.size => b,
+            Some(b) if !improved => b,
             _ => current,
         };
         self.best = Some(best);
@@ -350,7 +363,7 @@ impl<const Q: usize> Secant<Q> {
                     *newest = Some(current);
                 }
                 let taken = self.length(&current.query);
-                if current.size < from.size {
+                if current.better(&from) {
                     // A step the region held back that improved: four
                     // times the radius when the error fell by at least 3/4
                     // of what the model predicted, else twice.
@@ -364,7 +377,8 @@ impl<const Q: usize> Secant<Q> {
                     self.radius = self.radius.min(0.5 * taken);
                     self.refit(&best);
                 }
-                if current.size < best_before {
+                self.failures = if progress { 0 } else { self.failures.saturating_add(1) };
+                if progress {
                     self.probed = false;
                 }
                 self.broyden_step(&best)
@@ -604,6 +618,8 @@ impl<const Q: usize> Secant<Q> {
     fn clip(&self, from: &[f32; Q], step: &[f32; Q], exact: bool) -> [f32; Q] {
         let ratio = self.radius / self.scaled(step);
         let t = if exact { ratio } else { ratio.min(1.0) };
+        // A zero step (0/0, ∞·0) stays where it is.
+        let t = if t.is_finite() { t } else { 0.0 };
         let mut next = *from;
         let limits = self.cfg.low.iter().zip(&self.cfg.high);
         for ((q, s), (low, high)) in next.iter_mut().zip(step).zip(limits) {
@@ -614,24 +630,47 @@ impl<const Q: usize> Secant<Q> {
         next
     }
 
-    /// The Newton step `K ε` at `from`, and the components it pushes out of
-    /// the box where `from` already sits on a limit.
-    fn newton_within(&mut self, from: &Point<Q>) -> ([f32; Q], [bool; Q]) {
+    /// The Newton step `K ε` at `from`; the components the box blocks,
+    /// with the sign of the step that pushed each out of it where `from`
+    /// sits on a limit (grown until the step with them held pushes no other
+    /// out); and that step ([`Self::within`]).
+    fn held(&mut self, from: &Point<Q>) -> ([f32; Q], [f32; Q], [f32; Q]) {
         let newton = self.newton(from);
-        let mut blocked = [false; Q];
-        let limits = self.cfg.low.iter().zip(&self.cfg.high);
-        for ((b, (q, s)), (low, high)) in blocked.iter_mut().zip(from.query.iter().zip(&newton)).zip(limits) {
-            *b = (*q >= *high && *s > 0.0) || (*q <= *low && *s < 0.0);
+        let mut outward = [0.0f32; Q];
+        let mut step = newton;
+        for _ in 0..Q {
+            let mut grew = false;
+            let limits = self.cfg.low.iter().zip(&self.cfg.high);
+            for ((o, (q, s)), (low, high)) in outward.iter_mut().zip(from.query.iter().zip(&step)).zip(limits) {
+                if *o == 0.0 && ((*q >= *high && *s > 0.0) || (*q <= *low && *s < 0.0)) {
+                    *o = libm::copysignf(1.0, *s);
+                    grew = true;
+                }
+            }
+            if !grew {
+                break;
+            }
+            step = self.within(&newton, &outward.map(|o| o != 0.0), &from.error);
         }
-        (newton, blocked)
+        (newton, outward, step)
     }
 
     /// The model's step from `from` within the trust region and the box,
     /// with the error it predicts; `None` if it leaves the query where it
     /// is.
     fn model_step(&mut self, from: &Point<Q>) -> Option<[f32; Q]> {
-        let (newton, blocked) = self.newton_within(from);
-        let next = self.clip(&from.query, &self.within(&newton, &blocked, &from.error), false);
+        let (newton, outward, step) = self.held(from);
+        let blocked = outward.map(|o| o != 0.0);
+        // Blocked, and nothing left to do inside the box: only blocked
+        // components' errors above the precision, or the last two
+        // roll-outs made no progress.
+        let precision = self.cfg.precision;
+        let errors = blocked.iter().zip(&from.error);
+        let solved = errors.filter(|(b, _)| !**b).all(|(_, e)| libm::fabsf(*e) < precision);
+        if blocked.iter().any(|b| *b) && (solved || self.failures >= 2) {
+            return None;
+        }
+        let next = self.clip(&from.query, &step, false);
         if same(&next, &from.query) {
             return None;
         }
@@ -651,10 +690,6 @@ impl<const Q: usize> Secant<Q> {
     /// docs), or the best query with the status set to `Stalled`.
     fn broyden_step(&mut self, best: &Point<Q>) -> [f32; Q] {
         self.from = Some(*best);
-        if !(self.radius >= MIN_RADIUS) {
-            self.status = Status::Stalled;
-            return best.query;
-        }
         if let Some(next) = self.model_step(best) {
             return next;
         }
@@ -663,18 +698,20 @@ impl<const Q: usize> Secant<Q> {
             self.status = Status::Stalled;
             return best.query;
         }
-        // Blocked, or too short to move in f32: a probe the trust radius
-        // away, back into the box along the blocked components, on along
-        // the others. Its error tests the gain that pushed outward.
+        // Blocked: a probe half the trust radius back into the box along
+        // the blocked components, whose error tests the gain that pushed
+        // outward. Too short to move in f32: a probe the radius along the
+        // step.
         self.probed = true;
-        let (newton, blocked) = self.newton_within(best);
+        let (newton, outward, _) = self.held(best);
+        let any_blocked = outward.iter().any(|o| *o != 0.0);
         let mut probe = newton;
-        for (p, b) in probe.iter_mut().zip(blocked) {
-            if b {
-                *p = -*p;
+        for (i, (p, o)) in probe.iter_mut().zip(outward).enumerate() {
+            if any_blocked {
+                *p = -0.5 * self.radius * self.span(i) * o;
             }
         }
-        let next = self.clip(&best.query, &probe, true);
+        let next = self.clip(&best.query, &probe, !any_blocked);
         if same(&next, &best.query) || !next.iter().all(|q| q.is_finite()) {
             self.status = Status::Stalled;
             return best.query;
