@@ -11,45 +11,83 @@
 //! `K = I` and corrects `K` after every roll-out:
 //!
 //! - With `J = ∂ε/∂q`, Newton's step is `q ← q − J⁻¹ ε`, so the ideal gain
-//!   is `K = −J⁻¹`. Two consecutive roll-outs give `Δq` and `Δε ≈ J Δq`,
-//!   that is `K Δε ≈ −Δq` (the secant condition).
+//!   is `K = −J⁻¹`. A step `Δq` and the change `Δε ≈ J Δq` it made give
+//!   `K Δε ≈ −Δq` (the secant condition).
 //! - Broyden's ("good") update of the Jacobian, `J ← J + (Δε − J Δq) Δqᵀ /
 //!   (Δqᵀ Δq)`, the smallest change that satisfies the secant condition,
 //!   kept as its inverse by Sherman–Morrison so that no system is solved:
-//!   `K ← K − (Δq + K Δε) (Δqᵀ K) / (Δqᵀ K Δε)`. On one dimension this is
-//!   the secant method, `K = −Δq/Δε`; on a linear map of dimension `n`,
-//!   undamped and unclamped, it reaches the root in at most `2n` steps
-//!   (Gay 1979). (The "bad" update, `… Δεᵀ / (Δεᵀ Δε)`, needed more
-//!   roll-outs on the test maps and failed on some within 30.)
+//!   `K ← K − (Δq + K Δε) (Δqᵀ K) / (Δqᵀ K Δε)`, with `Δq` measured in
+//!   units of the box's span. On one dimension this is the secant method,
+//!   `K = −Δq/Δε`; on a linear map of dimension `n`, undamped and
+//!   unclamped, it reaches the root in at most `2n` steps (Gay 1979).
 //!
-//! Safeguards, for errors measured on a robot:
+//! An external task (issue 28) showed what one bad pair does unguarded: a
+//! gain about 25 in size, queries bouncing between the box's corners, and a
+//! stop after five roll-outs at a best query that was the first. So every
+//! step is guarded, for errors measured on a robot:
 //!
-//! - An update is skipped when `Δε` is not finite or is below
-//!   [`MIN_CHANGE`] of the error's size (rounding or noise, not slope), or
-//!   when `Δqᵀ K Δε` is near 0 ([`MIN_ALIGNMENT`]; also for `Δq = 0`).
-//! - An update that makes `K` non-finite resets `K = I`; so does a step
-//!   `K ε` that is not finite.
-//! - When a roll-out's error is more than [`GROWTH`] times the best so far
-//!   (`max_i |ε_i|`), the next step starts from the best query instead, with
-//!   a step halved at every such fallback in a row (a backtracking line
-//!   search along the learned direction).
+//! - **From the best roll-out** (smallest `max_i |ε_i|`, of those the
+//!   smallest `Σ ε_i²`), never from a worse one, and **within a trust
+//!   region**: no step is longer than `radius` times the box's span in any
+//!   component. It starts at [`FIRST_RADIUS`]. A step that improved on the
+//!   best grows it, when the region had held the step back: four times
+//!   when the error fell by at least 3/4 of what the linear model
+//!   predicted, else twice, up to the whole span. A step that did not
+//!   improve shrinks it to half that step; not so the first step, made with
+//!   the guessed `K = gain · I`, whose failure shows the guess wrong, not
+//!   the model.
+//! - **The first pair rescales the guess** as a whole to its least-squares
+//!   fit `K = s · I` (Shanno and Phua's scaling), when `Δε` is nearly
+//!   parallel to `Δq` ([`MIN_COSINE`]): a sign or size the guess got wrong
+//!   is then wrong in no direction, not only along `Δq`.
+//! - **Powell's damping**: the update scales `det J` by `1 − θ + θ γ`, with
+//!   `θ = 1` Broyden's; when `|γ|` is below [`MIN_DETERMINANT`], `θ` is cut
+//!   so that the ratio is `±MIN_DETERMINANT`, and one pair can no longer
+//!   make `K` explode. The update is skipped when `Δε` is not finite or is
+//!   below [`MIN_CHANGE`] of the error's size (rounding or noise, not
+//!   slope), or `Δq = 0`; a `K` or a step `K ε` that is not finite resets
+//!   `K = gain · I`.
+//! - **A failed step refits `K`** (the model is inconsistent): by least
+//!   squares, `K f_j ≈ −d_j` over the last [`MEMORY`] roll-outs' query and
+//!   error differences from the best one, each pair scaled to unit size,
+//!   pulled toward the current `K` by [`PRIOR`] so that directions no
+//!   roll-out explored keep it.
+//! - **The box**: every query is clamped into `[low, high]`. Where the best
+//!   query sits on a limit and the step pushes out of it, that component is
+//!   held, and the others take the step that solves their own equations
+//!   (`s_F = (K_FF − K_FB K_BB⁻¹ K_BF) ε_F`, the free block of `J`
+//!   inverted); repeated until the step pushes no other component out.
 //! - A query that cannot be rolled out or measured is told as infeasible
-//!   ([`Secant::tell_infeasible`]): the next query is halfway back along
-//!   the step that reached it, and no step is longer (`max_i |Δq_i|`) than
-//!   that half; the allowed length doubles again at every feasible
-//!   roll-out (a trust region). The first roll-out's, at the desired
-//!   query, ends the search as [`Status::Infeasible`].
-//! - Every query is clamped into `[low, high]`; when a step can no longer
-//!   move the query in `f32` (too small, or pushing only against the box's
-//!   limits: the target lies outside), the search stops as
-//!   [`Status::Stalled`].
+//!   ([`Secant::tell_infeasible`]): the trust region shrinks to half the
+//!   step that reached it and the next step leaves from the best query
+//!   again. The first roll-out's, at the desired query, ends the search as
+//!   [`Status::Infeasible`].
+//!
+//! **[`Status::Stalled`] means the target was shown unreachable**: the best
+//! query sits on a limit, the model's step pushes out of it, and there is
+//! nothing left to do inside the box (every component not held has its
+//! error below the precision, or the last two roll-outs made no progress,
+//! that is did not reduce the best error by the precision); then a probe is
+//! rolled out half the trust radius back into the box along the held
+//! components, and when it makes no progress either and the step from the
+//! best query is still held, the search stops. It also stops so when the
+//! trust region has shrunk until no step moves the query in `f32`, and a
+//! probe along the step cannot either. A best query off the limits, or a
+//! blocked step that the probe contradicts, keeps the search going; the
+//! best roll-out is always the one recommended, whatever the status.
 //!
 //! It stops once `max_i |ε_i| < precision` or the budget is used up; the
-//! first query is the desired one. On random well-conditioned maps of 1 /
-//! 2 / 3 / 4 dimensions (`core/tests/secant.rs`, 10,000 each, precision
-//! 1e-4 in a box of ±4) it converged every time, in 3.6 / 6.3 / 9.0 / 11.3
-//! roll-outs on average (at most 4 / 14 / 15 / 21) on linear maps and 4.8 /
-//! 7.5 / 9.9 / 12.0 (at most 6 / 13 / 17 / 21) on mildly nonlinear ones. The state machine is ask/tell, as the
+//! first query is the desired one. Roll-outs to precision 1e-4 in a box of
+//! ±4 (`core/tests/secant.rs`, `roll_out_counts`, about 10,000 maps each of
+//! 1 / 2 / 3 / 4 dimensions, mean and worst): on diagonally dominant maps
+//! `A` of one sign, linear 3.0 / 4.9 / 5.7 / 6.3 (at most 3 / 5 / 7 / 9),
+//! mildly nonlinear 4.3 / 5.5 / 6.1 / 6.5 (at most 6 / 8 / 9 / 10); on
+//! coupled maps with a sign per outcome, linear 3.0 / 5.4 / 7.4 / 9.1 (at
+//! most 3 / 9 / 15 / 20), nonlinear 4.3 / 6.4 / 8.1 / 9.7 (at most 7 / 10 /
+//! 17 / 22); every one converged within 30. With one component of the root
+//! beyond the box, all 20,000 runs of each kind ended `Stalled` on that
+//! bound, in a median of 6 (weakly coupled) or 7 (coupled) roll-outs, at
+//! most 10 and 27. The state machine is ask/tell, as the
 //! scalar learners' [`crate::golden::ErrorLearner`], on slices:
 //!
 //! ```
