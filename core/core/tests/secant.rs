@@ -277,7 +277,10 @@ fn roll_out_counts() {
             let mut counts = Vec::new();
             let mut fails = 0;
             for _ in 0..40_000 {
-                let (cell, root, start) = any_case(curved, coupled).new_tree(&mut runner).unwrap().current();
+                let (cell, root, start) = any_case(curved, coupled)
+                    .new_tree(&mut runner)
+                    .unwrap()
+                    .current();
                 if cell.n != n {
                     continue;
                 }
@@ -306,7 +309,10 @@ fn roll_out_counts() {
         let mut ends = std::collections::BTreeMap::new();
         let mut stalled = Vec::new();
         for _ in 0..20_000 {
-            let (cell, mut root, start) = any_case(false, coupled).new_tree(&mut runner).unwrap().current();
+            let (cell, mut root, start) = any_case(false, coupled)
+                .new_tree(&mut runner)
+                .unwrap()
+                .current();
             root[0] = 4.5 + 1.5 * (start[0] + 1.0) / 2.0;
             let target = cell.measured(&root);
             let (l, asked) = run(&cell, &target, &start);
@@ -326,4 +332,3 @@ fn roll_out_counts() {
         );
     }
 }
-
