@@ -275,8 +275,8 @@ pub struct Secant<const Q: usize> {
     /// not reduce the best error by the precision).
     failures: u8,
     /// [`Rule::Broyden`]: the best query's step was blocked by the box and
-    /// a probe away from it was asked; a second block from the same best
-    /// query stalls.
+    /// a probe back into it was asked; another block before any progress
+    /// stalls.
     probed: bool,
     rollouts: u32,
     status: Status,
@@ -460,7 +460,6 @@ impl<const Q: usize> Secant<Q> {
             return Ok(self.status);
         }
         self.radius = self.radius.min(0.5 * self.length(&self.query));
-        let from = self.from.unwrap_or(best);
         if self.cfg.rule == Rule::Broyden {
             // The same model from the best roll-out, at most half as far;
             // a probe that could not be made shows nothing.
@@ -469,6 +468,7 @@ impl<const Q: usize> Secant<Q> {
             return Ok(self.status);
         }
         // Halfway back along the step, from where it was taken.
+        let from = self.from.unwrap_or(best);
         let mut next = from.query;
         for (n, q) in next.iter_mut().zip(&self.query) {
             *n += 0.5 * (q - *n);
@@ -561,8 +561,8 @@ impl<const Q: usize> Secant<Q> {
         }
         let gamma = scale * w.iter().zip(&de).map(|(w, e)| w * e / scale).sum::<f32>() / uu;
         // The update scales det J by 1 − θ + θ(−γ) (J = −K⁻¹): θ = 1 is
-        // Broyden's; below MIN_DETERMINANT in size, θ is the step toward it
-        // that keeps the determinant's ratio at ±MIN_DETERMINANT.
+        // Broyden's; where that ratio is below MIN_DETERMINANT in size, θ
+        // is cut so that it is ±MIN_DETERMINANT (Powell).
         let ratio = -gamma;
         let (theta, det) = if libm::fabsf(ratio) >= MIN_DETERMINANT {
             (1.0, ratio)
@@ -734,6 +734,7 @@ impl<const Q: usize> Secant<Q> {
             *d = n - b;
         }
         let t = self.scaled(&taken) / self.scaled(&newton);
+        // Held components, or the box's clamp (beyond rounding), bent it.
         let bent = blocked.iter().any(|b| *b)
             || taken
                 .iter()
@@ -763,8 +764,8 @@ impl<const Q: usize> Secant<Q> {
         let (newton, outward, _) = self.held(best);
         let any_blocked = outward.iter().any(|o| *o != 0.0);
         let mut probe = newton;
-        for (i, (p, o)) in probe.iter_mut().zip(outward).enumerate() {
-            if any_blocked {
+        if any_blocked {
+            for (i, (p, o)) in probe.iter_mut().zip(outward).enumerate() {
                 *p = -0.5 * self.radius * self.span(i) * o;
             }
         }
