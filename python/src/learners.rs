@@ -295,10 +295,13 @@ impl Secant {
     }
 
     /// The asked query could not be rolled out or measured (it was
-    /// rejected, or the trial failed): the next query lies halfway back
-    /// toward the one it stepped from, and the step's reach is halved until
-    /// a query is feasible again. It counts against the budget; at the
-    /// first query, `desired`, the search ends as ``"infeasible"``.
+    /// rejected, or the trial failed): with ``"broyden"`` the trust region
+    /// shrinks to half the step that reached it and the next step leaves
+    /// from the best query; with the fixed gains the next query lies
+    /// halfway back toward the one it stepped from, and the step's reach is
+    /// halved until a query is feasible again. It counts against the
+    /// budget; at the first query, `desired`, the search ends as
+    /// ``"infeasible"``.
     fn tell_infeasible(&mut self) -> PyResult<&'static str> {
         let s = self.learner.tell_infeasible().map_err(core)?;
         self.told.push(None);

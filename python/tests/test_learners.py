@@ -73,6 +73,30 @@ def test_secant_steps_back_from_an_infeasible_query():
     assert primo.Secant([-2], [2], [0.2]).tell_infeasible() == "infeasible"
 
 
+def test_secant_keeps_running_where_one_wild_update_stalled_it():
+    # Issue 28: these errors, told to the first five asks, bounced the
+    # queries between the box's corners and ended "stalled".
+    learner = primo.Secant([-0.5, -0.5], [0.5, 0.5], desired=[0.2279, -0.3578])
+    told = [
+        [0.3931, -0.0501],
+        [0.3639, -0.264],
+        [0.3199, -0.613],
+        [0.3725, -0.5377],
+        [0.3199, -0.613],
+    ]
+    asked = []
+    for error in told:
+        asked.append(tuple(learner.ask()))
+        assert learner.tell(error) == "running"
+    asked.append(tuple(learner.ask()))
+    assert len(set(asked)) == len(asked)
+    best, _ = learner.best
+    # After its second roll-out, each step from the best is at most half
+    # the one before.
+    lengths = [np.abs(np.subtract(q, best)).max() for q in asked[2:]]
+    assert all(b <= 0.5 * a * (1 + 1e-6) for a, b in zip(lengths, lengths[1:]))
+
+
 def test_scalar_learner_errors():
     with pytest.raises(ValueError):
         primo.GoldenSection(1.0, 0.0, 0.5)

@@ -38,7 +38,7 @@ fn error_learning_reaches_2_ml_for_every_bottle_volume() {
     println!("median roll-outs: golden {golden}, illinois {illinois}, secant {secant}");
     // Measured: golden 7.5, Illinois 5, secant 3.
     assert!(secant < illinois && illinois < golden);
-    // The secant learner steps from where it stands: it never pours much
+    // The secant learner steps from its best roll-out: it never pours much
     // beyond the target, where golden section's second roll-out jumps to
     // the far end of the bracket.
     let worst = |m| {

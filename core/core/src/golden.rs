@@ -104,9 +104,12 @@ pub enum Status {
     /// The bracket has shrunk to adjacent `f32` values without reaching the
     /// precision: the error is discontinuous or noisy at the root.
     BracketCollapsed,
-    /// [`crate::secant`]: the next step would leave the query where it is
-    /// in `f32` (too small, or pushing only against the search limits: the
-    /// target lies outside them) without reaching the precision.
+    /// [`crate::secant`], without reaching the precision: the target was
+    /// shown to lie beyond the search limits (the best query sits on a
+    /// limit, every step left pushes out of it, and a probe back inside
+    /// made no progress), or no step within the trust region moves the
+    /// query in `f32` (module docs). The paper's fixed-gain rules: the next
+    /// step would leave the query where it is.
     Stalled,
     /// The first roll-out, at the desired query, was infeasible: there is
     /// no feasible roll-out to narrow the search toward.

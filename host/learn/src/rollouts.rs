@@ -323,9 +323,9 @@ pub enum Stop {
         /// The nearest query that could not be rolled out.
         beyond: Option<Vec<f32>>,
     },
-    /// The secant learner's steps no longer moved the query from `query`:
-    /// the target lies outside the search bounds (or beyond `beyond`,
-    /// the nearest query that could not be rolled out).
+    /// The secant learner showed from its best query, `query`, that the
+    /// target lies outside the search bounds (or beyond `beyond`, the
+    /// nearest query that could not be rolled out).
     Stalled {
         /// Where.
         query: Vec<f32>,
@@ -412,7 +412,7 @@ impl std::fmt::Display for Stop {
             Stop::Stalled { query, beyond: b } => {
                 write!(
                     f,
-                    "the query stopped moving at q = {} before the precision: the target \
+                    "the search stalled at q = {} before the precision: the target \
                      lies outside the search bounds",
                     query_text(query)
                 )?;
@@ -463,8 +463,17 @@ fn stop<T: Scored>(run: &[Entry<T>], power: bool, converged: bool) -> Stop {
     if power {
         return Stop::Learned;
     }
+    // Where it ended: the secant learner stalls at its best roll-out (the
+    // smallest error; its last may be a probe), the others at their last.
+    let at = match end.status.search {
+        SearchStatus::Stalled => run
+            .iter()
+            .filter_map(|e| Some((e.record.trial.worst_error()?, &e.record.query)))
+            .min_by(|a, b| a.0.total_cmp(&b.0))
+            .map_or(&end.record.query, |(_, q)| q),
+        _ => &end.record.query,
+    };
     // The infeasible query nearest the end (max-norm), if any.
-    let at = &end.record.query;
     let distance = |q: &[f32]| {
         q.iter()
             .zip(at)
