@@ -25,7 +25,9 @@ def pip_wheel(tmp_path: pathlib.Path, path: str) -> subprocess.CompletedProcess:
     """`pip wheel ./python` with PATH = `path`, offline: with no index and no
     build isolation nothing can be installed, so a refusal that comes too late
     shows as another error, not as a download."""
-    pytest.importorskip("maturin", reason="the build backend runs in this environment")
+    pytest.importorskip(
+        "maturin", reason="maturin is not installed here (the backend runs without build isolation)"
+    )
     env = {k: v for k, v in os.environ.items() if not k.startswith(("PIP_", "MATURIN_", "CARGO"))}
     env.update(PATH=path, PIP_NO_INDEX="1", PIP_DISABLE_PIP_VERSION_CHECK="1")
     return subprocess.run(
