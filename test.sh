@@ -51,9 +51,10 @@ cargo test --workspace --locked 2>&1 | tee -a "$log"
 # target/python for the next run), against the primo binary built above
 # (the experiment sweeps' among them, on a local Ray: requirements-test.txt
 # installs it), with the docstring examples of the installed package. The
-# release checks cost about 20 s on top of the build (a cold build of the
-# wheel takes about 2 minutes on 2 cores, as `pip install ./python` did) and
-# 370 MB of the environment's install (zig 337 MB, twine, auditwheel).
+# release's steps take 7 s with the build cached (the sdist, twine,
+# auditwheel and pip about 5 s of it; a cold build of the wheel takes about
+# 2 minutes on 2 cores, as `pip install ./python` did) and add 370 MB to the
+# environment (ziglang 337 MB, twine, auditwheel).
 (
   cd python
   cargo fmt --check
