@@ -2,9 +2,9 @@
 
 Without cargo on the PATH, maturin's own backend downloads a Rust toolchain
 of about 800 MB into a temporary directory (through puccinialin) and builds
-with that. This one refuses instead, before asking for anything to be
-installed, and says which Rust to install; with Rust found, every hook is
-maturin's.
+with that. This one refuses instead, in whichever hook the frontend calls
+first, before maturin's runs, and says which Rust to install; with Rust
+found, every hook is maturin's.
 """
 
 from __future__ import annotations
@@ -45,12 +45,14 @@ def _check_rust() -> None:
     if cargo is None:
         raise SystemExit(f"error: cargo was not found on the PATH.\n{install}")
     try:
-        said = subprocess.run([cargo, "--version"], capture_output=True, text=True).stdout
+        done = subprocess.run([cargo, "--version"], capture_output=True, text=True)
     except OSError as e:
         raise SystemExit(f"error: {cargo} --version failed: {e}\n{install}") from None
-    found = re.match(r"cargo (\d+)\.(\d+)\.(\d+)", said)
+    found = re.match(r"cargo (\d+)\.(\d+)\.(\d+)", done.stdout)
     if found is None:
-        raise SystemExit(f"error: {cargo} --version said {said.strip()!r}.\n{install}")
+        # e.g. rustup without a default toolchain, which says so on stderr
+        said = (done.stdout + done.stderr).strip()
+        raise SystemExit(f"error: {cargo} --version said {said!r}.\n{install}")
     have = tuple(int(part) for part in found.groups())
     if have[: len(needed)] < needed:
         raise SystemExit(f"error: {cargo} is Rust {'.'.join(found.groups())}, too old.\n{install}")

@@ -53,10 +53,16 @@ def test_without_cargo_the_build_names_the_rust_to_install(tmp_path):
     assert_refused(pip_wheel(tmp_path, str(empty)), "cargo was not found on the PATH")
 
 
-def test_an_older_cargo_is_refused_with_its_version(tmp_path):
+@pytest.mark.parametrize("cargo_says, reason", [
+    ("echo 'cargo 1.84.1 (66221abde 2024-11-19)'", "is Rust 1.84.1, too old"),
+    # rustup's proxy without a default toolchain
+    ("echo 'error: rustup could not choose a version of cargo to run' >&2; exit 1",
+     "rustup could not choose a version of cargo to run"),
+])
+def test_a_cargo_that_is_too_old_or_has_no_toolchain_is_refused(tmp_path, cargo_says, reason):
     bin_dir = tmp_path / "bin"
     bin_dir.mkdir()
     cargo = bin_dir / "cargo"
-    cargo.write_text("#!/bin/sh\necho 'cargo 1.84.1 (66221abde 2024-11-19)'\n")
+    cargo.write_text(f"#!/bin/sh\n{cargo_says}\n")
     cargo.chmod(cargo.stat().st_mode | stat.S_IXUSR)
-    assert_refused(pip_wheel(tmp_path, str(bin_dir)), "is Rust 1.84.1, too old")
+    assert_refused(pip_wheel(tmp_path, str(bin_dir)), reason)
