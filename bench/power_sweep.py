@@ -2,8 +2,9 @@
 
 Usage: python bench/power_sweep.py [--runs 20] [--budget 121] [--out FILE.md]
 
-Needs the `primo` Python package (`pip install ./python`; ./test.sh
-installs it into target/python-venv). Each run is primo's PoWER (the
+Needs the `primo` Python package (`pip install ./python`, the
+distribution primo-robotics; ./test.sh installs it into
+target/python-venv). Each run is primo's PoWER (the
 core's learner through `primo.Power`) on the cell objective of `primo
 rollout` (`primo.Cell`: small glass, 0.5 l bottle, 0.2 l target, 30
 kernels), its exploration blocks built as `primo pour` builds them (the

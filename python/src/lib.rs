@@ -3,7 +3,7 @@
 //! robot models (URDF chains, kinematics) and
 //! one seeded run of each of the paper's experiments,
 //! with NumPy arrays in and out. The typed Python layer and its docs are
-//! in `primo/`; this crate only converts and checks.
+//! in `python/primo/`; this crate only converts and checks.
 //!
 //! Every input is checked before it reaches the libraries and every error
 //! they report becomes a Python exception (`errors`): no input makes a

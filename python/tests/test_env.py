@@ -1,12 +1,13 @@
 """The Gymnasium environment and its vector form."""
 
-import gymnasium
 import numpy as np
 import pytest
-from gymnasium.utils.env_checker import check_env
 
-import primo
-from primo.env import PouringEnv, PouringVectorEnv
+gymnasium = pytest.importorskip("gymnasium", reason="the [gym] extra: pip install './python[gym]'")
+from gymnasium.utils.env_checker import check_env  # noqa: E402
+
+import primo  # noqa: E402
+from primo.env import PouringEnv, PouringVectorEnv  # noqa: E402
 
 
 def test_passes_the_environment_checker():

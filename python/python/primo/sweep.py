@@ -18,7 +18,7 @@ Backends: ``"processes"`` (the default: one local process per core,
 threads run in parallel too), ``"serial"``, and ``"ray"``: one Ray task
 per run, ``ray.init()`` locally by default or ``address="ray://host:10001"``
 (or ``"auto"``) for a cluster whose nodes have primo installed. Ray is an
-optional extra: ``pip install './python[ray]'``.
+optional extra of primo-robotics: ``pip install './python[ray]'``.
 
 >>> import tempfile, pathlib
 >>> from primo.sweep import Sweep
