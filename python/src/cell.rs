@@ -31,7 +31,7 @@ use crate::errors::{invalid, learn};
 /// True
 /// >>> result = cell.rollout(start["start"])
 /// >>> sorted(result), result["safe"]
-/// (['error', 'poured', 'reason', 'reward', 'safe', 'spilled'], True)
+/// (['error', 'poured', 'rejected', 'reward', 'safe', 'spilled'], True)
 #[pyclass(module = "primo._primo", frozen)]
 pub struct Cell {
     objective: Objective,
@@ -90,7 +90,7 @@ fn trial_dict<'py>(py: Python<'py>, trial: &Trial) -> PyResult<Bound<'py, PyDict
     dict.set_item("error", trial.error)?;
     dict.set_item("reward", trial.reward)?;
     dict.set_item("safe", trial.rejected.is_none())?;
-    dict.set_item("reason", trial.rejected.as_deref())?;
+    dict.set_item("rejected", trial.rejected.as_deref())?;
     if let Some(s) = &trial.series {
         dict.set_item("series", series_dict(py, s)?)?;
     }

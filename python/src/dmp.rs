@@ -182,7 +182,7 @@ impl Dmp {
     }
 
     #[staticmethod]
-    #[pyo3(signature = (t, y, names=None, kernels=25, period=None))]
+    #[pyo3(signature = (t, y, names=None, kernels=30, period=None))]
     fn fit_rhythmic(
         t: Array<'_>,
         y: Array<'_>,

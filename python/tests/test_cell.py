@@ -56,7 +56,7 @@ def test_rollout_is_the_command_lines(cell, run_primo, tmp_path):
     ours = cell.rollout(theta, series=True)
     for key in ["poured", "spilled", "error", "reward", "safe"]:
         assert ours[key] == cli[key], key
-    assert ours["reason"] == cli["rejected"]
+    assert ours["rejected"] == cli["rejected"]
     csv = np.loadtxt(tmp_path / "series.csv", delimiter=",", skiprows=1)
     header = (tmp_path / "series.csv").read_text().splitlines()[0].split(",")
     assert list(ours["series"]) == header
@@ -73,7 +73,7 @@ def test_rollout_many_is_a_loop_of_rollout(cell, primo_bin):
     thetas[4, 0] = 1e6  # a huge weight: a rejected, unsafe movement
     many = cell.rollout_many(thetas)
     assert many == [cell.rollout(t, seed=cell.seed + i) for i, t in enumerate(thetas)]
-    assert many[4]["safe"] is False and many[4]["reward"] == 0.0 and "limit" in many[4]["reason"]
+    assert many[4]["safe"] is False and many[4]["reward"] == 0.0 and "limit" in many[4]["rejected"]
     assert cell.rollout_many(thetas[:2], seeds=[3, 4]) == [
         cell.rollout(thetas[0], seed=3), cell.rollout(thetas[1], seed=4)
     ]

@@ -110,6 +110,20 @@ def test_rhythmic():
         dmp.run(tau=1.0)
 
 
+def test_rhythmic_defaults_are_the_command_lines(run_primo, tmp_path):
+    # Python's default was 25 kernels where `primo dmp fit --rhythmic` has 30.
+    t = np.round(np.linspace(0.0, 0.8, 161), 6)
+    y = np.round(np.column_stack([np.sin(2 * np.pi * t / 0.8), 0.2 * np.cos(4 * np.pi * t / 0.8)]), 6)
+    demo = tmp_path / "loop.csv"
+    np.savetxt(demo, np.column_stack([t, y]), delimiter=",", header="t,a,b", comments="", fmt="%.6f")
+    cli = json.loads(run_primo("dmp", "fit", "--demo", str(demo), "--rhythmic"))["rhythmic"]
+    ours = json.loads(primo.Dmp.fit_rhythmic(t, y, names=["a", "b"]).to_json())["rhythmic"]
+    assert [len(w) for w in ours["weights"]] == [len(w) for w in cli["weights"]] == [30, 30]
+    for key in ["period", "alpha", "width"]:
+        assert ours[key] == cli[key], key
+    np.testing.assert_allclose(ours["weights"], cli["weights"], rtol=1e-4, atol=1e-6)
+
+
 @pytest.mark.parametrize(
     "t, y, kwargs, message",
     [

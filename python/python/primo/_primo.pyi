@@ -36,7 +36,7 @@ class Dmp:
         t: ArrayLike,
         y: ArrayLike,
         names: Optional[Sequence[str]] = None,
-        kernels: int = 25,
+        kernels: int = 30,
         period: Optional[float] = None,
     ) -> Dmp:
         """Fits one period (``period`` s from the first sample, or all of it)."""
@@ -288,7 +288,7 @@ class Cell:
     def rollout(
         self, theta: ArrayLike, seed: Optional[int] = None, series: bool = False
     ) -> dict[str, Any]:
-        """poured, spilled, error, reward, safe, reason (and series)."""
+        """poured, spilled, error, reward, safe, rejected (and series)."""
     def rollout_many(
         self, thetas: ArrayLike, seeds: Optional[Sequence[int]] = None
     ) -> list[dict[str, Any]]:

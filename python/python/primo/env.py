@@ -20,7 +20,7 @@ environment's seeded generator.
 [0.5, 0.2]
 >>> obs, reward, terminated, truncated, info = env.step(np.zeros(env.action_space.shape))
 >>> terminated, 0.0 <= reward <= 1.0, sorted(info)
-(True, True, ['error', 'poured', 'reason', 'safe', 'spilled'])
+(True, True, ['error', 'poured', 'rejected', 'safe', 'spilled'])
 
 ``PouringVectorEnv`` steps ``num_envs`` of them at once, every roll-out
 on its own core in Rust (``Cell.rollout_many``):
@@ -42,7 +42,7 @@ from primo._primo import Cell
 
 __all__ = ["PouringEnv", "PouringVectorEnv"]
 
-_INFO = ("poured", "spilled", "error", "safe", "reason")
+_INFO = ("poured", "spilled", "error", "safe", "rejected")
 
 
 class _Task:
