@@ -3,8 +3,9 @@
 //! (`primo_skill::dmpfile`), so a Python DMP and a file are one thing.
 
 use numpy::{PyArray1, PyUntypedArrayMethods};
+use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
-use pyo3::types::PyTuple;
+use pyo3::types::{PyString, PyTuple};
 
 use primo_core::dmp::{Margin, max_margin};
 use primo_skill::HostDmp;
@@ -47,7 +48,25 @@ pub struct DmpRun {
 
 /// A recording as a demonstration: `t` (n), `y` (n × columns, or n for
 /// one column) and the column names (default `y0, y1, …`).
-fn demo(t: &Array<'_>, y: &Array<'_>, names: Option<Vec<String>>) -> PyResult<Demo> {
+/// `names` as column names: any sequence of strings, but not a string,
+/// which would otherwise read as its characters or as PyO3's words.
+fn column_names(names: Option<Bound<'_, PyAny>>) -> PyResult<Option<Vec<String>>> {
+    let Some(names) = names else {
+        return Ok(None);
+    };
+    if let Ok(text) = names.cast::<PyString>() {
+        return Err(PyTypeError::new_err(format!(
+            "names: a sequence of column names such as ['x', 'z'], not the string {}",
+            text.repr()?
+        )));
+    }
+    names.extract::<Vec<String>>().map(Some).map_err(|_| {
+        PyTypeError::new_err("names: a sequence of column names (strings), one per column of y")
+    })
+}
+
+fn demo(t: &Array<'_>, y: &Array<'_>, names: Option<Bound<'_, PyAny>>) -> PyResult<Demo> {
+    let names = column_names(names)?;
     let times = vector("t", t, false)?;
     let (rows, cols, positions) = match y.shape().len() {
         1 => {
@@ -160,7 +179,7 @@ impl Dmp {
     fn fit(
         t: Array<'_>,
         y: Array<'_>,
-        names: Option<Vec<String>>,
+        names: Option<Bound<'_, PyAny>>,
         kernels: usize,
         margin: Option<f32>,
     ) -> PyResult<Dmp> {
@@ -186,7 +205,7 @@ impl Dmp {
     fn fit_rhythmic(
         t: Array<'_>,
         y: Array<'_>,
-        names: Option<Vec<String>>,
+        names: Option<Bound<'_, PyAny>>,
         kernels: usize,
         period: Option<f64>,
     ) -> PyResult<Dmp> {

@@ -148,6 +148,17 @@ def test_bad_input_is_a_value_error(t, y, kwargs, message):
         primo.Dmp.fit(t, y, **kwargs)
 
 
+@pytest.mark.parametrize("fit", [primo.Dmp.fit, primo.Dmp.fit_rhythmic])
+def test_names_of_the_wrong_type_are_a_type_error_that_says_so(fit):
+    # Was "Can't extract `str` to `Vec`" (PyO3's words) for a string.
+    t, y = [0, 0.5, 1, 1.5], [[0, 1], [1, 2], [2, 3], [0, 1]]
+    with pytest.raises(TypeError, match=r"names: a sequence of column names such as \['x', 'z'\], not the string 'ab'"):
+        fit(t, y, names="ab")
+    with pytest.raises(TypeError, match=r"names: a sequence of column names \(strings\)"):
+        fit(t, y, names=["a", 2])
+    assert fit(t, y, names=("a", "b")).names == ["a", "b"]
+
+
 def test_bad_run_arguments_are_value_errors():
     t, y = reach()
     dmp = primo.Dmp.fit(t, y, kernels=10)
