@@ -13,15 +13,19 @@ use crate::errors::invalid;
 /// An array-like converted to float64, of any shape.
 pub type Array<'py> = PyArrayLikeDyn<'py, f64, AllowTypeChange>;
 
-/// `v` as a finite f32; `what` and `at` name it.
-fn single(what: &str, at: &str, v: f64) -> PyResult<f32> {
+/// `v` as a finite f32; `what` and `at()` name it. The place is made
+/// only on failure: formatting it for every value cost as much as a fit.
+fn single(what: &str, at: impl FnOnce() -> String, v: f64) -> PyResult<f32> {
     let x = v as f32;
     if x.is_finite() {
         Ok(x)
     } else if v.is_finite() {
-        Err(invalid(format!("{what}{at}: {v} is out of f32 range")))
+        Err(invalid(format!("{what}{}: {v} is out of f32 range", at())))
     } else {
-        Err(invalid(format!("{what}{at}: {v} is not a finite number")))
+        Err(invalid(format!(
+            "{what}{}: {v} is not a finite number",
+            at()
+        )))
     }
 }
 
@@ -40,7 +44,7 @@ pub fn vector(what: &str, a: &Array<'_>, scalar_ok: bool) -> PyResult<Vec<f32>> 
     a.as_array()
         .iter()
         .enumerate()
-        .map(|(i, v)| single(what, &format!("[{i}]"), *v))
+        .map(|(i, v)| single(what, || format!("[{i}]"), *v))
         .collect()
 }
 
@@ -58,7 +62,7 @@ pub fn matrix(what: &str, a: &Array<'_>) -> PyResult<(usize, usize, Vec<f32>)> {
         .indexed_iter()
         .map(|(ix, v)| {
             let (r, c) = (ix[0], ix[1]);
-            single(what, &format!("[{r}, {c}]"), *v)
+            single(what, || format!("[{r}, {c}]"), *v)
         })
         .collect::<PyResult<Vec<f32>>>()?;
     Ok((rows, cols, values))

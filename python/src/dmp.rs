@@ -177,6 +177,7 @@ impl Dmp {
     #[staticmethod]
     #[pyo3(signature = (t, y, names=None, kernels=30, margin=None))]
     fn fit(
+        py: Python<'_>,
         t: Array<'_>,
         y: Array<'_>,
         names: Option<Bound<'_, PyAny>>,
@@ -195,14 +196,15 @@ impl Dmp {
             }
         };
         let demo = demo(&t, &y, names)?;
-        Ok(Dmp::from_file(
-            DmpFile::fit("the demonstration", &demo, kernels, margin).map_err(skill)?,
-        ))
+        // The fit runs without the GIL: other threads go on meanwhile.
+        let file = py.detach(|| DmpFile::fit("the demonstration", &demo, kernels, margin));
+        Ok(Dmp::from_file(file.map_err(skill)?))
     }
 
     #[staticmethod]
     #[pyo3(signature = (t, y, names=None, kernels=30, period=None))]
     fn fit_rhythmic(
+        py: Python<'_>,
         t: Array<'_>,
         y: Array<'_>,
         names: Option<Bound<'_, PyAny>>,
@@ -211,7 +213,9 @@ impl Dmp {
     ) -> PyResult<Dmp> {
         let demo = demo(&t, &y, names)?;
         let period = positive("period", period)?;
-        let file = RhythmicFile::fit("the demonstration", &demo, kernels, period).map_err(skill)?;
+        let file = py
+            .detach(|| RhythmicFile::fit("the demonstration", &demo, kernels, period))
+            .map_err(skill)?;
         Ok(Dmp {
             fitted: Fitted::Rhythmic(file),
         })
@@ -361,16 +365,19 @@ impl Dmp {
                         "velocities: given for DMPs without orientation columns only",
                     ));
                 }
-                let (mut t, mut y, mut v) = (Vec::new(), Vec::new(), Vec::new());
-                let steps = d.dmp.trajectory(&prepared.execution, dt).map_err(core)?;
-                let dof = d.dmp.dof();
-                for s in steps {
-                    t.push(s.time);
-                    y.extend(prepared.columns(&s.position));
-                    if velocities {
-                        v.extend_from_slice(&s.velocity[..dof]);
+                let integrate = || {
+                    let (mut t, mut y, mut v) = (Vec::new(), Vec::new(), Vec::new());
+                    let dof = d.dmp.dof();
+                    for s in d.dmp.trajectory(&prepared.execution, dt)? {
+                        t.push(s.time);
+                        y.extend(prepared.columns(&s.position));
+                        if velocities {
+                            v.extend_from_slice(&s.velocity[..dof]);
+                        }
                     }
-                }
+                    Ok((t, y, v))
+                };
+                let (t, y, v) = py.detach(integrate).map_err(core)?;
                 let mut items = vec![out(py, &t).into_any(), out2(py, &y, width)?.into_any()];
                 if velocities {
                     items.push(out2(py, &v, width)?.into_any());
@@ -396,17 +403,21 @@ impl Dmp {
                 let frequency = positive("frequency", frequency)?;
                 let amplitude = per_column("amplitude", amplitude, names)?;
                 let anchor = per_column("anchor", anchor, names)?;
-                let (mut t, mut y) = (Vec::new(), Vec::new());
                 let from_start = Change {
                     at: 0.0,
                     frequency,
                     amplitude,
                     anchor,
                 };
-                for (time, row) in r.run(dt, duration, &[from_start]).map_err(skill)? {
-                    t.push(time);
-                    y.extend(row);
-                }
+                let integrate = || {
+                    let (mut t, mut y) = (Vec::new(), Vec::new());
+                    for (time, row) in r.run(dt, duration, &[from_start])? {
+                        t.push(time);
+                        y.extend(row);
+                    }
+                    Ok((t, y))
+                };
+                let (t, y) = py.detach(integrate).map_err(skill)?;
                 PyTuple::new(
                     py,
                     [out(py, &t).into_any(), out2(py, &y, width)?.into_any()],
