@@ -46,10 +46,8 @@ pub struct DmpRun {
     prepared: Prepared,
 }
 
-/// A recording as a demonstration: `t` (n), `y` (n × columns, or n for
-/// one column) and the column names (default `y0, y1, …`).
 /// `names` as column names: any sequence of strings, but not a string,
-/// which would otherwise read as its characters or as PyO3's words.
+/// which PyO3 would refuse in its own words ("Can't extract `str` to `Vec`").
 fn column_names(names: Option<Bound<'_, PyAny>>) -> PyResult<Option<Vec<String>>> {
     let Some(names) = names else {
         return Ok(None);
@@ -65,6 +63,8 @@ fn column_names(names: Option<Bound<'_, PyAny>>) -> PyResult<Option<Vec<String>>
     })
 }
 
+/// A recording as a demonstration: `t` (n), `y` (n × columns, or n for
+/// one column) and the column names (default `y0, y1, …`).
 fn demo(t: &Array<'_>, y: &Array<'_>, names: Option<Bound<'_, PyAny>>) -> PyResult<Demo> {
     let names = column_names(names)?;
     let times = vector("t", t, false)?;
