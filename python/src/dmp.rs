@@ -8,9 +8,9 @@ use pyo3::prelude::*;
 use pyo3::types::{PyString, PyTuple};
 
 use primo_core::dmp::{Margin, max_margin};
-use primo_skill::HostDmp;
 use primo_skill::csv::Demo;
 use primo_skill::dmpfile::{self, Change, DmpFile, Fitted, MAX_ROWS, Prepared, RhythmicFile};
+use primo_skill::{HostDmp, MAX_KERNELS};
 
 use crate::arrays::{Array, matrix, out, out2, vector};
 use crate::errors::{core, invalid, io, skill};
@@ -105,6 +105,19 @@ fn demo(t: &Array<'_>, y: &Array<'_>, names: Option<Bound<'_, PyAny>>) -> PyResu
     })
 }
 
+/// `kernels` of a fit in Python's terms (a negative count included, which
+/// PyO3 would refuse as an overflow): `fewest` to [`MAX_KERNELS`] per DoF.
+fn kernel_count(kernels: i64, fewest: usize, kind: &str) -> PyResult<usize> {
+    usize::try_from(kernels)
+        .ok()
+        .filter(|k| (fewest..=MAX_KERNELS).contains(k))
+        .ok_or_else(|| {
+            invalid(format!(
+                "kernels={kernels}: a {kind}DMP needs {fewest} to {MAX_KERNELS} kernels per DoF"
+            ))
+        })
+}
+
 /// An optional finite number of seconds above 0 (`what` names it).
 fn positive(what: &str, v: Option<f64>) -> PyResult<Option<f32>> {
     match v {
@@ -181,9 +194,10 @@ impl Dmp {
         t: Array<'_>,
         y: Array<'_>,
         names: Option<Bound<'_, PyAny>>,
-        kernels: usize,
+        kernels: i64,
         margin: Option<f32>,
     ) -> PyResult<Dmp> {
+        let kernels = kernel_count(kernels, 2, "")?;
         let margin = match margin {
             None => Margin::Auto,
             Some(m) if (0.0..=max_margin(kernels)).contains(&m) => Margin::Spacings(m),
@@ -208,9 +222,10 @@ impl Dmp {
         t: Array<'_>,
         y: Array<'_>,
         names: Option<Bound<'_, PyAny>>,
-        kernels: usize,
+        kernels: i64,
         period: Option<f64>,
     ) -> PyResult<Dmp> {
+        let kernels = kernel_count(kernels, 3, "rhythmic ")?;
         let demo = demo(&t, &y, names)?;
         let period = positive("period", period)?;
         let file = py
