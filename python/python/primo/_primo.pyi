@@ -117,20 +117,75 @@ class Dmp:
     def __reduce__(self) -> Any: ...
 
 class DmpRun:
-    """A discrete DMP executed one control step at a time."""
+    """A discrete DMP executed one control step at a time (`Dmp.stepper()`):
+    open loop it gives the same samples as `Dmp.run`, bit for bit. Closed
+    loop, each `step` may take the robot's measured `position` and
+    `velocity` (the run goes on from them; its own values change nothing)
+    and a `coupling` acceleration for that step. Pickles and copies (the
+    copy continues bit for bit).
 
-    def step(self, dt: float) -> Array:
-        """Advances by ``dt`` s; the new position, per column."""
+    >>> import copy, numpy as np, primo
+    >>> t = np.linspace(0.0, 1.0, 101)
+    >>> dmp = primo.Dmp.fit(t, t * t * (3 - 2 * t), names=["x"], kernels=20)
+    >>> open_loop = dmp.run(dt=0.01)[1]
+    >>> run = dmp.stepper()
+    >>> fed_back = [run.step(0.01, position=run.position, velocity=run.velocity)
+    ...             for _ in range(100)]
+    >>> bool((np.array(fed_back) == open_loop[1:]).all())
+    True
+    >>> twin = copy.copy(run)
+    >>> bool((twin.step(0.01) == run.step(0.01)).all())
+    True"""
+
+    def step(
+        self,
+        dt: float,
+        position: Optional[ArrayLike] = None,
+        velocity: Optional[ArrayLike] = None,
+        coupling: Optional[ArrayLike] = None,
+    ) -> Array:
+        """Advances by `dt` seconds and returns the position, per column.
+
+        Closed loop (DMPs without orientation columns): `position` and
+        `velocity` (per second), one value per column, are the robot's
+        measured state now; the step starts from them instead of the run's
+        own (movement_primitives' `step(last_y, last_yd)`; either may be
+        left out, and the run's own values change nothing, bit for bit).
+        `coupling`: an acceleration per column (units per s²) added over
+        this step, `τ²ÿ = K(g − y) − ατẏ + f + τ²·coupling`, where
+        obstacle-avoidance or joint-limit terms enter.
+
+        Returns: the position after the step, per column (float64).
+        Raises: `ValueError` for a `dt` that is not positive and finite, a
+        wrong length, a non-finite value, a position beyond ±1e6, or
+        closed-loop values for a DMP with orientation columns; the run is
+        then unchanged.
+
+        >>> import numpy as np, primo
+        >>> t = np.linspace(0.0, 1.0, 101)
+        >>> run = primo.Dmp.fit(t, t, names=["x"], kernels=10).stepper()
+        >>> x = run.step(0.01, position=[0.5], velocity=[0.0])  # on from the robot
+        >>> bool(abs(x[0] - 0.5) < 0.01)
+        True
+        >>> _ = run.step(0.01, coupling=[2.0])"""
     @property
-    def position(self) -> Array: ...
+    def position(self) -> Array:
+        """The current position, per column."""
     @property
-    def velocity(self) -> Array: ...
+    def velocity(self) -> Array:
+        """The current velocity per second, per column (DMPs without
+        orientation columns)."""
     @property
-    def time(self) -> float: ...
+    def time(self) -> float:
+        """Seconds since the start."""
     @property
-    def phase(self) -> float: ...
+    def phase(self) -> float:
+        """The phase `t/τ`, at most 1."""
     def set_goal(self, goal: ArrayLike) -> None:
-        """A new goal from the next step on (no orientation columns)."""
+        """A new goal from the next step on (DMPs without orientation columns)."""
+    def __reduce__(self) -> Any: ...
+    def __copy__(self) -> DmpRun: ...
+    def __deepcopy__(self, memo: Any) -> DmpRun: ...
 
 class Generalizer:
     """``G(q)`` over examples ``(query, dmp)``: LWR or GPR on the DMPs'
