@@ -17,6 +17,7 @@ use primo_learn::pour::trial::Trial;
 use primo_sim::cell::GlassKind;
 
 use crate::arrays::{Array, out, vector};
+use crate::dmp::kernel_count;
 use crate::errors::{invalid, learn};
 
 /// The simulated pouring cell as an objective, as `primo rollout`: a
@@ -127,10 +128,11 @@ impl Cell {
         space: &str,
         bottle: f64,
         target: f64,
-        kernels: usize,
+        kernels: i64,
         seed: u64,
         demos: Option<Vec<(std::path::PathBuf, f64)>>,
     ) -> PyResult<Cell> {
+        let kernels = kernel_count(kernels, 2, "")?;
         let demos: Vec<(std::path::PathBuf, f32)> = demos
             .unwrap_or_default()
             .into_iter()
@@ -271,7 +273,7 @@ impl Cell {
             &self.space,
             bottle.unwrap_or(self.objective.bottle()),
             target.unwrap_or(self.objective.target()),
-            self.kernels,
+            self.kernels as i64,
             self.seed,
             Some(demos),
         )

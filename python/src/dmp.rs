@@ -99,7 +99,7 @@ fn demo(t: &Array<'_>, y: &Array<'_>, names: Option<Bound<'_, PyAny>>) -> PyResu
 
 /// `kernels` of a fit in Python's terms (a negative count included, which
 /// PyO3 would refuse as an overflow): `fewest` to [`MAX_KERNELS`] per DoF.
-fn kernel_count(kernels: i64, fewest: usize, kind: &str) -> PyResult<usize> {
+pub(crate) fn kernel_count(kernels: i64, fewest: usize, kind: &str) -> PyResult<usize> {
     usize::try_from(kernels)
         .ok()
         .filter(|k| (fewest..=MAX_KERNELS).contains(k))

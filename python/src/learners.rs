@@ -508,8 +508,13 @@ impl Power {
         sampler: usize,
         seed: u64,
         query_gain: f64,
-        query: usize,
+        query: i64,
     ) -> PyResult<Power> {
+        let query = usize::try_from(query).map_err(|_| {
+            invalid(format!(
+                "query={query}: the query's length, the first parameters (0: none)"
+            ))
+        })?;
         let query_gain = scalar("query_gain", query_gain)?;
         let initial = vector("initial", &initial, false)?;
         let blocks = blocks

@@ -106,7 +106,8 @@ def test_bad_input_is_a_value_error(cell):
         (lambda: cell.rollout(np.zeros(n), seed=-1), "seed"),
         (lambda: primo.Cell(glass="huge"), "glass"),
         (lambda: primo.Cell(bottle=0.1, target=0.2), "target 0.2"),
-        (lambda: primo.Cell(kernels=1), "kernels 1"),
+        (lambda: primo.Cell(kernels=1), "^kernels=1: a DMP needs 2 to 128 kernels per DoF$"),
+        (lambda: primo.Cell(kernels=-1), "^kernels=-1: a DMP needs 2 to 128"),
         (lambda: primo.Cell(bottle=float("nan")), "bottle"),
     ]:
         if message is None:

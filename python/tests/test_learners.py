@@ -192,6 +192,8 @@ def test_power_names_its_query_and_refuses_an_error_of_another_length():
     # they were; a query put last corrected kernel weights instead.
     with pytest.raises(ValueError, match="name the query: query=n"):
         primo.Power(np.zeros(3), [(2, 0.1, 1.0), (1, 0.1, 1.0)], query_gain=1.0)
+    with pytest.raises(ValueError, match=r"query=-1: the query's length"):
+        primo.Power(np.zeros(3), [(3, 0.1, 1.0)], query=-1)
     with pytest.raises(ValueError, match=r"query=1: .* the blocks end at \[2, 3\]"):
         primo.Power(np.zeros(3), [(2, 0.1, 1.0), (1, 0.1, 1.0)], query=1, query_gain=1.0)
     learner = primo.Power(np.zeros(3), [(2, 0.0, 1.0), (1, 0.0, 1.0)], rollouts_per_update=1,
@@ -224,6 +226,8 @@ def test_power_defaults_need_a_skill_and_its_query():
     assert len(power.mean) == len(cell)
     # The query block first, then a block per DoF's weights, the goals, τ.
     assert len(power.variances) == 1 + 7 + 1 + 1
+    with pytest.raises(ValueError, match="PoWER's s1 -1: must be finite and >= 0"):
+        primo.Power.defaults(cell, s1=-1.0)
     with pytest.raises(ValueError, match="start: 2 values, the skill's query has 1"):
         primo.Power.defaults(cell, start=[0.5, 0.5])
     t = np.linspace(0, 1, 50)
