@@ -55,9 +55,11 @@ def test_reset_chooses_the_context_and_the_observation_shows_it():
     np.testing.assert_array_equal(obs, [0.9, 0.3])
     assert env.context == (0.9, 0.3) and (env.cell.bottle, env.cell.target) == (0.9, 0.3)
     # The action moves the start generalized for this bottle.
-    np.testing.assert_array_equal(env.parameters(np.zeros(env.action_space.shape)),
-                                  primo.Cell(kernels=10, bottle=0.9, target=0.3).start()["start"])
-    obs, reward, *_ , info = env.step(np.zeros(env.action_space.shape))
+    np.testing.assert_array_equal(
+        env.parameters(np.zeros(env.action_space.shape)),
+        primo.Cell(kernels=10, bottle=0.9, target=0.3).start()["start"],
+    )
+    obs, reward, *_, info = env.step(np.zeros(env.action_space.shape))
     np.testing.assert_array_equal(obs, [0.9, 0.3])
     # The target scores the same roll-out differently.
     assert info["error"] == pytest.approx(info["poured"] - 0.3)
@@ -66,8 +68,10 @@ def test_reset_chooses_the_context_and_the_observation_shows_it():
     np.testing.assert_array_equal(env.reset(options={"target": 0.2})[0], [0.9, 0.2])
     with pytest.raises(ValueError, match="unknown"):
         env.reset(options={"volume": 0.5})
-    with pytest.raises(ValueError):
+    with pytest.raises(ValueError, match="target"):
         env.reset(options={"bottle": 0.1, "target": 0.3})  # less in the bottle than the target
+    with pytest.raises(ValueError, match=r"options: bottle has shape \(2,\), expected a number$"):
+        env.reset(options={"bottle": [0.5, 0.6]})
 
 
 def test_vector_env_contexts_per_environment_and_info_masks():
@@ -87,5 +91,8 @@ def test_vector_env_contexts_per_environment_and_info_masks():
     # Gymnasium's vector info: every key k has a boolean mask _k.
     for k in ["poured", "spilled", "error", "safe", "rejected"]:
         assert info[f"_{k}"].dtype == bool and info[f"_{k}"].tolist() == [True] * 3
+    # A key left out keeps each environment's own.
+    obs, _ = envs.reset(options={"target": 0.3})
+    np.testing.assert_array_equal(obs, [[0.6, 0.3], [0.9, 0.3], [0.6, 0.3]])
     with pytest.raises(ValueError, match="one per environment"):
         envs.reset(options={"bottle": [0.6, 0.9]})

@@ -231,7 +231,8 @@ def test_power_defaults_need_a_skill_and_its_query():
     with pytest.raises(ValueError, match="start: 2 values, the skill's query has 1"):
         primo.Power.defaults(cell, start=[0.5, 0.5])
     t = np.linspace(0, 1, 50)
-    g = primo.Generalizer([(q, primo.Dmp.fit(t, q * t, names=["x"], kernels=5)) for q in (0.3, 1.0)])
+    dmps = [(q, primo.Dmp.fit(t, q * t, names=["x"], kernels=5)) for q in (0.3, 1.0)]
+    g = primo.Generalizer(dmps)
     with pytest.raises(ValueError, match="start: the first query, needed for a Generalizer"):
         primo.Power.defaults(g)
     assert primo.Power.defaults(g, start=0.5).mean[0] == 0.5

@@ -91,21 +91,28 @@ class _Task:
             entry = self._keep(some.with_context(bottle=context[0], target=context[1]))
         return entry
 
-    def chosen(self, options: Optional[dict[str, Any]], count: Optional[int]) -> list[tuple[float, float]]:
-        """The contexts `options` choose: one, or `count` (a vector env's)."""
+    def chosen(
+        self, options: Optional[dict[str, Any]], current: list[tuple[float, float]], vector: bool
+    ) -> list[tuple[float, float]]:
+        """The contexts `options` choose, one per environment of `current`
+        (a key left out keeps each one's); a vector env's may be arrays."""
         options = dict(options or {})
         unknown = sorted(set(options) - {"bottle", "target"})
         if unknown:
-            raise ValueError(f"options: {unknown} unknown; a context is given as 'bottle' and 'target' (litres)")
-        n = 1 if count is None else count
+            raise ValueError(
+                f"options: {unknown} unknown; a context is given as 'bottle' and 'target' (litres)"
+            )
+        n = len(current)
         columns = []
-        for key, now in zip(("bottle", "target"), self.context):
-            value = np.asarray(options.get(key, now), dtype=np.float64)
+        for j, key in enumerate(("bottle", "target")):
+            value = np.asarray(options.get(key, [c[j] for c in current]), dtype=np.float64)
             if value.ndim == 0:
                 value = np.full(n, float(value))
-            elif count is None or value.shape != (n,):
-                raise ValueError(f"options: {key} has shape {value.shape}, expected a number"
-                                 + ("" if count is None else f" or one per environment ({n},)"))
+            elif value.shape != (n,) or (key in options and not vector):
+                per_env = f" or one per environment ({n},)" if vector else ""
+                raise ValueError(
+                    f"options: {key} has shape {value.shape}, expected a number{per_env}"
+                )
             columns.append(value)
         contexts = [(float(b), float(t)) for b, t in zip(*columns)]
         for c in contexts:
@@ -154,7 +161,7 @@ class PouringEnv(gymnasium.Env):
         self, *, seed: Optional[int] = None, options: Optional[dict[str, Any]] = None
     ) -> tuple[np.ndarray, dict[str, Any]]:
         super().reset(seed=seed)
-        (self._task.context,) = self._task.chosen(options, None)
+        (self._task.context,) = self._task.chosen(options, [self._task.context], vector=False)
         return np.array(self._task.context, dtype=np.float64), {}
 
     def step(self, action: Any) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
@@ -198,7 +205,7 @@ class PouringVectorEnv(VectorEnv):
     ) -> tuple[np.ndarray, dict[str, Any]]:
         super().reset(seed=seed)
         if options is not None:
-            self.contexts = self._task.chosen(options, self.num_envs)
+            self.contexts = self._task.chosen(options, self.contexts, vector=True)
         return self._observations(), {}
 
     def step(
@@ -206,7 +213,9 @@ class PouringVectorEnv(VectorEnv):
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, dict[str, Any]]:
         a = np.asarray(actions, dtype=np.float64)
         if a.ndim != 2 or a.shape[0] != self.num_envs:
-            raise ValueError(f"actions: shape {a.shape}, expected {self.num_envs} rows, one per environment")
+            raise ValueError(
+                f"actions: shape {a.shape}, expected {self.num_envs} rows, one per environment"
+            )
         seeds = [int(s) for s in self.np_random.integers(0, 2**63, size=self.num_envs)]
         results: list[dict[str, Any]] = [{}] * self.num_envs
         for context in dict.fromkeys(self.contexts):
