@@ -1,8 +1,7 @@
 //! `DmpRun`: a discrete DMP executed one control step at a time, open or
 //! closed loop (a measured state fed back, coupling terms added). It
-//! pickles as its DMP, how it began and what it was told since, replayed:
-//! the core's run is deterministic, so the copy is the original, bit for
-//! bit.
+//! pickles as its DMP, how it began and the core run's state
+//! (`Run::state`), so the copy goes on as the original, bit for bit.
 
 use numpy::PyArray1;
 use pyo3::prelude::*;
@@ -23,16 +22,6 @@ pub(crate) struct Begun {
     pub start: Option<Vec<f32>>,
     pub goal: Option<Vec<f32>>,
 }
-
-/// One thing a run was told, as it pickles: a step `(dt, position,
-/// velocity, coupling)`, or a new goal `(None, goal, None, None)`; the
-/// values per DoF, as the core took them.
-type Told = (
-    Option<f32>,
-    Option<Vec<f32>>,
-    Option<Vec<f32>>,
-    Option<Vec<f32>>,
-);
 
 /// A discrete DMP executed one control step at a time (`Dmp.stepper()`):
 /// open loop it gives the same samples as `Dmp.run`, bit for bit. Closed
@@ -60,7 +49,6 @@ pub struct DmpRun {
     begun: Begun,
     run: Run<HOST_MAX_DOF>,
     prepared: Prepared,
-    told: Vec<Told>,
 }
 
 impl DmpRun {
@@ -75,7 +63,6 @@ impl DmpRun {
             begun,
             run,
             prepared,
-            told: Vec::new(),
         })
     }
 
@@ -91,25 +78,24 @@ impl DmpRun {
         }
     }
 
-    /// Applies one told thing to the run, all or nothing, and keeps it.
-    fn apply(&mut self, told: Told) -> PyResult<()> {
-        let mut run = self.run.clone();
+    /// One step, closed loop if told a measured state or a coupling; all
+    /// or nothing.
+    fn advance(
+        &mut self,
+        dt: f32,
+        position: Option<&[f32]>,
+        velocity: Option<&[f32]>,
+        coupling: Option<&[f32]>,
+    ) -> PyResult<()> {
         let dmp = &self.file.dmp;
-        match &told {
-            (None, Some(goal), None, None) => run.set_goal(dmp, goal).map_err(core)?,
-            (Some(dt), position, velocity, coupling) => {
-                run.measured(dmp, position.as_deref(), velocity.as_deref())
-                    .map_err(core)?;
-                match coupling {
-                    Some(c) => run.step_coupled(dmp, *dt, c),
-                    None => run.step(dmp, *dt),
-                }
-                .map_err(core)?;
-            }
-            _ => return Err(invalid("DmpRun: not a state this run pickled")),
+        let mut run = self.run.clone();
+        run.measured(dmp, position, velocity).map_err(core)?;
+        match coupling {
+            Some(c) => run.step_coupled(dmp, dt, c),
+            None => run.step(dmp, dt),
         }
+        .map_err(core)?;
         self.run = run;
-        self.told.push(told);
         Ok(())
     }
 }
@@ -157,7 +143,12 @@ impl DmpRun {
         let position = per_column("position", position, names)?;
         let velocity = per_column("velocity", velocity, names)?;
         let coupling = per_column("coupling", coupling, names)?;
-        self.apply((Some(dt), position, velocity, coupling))?;
+        self.advance(
+            dt,
+            position.as_deref(),
+            velocity.as_deref(),
+            coupling.as_deref(),
+        )?;
         Ok(out(py, &self.prepared.columns(self.run.position())))
     }
 
@@ -192,7 +183,7 @@ impl DmpRun {
     fn set_goal(&mut self, goal: Array<'_>) -> PyResult<()> {
         self.plain("set_goal")?;
         let goal = vector("goal", &goal, false)?;
-        self.apply((None, Some(goal), None, None))
+        self.run.set_goal(&self.file.dmp, &goal).map_err(core)
     }
 
     fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyTuple>> {
@@ -201,15 +192,21 @@ impl DmpRun {
         let dmp = Bound::new(py, Dmp::from_file(this.file.clone()))?;
         let Begun { tau, start, goal } = this.begun.clone();
         let args = (tau, start, goal).into_pyobject(py)?;
-        let told = this.told.clone().into_pyobject(py)?;
+        let state: Vec<f32> = this.run.state().collect();
         PyTuple::new(
             py,
-            [dmp.getattr("stepper")?, args.into_any(), told.into_any()],
+            [
+                dmp.getattr("stepper")?,
+                args.into_any(),
+                state.into_pyobject(py)?.into_any(),
+            ],
         )
     }
 
-    fn __setstate__(&mut self, told: Vec<Told>) -> PyResult<()> {
-        told.into_iter().try_for_each(|t| self.apply(t))
+    fn __setstate__(&mut self, state: Vec<f32>) -> PyResult<()> {
+        self.run = Run::from_state(&self.file.dmp, &state)
+            .map_err(|e| invalid(format!("DmpRun: not a state this run pickled: {e}")))?;
+        Ok(())
     }
 
     fn __copy__(&self) -> DmpRun {

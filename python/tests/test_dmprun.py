@@ -109,3 +109,16 @@ def test_bad_closed_loop_input_is_a_value_error_and_changes_nothing():
         oriented.step(0.01, position=[0, 1, 0, 0, 0])
     copy.copy(oriented).step(0.01)
     pickle.loads(pickle.dumps(oriented)).step(0.01)
+
+
+def test_a_pickled_run_is_its_state_not_its_history():
+    dmp = reach_dmp()
+    fresh, long = dmp.stepper(), dmp.stepper()
+    steps(long, 5000, dt=0.0005)
+    assert len(pickle.dumps(long)) == len(pickle.dumps(fresh))
+    # A state that is not a run's is refused in words, not a panic.
+    stepper, args, state = long.__reduce__()
+    for broken in [state[:-1], [float("nan")] * len(state), [3.0] + state[1:]]:
+        run = stepper(*args)
+        with pytest.raises(ValueError, match="DmpRun: not a state this run pickled"):
+            run.__setstate__(broken)

@@ -1,5 +1,6 @@
-//! Closed-loop execution: a measured state fed back, coupling terms added.
-use primo_core::dmp::{Dmp, FitOptions};
+//! Closed-loop execution: a measured state fed back, coupling terms
+//! added; a run's state kept and resumed.
+use primo_core::dmp::{Dmp, FitOptions, Run};
 
 /// A 1-D reach from 0 to 1 over 1 s (minimum jerk), 501 samples.
 fn reach() -> Dmp<2, 20> {
@@ -93,4 +94,46 @@ fn refused_measurements_and_couplings_change_nothing() {
     assert!(run.step_coupled(&dmp, 0.001, &[3e38]).is_err());
     assert!(run.step_coupled(&dmp, 0.001, &[]).is_err());
     assert_eq!(run, before);
+}
+
+#[test]
+fn a_run_resumed_from_its_state_goes_on_bit_for_bit() {
+    let dmp = reach();
+    let mut run = dmp.start(&dmp.execution()).unwrap();
+    // Its state before any step (no step size yet) and mid-run.
+    let fresh: Vec<f32> = run.state().collect();
+    assert_eq!(fresh.len(), Run::<2>::STATE_LEN);
+    // Bits: its step size is NaN, no step yet.
+    let bits = |r: &Run<2>| r.state().map(f32::to_bits).collect::<Vec<_>>();
+    assert_eq!(bits(&Run::from_state(&dmp, &fresh).unwrap()), bits(&run));
+    for _ in 0..300 {
+        run.step(&dmp, 0.001).unwrap();
+    }
+    run.set_goal(&dmp, &[0.7]).unwrap();
+    let state: Vec<f32> = run.state().collect();
+    let mut resumed = Run::from_state(&dmp, &state).unwrap();
+    for _ in 0..500 {
+        run.step(&dmp, 0.002).unwrap();
+        resumed.step(&dmp, 0.002).unwrap();
+        assert_eq!(resumed, run);
+    }
+}
+
+#[test]
+fn a_state_that_is_not_a_runs_is_refused() {
+    let dmp = reach();
+    let run = dmp.start(&dmp.execution()).unwrap();
+    let state: Vec<f32> = run.state().collect();
+    assert!(Run::from_state(&dmp, &state[1..]).is_err());
+    for (i, bad) in [
+        (0, 2.0),
+        (0, 0.5),
+        (1, 0.0),
+        (2, f32::NAN),
+        (20, f32::INFINITY),
+    ] {
+        let mut s = state.clone();
+        s[i] = bad;
+        assert!(Run::from_state(&dmp, &s).is_err(), "value {i} = {bad}");
+    }
 }

@@ -266,6 +266,92 @@ impl<const D: usize> Run<D> {
         Ok(())
     }
 
+    /// Length of [`Run::state`].
+    pub const STATE_LEN: usize = 12 + 7 * D;
+
+    /// The whole state as [`Run::STATE_LEN`] numbers, to keep it and go on
+    /// later with [`Run::from_state`], bit for bit. Its layout is not an
+    /// interface: read it back with the same primo.
+    pub fn state(&self) -> impl Iterator<Item = f32> + '_ {
+        let scalars = [
+            self.dof as f32,
+            self.tau,
+            self.alpha,
+            self.phase,
+            self.phase_carry,
+            self.time,
+            self.time_carry,
+            self.step_dt,
+        ];
+        scalars
+            .into_iter()
+            .chain(self.transition)
+            .chain(self.start)
+            .chain(self.goal)
+            .chain(self.amplitude)
+            .chain(self.y)
+            .chain(self.y_carry)
+            .chain(self.z)
+            .chain(self.force)
+    }
+
+    /// The run [`Run::state`] gave, of `dmp`. Checked so that no state
+    /// makes a later step panic or overflow: its length, its DoF (the
+    /// DMP's), finite values (the step size remembered may be NaN: none
+    /// yet) and `τ`.
+    pub fn from_state<const K: usize>(dmp: &Dmp<D, K>, state: &[f32]) -> Result<Run<D>, Error> {
+        check_len("run state", Self::STATE_LEN, state.len())?;
+        let (head, arrays) = state.split_at_checked(12).ok_or(Error::Length {
+            what: "run state",
+            expected: Self::STATE_LEN,
+            found: state.len(),
+        })?;
+        let [
+            dof,
+            tau,
+            alpha,
+            phase,
+            phase_carry,
+            time,
+            time_carry,
+            step_dt,
+            t0,
+            t1,
+            t2,
+            t3,
+        ] = <[f32; 12]>::try_from(head).map_err(|_| Error::OutOfRange("run state"))?;
+        if dof != dmp.dof() as f32 {
+            return Err(Error::OutOfRange("run state: of a DMP of another DoF"));
+        }
+        let scalars = [alpha, phase, phase_carry, time, time_carry, t0, t1, t2, t3];
+        check_finite(&scalars, "run state")?;
+        check_finite(arrays, "run state")?;
+        check_tau(tau, "run state: τ must be finite and at least 0.001 s")?;
+        let mut chunks = arrays.chunks_exact(D.max(1)).map(<[f32; D]>::try_from);
+        let mut next = || match chunks.next() {
+            Some(Ok(a)) => Ok(a),
+            _ => Err(Error::OutOfRange("run state")),
+        };
+        Ok(Run {
+            dof: dmp.dof(),
+            tau,
+            alpha,
+            step_dt,
+            transition: [t0, t1, t2, t3],
+            phase,
+            phase_carry,
+            time,
+            time_carry,
+            start: next()?,
+            goal: next()?,
+            amplitude: next()?,
+            y: next()?,
+            y_carry: next()?,
+            z: next()?,
+            force: next()?,
+        })
+    }
+
     /// Moves the current position to `y` (one value per DoF), keeping the
     /// velocity: the same motion seen from a new origin.
     pub(crate) fn rebase<const K: usize>(
