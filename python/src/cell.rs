@@ -9,13 +9,15 @@ use pyo3::types::{PyDict, PyTuple};
 
 use primo_learn::experiment::parallel;
 use primo_learn::pour::objective::{Objective, layout};
+use primo_learn::pour::rig::rollout_seed;
 use primo_learn::pour::series::{MEASURED, Series, measured};
 use primo_learn::pour::skill::Space;
 use primo_learn::pour::skill::{DemoFile, SkillSpec};
 use primo_learn::pour::trial::Trial;
 use primo_sim::cell::GlassKind;
 
-use crate::arrays::{Array, out};
+use crate::arrays::{Array, out, vector};
+use crate::dmp::kernel_count;
 use crate::errors::{invalid, learn};
 
 /// The simulated pouring cell as an objective, as `primo rollout`: a
@@ -98,6 +100,11 @@ fn trial_dict<'py>(py: Python<'py>, trial: &Trial) -> PyResult<Bound<'py, PyDict
 }
 
 impl Cell {
+    /// The skill and the bottle: where PoWER starts on this cell.
+    pub(crate) fn skill(&self) -> (&primo_skill::Skill, f64) {
+        (self.objective.skill(), self.objective.bottle())
+    }
+
     /// One row of numbers as the objective's vector (`what` names it).
     fn vector(&self, what: &str, values: &[f64]) -> PyResult<Vec<f32>> {
         self.objective
@@ -121,10 +128,11 @@ impl Cell {
         space: &str,
         bottle: f64,
         target: f64,
-        kernels: usize,
+        kernels: i64,
         seed: u64,
         demos: Option<Vec<(std::path::PathBuf, f64)>>,
     ) -> PyResult<Cell> {
+        let kernels = kernel_count(kernels, 2, "")?;
         let demos: Vec<(std::path::PathBuf, f32)> = demos
             .unwrap_or_default()
             .into_iter()
@@ -195,6 +203,82 @@ impl Cell {
         self.kernels
     }
 
+    /// What the glass holds to its rim, litres: `primo pour`'s
+    /// `glass_holds` in summary.json. Error learning searches only queries
+    /// that let no more than this leave the bottle: from
+    /// `max(0.1, bottle + target − glass_holds)` (in float32) to 1.5 l.
+    ///
+    /// >>> import primo
+    /// >>> round(primo.Cell(glass="small", kernels=10).glass_holds, 3)
+    /// 0.423
+    #[getter]
+    fn glass_holds(&self) -> f64 {
+        self.objective.glass_litres()
+    }
+
+    /// The seed of the scale's noise that `primo pour --seed SEED` uses
+    /// for roll-out `rollout` (numbered from 1, as rollouts.csv's); `seed`
+    /// defaults to the cell's. `cell.rollout(theta, seed=cell.pour_seed(k))`
+    /// is roll-out k of that run when `theta` is what it rolled out.
+    ///
+    /// Parameters: `rollout` (int >= 1), `seed` (int in 0..2**64, or None).
+    /// Returns: the seed, an int in 0..2**64.
+    /// Raises: `ValueError` for a roll-out below 1 or beyond 2**32 − 1, or a
+    /// seed out of range.
+    ///
+    /// >>> import primo
+    /// >>> cell = primo.Cell(kernels=10, seed=7)
+    /// >>> cell.pour_seed(1) == cell.pour_seed(1, seed=7) != cell.pour_seed(2)
+    /// True
+    #[pyo3(signature = (rollout, seed=None))]
+    fn pour_seed(&self, rollout: i64, seed: Option<Bound<'_, PyAny>>) -> PyResult<u64> {
+        let rollout = u32::try_from(rollout)
+            .ok()
+            .filter(|r| *r >= 1)
+            .ok_or_else(|| {
+                invalid(format!(
+                    "rollout={rollout}: roll-outs are numbered from 1 to 2**32 - 1, as in \
+                     rollouts.csv"
+                ))
+            })?;
+        let seed = match seed {
+            Some(s) => seed_of("seed", &s)?,
+            None => self.seed,
+        };
+        Ok(rollout_seed(seed, rollout))
+    }
+
+    /// The same cell (glass, space, kernels, seed, demonstrations) for
+    /// another context: `bottle` litres in the bottle, `target` litres to
+    /// pour (each by default this cell's). Its skill is generalized to the
+    /// new bottle, so its `start()` differs.
+    ///
+    /// Raises: `ValueError` for a bottle or target the cell refuses (as
+    /// the constructor).
+    ///
+    /// >>> import primo
+    /// >>> cell = primo.Cell(kernels=10, bottle=0.5, target=0.2)
+    /// >>> other = cell.with_context(bottle=0.8)
+    /// >>> other.bottle, other.target, len(other) == len(cell)
+    /// (0.8, 0.2, True)
+    #[pyo3(signature = (bottle=None, target=None))]
+    fn with_context(&self, bottle: Option<f64>, target: Option<f64>) -> PyResult<Cell> {
+        let demos = self
+            .demos
+            .iter()
+            .map(|(f, v)| (f.clone(), f64::from(*v)))
+            .collect();
+        Cell::new(
+            &self.glass,
+            &self.space,
+            bottle.unwrap_or(self.objective.bottle()),
+            target.unwrap_or(self.objective.target()),
+            self.kernels as i64,
+            self.seed,
+            Some(demos),
+        )
+    }
+
     #[getter]
     fn seed(&self) -> u64 {
         self.seed
@@ -247,6 +331,46 @@ impl Cell {
         let objective = &self.objective;
         let trial = py
             .detach(|| objective.roll_out(&x, seed, series))
+            .map_err(learn)?;
+        trial_dict(py, &trial)
+    }
+
+    /// One roll-out of `G(query) + delta`: PoWER's extended vector `[q̂,
+    /// Δθ]` executed as `primo pour` and `primo learn` execute it (`rollout`
+    /// takes `θ = G(bottle) + Δθ` instead, whose float32 sum rounds Δθ).
+    /// With `Power.defaults(cell)` and `pour_seed` this repeats a PoWER run
+    /// of `primo pour` roll-out by roll-out.
+    ///
+    /// Parameters: `query` (the skill's query, 1 value: litres in the
+    /// bottle), `delta` (`len(cell) − 1` values, the layout of
+    /// `start()["start"][:-1]`), `seed` (the scale's noise, default the
+    /// cell's), `series` (add the time series).
+    /// Returns: the dict of `rollout`.
+    /// Raises: `ValueError` for wrong lengths or non-finite values.
+    ///
+    /// >>> import numpy as np, primo
+    /// >>> cell = primo.Cell(kernels=10)
+    /// >>> start = cell.start()["start"]
+    /// >>> cell.rollout_delta([0.5], np.zeros(len(cell) - 1)) == cell.rollout(start)
+    /// True
+    #[pyo3(signature = (query, delta, seed=None, series=false))]
+    fn rollout_delta<'py>(
+        &self,
+        py: Python<'py>,
+        query: Array<'_>,
+        delta: Array<'_>,
+        seed: Option<Bound<'py, PyAny>>,
+        series: bool,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let query = vector("query", &query, true)?;
+        let delta = vector("delta", &delta, false)?;
+        let seed = match seed {
+            Some(s) => seed_of("seed", &s)?,
+            None => self.seed,
+        };
+        let objective = &self.objective;
+        let trial = py
+            .detach(|| objective.roll_out_delta(&query, &delta, seed, series))
             .map_err(learn)?;
         trial_dict(py, &trial)
     }

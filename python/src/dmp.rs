@@ -8,11 +8,12 @@ use pyo3::prelude::*;
 use pyo3::types::{PyString, PyTuple};
 
 use primo_core::dmp::{Margin, max_margin};
-use primo_skill::HostDmp;
+use primo_skill::MAX_KERNELS;
 use primo_skill::csv::Demo;
-use primo_skill::dmpfile::{self, Change, DmpFile, Fitted, MAX_ROWS, Prepared, RhythmicFile};
+use primo_skill::dmpfile::{self, Change, DmpFile, Fitted, MAX_ROWS, RhythmicFile};
 
 use crate::arrays::{Array, matrix, out, out2, vector};
+use crate::dmprun::{Begun, DmpRun};
 use crate::errors::{core, invalid, io, skill};
 
 /// A fitted DMP with its column names: discrete (four columns
@@ -35,15 +36,6 @@ use crate::errors::{core, invalid, io, skill};
 #[derive(Clone)]
 pub struct Dmp {
     pub(crate) fitted: Fitted,
-}
-
-/// A discrete DMP executed one control step at a time (`Dmp.stepper()`);
-/// it gives the same samples as `Dmp.run`, bit for bit.
-#[pyclass(module = "primo._primo")]
-pub struct DmpRun {
-    dmp: HostDmp,
-    run: primo_core::dmp::Run<{ primo_skill::HOST_MAX_DOF }>,
-    prepared: Prepared,
 }
 
 /// `names` as column names: any sequence of strings, but not a string,
@@ -105,8 +97,21 @@ fn demo(t: &Array<'_>, y: &Array<'_>, names: Option<Bound<'_, PyAny>>) -> PyResu
     })
 }
 
+/// `kernels` of a fit in Python's terms (a negative count included, which
+/// PyO3 would refuse as an overflow): `fewest` to [`MAX_KERNELS`] per DoF.
+pub(crate) fn kernel_count(kernels: i64, fewest: usize, kind: &str) -> PyResult<usize> {
+    usize::try_from(kernels)
+        .ok()
+        .filter(|k| (fewest..=MAX_KERNELS).contains(k))
+        .ok_or_else(|| {
+            invalid(format!(
+                "kernels={kernels}: a {kind}DMP needs {fewest} to {MAX_KERNELS} kernels per DoF"
+            ))
+        })
+}
+
 /// An optional finite number of seconds above 0 (`what` names it).
-fn positive(what: &str, v: Option<f64>) -> PyResult<Option<f32>> {
+pub(crate) fn positive(what: &str, v: Option<f64>) -> PyResult<Option<f32>> {
     match v {
         Some(x) if !(x.is_finite() && x > 0.0 && (x as f32) > 0.0) => Err(invalid(format!(
             "{what}: {x} must be a positive, finite number"
@@ -127,7 +132,11 @@ fn check_rows(dt: f32, duration: f32) -> PyResult<()> {
 }
 
 /// An optional array of one value per column (`what` names it).
-fn per_column(what: &str, a: Option<Array<'_>>, names: &[String]) -> PyResult<Option<Vec<f32>>> {
+pub(crate) fn per_column(
+    what: &str,
+    a: Option<Array<'_>>,
+    names: &[String],
+) -> PyResult<Option<Vec<f32>>> {
     let Some(a) = a else { return Ok(None) };
     let v = vector(what, &a, false)?;
     if v.len() != names.len() {
@@ -181,9 +190,10 @@ impl Dmp {
         t: Array<'_>,
         y: Array<'_>,
         names: Option<Bound<'_, PyAny>>,
-        kernels: usize,
+        kernels: i64,
         margin: Option<f32>,
     ) -> PyResult<Dmp> {
+        let kernels = kernel_count(kernels, 2, "")?;
         let margin = match margin {
             None => Margin::Auto,
             Some(m) if (0.0..=max_margin(kernels)).contains(&m) => Margin::Spacings(m),
@@ -208,9 +218,10 @@ impl Dmp {
         t: Array<'_>,
         y: Array<'_>,
         names: Option<Bound<'_, PyAny>>,
-        kernels: usize,
+        kernels: i64,
         period: Option<f64>,
     ) -> PyResult<Dmp> {
+        let kernels = kernel_count(kernels, 3, "rhythmic ")?;
         let demo = demo(&t, &y, names)?;
         let period = positive("period", period)?;
         let file = py
@@ -437,15 +448,7 @@ impl Dmp {
         let tau = positive("tau", tau)?;
         let start = per_column("start", start, &d.names)?;
         let goal = per_column("goal", goal, &d.names)?;
-        let prepared = d
-            .prepare(tau, start.as_deref(), goal.as_deref())
-            .map_err(skill)?;
-        let run = d.dmp.start(&prepared.execution).map_err(core)?;
-        Ok(DmpRun {
-            dmp: d.dmp.clone(),
-            run,
-            prepared,
-        })
+        DmpRun::new(d.clone(), Begun { tau, start, goal })
     }
 
     fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyTuple>> {
@@ -476,52 +479,5 @@ impl Dmp {
             self.names_ref(),
             self.kernels()
         )
-    }
-}
-
-#[pymethods]
-impl DmpRun {
-    /// Advances by `dt` seconds and returns the position, per column.
-    fn step<'py>(&mut self, py: Python<'py>, dt: f64) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let dt = positive("dt", Some(dt))?.unwrap_or(0.001);
-        self.run.step(&self.dmp, dt).map_err(core)?;
-        Ok(out(py, &self.prepared.columns(self.run.position())))
-    }
-
-    #[getter]
-    fn position<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        out(py, &self.prepared.columns(self.run.position()))
-    }
-
-    #[getter]
-    fn velocity<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        if !self.prepared.is_plain() {
-            return Err(invalid(
-                "velocity: given for DMPs without orientation columns only",
-            ));
-        }
-        let s = self.run.sample();
-        Ok(out(py, &s.velocity[..self.dmp.dof()]))
-    }
-
-    #[getter]
-    fn time(&self) -> f64 {
-        f64::from(self.run.time())
-    }
-
-    #[getter]
-    fn phase(&self) -> f64 {
-        f64::from(self.run.phase())
-    }
-
-    /// A new goal from the next step on (DMPs without orientation columns).
-    fn set_goal(&mut self, goal: Array<'_>) -> PyResult<()> {
-        if !self.prepared.is_plain() {
-            return Err(invalid(
-                "set_goal: for DMPs without orientation columns only",
-            ));
-        }
-        let goal = vector("goal", &goal, false)?;
-        self.run.set_goal(&self.dmp, &goal).map_err(core)
     }
 }

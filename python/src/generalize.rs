@@ -37,7 +37,7 @@ use crate::errors::{invalid, skill};
 /// 0.6
 #[pyclass(module = "primo._primo")]
 pub struct Generalizer {
-    skill: Skill,
+    pub(crate) skill: Skill,
     /// The examples and settings, for pickling.
     examples: Vec<(Vec<f32>, Dmp)>,
     method: String,

@@ -6,17 +6,20 @@
 
 use heapless::Vec as HVec;
 use pyo3::IntoPyObjectExt;
+use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
 
 use primo_core::golden::{ErrorLearner, SearchConfig, Status};
 use primo_core::power::{Block, PowerConfig};
 use primo_core::secant::{Rule, SecantConfig};
-use primo_learn::learner::MAX_EXTENDED;
+use primo_learn::learner::{MAX_EXTENDED, QUERY_DECAY, power_blocks};
 use primo_skill::MAX_QUERY;
 
 use crate::arrays::{Array, out, out2, vector};
-use crate::errors::{core, invalid};
+use crate::cell::Cell;
+use crate::errors::{core, invalid, learn};
+use crate::generalize::Generalizer;
 
 /// Largest importance sampler a Python PoWER learner holds.
 const MAX_SAMPLER: usize = 10;
@@ -371,8 +374,17 @@ type CorePower = primo_core::power::Power<MAX_EXTENDED, MAX_SAMPLER>;
 
 /// PoWER's constructor arguments: initial, blocks `(len, variance,
 /// decay)`, roll-outs per update, roll out the mean, sampler, seed, query
-/// gain.
-type PowerArgs = (Vec<f32>, Vec<(usize, f32, f32)>, u16, bool, usize, u64, f32);
+/// gain, query length.
+type PowerArgs = (
+    Vec<f32>,
+    Vec<(usize, f32, f32)>,
+    u16,
+    bool,
+    usize,
+    u64,
+    f32,
+    usize,
+);
 
 /// What PoWER was told: each roll-out's reward and error, and whether a
 /// roll-out was asked after them.
@@ -382,9 +394,23 @@ type PowerTold = (Vec<(f32, Vec<f32>)>, bool);
 /// `(len, variance, decay)`, the mean rolled out once per update
 /// (`roll_out_mean`), `rollouts_per_update` explorations, an importance
 /// sampler of the best `sampler` roll-outs; deterministic per `seed`.
-/// With `query_gain` K ≠ 0 the first parameters are a query learned from
-/// the error (`tell(reward, error)`: each roll-out's query is kept as
-/// `q + K·error`). At most 2066 parameters (a 16-DoF, 128-kernel DMP and its query).
+/// At most 2066 parameters (a 16-DoF, 128-kernel DMP and its query).
+///
+/// The query: `query` = n says the first n parameters are a query (whole
+/// blocks: n ends where a block ends), as in primo's extended vector `[q̂,
+/// Δθ]`. With `query_gain` K ≠ 0 it is learned from the error as well:
+/// `tell(reward, error)` with n error values keeps each roll-out's query
+/// as `q + K·error` (the paper's eq. 10 inside PoWER). `Power.defaults`
+/// builds primo's exploration for a skill.
+///
+/// Parameters: `initial` (the parameters' start), `blocks` (each `(len,
+/// variance, decay)`: `len` parameters explored with `variance`, times
+/// `decay` after each update; the lengths sum to `len(initial)`),
+/// `rollouts_per_update` (explorations per update), `roll_out_mean`,
+/// `sampler` (1 to 10), `seed` (int in 0..2**64), `query_gain` (K),
+/// `query` (the query's length n, 0 for none).
+/// Raises: `ValueError` for blocks that do not cover `initial`, a
+/// `query` that does not end on a block, or a query gain without a query.
 ///
 /// >>> import numpy as np, primo
 /// >>> power = primo.Power([1.0, -1.0], blocks=[(2, 0.04, 1.0)], seed=42)
@@ -393,6 +419,11 @@ type PowerTold = (Vec<(f32, Vec<f32>)>, bool);
 /// ...     _ = power.tell(1.0 / (1.0 + float(theta @ theta)))
 /// >>> power.updates, bool(np.abs(power.mean).max() < 0.3)
 /// (50, True)
+/// >>> learned = primo.Power([0.5, 1.0, -1.0], blocks=[(1, 0.01, 0.9), (2, 0.04, 1.0)],
+/// ...                       query=1, query_gain=1.0)
+/// >>> theta = learned.ask()
+/// >>> learned.tell(0.5, error=[0.1])
+/// False
 #[pyclass(module = "primo._primo")]
 pub struct Power {
     learner: Box<CorePower>,
@@ -400,10 +431,74 @@ pub struct Power {
     told: PowerTold,
 }
 
+/// `query` as a length that ends where one of `blocks` ends (0: none),
+/// and needed when `query_gain` is not 0.
+fn query_len(query: usize, blocks: &[Block], query_gain: f32) -> PyResult<usize> {
+    if query == 0 {
+        if query_gain != 0.0 {
+            return Err(invalid(
+                "query_gain: learns a query from the error, so name the query: query=n, the \
+                 first n parameters (whole blocks)",
+            ));
+        }
+        return Ok(0);
+    }
+    let ends: Vec<usize> = blocks
+        .iter()
+        .scan(0, |end, b| {
+            *end += b.len;
+            Some(*end)
+        })
+        .collect();
+    if !ends.contains(&query) {
+        return Err(invalid(format!(
+            "query={query}: the query is the first blocks, whole; the blocks end at {ends:?}"
+        )));
+    }
+    Ok(query)
+}
+
+impl Power {
+    /// The core learner and this object for `args`, checked.
+    fn build(args: PowerArgs) -> PyResult<Power> {
+        let (initial, blocks, rollouts_per_update, roll_out_mean, sampler, seed, query_gain, query) =
+            &args;
+        let list: Vec<Block> = blocks
+            .iter()
+            .map(|&(len, variance, decay)| Block {
+                len,
+                variance,
+                decay,
+            })
+            .collect();
+        query_len(*query, &list, *query_gain)?;
+        let cfg = PowerConfig {
+            blocks: HVec::from_slice(&list).map_err(|_| {
+                invalid(format!(
+                    "blocks: {} blocks, at most {}",
+                    list.len(),
+                    primo_core::power::MAX_BLOCKS
+                ))
+            })?,
+            rollouts_per_update: *rollouts_per_update,
+            roll_out_mean: *roll_out_mean,
+            sampler: *sampler,
+            query_gain: *query_gain,
+        };
+        let mut learner = Box::new(CorePower::idle());
+        learner.reset(initial, cfg, *seed).map_err(core)?;
+        Ok(Power {
+            learner,
+            args,
+            told: (Vec::new(), false),
+        })
+    }
+}
+
 #[pymethods]
 impl Power {
     #[new]
-    #[pyo3(signature = (initial, blocks, rollouts_per_update=3, roll_out_mean=true, sampler=3, seed=0, query_gain=0.0))]
+    #[pyo3(signature = (initial, blocks, rollouts_per_update=3, roll_out_mean=true, sampler=3, seed=0, query_gain=0.0, query=0))]
     #[allow(clippy::too_many_arguments)] // Python's keyword arguments
     fn new(
         initial: Array<'_>,
@@ -413,49 +508,115 @@ impl Power {
         sampler: usize,
         seed: u64,
         query_gain: f64,
+        query: i64,
     ) -> PyResult<Power> {
+        let query = usize::try_from(query).map_err(|_| {
+            invalid(format!(
+                "query={query}: the query's length, the first parameters (0: none)"
+            ))
+        })?;
         let query_gain = scalar("query_gain", query_gain)?;
         let initial = vector("initial", &initial, false)?;
-        let list = blocks
+        let blocks = blocks
             .iter()
             .enumerate()
             .map(|(i, (len, variance, decay))| {
-                Ok(Block {
-                    len: *len,
-                    variance: scalar(&format!("blocks[{i}] variance"), *variance)?,
-                    decay: scalar(&format!("blocks[{i}] decay"), *decay)?,
-                })
-            })
-            .collect::<PyResult<Vec<Block>>>()?;
-        let cfg = PowerConfig {
-            blocks: HVec::from_slice(&list).map_err(|_| {
-                invalid(format!(
-                    "blocks: {} blocks, at most {}",
-                    list.len(),
-                    primo_core::power::MAX_BLOCKS
+                Ok((
+                    *len,
+                    scalar(&format!("blocks[{i}] variance"), *variance)?,
+                    scalar(&format!("blocks[{i}] decay"), *decay)?,
                 ))
-            })?,
+            })
+            .collect::<PyResult<_>>()?;
+        Power::build((
+            initial,
+            blocks,
             rollouts_per_update,
             roll_out_mean,
             sampler,
+            seed,
             query_gain,
+            query,
+        ))
+    }
+
+    /// PoWER with primo's defaults on a skill, as `primo learn` and
+    /// `primo pour --method power` build it: the extended vector `[q̂, Δθ]`
+    /// starting at `[start, 0, …]`; one block for the query (its variance
+    /// decaying by 0.9 per update), one for each DoF's kernel weights, one
+    /// for the goals, one for τ, each exploring with the standard deviation
+    /// `s · (the examples' widest distance over the block) / √len` (`s1` for
+    /// the query, `s2` for the rest); 3 roll-outs per update plus the mean,
+    /// a sampler of 3. `primo pour --method power-el` is `s1=0.0,
+    /// query_gain=1.0` (its `--gain`).
+    ///
+    /// Parameters: `skill` (a `Cell`, or a `Generalizer` over examples),
+    /// `start` (the first query: default the cell's bottle, required for a
+    /// Generalizer; one value per query entry), `seed` (the run's seed),
+    /// `s1`, `s2` (exploration scales, >= 0), `query_gain` (K).
+    /// Returns: a `Power` with `query` = the skill's query length.
+    /// Raises: `TypeError` for another `skill`; `ValueError` for a missing or
+    /// wrong-length start, or scales the examples cannot give a spread.
+    ///
+    /// >>> import primo
+    /// >>> cell = primo.Cell(kernels=10)
+    /// >>> power = primo.Power.defaults(cell, seed=1)
+    /// >>> len(power.ask()) == len(cell), float(power.mean[0])
+    /// (True, 0.5)
+    #[staticmethod]
+    #[pyo3(signature = (skill, start=None, seed=0, s1=0.2, s2=0.05, query_gain=0.0))]
+    fn defaults(
+        skill: &Bound<'_, PyAny>,
+        start: Option<Array<'_>>,
+        seed: u64,
+        s1: f64,
+        s2: f64,
+        query_gain: f64,
+    ) -> PyResult<Power> {
+        let (skill, bottle) = if let Ok(cell) = skill.cast::<Cell>() {
+            let (s, bottle) = cell.get().skill();
+            (s.clone(), Some(bottle as f32))
+        } else if let Ok(g) = skill.cast::<Generalizer>() {
+            (g.borrow().skill.clone(), None)
+        } else {
+            return Err(PyTypeError::new_err(
+                "skill: a primo.Cell or a primo.Generalizer, whose examples set the exploration",
+            ));
         };
-        let mut learner = Box::new(CorePower::idle());
-        learner.reset(&initial, cfg, seed).map_err(core)?;
-        let blocks = list.iter().map(|b| (b.len, b.variance, b.decay)).collect();
-        Ok(Power {
-            learner,
-            args: (
-                initial,
-                blocks,
-                rollouts_per_update,
-                roll_out_mean,
-                sampler,
-                seed,
-                query_gain,
-            ),
-            told: (Vec::new(), false),
-        })
+        let start = match (start, bottle) {
+            (Some(s), _) => vector("start", &s, true)?,
+            (None, Some(b)) => vec![b],
+            (None, None) => {
+                return Err(invalid(
+                    "start: the first query, needed for a Generalizer (a Cell starts at its bottle)",
+                ));
+            }
+        };
+        if start.len() != skill.query_dim() {
+            return Err(invalid(format!(
+                "start: {} values, the skill's query has {}",
+                start.len(),
+                skill.query_dim()
+            )));
+        }
+        let (s1, s2) = (scalar("s1", s1)?, scalar("s2", s2)?);
+        let blocks = power_blocks(&skill, s1, s2, QUERY_DECAY).map_err(learn)?;
+        let paper = PowerConfig::paper(&blocks).map_err(core)?;
+        let mut initial = start;
+        initial.resize(skill.query_dim() + skill.param_len(), 0.0);
+        Power::build((
+            initial,
+            blocks
+                .iter()
+                .map(|b| (b.len, b.variance, b.decay))
+                .collect(),
+            paper.rollouts_per_update,
+            paper.roll_out_mean,
+            paper.sampler,
+            seed,
+            scalar("query_gain", query_gain)?,
+            skill.query_dim(),
+        ))
     }
 
     /// The parameters to roll out next (the same until told).
@@ -465,15 +626,30 @@ impl Power {
     }
 
     /// The reward (finite, >= 0) of the asked roll-out; True when it
-    /// completed an update. With a query gain, also its `error` (one value
-    /// per query entry, > 0 asks for a larger query).
+    /// completed an update. `error`: the roll-out's error over the query
+    /// (`query` values, > 0 asks for a larger query), needed with a query
+    /// gain, refused without a query.
+    ///
+    /// Raises: `ValueError` for a negative or non-finite reward, an error
+    /// of another length than the query, or a missing one with a gain.
     #[pyo3(signature = (reward, error=None))]
     fn tell(&mut self, reward: f64, error: Option<Array<'_>>) -> PyResult<bool> {
         let r = scalar("reward", reward)?;
+        let query = self.args.7;
         let e = match &error {
             Some(e) => vector("error", e, true)?,
             None => Vec::new(),
         };
+        if error.is_some() && e.len() != query {
+            return Err(invalid(match query {
+                0 => "error: this PoWER has no query (query=0) to correct".to_string(),
+                n => format!(
+                    "error: {} values, one per query entry: the query is the first {n} \
+                     parameters (query={n})",
+                    e.len()
+                ),
+            }));
+        }
         if self.learner.query_gain() != 0.0 && e.is_empty() {
             return Err(invalid(
                 "error: PoWER with a query gain needs each roll-out's error".to_string(),
@@ -483,6 +659,12 @@ impl Power {
         self.told.0.push((r, e));
         self.told.1 = false;
         Ok(updated)
+    }
+
+    /// The query's length: the first `query` parameters (0: none).
+    #[getter]
+    fn query(&self) -> usize {
+        self.args.7
     }
 
     #[getter]

@@ -134,7 +134,9 @@ def test_rhythmic_defaults_are_the_command_lines(run_primo, tmp_path):
         ([0, 1, 2], [0, np.inf, 2], {}, r"y\[1\]: inf is not a finite number"),
         ([0, 1, 1], [0, 1, 2], {}, "strictly increasing"),
         ([], [], {}, "at least 3 samples"),
-        ([0, 1, 2], [0, 1, 2], {"kernels": 1}, "outside 2..=128"),
+        ([0, 1, 2], [0, 1, 2], {"kernels": 1}, "^kernels=1: a DMP needs 2 to 128 kernels per DoF$"),
+        ([0, 1, 2], [0, 1, 2], {"kernels": 129}, "^kernels=129: a DMP needs 2 to 128"),
+        ([0, 1, 2], [0, 1, 2], {"kernels": -3}, "^kernels=-3: a DMP needs 2 to 128"),
         ([0, 1, 2], [[0, 1], [1, 2], [2, 3]], {"names": ["x"]}, "1 names for 2 columns"),
         ([0, 1, 2], [[0, 1], [1, 2], [2, 3]], {"names": ["x", "x"]}, "repeated"),
         ([[0, 1, 2]], [0, 1, 2], {}, "expected a 1-D array"),
@@ -148,6 +150,18 @@ def test_rhythmic_defaults_are_the_command_lines(run_primo, tmp_path):
 def test_bad_input_is_a_value_error(t, y, kwargs, message):
     with pytest.raises(ValueError, match=message):
         primo.Dmp.fit(t, y, **kwargs)
+
+
+def test_a_kernel_count_out_of_range_is_said_in_python_terms():
+    # Was "kernels: 1 is outside 2..=128", the library's words.
+    t = np.linspace(0.0, 1.0, 50)
+    y = np.sin(2 * np.pi * t)
+    for fit, fewest, kind in [(primo.Dmp.fit, 2, ""), (primo.Dmp.fit_rhythmic, 3, "rhythmic ")]:
+        for k in [fewest - 1, 129, -1]:
+            with pytest.raises(ValueError) as e:
+                fit(t, y, kernels=k)
+            assert str(e.value) == f"kernels={k}: a {kind}DMP needs {fewest} to 128 kernels per DoF"
+        assert fit(t, y, kernels=fewest).kernels == fewest
 
 
 @pytest.mark.parametrize("fit", [primo.Dmp.fit, primo.Dmp.fit_rhythmic])

@@ -165,7 +165,7 @@ impl RhythmicFile {
     ) -> Result<Self, Error> {
         if !(3..=MAX_KERNELS).contains(&kernels) {
             return Err(Error::File(format!(
-                "kernels: {kernels} is outside 3..={MAX_KERNELS} for a rhythmic DMP"
+                "a rhythmic DMP needs 3 to {MAX_KERNELS} kernels per DoF, not {kernels}"
             )));
         }
         if let Some(Slot { column: c, .. }) = layout(&demo.names)
@@ -380,7 +380,7 @@ impl DmpFile {
     ) -> Result<Self, Error> {
         if !(2..=MAX_KERNELS).contains(&kernels) {
             return Err(Error::File(format!(
-                "kernels: {kernels} is outside 2..={MAX_KERNELS}"
+                "a DMP needs 2 to {MAX_KERNELS} kernels per DoF, not {kernels}"
             )));
         }
         crate::csv::check_rotation_vectors(file, demo)?;

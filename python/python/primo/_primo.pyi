@@ -117,20 +117,75 @@ class Dmp:
     def __reduce__(self) -> Any: ...
 
 class DmpRun:
-    """A discrete DMP executed one control step at a time."""
+    """A discrete DMP executed one control step at a time (`Dmp.stepper()`):
+    open loop it gives the same samples as `Dmp.run`, bit for bit. Closed
+    loop, each `step` may take the robot's measured `position` and
+    `velocity` (the run goes on from them; its own values change nothing)
+    and a `coupling` acceleration for that step. Pickles and copies (the
+    copy continues bit for bit).
 
-    def step(self, dt: float) -> Array:
-        """Advances by ``dt`` s; the new position, per column."""
+    >>> import copy, numpy as np, primo
+    >>> t = np.linspace(0.0, 1.0, 101)
+    >>> dmp = primo.Dmp.fit(t, t * t * (3 - 2 * t), names=["x"], kernels=20)
+    >>> open_loop = dmp.run(dt=0.01)[1]
+    >>> run = dmp.stepper()
+    >>> fed_back = [run.step(0.01, position=run.position, velocity=run.velocity)
+    ...             for _ in range(100)]
+    >>> bool((np.array(fed_back) == open_loop[1:]).all())
+    True
+    >>> twin = copy.copy(run)
+    >>> bool((twin.step(0.01) == run.step(0.01)).all())
+    True"""
+
+    def step(
+        self,
+        dt: float,
+        position: Optional[ArrayLike] = None,
+        velocity: Optional[ArrayLike] = None,
+        coupling: Optional[ArrayLike] = None,
+    ) -> Array:
+        """Advances by `dt` seconds and returns the position, per column.
+
+        Closed loop (DMPs without orientation columns): `position` and
+        `velocity` (per second), one value per column, are the robot's
+        measured state now; the step starts from them instead of the run's
+        own (movement_primitives' `step(last_y, last_yd)`; either may be
+        left out, and the run's own values change nothing, bit for bit).
+        `coupling`: an acceleration per column (units per s²) added over
+        this step, `τ²ÿ = K(g − y) − ατẏ + f + τ²·coupling`, where
+        obstacle-avoidance or joint-limit terms enter.
+
+        Returns: the position after the step, per column (float64).
+        Raises: `ValueError` for a `dt` that is not positive and finite, a
+        wrong length, a non-finite value, a position beyond ±1e6, or
+        closed-loop values for a DMP with orientation columns; the run is
+        then unchanged.
+
+        >>> import numpy as np, primo
+        >>> t = np.linspace(0.0, 1.0, 101)
+        >>> run = primo.Dmp.fit(t, t, names=["x"], kernels=10).stepper()
+        >>> x = run.step(0.01, position=[0.5], velocity=[0.0])  # on from the robot
+        >>> bool(abs(x[0] - 0.5) < 0.01)
+        True
+        >>> _ = run.step(0.01, coupling=[2.0])"""
     @property
-    def position(self) -> Array: ...
+    def position(self) -> Array:
+        """The current position, per column."""
     @property
-    def velocity(self) -> Array: ...
+    def velocity(self) -> Array:
+        """The current velocity per second, per column (DMPs without
+        orientation columns)."""
     @property
-    def time(self) -> float: ...
+    def time(self) -> float:
+        """Seconds since the start."""
     @property
-    def phase(self) -> float: ...
+    def phase(self) -> float:
+        """The phase `t/τ`, at most 1."""
     def set_goal(self, goal: ArrayLike) -> None:
-        """A new goal from the next step on (no orientation columns)."""
+        """A new goal from the next step on (DMPs without orientation columns)."""
+    def __reduce__(self) -> Any: ...
+    def __copy__(self) -> DmpRun: ...
+    def __deepcopy__(self, memo: Any) -> DmpRun: ...
 
 class Generalizer:
     """``G(q)`` over examples ``(query, dmp)``: LWR or GPR on the DMPs'
@@ -217,8 +272,40 @@ class Secant(_ErrorLearner):
     def gain(self) -> Array: ...
 
 class Power:
-    """PoWER with per-block exploration ``(len, variance, decay)`` and an
-    importance sampler of the best ``sampler`` roll-outs."""
+    """PoWER (Kober & Peters) as in the paper: contiguous `blocks` of
+    `(len, variance, decay)`, the mean rolled out once per update
+    (`roll_out_mean`), `rollouts_per_update` explorations, an importance
+    sampler of the best `sampler` roll-outs; deterministic per `seed`.
+    At most 2066 parameters (a 16-DoF, 128-kernel DMP and its query).
+
+    The query: `query` = n says the first n parameters are a query (whole
+    blocks: n ends where a block ends), as in primo's extended vector `[q̂,
+    Δθ]`. With `query_gain` K ≠ 0 it is learned from the error as well:
+    `tell(reward, error)` with n error values keeps each roll-out's query
+    as `q + K·error` (the paper's eq. 10 inside PoWER). `Power.defaults`
+    builds primo's exploration for a skill.
+
+    Parameters: `initial` (the parameters' start), `blocks` (each `(len,
+    variance, decay)`: `len` parameters explored with `variance`, times
+    `decay` after each update; the lengths sum to `len(initial)`),
+    `rollouts_per_update` (explorations per update), `roll_out_mean`,
+    `sampler` (1 to 10), `seed` (int in 0..2**64), `query_gain` (K),
+    `query` (the query's length n, 0 for none).
+    Raises: `ValueError` for blocks that do not cover `initial`, a
+    `query` that does not end on a block, or a query gain without a query.
+
+    >>> import numpy as np, primo
+    >>> power = primo.Power([1.0, -1.0], blocks=[(2, 0.04, 1.0)], seed=42)
+    >>> for _ in range(200):
+    ...     theta = power.ask()
+    ...     _ = power.tell(1.0 / (1.0 + float(theta @ theta)))
+    >>> power.updates, bool(np.abs(power.mean).max() < 0.3)
+    (50, True)
+    >>> learned = primo.Power([0.5, 1.0, -1.0], blocks=[(1, 0.01, 0.9), (2, 0.04, 1.0)],
+    ...                       query=1, query_gain=1.0)
+    >>> theta = learned.ask()
+    >>> learned.tell(0.5, error=[0.1])
+    False"""
 
     def __init__(
         self,
@@ -229,12 +316,53 @@ class Power:
         sampler: int = 3,
         seed: int = 0,
         query_gain: float = 0.0,
+        query: int = 0,
     ) -> None: ...
+    @staticmethod
+    def defaults(
+        skill: Union[Cell, Generalizer],
+        start: Optional[Union[float, ArrayLike]] = None,
+        seed: int = 0,
+        s1: float = 0.2,
+        s2: float = 0.05,
+        query_gain: float = 0.0,
+    ) -> Power:
+        """PoWER with primo's defaults on a skill, as `primo learn` and
+        `primo pour --method power` build it: the extended vector `[q̂, Δθ]`
+        starting at `[start, 0, …]`; one block for the query (its variance
+        decaying by 0.9 per update), one for each DoF's kernel weights, one
+        for the goals, one for τ, each exploring with the standard deviation
+        `s · (the examples' widest distance over the block) / √len` (`s1` for
+        the query, `s2` for the rest); 3 roll-outs per update plus the mean,
+        a sampler of 3. `primo pour --method power-el` is `s1=0.0,
+        query_gain=1.0` (its `--gain`).
+
+        Parameters: `skill` (a `Cell`, or a `Generalizer` over examples),
+        `start` (the first query: default the cell's bottle, required for a
+        Generalizer; one value per query entry), `seed` (the run's seed),
+        `s1`, `s2` (exploration scales, >= 0), `query_gain` (K).
+        Returns: a `Power` with `query` = the skill's query length.
+        Raises: `TypeError` for another `skill`; `ValueError` for a missing or
+        wrong-length start, or scales the examples cannot give a spread.
+
+        >>> import primo
+        >>> cell = primo.Cell(kernels=10)
+        >>> power = primo.Power.defaults(cell, seed=1)
+        >>> len(power.ask()) == len(cell), float(power.mean[0])
+        (True, 0.5)"""
     def ask(self) -> Array:
         """The parameters to roll out next (the same until told)."""
     def tell(self, reward: float, error: Optional[ArrayLike] = None) -> bool:
-        """The asked roll-out's reward (finite, >= 0) and, with a query
-        gain, its error; True after an update."""
+        """The reward (finite, >= 0) of the asked roll-out; True when it
+        completed an update. `error`: the roll-out's error over the query
+        (`query` values, > 0 asks for a larger query), needed with a query
+        gain, refused without a query.
+
+        Raises: `ValueError` for a negative or non-finite reward, an error
+        of another length than the query, or a missing one with a gain."""
+    @property
+    def query(self) -> int:
+        """The query's length: the first `query` parameters (0: none)."""
     @property
     def mean(self) -> Array: ...
     @property
@@ -277,6 +405,45 @@ class Cell:
     @property
     def kernels(self) -> int: ...
     @property
+    def glass_holds(self) -> float:
+        """What the glass holds to its rim, litres: `primo pour`'s
+        `glass_holds` in summary.json. Error learning searches only queries
+        that let no more than this leave the bottle: from
+        `max(0.1, bottle + target − glass_holds)` (in float32) to 1.5 l.
+
+        >>> import primo
+        >>> round(primo.Cell(glass="small", kernels=10).glass_holds, 3)
+        0.423"""
+    def pour_seed(self, rollout: int, seed: Optional[int] = None) -> int:
+        """The seed of the scale's noise that `primo pour --seed SEED` uses
+        for roll-out `rollout` (numbered from 1, as rollouts.csv's); `seed`
+        defaults to the cell's. `cell.rollout(theta, seed=cell.pour_seed(k))`
+        is roll-out k of that run when `theta` is what it rolled out.
+
+        Parameters: `rollout` (int >= 1), `seed` (int in 0..2**64, or None).
+        Returns: the seed, an int in 0..2**64.
+        Raises: `ValueError` for a roll-out below 1 or beyond 2**32 − 1, or a
+        seed out of range.
+
+        >>> import primo
+        >>> cell = primo.Cell(kernels=10, seed=7)
+        >>> cell.pour_seed(1) == cell.pour_seed(1, seed=7) != cell.pour_seed(2)
+        True"""
+    def with_context(self, bottle: Optional[float] = None, target: Optional[float] = None) -> Cell:
+        """The same cell (glass, space, kernels, seed, demonstrations) for
+        another context: `bottle` litres in the bottle, `target` litres to
+        pour (each by default this cell's). Its skill is generalized to the
+        new bottle, so its `start()` differs.
+
+        Raises: `ValueError` for a bottle or target the cell refuses (as
+        the constructor).
+
+        >>> import primo
+        >>> cell = primo.Cell(kernels=10, bottle=0.5, target=0.2)
+        >>> other = cell.with_context(bottle=0.8)
+        >>> other.bottle, other.target, len(other) == len(cell)
+        (0.8, 0.2, True)"""
+    @property
     def seed(self) -> int: ...
     @property
     def names(self) -> list[str]:
@@ -289,6 +456,31 @@ class Cell:
         self, theta: ArrayLike, seed: Optional[int] = None, series: bool = False
     ) -> dict[str, Any]:
         """poured, spilled, error, reward, safe, rejected (and series)."""
+    def rollout_delta(
+        self,
+        query: Union[float, ArrayLike],
+        delta: ArrayLike,
+        seed: Optional[int] = None,
+        series: bool = False,
+    ) -> dict[str, Any]:
+        """One roll-out of `G(query) + delta`: PoWER's extended vector `[q̂,
+        Δθ]` executed as `primo pour` and `primo learn` execute it (`rollout`
+        takes `θ = G(bottle) + Δθ` instead, whose float32 sum rounds Δθ).
+        With `Power.defaults(cell)` and `pour_seed` this repeats a PoWER run
+        of `primo pour` roll-out by roll-out.
+
+        Parameters: `query` (the skill's query, 1 value: litres in the
+        bottle), `delta` (`len(cell) − 1` values, the layout of
+        `start()["start"][:-1]`), `seed` (the scale's noise, default the
+        cell's), `series` (add the time series).
+        Returns: the dict of `rollout`.
+        Raises: `ValueError` for wrong lengths or non-finite values.
+
+        >>> import numpy as np, primo
+        >>> cell = primo.Cell(kernels=10)
+        >>> start = cell.start()["start"]
+        >>> cell.rollout_delta([0.5], np.zeros(len(cell) - 1)) == cell.rollout(start)
+        True"""
     def rollout_many(
         self, thetas: ArrayLike, seeds: Optional[Sequence[int]] = None
     ) -> list[dict[str, Any]]:

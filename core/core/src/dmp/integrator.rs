@@ -6,7 +6,7 @@
 use super::model::{Dmp, Execution};
 use super::options::{MAX_ABS_POSITION, check_tau};
 use crate::Error;
-use crate::error::{check_bounded, check_len, check_positive};
+use crate::error::{check_bounded, check_finite, check_len, check_positive};
 use crate::spring::{add_compensated, transition_step};
 
 /// One point of an executed trajectory.
@@ -183,6 +183,173 @@ impl<const D: usize> Run<D> {
             }
         }
         add_compensated(&mut self.time, &mut self.time_carry, dt);
+    }
+
+    /// [`Run::step`] with a coupling term: an additional acceleration per
+    /// DoF (units per s², `dof` values) held over the step, as in
+    /// `τ²ÿ = K(g − y) − ατẏ + f + τ²·coupling` (obstacle avoidance, joint
+    /// limits, a controller's correction all enter this way). The step's
+    /// exact spring solution takes it as its equilibrium moved by
+    /// `τ²·coupling/K`; a DoF whose coupling is 0 steps as [`Run::step`]
+    /// does, bit for bit.
+    pub fn step_coupled<const K: usize>(
+        &mut self,
+        dmp: &Dmp<D, K>,
+        dt: f32,
+        coupling: &[f32],
+    ) -> Result<(), Error> {
+        check_len("coupling", self.dof, coupling.len())?;
+        check_finite(coupling, "coupling")?;
+        let shift = self.tau * self.tau / (self.alpha * self.alpha / 4.0);
+        let goal = self.goal;
+        for (g, &c) in self.goal.iter_mut().zip(coupling) {
+            if c != 0.0 {
+                *g += shift * c;
+            }
+        }
+        // The goal itself is untouched: the shift lasts this step only.
+        let stepped = check_bounded(
+            self.goal.get(..self.dof).unwrap_or(&[]),
+            MAX_ABS_POSITION,
+            "coupling moves the rest point beyond ±1e6, the bound on any position",
+        )
+        .and_then(|()| self.step(dmp, dt));
+        self.goal = goal;
+        stepped
+    }
+
+    /// Feeds back a measured state, for closed-loop execution (as
+    /// movement_primitives' `step(last_y, last_yd)`): the `position` and/or
+    /// the `velocity` (per second), `dof` values each, replace the run's
+    /// from here on. A value equal to the run's own ([`Run::position`],
+    /// [`Run::sample`]'s velocity) changes nothing, its rounding
+    /// compensation kept: feeding the run's own state back is the
+    /// open-loop run, bit for bit. Nothing changes if either is refused.
+    pub fn measured<const K: usize>(
+        &mut self,
+        dmp: &Dmp<D, K>,
+        position: Option<&[f32]>,
+        velocity: Option<&[f32]>,
+    ) -> Result<(), Error> {
+        check_len("DMP DoF", self.dof, dmp.dof())?;
+        if let Some(y) = position {
+            check_len("measured position", self.dof, y.len())?;
+            check_bounded(
+                y,
+                MAX_ABS_POSITION,
+                "measured position beyond ±1e6, the bound on any position",
+            )?;
+        }
+        if let Some(v) = velocity {
+            check_len("measured velocity", self.dof, v.len())?;
+            check_finite(v, "measured velocity")?;
+            if !v.iter().all(|v| (v * self.tau).is_finite()) {
+                return Err(Error::OutOfRange("measured velocity × τ overflows"));
+            }
+        }
+        for ((y, carry), &m) in self
+            .y
+            .iter_mut()
+            .zip(self.y_carry.iter_mut())
+            .zip(position.unwrap_or(&[]))
+        {
+            if *y != m {
+                (*y, *carry) = (m, 0.0);
+            }
+        }
+        for (z, &m) in self.z.iter_mut().zip(velocity.unwrap_or(&[])) {
+            // `sample` reports z/τ: a velocity equal to it keeps z's bits.
+            if *z / self.tau != m {
+                *z = m * self.tau;
+            }
+        }
+        Ok(())
+    }
+
+    /// Length of [`Run::state`].
+    pub const STATE_LEN: usize = 12 + 7 * D;
+
+    /// The whole state as [`Run::STATE_LEN`] numbers, to keep it and go on
+    /// later with [`Run::from_state`], bit for bit. Its layout is not an
+    /// interface: read it back with the same primo.
+    pub fn state(&self) -> impl Iterator<Item = f32> + '_ {
+        let scalars = [
+            self.dof as f32,
+            self.tau,
+            self.alpha,
+            self.phase,
+            self.phase_carry,
+            self.time,
+            self.time_carry,
+            self.step_dt,
+        ];
+        scalars
+            .into_iter()
+            .chain(self.transition)
+            .chain(self.start)
+            .chain(self.goal)
+            .chain(self.amplitude)
+            .chain(self.y)
+            .chain(self.y_carry)
+            .chain(self.z)
+            .chain(self.force)
+    }
+
+    /// The run [`Run::state`] gave, of `dmp`. Checked so that no state
+    /// makes a later step panic or overflow: its length, its DoF (the
+    /// DMP's), finite values (the step size remembered may be NaN: none
+    /// yet) and `τ`.
+    pub fn from_state<const K: usize>(dmp: &Dmp<D, K>, state: &[f32]) -> Result<Run<D>, Error> {
+        check_len("run state", Self::STATE_LEN, state.len())?;
+        let (head, arrays) = state.split_at_checked(12).ok_or(Error::Length {
+            what: "run state",
+            expected: Self::STATE_LEN,
+            found: state.len(),
+        })?;
+        let [
+            dof,
+            tau,
+            alpha,
+            phase,
+            phase_carry,
+            time,
+            time_carry,
+            step_dt,
+            t0,
+            t1,
+            t2,
+            t3,
+        ] = <[f32; 12]>::try_from(head).map_err(|_| Error::OutOfRange("run state"))?;
+        if dof != dmp.dof() as f32 {
+            return Err(Error::OutOfRange("run state: of a DMP of another DoF"));
+        }
+        let scalars = [alpha, phase, phase_carry, time, time_carry, t0, t1, t2, t3];
+        check_finite(&scalars, "run state")?;
+        check_finite(arrays, "run state")?;
+        check_tau(tau, "run state: τ must be finite and at least 0.001 s")?;
+        let mut chunks = arrays.chunks_exact(D.max(1)).map(<[f32; D]>::try_from);
+        let mut next = || match chunks.next() {
+            Some(Ok(a)) => Ok(a),
+            _ => Err(Error::OutOfRange("run state")),
+        };
+        Ok(Run {
+            dof: dmp.dof(),
+            tau,
+            alpha,
+            step_dt,
+            transition: [t0, t1, t2, t3],
+            phase,
+            phase_carry,
+            time,
+            time_carry,
+            start: next()?,
+            goal: next()?,
+            amplitude: next()?,
+            y: next()?,
+            y_carry: next()?,
+            z: next()?,
+            force: next()?,
+        })
     }
 
     /// Moves the current position to `y` (one value per DoF), keeping the
