@@ -15,10 +15,15 @@ use primo_skill::dmpfile::{self, Change, DmpFile, Fitted, MAX_ROWS, Prepared, Rh
 use crate::arrays::{Array, matrix, out, out2, vector};
 use crate::errors::{core, invalid, io, skill};
 
-/// A fitted DMP with its column names: discrete (four columns
-/// `<p>qw,<p>qx,<p>qy,<p>qz` are one orientation, a quaternion DMP) or
-/// rhythmic; its JSON is the DMP file of `primo dmp fit` and `run`.
-/// Computed in float32 (the fit's normal equations in float64).
+/// A fitted DMP with its column names, discrete or rhythmic.
+///
+/// A discrete DMP moves from a start to a goal (four columns
+/// ``<p>qw, <p>qx, <p>qy, <p>qz`` are one orientation, a quaternion DMP); a
+/// rhythmic one repeats a period. Its JSON is the DMP file of
+/// ``primo dmp fit`` and ``primo dmp run``. Computed in float32 (the fit's
+/// normal equations in float64); arrays come out as float64. Make one with
+/// ``Dmp.fit``, ``Dmp.fit_rhythmic``, ``Dmp.load`` or ``Dmp.from_json``;
+/// it pickles, copies and compares (``==``) by value.
 ///
 /// >>> import numpy as np, primo
 /// >>> t = np.linspace(0.0, 1.0, 101)
@@ -37,8 +42,18 @@ pub struct Dmp {
     pub(crate) fitted: Fitted,
 }
 
-/// A discrete DMP executed one control step at a time (`Dmp.stepper()`);
-/// it gives the same samples as `Dmp.run`, bit for bit.
+/// A discrete DMP executed one control step at a time.
+///
+/// Made by ``Dmp.stepper``; it gives the samples ``Dmp.run`` gives, bit for
+/// bit, and can take a new goal while it runs.
+///
+/// >>> import numpy as np, primo
+/// >>> t = np.linspace(0.0, 1.0, 101)
+/// >>> run = primo.Dmp.fit(t, t, names=["x"]).stepper()
+/// >>> while run.time < 1.0:
+/// ...     x = run.step(0.01)
+/// >>> round(float(x[0]), 2), round(run.phase, 3)
+/// (1.0, 1.0)
 #[pyclass(module = "primo._primo")]
 pub struct DmpRun {
     dmp: HostDmp,
@@ -174,6 +189,37 @@ impl Dmp {
 
 #[pymethods]
 impl Dmp {
+    /// Fits a discrete DMP to a recording: least squares on the positions.
+    ///
+    /// Args:
+    ///     t: sample times, s, shape (n,), strictly increasing, n >= 3.
+    ///     y: positions, shape (n, columns), or (n,) for one column. Four
+    ///         columns ``<p>qw, <p>qx, <p>qy, <p>qz`` are one orientation (a
+    ///         quaternion DMP; a quaternion's sign may flip between rows).
+    ///     names: the column names, one per column of ``y`` (default
+    ///         ``y0, y1, ...``).
+    ///     kernels: basis functions per DoF, 2 to 128.
+    ///     margin: kernel spacings the outer kernels lie beyond the movement's
+    ///         ends, 0 to (kernels - 2)/2; None tries 0 and 1 and keeps the one
+    ///         that reproduces ``y`` better. DMPs generalized together need the
+    ///         same margin.
+    ///
+    /// Returns:
+    ///     Dmp: the discrete DMP, its goal and start ``y``'s last and first rows.
+    ///
+    /// Raises:
+    ///     ValueError: fewer than 3 samples, times not increasing, a value not
+    ///         finite in float32, shapes that do not match, a setting out of range.
+    ///     TypeError: ``names`` a string, or holding something not a string.
+    ///
+    /// The fit runs with the GIL released.
+    ///
+    /// >>> import numpy as np, primo
+    /// >>> t = np.linspace(0.0, 2.0, 201)
+    /// >>> y = np.column_stack([np.sin(t), np.cos(t)])
+    /// >>> dmp = primo.Dmp.fit(t, y, names=["x", "z"], kernels=30)
+    /// >>> dmp.names, dmp.kernels, round(dmp.tau, 3)
+    /// (['x', 'z'], 30, 2.0)
     #[staticmethod]
     #[pyo3(signature = (t, y, names=None, kernels=30, margin=None))]
     fn fit(
@@ -201,6 +247,33 @@ impl Dmp {
         Ok(Dmp::from_file(file.map_err(skill)?))
     }
 
+    /// Fits a rhythmic DMP to one period of a recording.
+    ///
+    /// Args:
+    ///     t: sample times, s, shape (n,), strictly increasing, n >= 3.
+    ///     y: positions, shape (n, columns), or (n,) for one column (no
+    ///         orientation columns).
+    ///     names: the column names, one per column of ``y`` (default
+    ///         ``y0, y1, ...``).
+    ///     kernels: basis functions per DoF, 2 to 128.
+    ///     period: the period, s, counted from the first sample; None takes
+    ///         the whole recording as one period.
+    ///
+    /// Returns:
+    ///     Dmp: the rhythmic DMP (``rhythmic`` is True).
+    ///
+    /// Raises:
+    ///     ValueError: as ``fit``, or a period that is not positive or longer
+    ///         than the recording.
+    ///     TypeError: ``names`` a string, or holding something not a string.
+    ///
+    /// The fit runs with the GIL released.
+    ///
+    /// >>> import numpy as np, primo
+    /// >>> t = np.linspace(0.0, 1.0, 201)
+    /// >>> dmp = primo.Dmp.fit_rhythmic(t, np.sin(2 * np.pi * t), names=["x"])
+    /// >>> dmp.rhythmic, dmp.kernels, round(dmp.period, 3)
+    /// (True, 30, 1.0)
     #[staticmethod]
     #[pyo3(signature = (t, y, names=None, kernels=30, period=None))]
     fn fit_rhythmic(
@@ -221,12 +294,45 @@ impl Dmp {
         })
     }
 
+    /// The DMP whose file text is ``text`` (DMP file versions 1 and 2).
+    ///
+    /// Args:
+    ///     text: a DMP file's JSON, as ``to_json`` or ``primo dmp fit`` write it.
+    ///
+    /// Returns:
+    ///     Dmp: the DMP it describes.
+    ///
+    /// Raises:
+    ///     ValueError: not JSON, or not a DMP file (the message says where).
+    ///
+    /// >>> import numpy as np, primo
+    /// >>> dmp = primo.Dmp.fit(np.linspace(0, 1, 11), np.linspace(0, 1, 11))
+    /// >>> primo.Dmp.from_json(dmp.to_json()) == dmp
+    /// True
     #[staticmethod]
     fn from_json(text: &str) -> PyResult<Dmp> {
         let fitted = dmpfile::parse("the DMP's JSON", text).map_err(skill)?;
         Ok(Dmp { fitted })
     }
 
+    /// Reads a DMP file written by ``primo dmp fit`` or ``Dmp.save``.
+    ///
+    /// Args:
+    ///     path: the file's path (str or path-like).
+    ///
+    /// Returns:
+    ///     Dmp: the DMP in the file.
+    ///
+    /// Raises:
+    ///     OSError: the file cannot be read.
+    ///     ValueError: not a DMP file (the message names the file and where).
+    ///
+    /// >>> import numpy as np, os, primo, tempfile
+    /// >>> dmp = primo.Dmp.fit(np.linspace(0, 1, 11), np.linspace(0, 1, 11))
+    /// >>> path = os.path.join(tempfile.mkdtemp(), "dmp.json")
+    /// >>> dmp.save(path)
+    /// >>> primo.Dmp.load(path) == dmp
+    /// True
     #[staticmethod]
     fn load(path: std::path::PathBuf) -> PyResult<Dmp> {
         let text = std::fs::read_to_string(&path).map_err(|e| io(&path, e))?;
@@ -234,25 +340,51 @@ impl Dmp {
         Ok(Dmp { fitted })
     }
 
+    /// The DMP file's text (JSON), as ``primo dmp fit`` writes it.
+    ///
+    /// Returns:
+    ///     str: the JSON text (without a final newline).
+    ///
+    /// >>> import numpy as np, json, primo
+    /// >>> dmp = primo.Dmp.fit(np.linspace(0, 1, 11), np.linspace(0, 1, 11))
+    /// >>> json.loads(dmp.to_json())["names"]
+    /// ['y0']
     fn to_json(&self) -> PyResult<String> {
         self.json()
     }
 
+    /// Writes the DMP file to ``path``, atomically: a reader sees the old file
+    /// or the new one, never half of it.
+    ///
+    /// Args:
+    ///     path: the file's path (str or path-like); an existing file is replaced.
+    ///
+    /// Raises:
+    ///     OSError: the file cannot be written (the old one is kept).
+    ///
+    /// >>> import numpy as np, os, primo, tempfile
+    /// >>> path = os.path.join(tempfile.mkdtemp(), "dmp.json")
+    /// >>> primo.Dmp.fit(np.linspace(0, 1, 11), np.linspace(0, 1, 11)).save(path)
+    /// >>> os.path.exists(path)
+    /// True
     fn save(&self, path: std::path::PathBuf) -> PyResult<()> {
         let text = format!("{}\n", self.json()?);
         primo_learn::output::write_file(&path, text.as_bytes()).map_err(crate::errors::learn)
     }
 
+    /// The column names, in the order of ``y``'s columns.
     #[getter]
     fn names(&self) -> Vec<String> {
         self.names_ref().to_vec()
     }
 
+    /// True for a rhythmic DMP, False for a discrete one.
     #[getter]
     fn rhythmic(&self) -> bool {
         matches!(self.fitted, Fitted::Rhythmic(_))
     }
 
+    /// The basis functions per DoF.
     #[getter]
     fn kernels(&self) -> usize {
         match &self.fitted {
@@ -261,6 +393,7 @@ impl Dmp {
         }
     }
 
+    /// The DMP's DoFs: one per column, an orientation (four columns) counting 3.
     #[getter]
     fn dof(&self) -> usize {
         match &self.fitted {
@@ -269,6 +402,8 @@ impl Dmp {
         }
     }
 
+    /// The orientation groups, each its four column names
+    /// ``[<p>qw, <p>qx, <p>qy, <p>qz]`` (empty for a rhythmic DMP).
     #[getter]
     fn orientations(&self) -> Vec<Vec<String>> {
         match &self.fitted {
@@ -277,11 +412,13 @@ impl Dmp {
         }
     }
 
+    /// The demonstrated duration, s (discrete; ValueError for a rhythmic DMP).
     #[getter]
     fn tau(&self) -> PyResult<f64> {
         Ok(f64::from(self.discrete("tau")?.dmp.tau()))
     }
 
+    /// The demonstrated period, s (rhythmic; ValueError for a discrete DMP).
     #[getter]
     fn period(&self) -> PyResult<f64> {
         match &self.fitted {
@@ -290,7 +427,8 @@ impl Dmp {
         }
     }
 
-    /// The demonstrated start, per column.
+    /// The demonstrated start, per column (discrete; ValueError for a
+    /// rhythmic DMP).
     #[getter]
     fn start<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let d = self.discrete("start")?;
@@ -298,7 +436,7 @@ impl Dmp {
         Ok(out(py, &prepared.columns(&prepared.execution.start)))
     }
 
-    /// The goal, per column.
+    /// The goal, per column (discrete; ValueError for a rhythmic DMP).
     #[getter]
     fn goal<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let d = self.discrete("goal")?;
@@ -306,6 +444,11 @@ impl Dmp {
         Ok(out(py, &prepared.columns(&prepared.execution.goal)))
     }
 
+    /// The parameter vector θ = [weights row by row, goals, τ] of the DMP's
+    /// DoFs (discrete): ``dof * kernels + dof + 1`` values, an orientation's
+    /// goal as its 3 DoFs. Assigning it sets the DMP's weights, goal and
+    /// duration (ValueError for a wrong length or a non-finite value, or for a
+    /// rhythmic DMP).
     #[getter]
     fn params<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let d = self.discrete("params")?;
@@ -326,6 +469,39 @@ impl Dmp {
     #[allow(clippy::too_many_arguments)] // the keyword arguments of `primo dmp run`
     #[pyo3(signature = (dt=0.001, tau=None, start=None, goal=None, velocities=false,
                         duration=None, frequency=None, amplitude=None, anchor=None))]
+    /// Runs the DMP at a fixed step, from start to goal (discrete) or for a
+    /// duration (rhythmic), with the GIL released.
+    ///
+    /// Args:
+    ///     dt: the step, s (positive).
+    ///     tau: the duration, s (discrete; default the demonstrated one).
+    ///     start: the start, per column (discrete; default the demonstrated one).
+    ///     goal: the goal, per column (discrete; default the demonstrated one).
+    ///         A changed goal does not move the start.
+    ///     velocities: also return the velocities (discrete, no orientation
+    ///         columns).
+    ///     duration: how long to run, s (rhythmic; default three periods).
+    ///     frequency: the frequency, Hz (rhythmic; default the demonstrated one).
+    ///     amplitude: the amplitude, per column (rhythmic; default 1 each:
+    ///         as demonstrated).
+    ///     anchor: the centre of the oscillation, per column (rhythmic; default
+    ///         the demonstrated one).
+    ///
+    /// Returns:
+    ///     tuple: ``(times, positions)``, shapes (m,) and (m, columns), m the
+    ///     number of samples from time 0; with ``velocities``, a third array
+    ///     (m, columns) of velocities.
+    ///
+    /// Raises:
+    ///     ValueError: a setting of the other kind of DMP, a value out of range,
+    ///         a per-column array of the wrong length, more than a million samples.
+    ///
+    /// >>> import numpy as np, primo
+    /// >>> t = np.linspace(0.0, 1.0, 101)
+    /// >>> dmp = primo.Dmp.fit(t, t * t * (3 - 2 * t), names=["x"])
+    /// >>> times, x = dmp.run(dt=0.01, goal=[0.5])
+    /// >>> times.shape, round(float(x[-1, 0]), 2)
+    /// ((101,), 0.5)
     fn run<'py>(
         &self,
         py: Python<'py>,
@@ -426,6 +602,25 @@ impl Dmp {
         }
     }
 
+    /// A step-by-step execution of the DMP (discrete): a ``DmpRun`` at time 0.
+    ///
+    /// Args:
+    ///     tau: the duration, s (default the demonstrated one).
+    ///     start: the start, per column (default the demonstrated one).
+    ///     goal: the goal, per column (default the demonstrated one).
+    ///
+    /// Returns:
+    ///     DmpRun: the execution, at its start.
+    ///
+    /// Raises:
+    ///     ValueError: a rhythmic DMP, a value out of range, a per-column array
+    ///         of the wrong length.
+    ///
+    /// >>> import numpy as np, primo
+    /// >>> t = np.linspace(0.0, 1.0, 101)
+    /// >>> run = primo.Dmp.fit(t, t, names=["x"]).stepper(tau=2.0)
+    /// >>> run.step(0.001).shape, round(run.time, 6)
+    /// ((1,), 0.001)
     #[pyo3(signature = (tau=None, start=None, goal=None))]
     fn stepper(
         &self,
@@ -481,18 +676,35 @@ impl Dmp {
 
 #[pymethods]
 impl DmpRun {
-    /// Advances by `dt` seconds and returns the position, per column.
+    /// Advances the run by ``dt`` s.
+    ///
+    /// Args:
+    ///     dt: the step, s (positive).
+    ///
+    /// Returns:
+    ///     numpy.ndarray: the new position, per column (columns,).
+    ///
+    /// Raises:
+    ///     ValueError: ``dt`` not positive and finite.
+    ///
+    /// >>> import numpy as np, primo
+    /// >>> run = primo.Dmp.fit(np.linspace(0, 1, 11), np.linspace(0, 1, 11)).stepper()
+    /// >>> run.step(0.01).shape
+    /// (1,)
     fn step<'py>(&mut self, py: Python<'py>, dt: f64) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let dt = positive("dt", Some(dt))?.unwrap_or(0.001);
         self.run.step(&self.dmp, dt).map_err(core)?;
         Ok(out(py, &self.prepared.columns(self.run.position())))
     }
 
+    /// The present position, per column.
     #[getter]
     fn position<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         out(py, &self.prepared.columns(self.run.position()))
     }
 
+    /// The present velocity, per column (ValueError for DMPs with orientation
+    /// columns).
     #[getter]
     fn velocity<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
         if !self.prepared.is_plain() {
@@ -504,17 +716,34 @@ impl DmpRun {
         Ok(out(py, &s.velocity[..self.dmp.dof()]))
     }
 
+    /// The time since the start, s.
     #[getter]
     fn time(&self) -> f64 {
         f64::from(self.run.time())
     }
 
+    /// The phase ``t / tau``: 0 at the start, 1 from the end of the movement on.
     #[getter]
     fn phase(&self) -> f64 {
         f64::from(self.run.phase())
     }
 
     /// A new goal from the next step on (DMPs without orientation columns).
+    ///
+    /// Args:
+    ///     goal: the new goal, per column.
+    ///
+    /// Raises:
+    ///     ValueError: a DMP with orientation columns, a wrong length or a
+    ///         non-finite value.
+    ///
+    /// >>> import numpy as np, primo
+    /// >>> run = primo.Dmp.fit(np.linspace(0, 1, 11), np.linspace(0, 1, 11)).stepper()
+    /// >>> run.set_goal([2.0])
+    /// >>> while run.time < 3.0:
+    /// ...     x = run.step(0.01)
+    /// >>> round(float(x[0]), 2)
+    /// 2.0
     fn set_goal(&mut self, goal: Array<'_>) -> PyResult<()> {
         if !self.prepared.is_plain() {
             return Err(invalid(
