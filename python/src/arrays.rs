@@ -41,10 +41,21 @@ pub fn vector(what: &str, a: &Array<'_>, scalar_ok: bool) -> PyResult<Vec<f32>> 
             )));
         }
     }
-    a.as_array()
+    let view = a.as_array();
+    let at = |i: usize| format!("[{i}]");
+    match view.as_slice() {
+        Some(values) => finite(what, values, at),
+        None => finite(what, &view.iter().copied().collect::<Vec<_>>(), at),
+    }
+}
+
+/// Every value as a finite f32; `at(i)` names value `i`'s place. A plain
+/// loop over a slice: iterating a dynamic-dimension view costs 20 ns a value.
+fn finite(what: &str, values: &[f64], at: impl Fn(usize) -> String) -> PyResult<Vec<f32>> {
+    values
         .iter()
         .enumerate()
-        .map(|(i, v)| single(what, || format!("[{i}]"), *v))
+        .map(|(i, v)| single(what, || at(i), *v))
         .collect()
 }
 
@@ -57,14 +68,13 @@ pub fn matrix(what: &str, a: &Array<'_>) -> PyResult<(usize, usize, Vec<f32>)> {
             shape.len()
         )));
     };
-    let values = a
-        .as_array()
-        .indexed_iter()
-        .map(|(ix, v)| {
-            let (r, c) = (ix[0], ix[1]);
-            single(what, || format!("[{r}, {c}]"), *v)
-        })
-        .collect::<PyResult<Vec<f32>>>()?;
+    let view = a.as_array();
+    let at = |i: usize| format!("[{}, {}]", i / cols.max(1), i % cols.max(1));
+    let values = match view.as_slice() {
+        Some(values) => finite(what, values, at)?,
+        // Not C-contiguous (a transpose, a slice): copied in row-major order.
+        None => finite(what, &view.iter().copied().collect::<Vec<_>>(), at)?,
+    };
     Ok((rows, cols, values))
 }
 

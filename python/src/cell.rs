@@ -20,11 +20,32 @@ use crate::arrays::{Array, out, vector};
 use crate::dmp::kernel_count;
 use crate::errors::{invalid, learn};
 
-/// The simulated pouring cell as an objective, as `primo rollout`: a
-/// vector `[weights (dof × kernels, row by row), goals, τ, q̂]` is
-/// executed as `G(q̂) + θ − G(bottle)`; `start()` gives the generalized
-/// start and PoWER's exploration std. `rollout_many` runs rows on every
-/// core with the GIL released.
+/// The simulated pouring cell as an objective, as ``primo rollout`` uses it.
+///
+/// A vector ``[weights (dof × kernels, row by row), goals, τ, q̂]`` is
+/// executed as ``G(q̂) + θ − G(bottle)``: the skill generalized from the
+/// demonstrations to the query ``q̂``, plus the offset ``θ`` from the
+/// movement generalized to the bottle. The robot pours from the bottle into
+/// the glass; the scale measures. ``start()`` gives the generalized start
+/// and PoWER's exploration std. ``rollout_many`` runs rows on every core with
+/// the GIL released. It pickles with its settings.
+///
+/// Args:
+///     glass: ``"small"`` or ``"normal"``, the glass poured into.
+///     space: ``"joint"`` (the arm's 7 joints) or ``"cartesian"`` (the
+///         bottle's mouth and orientation).
+///     bottle: the liquid in the bottle, l.
+///     target: the volume to pour, l.
+///     kernels: basis functions per DoF, 2 to 128.
+///     seed: the scale's noise seed of ``rollout`` by default.
+///     demos: ``(path, volume)`` pairs: demonstration CSVs and the volume
+///         each was recorded for (default: the built-in demonstrations).
+///
+/// Raises:
+///     ValueError: an unknown glass or space, a volume or setting out of
+///         range, a demonstration that does not parse (naming its file and
+///         line).
+///     OSError: a demonstration file that cannot be read.
 ///
 /// >>> import primo
 /// >>> cell = primo.Cell(glass="small", kernels=10, bottle=0.5, target=0.2)
@@ -169,6 +190,7 @@ impl Cell {
         })
     }
 
+    /// The length of a vector the cell takes: ``dof * kernels + dof + 2``.
     #[getter]
     fn size(&self) -> usize {
         self.objective.len()
@@ -178,26 +200,31 @@ impl Cell {
         self.objective.len()
     }
 
+    /// The glass: ``"small"`` or ``"normal"``.
     #[getter]
     fn glass(&self) -> &str {
         &self.glass
     }
 
+    /// The space: ``"joint"`` or ``"cartesian"``.
     #[getter]
     fn space(&self) -> &str {
         &self.space
     }
 
+    /// The liquid in the bottle, l.
     #[getter]
     fn bottle(&self) -> f64 {
         self.objective.bottle()
     }
 
+    /// The volume to pour, l.
     #[getter]
     fn target(&self) -> f64 {
         self.objective.target()
     }
 
+    /// The basis functions per DoF.
     #[getter]
     fn kernels(&self) -> usize {
         self.kernels
@@ -278,18 +305,34 @@ impl Cell {
             Some(demos),
         )
     }
-
+    /// The scale's noise seed of ``rollout`` by default.
     #[getter]
     fn seed(&self) -> u64 {
         self.seed
     }
 
+    /// The commanded columns: ``a1..a7``, or in Cartesian space the mouth and
+    /// the bottle's orientation, ``x, y, z, qw, qx, qy, qz``.
     #[getter]
     fn names(&self) -> Vec<&'static str> {
         self.objective.space().names().to_vec()
     }
 
-    /// What `primo rollout --print-start` prints, and the cell it is for.
+    /// What ``primo rollout --print-start`` prints, and the cell it is for.
+    ///
+    /// Returns:
+    ///     dict: ``layout`` (the vector's blocks), ``space``, ``glass``,
+    ///     ``bottle``, ``target``, ``dof``, ``kernels``, ``start`` (the vector
+    ///     of the movement generalized to the bottle) and ``std`` (PoWER's
+    ///     exploration std per entry).
+    ///
+    /// Raises:
+    ///     ValueError: the skill cannot be generalized to the bottle.
+    ///
+    /// >>> import primo
+    /// >>> start = primo.Cell(kernels=10).start()
+    /// >>> start["dof"], start["kernels"], len(start["std"]) == len(start["start"])
+    /// (7, 10, True)
     fn start<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let s = self.objective.start().map_err(learn)?;
         let dict = PyDict::new(py);
@@ -305,8 +348,29 @@ impl Cell {
         Ok(dict)
     }
 
-    /// One roll-out of `theta`, the scale's noise from `seed` (default:
-    /// the cell's); `series=True` adds the time series.
+    /// One roll-out of ``theta`` on the cell.
+    ///
+    /// Args:
+    ///     theta: the vector, ``size`` values (see the class).
+    ///     seed: the scale's noise seed (an integer below 2**64; default the
+    ///         cell's).
+    ///     series: also return the roll-out's time series.
+    ///
+    /// Returns:
+    ///     dict: ``poured`` and ``spilled`` (l), ``error`` (target − poured,
+    ///     l), ``reward``, ``safe`` (bool) and ``rejected`` (None, or why the
+    ///     safety gate refused the movement before it ran); with ``series``,
+    ///     ``series``: a dict of arrays (time, the commanded columns, the
+    ///     measured volume).
+    ///
+    /// Raises:
+    ///     ValueError: a wrong shape or length, a non-finite value, a bad seed.
+    ///
+    /// >>> import primo
+    /// >>> cell = primo.Cell(kernels=10)
+    /// >>> result = cell.rollout(cell.start()["start"], seed=7)
+    /// >>> result["rejected"] is None, result["poured"] > 0
+    /// (True, True)
     #[pyo3(signature = (theta, seed=None, series=false))]
     fn rollout<'py>(
         &self,
@@ -375,9 +439,25 @@ impl Cell {
         trial_dict(py, &trial)
     }
 
-    /// Roll-outs of every row of `thetas` on all cores, the GIL released;
-    /// row `i`'s noise from `seeds[i]` (default: the cell's seed + i, as
-    /// `primo rollout --serve` numbers its lines).
+    /// Roll-outs of every row of ``thetas`` on all cores, the GIL released.
+    ///
+    /// Args:
+    ///     thetas: the vectors, one per row: shape (m, ``size``).
+    ///     seeds: one noise seed per row (default: the cell's seed + i, as
+    ///         ``primo rollout --serve`` numbers its lines).
+    ///
+    /// Returns:
+    ///     list: one dict per row, as ``rollout`` returns (without series).
+    ///
+    /// Raises:
+    ///     ValueError: a wrong shape, a row that is not a vector of the cell,
+    ///         a seed count that does not match the rows.
+    ///
+    /// >>> import numpy as np, primo
+    /// >>> cell = primo.Cell(kernels=10)
+    /// >>> rows = np.tile(cell.start()["start"], (3, 1))
+    /// >>> [r["safe"] for r in cell.rollout_many(rows)]
+    /// [True, True, True]
     #[pyo3(signature = (thetas, seeds=None))]
     fn rollout_many<'py>(
         &self,

@@ -16,10 +16,15 @@ use crate::arrays::{Array, matrix, out, out2, vector};
 use crate::dmprun::{Begun, DmpRun};
 use crate::errors::{core, invalid, io, skill};
 
-/// A fitted DMP with its column names: discrete (four columns
-/// `<p>qw,<p>qx,<p>qy,<p>qz` are one orientation, a quaternion DMP) or
-/// rhythmic; its JSON is the DMP file of `primo dmp fit` and `run`.
-/// Computed in float32 (the fit's normal equations in float64).
+/// A fitted DMP with its column names, discrete or rhythmic.
+///
+/// A discrete DMP moves from a start to a goal (four columns
+/// ``<p>qw, <p>qx, <p>qy, <p>qz`` are one orientation, a quaternion DMP); a
+/// rhythmic one repeats a period. Its JSON is the DMP file of
+/// ``primo dmp fit`` and ``primo dmp run``. Computed in float32 (the fit's
+/// normal equations in float64); arrays come out as float64. Make one with
+/// ``Dmp.fit``, ``Dmp.fit_rhythmic``, ``Dmp.load`` or ``Dmp.from_json``;
+/// it pickles, copies and compares (``==``) by value.
 ///
 /// >>> import numpy as np, primo
 /// >>> t = np.linspace(0.0, 1.0, 101)
@@ -183,6 +188,37 @@ impl Dmp {
 
 #[pymethods]
 impl Dmp {
+    /// Fits a discrete DMP to a recording: least squares on the positions.
+    ///
+    /// Args:
+    ///     t: sample times, s, shape (n,), strictly increasing, n >= 3.
+    ///     y: positions, shape (n, columns), or (n,) for one column. Four
+    ///         columns ``<p>qw, <p>qx, <p>qy, <p>qz`` are one orientation (a
+    ///         quaternion DMP; a quaternion's sign may flip between rows).
+    ///     names: the column names, one per column of ``y`` (default
+    ///         ``y0, y1, ...``).
+    ///     kernels: basis functions per DoF, 2 to 128.
+    ///     margin: kernel spacings the outer kernels lie beyond the movement's
+    ///         ends, 0 to (kernels - 2)/2; None tries 0 and 1 and keeps the one
+    ///         that reproduces ``y`` better. DMPs generalized together need the
+    ///         same margin.
+    ///
+    /// Returns:
+    ///     Dmp: the discrete DMP, its goal and start ``y``'s last and first rows.
+    ///
+    /// Raises:
+    ///     ValueError: fewer than 3 samples, times not increasing, a value not
+    ///         finite in float32, shapes that do not match, a setting out of range.
+    ///     TypeError: ``names`` a string, or holding something not a string.
+    ///
+    /// The fit runs with the GIL released.
+    ///
+    /// >>> import numpy as np, primo
+    /// >>> t = np.linspace(0.0, 2.0, 201)
+    /// >>> y = np.column_stack([np.sin(t), np.cos(t)])
+    /// >>> dmp = primo.Dmp.fit(t, y, names=["x", "z"], kernels=30)
+    /// >>> dmp.names, dmp.kernels, round(dmp.tau, 3)
+    /// (['x', 'z'], 30, 2.0)
     #[staticmethod]
     #[pyo3(signature = (t, y, names=None, kernels=30, margin=None))]
     fn fit(
@@ -211,6 +247,33 @@ impl Dmp {
         Ok(Dmp::from_file(file.map_err(skill)?))
     }
 
+    /// Fits a rhythmic DMP to one period of a recording.
+    ///
+    /// Args:
+    ///     t: sample times, s, shape (n,), strictly increasing, n >= 3.
+    ///     y: positions, shape (n, columns), or (n,) for one column (no
+    ///         orientation columns).
+    ///     names: the column names, one per column of ``y`` (default
+    ///         ``y0, y1, ...``).
+    ///     kernels: basis functions per DoF, 2 to 128.
+    ///     period: the period, s, counted from the first sample; None takes
+    ///         the whole recording as one period.
+    ///
+    /// Returns:
+    ///     Dmp: the rhythmic DMP (``rhythmic`` is True).
+    ///
+    /// Raises:
+    ///     ValueError: as ``fit``, or a period that is not positive or longer
+    ///         than the recording.
+    ///     TypeError: ``names`` a string, or holding something not a string.
+    ///
+    /// The fit runs with the GIL released.
+    ///
+    /// >>> import numpy as np, primo
+    /// >>> t = np.linspace(0.0, 1.0, 201)
+    /// >>> dmp = primo.Dmp.fit_rhythmic(t, np.sin(2 * np.pi * t), names=["x"])
+    /// >>> dmp.rhythmic, dmp.kernels, round(dmp.period, 3)
+    /// (True, 30, 1.0)
     #[staticmethod]
     #[pyo3(signature = (t, y, names=None, kernels=30, period=None))]
     fn fit_rhythmic(
@@ -232,12 +295,45 @@ impl Dmp {
         })
     }
 
+    /// The DMP whose file text is ``text`` (DMP file versions 1 and 2).
+    ///
+    /// Args:
+    ///     text: a DMP file's JSON, as ``to_json`` or ``primo dmp fit`` write it.
+    ///
+    /// Returns:
+    ///     Dmp: the DMP it describes.
+    ///
+    /// Raises:
+    ///     ValueError: not JSON, or not a DMP file (the message says where).
+    ///
+    /// >>> import numpy as np, primo
+    /// >>> dmp = primo.Dmp.fit(np.linspace(0, 1, 11), np.linspace(0, 1, 11))
+    /// >>> primo.Dmp.from_json(dmp.to_json()) == dmp
+    /// True
     #[staticmethod]
     fn from_json(text: &str) -> PyResult<Dmp> {
         let fitted = dmpfile::parse("the DMP's JSON", text).map_err(skill)?;
         Ok(Dmp { fitted })
     }
 
+    /// Reads a DMP file written by ``primo dmp fit`` or ``Dmp.save``.
+    ///
+    /// Args:
+    ///     path: the file's path (str or path-like).
+    ///
+    /// Returns:
+    ///     Dmp: the DMP in the file.
+    ///
+    /// Raises:
+    ///     OSError: the file cannot be read.
+    ///     ValueError: not a DMP file (the message names the file and where).
+    ///
+    /// >>> import numpy as np, os, primo, tempfile
+    /// >>> dmp = primo.Dmp.fit(np.linspace(0, 1, 11), np.linspace(0, 1, 11))
+    /// >>> path = os.path.join(tempfile.mkdtemp(), "dmp.json")
+    /// >>> dmp.save(path)
+    /// >>> primo.Dmp.load(path) == dmp
+    /// True
     #[staticmethod]
     fn load(path: std::path::PathBuf) -> PyResult<Dmp> {
         let text = std::fs::read_to_string(&path).map_err(|e| io(&path, e))?;
@@ -245,25 +341,51 @@ impl Dmp {
         Ok(Dmp { fitted })
     }
 
+    /// The DMP file's text (JSON), as ``primo dmp fit`` writes it.
+    ///
+    /// Returns:
+    ///     str: the JSON text (without a final newline).
+    ///
+    /// >>> import numpy as np, json, primo
+    /// >>> dmp = primo.Dmp.fit(np.linspace(0, 1, 11), np.linspace(0, 1, 11))
+    /// >>> json.loads(dmp.to_json())["names"]
+    /// ['y0']
     fn to_json(&self) -> PyResult<String> {
         self.json()
     }
 
+    /// Writes the DMP file to ``path``, atomically: a reader sees the old file
+    /// or the new one, never half of it.
+    ///
+    /// Args:
+    ///     path: the file's path (str or path-like); an existing file is replaced.
+    ///
+    /// Raises:
+    ///     OSError: the file cannot be written (the old one is kept).
+    ///
+    /// >>> import numpy as np, os, primo, tempfile
+    /// >>> path = os.path.join(tempfile.mkdtemp(), "dmp.json")
+    /// >>> primo.Dmp.fit(np.linspace(0, 1, 11), np.linspace(0, 1, 11)).save(path)
+    /// >>> os.path.exists(path)
+    /// True
     fn save(&self, path: std::path::PathBuf) -> PyResult<()> {
         let text = format!("{}\n", self.json()?);
         primo_learn::output::write_file(&path, text.as_bytes()).map_err(crate::errors::learn)
     }
 
+    /// The column names, in the order of ``y``'s columns.
     #[getter]
     fn names(&self) -> Vec<String> {
         self.names_ref().to_vec()
     }
 
+    /// True for a rhythmic DMP, False for a discrete one.
     #[getter]
     fn rhythmic(&self) -> bool {
         matches!(self.fitted, Fitted::Rhythmic(_))
     }
 
+    /// The basis functions per DoF.
     #[getter]
     fn kernels(&self) -> usize {
         match &self.fitted {
@@ -272,6 +394,7 @@ impl Dmp {
         }
     }
 
+    /// The DMP's DoFs: one per column, an orientation (four columns) counting 3.
     #[getter]
     fn dof(&self) -> usize {
         match &self.fitted {
@@ -280,6 +403,8 @@ impl Dmp {
         }
     }
 
+    /// The orientation groups, each its four column names
+    /// ``[<p>qw, <p>qx, <p>qy, <p>qz]`` (empty for a rhythmic DMP).
     #[getter]
     fn orientations(&self) -> Vec<Vec<String>> {
         match &self.fitted {
@@ -288,11 +413,13 @@ impl Dmp {
         }
     }
 
+    /// The demonstrated duration, s (discrete; ValueError for a rhythmic DMP).
     #[getter]
     fn tau(&self) -> PyResult<f64> {
         Ok(f64::from(self.discrete("tau")?.dmp.tau()))
     }
 
+    /// The demonstrated period, s (rhythmic; ValueError for a discrete DMP).
     #[getter]
     fn period(&self) -> PyResult<f64> {
         match &self.fitted {
@@ -301,7 +428,8 @@ impl Dmp {
         }
     }
 
-    /// The demonstrated start, per column.
+    /// The demonstrated start, per column (discrete; ValueError for a
+    /// rhythmic DMP).
     #[getter]
     fn start<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let d = self.discrete("start")?;
@@ -309,7 +437,7 @@ impl Dmp {
         Ok(out(py, &prepared.columns(&prepared.execution.start)))
     }
 
-    /// The goal, per column.
+    /// The goal, per column (discrete; ValueError for a rhythmic DMP).
     #[getter]
     fn goal<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let d = self.discrete("goal")?;
@@ -317,6 +445,11 @@ impl Dmp {
         Ok(out(py, &prepared.columns(&prepared.execution.goal)))
     }
 
+    /// The parameter vector θ = [weights row by row, goals, τ] of the DMP's
+    /// DoFs (discrete): ``dof * kernels + dof + 1`` values, an orientation's
+    /// goal as its 3 DoFs. Assigning it sets the DMP's weights, goal and
+    /// duration (ValueError for a wrong length or a non-finite value, or for a
+    /// rhythmic DMP).
     #[getter]
     fn params<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let d = self.discrete("params")?;
@@ -337,6 +470,39 @@ impl Dmp {
     #[allow(clippy::too_many_arguments)] // the keyword arguments of `primo dmp run`
     #[pyo3(signature = (dt=0.001, tau=None, start=None, goal=None, velocities=false,
                         duration=None, frequency=None, amplitude=None, anchor=None))]
+    /// Runs the DMP at a fixed step, from start to goal (discrete) or for a
+    /// duration (rhythmic), with the GIL released.
+    ///
+    /// Args:
+    ///     dt: the step, s (positive).
+    ///     tau: the duration, s (discrete; default the demonstrated one).
+    ///     start: the start, per column (discrete; default the demonstrated one).
+    ///     goal: the goal, per column (discrete; default the demonstrated one).
+    ///         A changed goal does not move the start.
+    ///     velocities: also return the velocities (discrete, no orientation
+    ///         columns).
+    ///     duration: how long to run, s (rhythmic; default three periods).
+    ///     frequency: the frequency, Hz (rhythmic; default the demonstrated one).
+    ///     amplitude: the amplitude, per column (rhythmic; default 1 each:
+    ///         as demonstrated).
+    ///     anchor: the centre of the oscillation, per column (rhythmic; default
+    ///         the demonstrated one).
+    ///
+    /// Returns:
+    ///     tuple: ``(times, positions)``, shapes (m,) and (m, columns), m the
+    ///     number of samples from time 0; with ``velocities``, a third array
+    ///     (m, columns) of velocities.
+    ///
+    /// Raises:
+    ///     ValueError: a setting of the other kind of DMP, a value out of range,
+    ///         a per-column array of the wrong length, more than a million samples.
+    ///
+    /// >>> import numpy as np, primo
+    /// >>> t = np.linspace(0.0, 1.0, 101)
+    /// >>> dmp = primo.Dmp.fit(t, t * t * (3 - 2 * t), names=["x"])
+    /// >>> times, x = dmp.run(dt=0.01, goal=[0.5])
+    /// >>> times.shape, round(float(x[-1, 0]), 2)
+    /// ((101,), 0.5)
     fn run<'py>(
         &self,
         py: Python<'py>,
@@ -437,6 +603,25 @@ impl Dmp {
         }
     }
 
+    /// A step-by-step execution of the DMP (discrete): a ``DmpRun`` at time 0.
+    ///
+    /// Args:
+    ///     tau: the duration, s (default the demonstrated one).
+    ///     start: the start, per column (default the demonstrated one).
+    ///     goal: the goal, per column (default the demonstrated one).
+    ///
+    /// Returns:
+    ///     DmpRun: the execution, at its start.
+    ///
+    /// Raises:
+    ///     ValueError: a rhythmic DMP, a value out of range, a per-column array
+    ///         of the wrong length.
+    ///
+    /// >>> import numpy as np, primo
+    /// >>> t = np.linspace(0.0, 1.0, 101)
+    /// >>> run = primo.Dmp.fit(t, t, names=["x"]).stepper(tau=2.0)
+    /// >>> run.step(0.001).shape, round(run.time, 6)
+    /// ((1,), 0.001)
     #[pyo3(signature = (tau=None, start=None, goal=None))]
     fn stepper(
         &self,

@@ -180,6 +180,21 @@ impl DmpRun {
     }
 
     /// A new goal from the next step on (DMPs without orientation columns).
+    ///
+    /// Args:
+    ///     goal: the new goal, per column.
+    ///
+    /// Raises:
+    ///     ValueError: a DMP with orientation columns, a wrong length or a
+    ///         non-finite value.
+    ///
+    /// >>> import numpy as np, primo
+    /// >>> run = primo.Dmp.fit(np.linspace(0, 1, 11), np.linspace(0, 1, 11)).stepper()
+    /// >>> run.set_goal([2.0])
+    /// >>> while run.time < 3.0:
+    /// ...     x = run.step(0.01)
+    /// >>> round(float(x[0]), 2)
+    /// 2.0
     fn set_goal(&mut self, goal: Array<'_>) -> PyResult<()> {
         self.plain("set_goal")?;
         let goal = vector("goal", &goal, false)?;

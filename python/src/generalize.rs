@@ -15,18 +15,32 @@ use crate::arrays::{Array, out, vector};
 use crate::dmp::Dmp;
 use crate::errors::{invalid, skill};
 
-/// `G(q)` over examples `(query, dmp)` (a query is a float or 1 to 4
-/// values): LWR (`method="lwr"`, `bandwidth`) or GPR (`"gpr"`,
-/// `bandwidth` as length scale, `noise`) on the DMPs' parameter vectors,
-/// the start generalized with the same coefficients. With two examples
-/// both are the straight line through them. Every example is a discrete
-/// DMP with the first one's columns; orientation groups
-/// (`<p>qw,<p>qx,<p>qy,<p>qz`) are generalized as `primo learn` does: goals
-/// and starts as rotation vectors at the mean of the examples' goals (in
-/// `params`, a group's three goal values are its goal's rotation vector
-/// from that mean), weights as they are, so every `generalize(q)` is an
-/// orientation DMP whose quaternions are unit-norm, equal to each example
-/// at its query where the regression interpolates.
+/// ``G(q)``: a DMP for any task query, generalized from examples.
+///
+/// Examples are ``(query, dmp)`` pairs (a query is a float or 1 to 4 values);
+/// a regression on the DMPs' parameter vectors gives the DMP for a new query,
+/// the start generalized with the same coefficients. With two examples both
+/// methods give the straight line through them. Every example is a discrete
+/// DMP with the first one's columns, in order. Orientation groups
+/// (``<p>qw, <p>qx, <p>qy, <p>qz``) are generalized as ``primo learn`` does:
+/// goals and starts as rotation vectors at the mean of the examples' goals,
+/// weights as they are, so every ``generalize(q)`` is an orientation DMP
+/// whose quaternions are unit-norm, equal to each example at its query where
+/// the regression interpolates. It pickles with its examples.
+///
+/// Args:
+///     examples: a sequence of ``(query, dmp)``: query a float or 1 to 4
+///         values, the same count in every example; dmp a discrete ``Dmp``.
+///     method: ``"lwr"`` (locally weighted regression) or ``"gpr"``
+///         (Gaussian process regression).
+///     bandwidth: LWR's kernel bandwidth, or GPR's length scale, in query
+///         units (positive; default from the examples' spacing).
+///     noise: GPR's noise variance (>= 0; 0 interpolates the examples).
+///
+/// Raises:
+///     ValueError: no example, a rhythmic DMP, columns that differ from the
+///         first example's, queries of different lengths, a setting out of
+///         range.
 ///
 /// >>> import numpy as np, primo
 /// >>> t = np.linspace(0.0, 1.0, 101)
@@ -139,7 +153,22 @@ impl Generalizer {
         })
     }
 
-    /// The DMP for query `q`.
+    /// The DMP for query ``q``.
+    ///
+    /// Args:
+    ///     q: the query: a float, or ``query_dim`` values.
+    ///
+    /// Returns:
+    ///     Dmp: the generalized discrete DMP, with the examples' columns.
+    ///
+    /// Raises:
+    ///     ValueError: a query of the wrong length or not finite.
+    ///
+    /// >>> import numpy as np, primo
+    /// >>> t = np.linspace(0.0, 1.0, 101)
+    /// >>> g = primo.Generalizer([(q, primo.Dmp.fit(t, q * t)) for q in (0.5, 1.0)])
+    /// >>> round(float(g.generalize(0.75).goal[0]), 4)
+    /// 0.75
     fn generalize(&self, q: Array<'_>) -> PyResult<Dmp> {
         let query = vector("q", &q, true)?;
         Ok(Dmp::from_file(
@@ -147,17 +176,36 @@ impl Generalizer {
         ))
     }
 
-    /// `G(q)`, the parameter vector.
+    /// ``G(q)``, the generalized parameter vector, laid out as ``Dmp.params``
+    /// (an orientation group's three goal values: its goal's rotation vector
+    /// from the examples' mean goal).
+    ///
+    /// Args:
+    ///     q: the query: a float, or ``query_dim`` values.
+    ///
+    /// Returns:
+    ///     numpy.ndarray: the parameter vector θ.
+    ///
+    /// Raises:
+    ///     ValueError: a query of the wrong length or not finite.
+    ///
+    /// >>> import numpy as np, primo
+    /// >>> t = np.linspace(0.0, 1.0, 101)
+    /// >>> g = primo.Generalizer([(q, primo.Dmp.fit(t, q * t)) for q in (0.5, 1.0)])
+    /// >>> g.params(0.5).shape == g.generalize(0.5).params.shape
+    /// True
     fn params<'py>(&self, py: Python<'py>, q: Array<'_>) -> PyResult<Bound<'py, PyAny>> {
         let query = vector("q", &q, true)?;
         Ok(out(py, &self.skill.generalize(&query).map_err(skill)?).into_any())
     }
 
+    /// The number of values in a query (1 to 4).
     #[getter]
     fn query_dim(&self) -> usize {
         self.skill.query_dim()
     }
 
+    /// The examples' column names.
     #[getter]
     fn names(&self) -> Vec<String> {
         self.skill.names().to_vec()

@@ -60,8 +60,20 @@ where
 
 /// Golden section and Illinois: the same settings and interface.
 macro_rules! scalar_learner {
-    ($name:ident, $core:ty, $doc:literal) => {
-        #[doc = $doc]
+    ($name:ident, $core:ty, $summary:literal, $example:literal) => {
+        #[doc = concat!($summary, "
+Args:
+    low: the smallest query the search may ask.
+    high: the largest query the search may ask (> low).
+    desired: the first query, strictly between ``low`` and ``high``.
+    precision: the search has converged when |error| < precision.
+    max_rollouts: the budget of roll-outs (>= 1).
+
+Raises:
+    ValueError: a non-finite setting, not ``low < desired < high``, a
+        precision or budget that is not positive.
+
+", $example)]
         #[pyclass(module = "primo._primo")]
         pub struct $name {
             learner: $core,
@@ -95,44 +107,87 @@ macro_rules! scalar_learner {
                 })
             }
 
-            /// The query to roll out next, or None once finished.
+            /// The query to roll out next, or None once the search has finished.
+            ///
+            /// Returns:
+            ///     float or None: the query, within ``[low, high]``; asking again
+            ///     before telling gives the same query.
+            ///
+            /// >>> import primo
+            /// >>> primo.GoldenSection(0.0, 2.0, desired=0.5).ask()
+            /// 0.5
             fn ask(&self) -> Option<f64> {
                 self.learner.ask().map(f64::from)
             }
 
-            /// The error of the asked query (> 0: the query must grow).
+            /// Tells the error of the asked query and moves the search on.
+            ///
+            /// Args:
+            ///     error: the asked query's error, finite; > 0 means the query must
+            ///         grow, < 0 that it must shrink.
+            ///
+            /// Returns:
+            ///     str: the status after it (``"running"``, ``"converged"``,
+            ///     ``"budget_exhausted"``, ``"bracket_collapsed"``, ``"infeasible"``).
+            ///
+            /// Raises:
+            ///     ValueError: a non-finite error, or told after the search finished.
+            ///
+            /// >>> import primo
+            /// >>> learner = primo.GoldenSection(0.0, 2.0, desired=0.5)
+            /// >>> learner.tell(0.3 - learner.ask())
+            /// 'running'
             fn tell(&mut self, error: f64) -> PyResult<&'static str> {
                 let s = self.learner.tell(scalar("error", error)?).map_err(core)?;
                 self.told.push(Some(error));
                 Ok(status(s))
             }
 
-            /// The asked query could not be rolled out or measured (it was
-            /// rejected, or the trial failed): it bounds the search on its
-            /// side, and counts against the budget. At the first query,
-            /// `desired`, the search ends as ``"infeasible"``.
+            /// Tells that the asked query could not be rolled out or measured (it was
+            /// rejected, or the trial failed): it bounds the search on its side, and
+            /// counts against the budget. At the first query, ``desired``, the search
+            /// ends as ``"infeasible"``.
+            ///
+            /// Returns:
+            ///     str: the status after it.
+            ///
+            /// Raises:
+            ///     ValueError: told after the search finished.
+            ///
+            /// >>> import primo
+            /// >>> learner = primo.GoldenSection(0.0, 2.0, desired=0.5)
+            /// >>> _ = learner.ask()
+            /// >>> learner.tell_infeasible()
+            /// 'infeasible'
             fn tell_infeasible(&mut self) -> PyResult<&'static str> {
                 let s = self.learner.tell_infeasible().map_err(core)?;
                 self.told.push(None);
                 Ok(status(s))
             }
 
+            /// The search's status: ``"running"``, ``"converged"`` (|error| <
+            /// ``precision``), ``"budget_exhausted"`` (``max_rollouts`` told),
+            /// ``"bracket_collapsed"`` (the bracket narrower than the query's float32
+            /// resolution) or ``"infeasible"``.
             #[getter]
             fn status(&self) -> &'static str {
                 status(self.learner.status())
             }
 
+            /// True once the search has finished (``status`` is not ``"running"``).
             #[getter]
             fn done(&self) -> bool {
                 self.learner.status() != Status::Running
             }
 
+            /// The roll-outs told so far, feasible or not.
             #[getter]
             fn rollouts(&self) -> u32 {
                 self.learner.rollouts()
             }
 
-            /// `(query, error)` of the smallest |error| so far.
+            /// ``(query, error)`` of the smallest |error| so far, or None before the
+            /// first error.
             #[getter]
             fn best(&self) -> Option<(f64, f64)> {
                 self.learner
@@ -140,6 +195,7 @@ macro_rules! scalar_learner {
                     .map(|b| (f64::from(b.query), f64::from(b.error)))
             }
 
+            /// ``(low, high)``: the interval that still holds the answer.
             #[getter]
             fn bracket(&self) -> (f64, f64) {
                 let (l, h) = self.learner.bracket();
@@ -170,11 +226,11 @@ scalar_learner!(
     GoldenSection,
     primo_core::golden::GoldenSection,
     "The paper's error learning: golden-section search on a scalar query
-within `[low, high]`, from `desired`, until |error| < `precision`.
-`tell(error)` takes the error of the asked query (> 0: the query must
+within ``[low, high]``, from ``desired``, until |error| < ``precision``.
+``tell(error)`` takes the error of the asked query (> 0: the query must
 grow); only its sign is used.
-
->>> import primo
+",
+    ">>> import primo
 >>> learner = primo.GoldenSection(0.0, 2.0, desired=0.5, precision=1e-3)
 >>> while (q := learner.ask()) is not None:
 ...     _ = learner.tell(0.5 - q * q)
@@ -186,8 +242,8 @@ scalar_learner!(
     primo_core::illinois::Illinois,
     "Bracketed error learning that also uses the error's magnitude (secant
 steps, then Illinois regula falsi); golden section's settings and interface.
-
->>> import primo
+",
+    ">>> import primo
 >>> learner = primo.Illinois(0.0, 2.0, desired=0.5, precision=1e-3)
 >>> while (q := learner.ask()) is not None:
 ...     _ = learner.tell(0.5 - q * q)
@@ -195,11 +251,25 @@ steps, then Illinois regula falsi); golden section's settings and interface.
 ('converged', True)"
 );
 
-/// The paper's eq. 10, `q ← q + K ε`, on a query of 1 to 4 values in the
-/// box `[low, high]`; the gain `K` starts at `gain · I` and is learned by
-/// Broyden updates (`rule="broyden"`), or stays fixed (`"fixed"`: eq. 10;
-/// `"weighted"`: eq. 11, steps weighted by `e^{−εᵀε}`). `tell` takes
-/// `ε = desired − measured`.
+/// The paper's eq. 10, ``q ← q + K ε``, on a query of 1 to 4 values in the
+/// box ``[low, high]``; the gain ``K`` starts at ``gain · I`` and is learned by
+/// Broyden updates (``rule="broyden"``), or stays fixed (``"fixed"``: eq. 10;
+/// ``"weighted"``: eq. 11, steps weighted by ``exp(−εᵀε)``). ``tell`` takes
+/// ``ε = desired − measured``.
+///
+/// Args:
+///     low: the smallest query the search may ask, 1 to 4 values.
+///     high: the largest query, as many values, each > low's.
+///     desired: the first query, within the box.
+///     precision: the search has converged when every |error_i| < precision.
+///     max_rollouts: the budget of roll-outs (>= 1).
+///     gain: the initial gain's diagonal, ``K = gain · I`` (non-zero).
+///     rule: ``"broyden"``, ``"fixed"`` or ``"weighted"``.
+///
+/// Raises:
+///     ValueError: vectors of different lengths or more than 4 values, a
+///         non-finite setting, an empty box, ``desired`` outside it, an
+///         unknown rule.
 ///
 /// >>> import numpy as np, primo
 /// >>> a = np.array([[2.5, 0.5], [-0.4, 0.7]])
@@ -278,11 +348,37 @@ impl Secant {
         })
     }
 
+    /// The query to roll out next, or None once the search has finished.
+    ///
+    /// Returns:
+    ///     numpy.ndarray or None: the query, ``dim`` values within
+    ///     ``[low, high]``; asking again before telling gives the same query.
+    ///
+    /// >>> import primo
+    /// >>> primo.Secant([-1, -1], [1, 1], desired=[0.5, 0.0]).ask()
+    /// array([0.5, 0. ])
     fn ask<'py>(&self, py: Python<'py>) -> Option<Bound<'py, PyAny>> {
         self.learner.ask().map(|q| out(py, q).into_any())
     }
 
-    /// The error vector of the asked query, `desired − measured`.
+    /// Tells the error vector of the asked query and moves the search on.
+    ///
+    /// Args:
+    ///     error: ``desired - measured`` of the asked query, ``dim`` finite
+    ///         values.
+    ///
+    /// Returns:
+    ///     str: the status after it (``"running"``, ``"converged"``,
+    ///     ``"budget_exhausted"``, ``"stalled"``, ``"infeasible"``).
+    ///
+    /// Raises:
+    ///     ValueError: a wrong length, a non-finite value, or told after the
+    ///         search finished.
+    ///
+    /// >>> import primo
+    /// >>> learner = primo.Secant([-1], [1], desired=[0.5], precision=1e-3)
+    /// >>> learner.tell([0.5 - 0.5 * float(learner.ask()[0])])
+    /// 'running'
     fn tell(&mut self, error: Array<'_>) -> PyResult<&'static str> {
         let e = vector("error", &error, true)?;
         if e.len() != self.learner.dim() {
@@ -297,41 +393,60 @@ impl Secant {
         Ok(status(s))
     }
 
-    /// The asked query could not be rolled out or measured (it was
+    /// Tells that the asked query could not be rolled out or measured (it was
     /// rejected, or the trial failed): with ``"broyden"`` the trust region
-    /// shrinks to half the step that reached it and the next step leaves
-    /// from the best query; with the fixed gains the next query lies
-    /// halfway back toward the one it stepped from, and the step's reach is
-    /// halved until a query is feasible again. It counts against the
-    /// budget; at the first query, `desired`, the search ends as
-    /// ``"infeasible"``.
+    /// shrinks to half the step that reached it and the next step leaves from
+    /// the best query; with the fixed gains the next query lies halfway back
+    /// toward the one it stepped from, and the step's reach is halved until a
+    /// query is feasible again. It counts against the budget; at the first
+    /// query, ``desired``, the search ends as ``"infeasible"``.
+    ///
+    /// Returns:
+    ///     str: the status after it.
+    ///
+    /// Raises:
+    ///     ValueError: told after the search finished.
+    ///
+    /// >>> import primo
+    /// >>> learner = primo.Secant([-1], [1], desired=[0.5])
+    /// >>> _ = learner.ask()
+    /// >>> learner.tell_infeasible()
+    /// 'infeasible'
     fn tell_infeasible(&mut self) -> PyResult<&'static str> {
         let s = self.learner.tell_infeasible().map_err(core)?;
         self.told.push(None);
         Ok(status(s))
     }
 
+    /// The search's status: ``"running"``, ``"converged"`` (every |error| <
+    /// ``precision``), ``"budget_exhausted"``, ``"stalled"`` (the best query is
+    /// on a bound and the error pushes out of the box: shown unreachable) or
+    /// ``"infeasible"``.
     #[getter]
     fn status(&self) -> &'static str {
         status(self.learner.status())
     }
 
+    /// True once the search has finished (``status`` is not ``"running"``).
     #[getter]
     fn done(&self) -> bool {
         self.learner.status() != Status::Running
     }
 
+    /// The roll-outs told so far, feasible or not.
     #[getter]
     fn rollouts(&self) -> u32 {
         self.learner.rollouts()
     }
 
+    /// The number of values in a query (1 to 4).
     #[getter]
     fn dim(&self) -> usize {
         self.learner.dim()
     }
 
-    /// `(query, error)` of the smallest max |error_i| so far.
+    /// ``(query, error)`` of the smallest max |error_i| so far (ties broken by
+    /// the sum of squares), or None before the first error.
     #[getter]
     fn best<'py>(&self, py: Python<'py>) -> Option<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
         self.learner
@@ -339,7 +454,7 @@ impl Secant {
             .map(|b| (out(py, b.query).into_any(), out(py, b.error).into_any()))
     }
 
-    /// The learned gain `K` (dim × dim).
+    /// The present gain ``K`` (dim × dim): ``q ← q + K ε``.
     #[getter]
     fn gain<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         let rows: Vec<f32> = self.learner.gain().flatten().copied().collect();
@@ -390,27 +505,39 @@ type PowerArgs = (
 /// roll-out was asked after them.
 type PowerTold = (Vec<(f32, Vec<f32>)>, bool);
 
-/// PoWER (Kober & Peters) as in the paper: contiguous `blocks` of
-/// `(len, variance, decay)`, the mean rolled out once per update
-/// (`roll_out_mean`), `rollouts_per_update` explorations, an importance
-/// sampler of the best `sampler` roll-outs; deterministic per `seed`.
-/// At most 2066 parameters (a 16-DoF, 128-kernel DMP and its query).
+/// PoWER (Kober & Peters) as in the paper, with ``ask()`` and ``tell()``.
 ///
-/// The query: `query` = n says the first n parameters are a query (whole
-/// blocks: n ends where a block ends), as in primo's extended vector `[q̂,
-/// Δθ]`. With `query_gain` K ≠ 0 it is learned from the error as well:
-/// `tell(reward, error)` with n error values keeps each roll-out's query
-/// as `q + K·error` (the paper's eq. 10 inside PoWER). `Power.defaults`
-/// builds primo's exploration for a skill.
+/// Exploration is Gaussian per contiguous block of parameters, each
+/// ``(len, variance, decay)`` (the variance multiplied by ``decay`` at every
+/// update); ``rollouts_per_update`` explorations make an update, the mean
+/// rolled out once per update when ``roll_out_mean``; an importance sampler
+/// keeps the best ``sampler`` roll-outs. Deterministic per ``seed``; it
+/// pickles with what it was told. At most 2066 parameters (a 16-DoF,
+/// 128-kernel DMP and its query).
 ///
-/// Parameters: `initial` (the parameters' start), `blocks` (each `(len,
-/// variance, decay)`: `len` parameters explored with `variance`, times
-/// `decay` after each update; the lengths sum to `len(initial)`),
-/// `rollouts_per_update` (explorations per update), `roll_out_mean`,
-/// `sampler` (1 to 10), `seed` (int in 0..2**64), `query_gain` (K),
-/// `query` (the query's length n, 0 for none).
-/// Raises: `ValueError` for blocks that do not cover `initial`, a
-/// `query` that does not end on a block, or a query gain without a query.
+/// The query: ``query`` = n says the first n parameters are a query (whole
+/// blocks: n ends where a block ends), as in primo's extended vector
+/// ``[q̂, Δθ]``. With ``query_gain`` K ≠ 0 it is learned from the error as
+/// well: ``tell(reward, error)`` with n error values keeps each roll-out's
+/// query as ``q + K·error`` (the paper's eq. 10 inside PoWER).
+/// ``Power.defaults`` builds primo's exploration for a skill.
+///
+/// Args:
+///     initial: the initial parameters (the mean), finite.
+///     blocks: ``(len, variance, decay)`` per block, covering ``initial``
+///         in order; variance >= 0, decay in (0, 1].
+///     rollouts_per_update: explorations per update (>= 1).
+///     roll_out_mean: roll out the mean once per update as well.
+///     sampler: roll-outs the importance sampler keeps (1 to 10).
+///     seed: the exploration's random seed (an integer in 0..2**64).
+///     query_gain: K, the gain of the error on the query (0: the query is
+///         explored like the rest).
+///     query: the query's length n (0: none).
+///
+/// Raises:
+///     ValueError: blocks that do not cover ``initial``, a ``query`` that
+///         does not end on a block, a query gain without a query, a setting
+///         out of range, too many parameters.
 ///
 /// >>> import numpy as np, primo
 /// >>> power = primo.Power([1.0, -1.0], blocks=[(2, 0.04, 1.0)], seed=42)
@@ -619,19 +746,39 @@ impl Power {
         ))
     }
 
-    /// The parameters to roll out next (the same until told).
+    /// The parameters to roll out next; the same until told.
+    ///
+    /// Returns:
+    ///     numpy.ndarray: the parameters (the mean, or an exploration of it).
+    ///
+    /// >>> import primo
+    /// >>> power = primo.Power([1.0, 2.0], blocks=[(2, 0.01, 1.0)])
+    /// >>> power.ask()  # the mean first
+    /// array([1., 2.])
     fn ask<'py>(&mut self, py: Python<'py>) -> Bound<'py, PyAny> {
         self.told.1 = true;
         out(py, self.learner.ask()).into_any()
     }
 
-    /// The reward (finite, >= 0) of the asked roll-out; True when it
-    /// completed an update. `error`: the roll-out's error over the query
-    /// (`query` values, > 0 asks for a larger query), needed with a query
-    /// gain, refused without a query.
+    /// Tells the asked roll-out's reward (and error, with a query).
     ///
-    /// Raises: `ValueError` for a negative or non-finite reward, an error
-    /// of another length than the query, or a missing one with a gain.
+    /// Args:
+    ///     reward: the roll-out's reward, finite and >= 0 (larger is better).
+    ///     error: the roll-out's error over the query, ``query`` values
+    ///         (> 0 asks for a larger query): needed with a query gain,
+    ///         refused without a query; else None.
+    ///
+    /// Returns:
+    ///     bool: True when this roll-out completed an update.
+    ///
+    /// Raises:
+    ///     ValueError: a negative or non-finite reward, an error of another
+    ///         length than the query, or a missing one with a gain.
+    ///
+    /// >>> import primo
+    /// >>> power = primo.Power([1.0], blocks=[(1, 0.01, 1.0)], rollouts_per_update=1)
+    /// >>> _ = power.ask(); power.tell(0.5)
+    /// False
     #[pyo3(signature = (reward, error=None))]
     fn tell(&mut self, reward: f64, error: Option<Array<'_>>) -> PyResult<bool> {
         let r = scalar("reward", reward)?;
@@ -667,32 +814,38 @@ impl Power {
         self.args.7
     }
 
+    /// The present mean of the parameters.
     #[getter]
     fn mean<'py>(&self, py: Python<'py>) -> Bound<'py, PyAny> {
         out(py, self.learner.mean()).into_any()
     }
 
+    /// The updates made so far.
     #[getter]
     fn updates(&self) -> u32 {
         self.learner.updates()
     }
 
+    /// The roll-outs told so far.
     #[getter]
     fn rollouts(&self) -> usize {
         self.told.0.len()
     }
 
+    /// The present exploration variance, per parameter.
     #[getter]
     fn variances<'py>(&self, py: Python<'py>) -> Bound<'py, PyAny> {
         out(py, self.learner.variances()).into_any()
     }
 
+    /// True when the next ``ask()`` gives the mean (rolled out once per update).
     #[getter]
     fn next_is_mean(&self) -> bool {
         self.learner.next_is_mean()
     }
 
-    /// `(parameters, reward)` of the best roll-out so far.
+    /// ``(parameters, reward)`` of the best roll-out so far, or None before the
+    /// first.
     #[getter]
     fn best<'py>(&self, py: Python<'py>) -> Option<(Bound<'py, PyAny>, f64)> {
         self.learner
@@ -700,7 +853,7 @@ impl Power {
             .map(|b| (out(py, b.params).into_any(), f64::from(b.reward)))
     }
 
-    /// The importance sampler, best first: `(parameters, reward)` pairs.
+    /// The importance sampler, best first: ``(parameters, reward)`` pairs.
     #[getter]
     fn sampler<'py>(&self, py: Python<'py>) -> Vec<(Bound<'py, PyAny>, f64)> {
         self.learner

@@ -130,10 +130,23 @@ class _Task:
 class PouringEnv(gymnasium.Env):
     """One roll-out of the pouring cell per episode (see the module docs).
 
-    Keyword arguments are ``Cell``'s (``glass``, ``space``, ``bottle``,
-    ``target``, ``kernels``, ``demos``), or a ready ``cell``; ``scale``
-    is the action's reach in exploration standard deviations. ``bottle``
-    and ``target`` are the first context; ``reset(options=...)`` changes it.
+    Args:
+        cell: a ready ``Cell`` (default: one built from ``settings``).
+        scale: the action's reach in exploration standard deviations.
+        settings: ``Cell``'s keyword arguments (``glass``, ``space``,
+            ``bottle``, ``target``, ``kernels``, ``demos``); ``bottle`` and
+            ``target`` are the first context, ``reset(options=...)``
+            changes it.
+
+    Raises:
+        ValueError: a ``scale`` that is not positive, a setting ``Cell``
+            refuses.
+
+    >>> import numpy as np, primo
+    >>> from primo.env import PouringEnv
+    >>> env = PouringEnv(kernels=10, bottle=0.6)
+    >>> env.reset(seed=3)[0].tolist(), env.action_space.shape
+    ([0.6, 0.2], (79,))
     """
 
     metadata: dict[str, Any] = {"render_modes": []}
@@ -154,17 +167,72 @@ class PouringEnv(gymnasium.Env):
         return self._task.context
 
     def parameters(self, action: Any) -> np.ndarray:
-        """The cell's parameter vector an action rolls out in the current context."""
+        """The cell's parameter vector an action rolls out in the current context.
+
+        Args:
+            action: ``n`` values in [-1, 1] (clipped): ``start + scale *
+                std * action``.
+
+        Returns:
+            numpy.ndarray: the vector ``Cell.rollout`` takes.
+
+        Raises:
+            ValueError: an action of the wrong length.
+
+        >>> import numpy as np
+        >>> from primo.env import PouringEnv
+        >>> env = PouringEnv(kernels=10)
+        >>> bool((env.parameters(np.zeros(79)) == env.cell.start()["start"]).all())
+        True
+        """
         return self._task.parameters(action, self._task.context)
 
     def reset(
         self, *, seed: Optional[int] = None, options: Optional[dict[str, Any]] = None
     ) -> tuple[np.ndarray, dict[str, Any]]:
+        """Starts an episode, in the context ``options`` choose.
+
+        Args:
+            seed: seeds the scale's noise of the roll-outs that follow.
+            options: ``{"bottle": b, "target": t}``, litres (either key; a
+                key left out keeps the current value).
+
+        Returns:
+            tuple: the observation ``[bottle, target]`` and an empty info.
+
+        Raises:
+            ValueError: an unknown key, a context the cell refuses.
+
+        >>> from primo.env import PouringEnv
+        >>> PouringEnv(kernels=10).reset(options={"target": 0.3})[0].tolist()
+        [0.5, 0.3]
+        """
         super().reset(seed=seed)
         (self._task.context,) = self._task.chosen(options, [self._task.context], vector=False)
         return np.array(self._task.context, dtype=np.float64), {}
 
     def step(self, action: Any) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
+        """One roll-out of the movement ``action`` gives: the episode's
+        only step.
+
+        Args:
+            action: ``n`` values in [-1, 1] (see ``parameters``).
+
+        Returns:
+            tuple: observation, reward (the paper's, 0 to 1), terminated
+            (True), truncated (False), info (``poured``, ``spilled``,
+            ``error``, ``safe``, ``rejected``).
+
+        Raises:
+            ValueError: an action of the wrong length.
+
+        >>> import numpy as np
+        >>> from primo.env import PouringEnv
+        >>> env = PouringEnv(kernels=10)
+        >>> _ = env.reset(seed=1)
+        >>> env.step(np.zeros(79))[2:4]
+        (True, False)
+        """
         noise = int(self.np_random.integers(0, 2**63))
         r = self.cell.rollout(self.parameters(action), seed=noise)
         info = {k: r[k] for k in _INFO}
@@ -175,7 +243,28 @@ class PouringVectorEnv(VectorEnv):
     """``num_envs`` pouring cells stepped together: the roll-outs run in
     parallel in Rust with the GIL released (one batch per context). Every
     step ends every episode, and the environments reset in the same step,
-    each keeping its context."""
+    each keeping its context.
+
+    Args:
+        num_envs: the number of environments (>= 1).
+        cell: a ready ``Cell`` (default: one built from ``settings``).
+        scale: the action's reach in exploration standard deviations.
+        settings: ``Cell``'s keyword arguments, as ``PouringEnv``'s.
+
+    Raises:
+        ValueError: ``num_envs`` below 1, a ``scale`` that is not positive,
+            a setting ``Cell`` refuses.
+
+    >>> import numpy as np
+    >>> from primo.env import PouringVectorEnv
+    >>> env = PouringVectorEnv(num_envs=2, kernels=10)
+    >>> obs, _ = env.reset(seed=1, options={"bottle": [0.5, 0.7]})
+    >>> obs.tolist()
+    [[0.5, 0.2], [0.7, 0.2]]
+    >>> rewards = env.step(np.zeros((2, 79)))[1]
+    >>> rewards.shape
+    (2,)
+    """
 
     metadata: dict[str, Any] = {"render_modes": [], "autoreset_mode": AutoresetMode.SAME_STEP}
 
