@@ -12,7 +12,7 @@ use primo_skill::HostDmp;
 use primo_skill::csv::Demo;
 use primo_skill::dmpfile::{self, Change, DmpFile, Fitted, MAX_ROWS, Prepared, RhythmicFile};
 
-use crate::arrays::{Array, matrix, out, out2, vector};
+use crate::arrays::{Array, matrix, out, out2, times, vector};
 use crate::errors::{core, invalid, io, skill};
 
 /// A fitted DMP with its column names: discrete (four columns
@@ -67,7 +67,7 @@ fn column_names(names: Option<Bound<'_, PyAny>>) -> PyResult<Option<Vec<String>>
 /// one column) and the column names (default `y0, y1, …`).
 fn demo(t: &Array<'_>, y: &Array<'_>, names: Option<Bound<'_, PyAny>>) -> PyResult<Demo> {
     let names = column_names(names)?;
-    let times = vector("t", t, false)?;
+    let times = times("t", t)?;
     let (rows, cols, positions) = match y.shape().len() {
         1 => {
             let v = vector("y", y, false)?;

@@ -126,13 +126,31 @@ def test_rhythmic_defaults_are_the_command_lines(run_primo, tmp_path):
     np.testing.assert_allclose(ours["weights"], cli["weights"], rtol=1e-4, atol=1e-6)
 
 
+def recording_at(origin):
+    """A 1 kHz recording of two DoF stamped from `origin` s: the same
+    instants whatever the origin (those a recorder stamping from 1.7e9 s,
+    Unix time, can hold)."""
+    since_first = (1.7e9 + np.arange(1001) * 1e-3) - 1.7e9
+    s = since_first / since_first[-1]
+    return origin + since_first, np.stack([s * s * (3 - 2 * s), 0.25 * np.sin(np.pi * s)], axis=1)
+
+
+@pytest.mark.parametrize("fit", [primo.Dmp.fit, primo.Dmp.fit_rhythmic])
+def test_a_recording_stamped_in_unix_time_fits_as_from_0(fit):
+    # Was "times must be strictly increasing" (the stamps cut to float32).
+    from_zero = fit(*recording_at(0.0))
+    for origin in (1.7e9, 1000.0, -2.5):
+        assert fit(*recording_at(origin)) == from_zero, origin
+
+
 @pytest.mark.parametrize(
     "t, y, kwargs, message",
     [
         ([0, 1, 2], [[0, 1, 2]], {}, "y has 1 rows, t has 3 samples"),
         ([0, 1, np.nan], [0, 1, 2], {}, r"t\[2\]: NaN is not a finite number"),
         ([0, 1, 2], [0, np.inf, 2], {}, r"y\[1\]: inf is not a finite number"),
-        ([0, 1, 1], [0, 1, 2], {}, "strictly increasing"),
+        ([0, 1, 1], [0, 1, 2], {}, r"t\[2\] = 1 does not increase: t\[1\] is at t = 1"),
+        ([5, 1005, 1005.00001], [0, 1, 2], {}, r"t\[2\] = 1005.00001 is 1.000e-5 s after t\[1\]: 1000.00001 s into the recording, stamps must be at least 6.104e-5 s apart"),
         ([], [], {}, "at least 3 samples"),
         ([0, 1, 2], [0, 1, 2], {"kernels": 1}, "outside 2..=128"),
         ([0, 1, 2], [[0, 1], [1, 2], [2, 3]], {"names": ["x"]}, "1 names for 2 columns"),

@@ -75,6 +75,48 @@ fn fit_then_run_reproduces_the_demo_and_reaches_new_goals() {
     assert_eq!(rows[10].split(',').next(), Some("0.9"));
 }
 
+/// A 1 kHz recording of two DoF at `origin` seconds: the same instants
+/// whatever the origin (those a recorder stamping from `origin` can hold),
+/// each stamp printed so that it reads back exactly.
+fn recording_at(origin: f64) -> String {
+    let mut text = String::from("t,x,z\n");
+    for i in 0..=1000 {
+        let since_first = (1.7e9 + f64::from(i) * 1e-3) - 1.7e9;
+        let s = since_first as f32;
+        let (x, z) = (
+            s * s * (3.0 - 2.0 * s),
+            0.25 * (std::f32::consts::PI * s).sin(),
+        );
+        text.push_str(&format!("{},{x},{z}\n", origin + since_first));
+    }
+    text
+}
+
+#[test]
+fn a_recording_stamped_in_unix_time_fits_as_from_0() {
+    let fit = |origin: f64| {
+        let (demo, json) = (
+            tmp(&format!("at-{origin}.csv")),
+            tmp(&format!("at-{origin}.json")),
+        );
+        std::fs::write(&demo, recording_at(origin)).unwrap();
+        let demo = demo.to_str().unwrap();
+        let (code, _, err) = primo(&[
+            "dmp",
+            "fit",
+            "--demo",
+            demo,
+            "--out",
+            json.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0, "{origin}: {err}");
+        std::fs::read_to_string(json).unwrap()
+    };
+    let from_zero = fit(0.0);
+    assert_eq!(fit(1.7e9), from_zero, "Unix time");
+    assert_eq!(fit(-2.5), from_zero, "before 0");
+}
+
 #[test]
 fn malformed_input_gets_a_one_line_error_and_status_2() {
     let cases: &[(&str, &str)] = &[
@@ -89,6 +131,11 @@ fn malformed_input_gets_a_one_line_error_and_status_2() {
         (
             "t,x\n0,1\n1,2\n0.5,3\n",
             "bad.csv:4:1: t = 0.5 does not increase",
+        ),
+        (
+            "t,x\n0,1\n1000,2\n1000.00001,3\n",
+            "bad.csv:4:1: t = 1000.00001 is 1.000e-5 s after the previous row: 1000.00001 s \
+             into the recording, stamps must be at least 6.104e-5 s apart",
         ),
         ("t,x\n0,1\n1,2\n", "bad.csv: too few rows"),
     ];
