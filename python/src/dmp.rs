@@ -7,7 +7,7 @@ use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::{PyString, PyTuple};
 
-use primo_core::dmp::{Margin, max_margin};
+use primo_core::dmp::{DEFAULT_OVERLAP, FitOptions, MAX_ALPHA, MIN_ALPHA, Margin, max_margin};
 use primo_skill::HostDmp;
 use primo_skill::csv::Demo;
 use primo_skill::dmpfile::{self, Change, DmpFile, Fitted, MAX_ROWS, Prepared, RhythmicFile};
@@ -172,10 +172,94 @@ impl Dmp {
     }
 }
 
+/// The fit's options from `Dmp.fit`'s keyword arguments, each checked
+/// with its name.
+fn fit_options(
+    kernels: usize,
+    margin: Option<f32>,
+    overlap: f64,
+    ridge: f64,
+    alpha: f64,
+) -> PyResult<FitOptions> {
+    let margin = match margin {
+        None => Margin::Auto,
+        Some(m) if (0.0..=max_margin(kernels)).contains(&m) => Margin::Spacings(m),
+        Some(m) => {
+            return Err(invalid(format!(
+                "margin: {m} is not a number of kernel spacings from 0 to {} (with \
+                 kernels={kernels}, one spacing must stay between the ends)",
+                max_margin(kernels)
+            )));
+        }
+    };
+    let overlap = positive("overlap", Some(overlap))?.unwrap_or(DEFAULT_OVERLAP);
+    if !(ridge.is_finite() && ridge >= 0.0 && (ridge as f32).is_finite()) {
+        return Err(invalid(format!(
+            "ridge: {ridge} must be a finite number >= 0"
+        )));
+    }
+    if !(f64::from(MIN_ALPHA)..=f64::from(MAX_ALPHA)).contains(&alpha) {
+        return Err(invalid(format!(
+            "alpha: {alpha} is outside {MIN_ALPHA} to {MAX_ALPHA} (the spring gain; β = α/4)"
+        )));
+    }
+    Ok(FitOptions {
+        alpha: alpha as f32,
+        overlap,
+        ridge: ridge as f32,
+        margin,
+        ..FitOptions::default()
+    })
+}
+
 #[pymethods]
 impl Dmp {
+    /// Fits a discrete DMP to one demonstration: least squares on the
+    /// positions, so that its run reproduces ``y`` (no derivative of the
+    /// recording is taken; any sampling fits).
+    ///
+    /// Args:
+    ///     t: the sample times, s: n values, strictly increasing, any
+    ///         spacing and any origin (Unix time is fine: they are counted
+    ///         from the first sample in float64 before they are rounded to
+    ///         the float32 the fit computes in).
+    ///     y: the positions, n × columns (or n for one column), any unit.
+    ///         Four columns ``<p>qw, <p>qx, <p>qy, <p>qz`` are one
+    ///         orientation, a quaternion DMP.
+    ///     names: the columns' names (default ``y0, y1, …``).
+    ///     kernels: kernels per DoF, 2 to 128.
+    ///     margin: kernel spacings the outer kernels lie beyond the
+    ///         movement's ends, 0 to (kernels − 2)/2; ``None`` tries 0 and
+    ///         1 and keeps the one that reproduces ``y`` better. DMPs
+    ///         generalized together need the same.
+    ///     overlap: the kernels' overlap ``h·Δc²`` (> 0; larger is
+    ///         narrower: neighbours cross at ``exp(−overlap/4)``).
+    ///     ridge: the ridge regularization, relative to the mean diagonal
+    ///         of the Gram matrix (>= 0).
+    ///     alpha: the spring gain α, 0.01 to 10000 (β = α/4).
+    ///
+    /// ``primo learn`` fits a task's demonstrations with ``margin=0,
+    /// overlap=2.0, ridge=1e-6`` (``Generalizer.from_task`` builds that
+    /// skill itself).
+    ///
+    /// Returns:
+    ///     Dmp: the fitted DMP, as ``primo dmp fit`` writes it.
+    ///
+    /// Raises:
+    ///     ValueError: an argument out of its range (named), times that do
+    ///         not increase, fewer than 3 samples, or weights beyond the
+    ///         DMP's bounds.
+    ///     TypeError: ``names`` not a sequence of strings.
+    ///
+    /// >>> import numpy as np, primo
+    /// >>> t = 1.7e9 + np.linspace(0.0, 1.0, 101)  # stamped in Unix time
+    /// >>> dmp = primo.Dmp.fit(t, np.sin(t - t[0]), names=["x"], kernels=20, overlap=2.0)
+    /// >>> dmp.tau, dmp.names
+    /// (1.0, ['x'])
     #[staticmethod]
-    #[pyo3(signature = (t, y, names=None, kernels=30, margin=None))]
+    #[allow(clippy::too_many_arguments)] // the fit's options, as keywords
+    #[pyo3(signature = (t, y, names=None, kernels=30, margin=None, overlap=0.7, ridge=1e-9,
+                        alpha=25.0))]
     fn fit(
         py: Python<'_>,
         t: Array<'_>,
@@ -183,21 +267,15 @@ impl Dmp {
         names: Option<Bound<'_, PyAny>>,
         kernels: usize,
         margin: Option<f32>,
+        overlap: f64,
+        ridge: f64,
+        alpha: f64,
     ) -> PyResult<Dmp> {
-        let margin = match margin {
-            None => Margin::Auto,
-            Some(m) if (0.0..=max_margin(kernels)).contains(&m) => Margin::Spacings(m),
-            Some(m) => {
-                return Err(invalid(format!(
-                    "margin: {m} is not a number of kernel spacings from 0 to {} (with \
-                     kernels={kernels}, one spacing must stay between the ends)",
-                    max_margin(kernels)
-                )));
-            }
-        };
+        let options = fit_options(kernels, margin, overlap, ridge, alpha)?;
         let demo = demo(&t, &y, names)?;
         // The fit runs without the GIL: other threads go on meanwhile.
-        let file = py.detach(|| DmpFile::fit("the demonstration", &demo, kernels, margin));
+        let file =
+            py.detach(|| DmpFile::fit_with("the demonstration", &demo, kernels, None, &options));
         Ok(Dmp::from_file(file.map_err(skill)?))
     }
 

@@ -161,6 +161,11 @@ def test_a_recording_stamped_in_unix_time_fits_as_from_0(fit):
         ([0, 1, 2], [0, 1, 2], {"kernels": 10, "margin": 4.5}, "margin: 4.5 is not a number of kernel spacings from 0 to 4"),
         ([0, 1, 2], [0, 1, 2], {"margin": -1}, "margin: -1"),
         ([0, 1, 2], [0, 1, 2], {"margin": float("nan")}, "margin: NaN"),
+        ([0, 1, 2], [0, 1, 2], {"overlap": 0}, "overlap: 0 must be a positive, finite number"),
+        ([0, 1, 2], [0, 1, 2], {"overlap": float("inf")}, "overlap: inf must be"),
+        ([0, 1, 2], [0, 1, 2], {"ridge": -1e-6}, "ridge: -0.000001 must be a finite number >= 0"),
+        ([0, 1, 2], [0, 1, 2], {"alpha": 0}, "alpha: 0 is outside 0.01 to 10000"),
+        ([0, 1, 2], [0, 1, 2], {"alpha": float("nan")}, "alpha: NaN is outside"),
     ],
 )
 def test_bad_input_is_a_value_error(t, y, kwargs, message):

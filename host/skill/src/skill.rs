@@ -104,18 +104,30 @@ pub struct Plan {
 }
 
 impl Skill {
-    /// Fits one DMP per demonstration `(q_i, demo_i)` (as
-    /// [`DmpFile::fit`]: orientations as the module docs say, but with the
-    /// fit of [`FitOptions::LEARNING`]: narrower kernels, none beyond the ends), all with the same
-    /// amplitude scaling (decided on the first: interpolating weights
-    /// only makes sense when every example scales them alike), and
-    /// generalizes over the queries ([`Skill::from_files`]). Every
-    /// demonstration has the first one's columns, by name and in order.
+    /// Fits one DMP per demonstration `(q_i, demo_i)` ([`Skill::fit_demos`])
+    /// and generalizes over the queries ([`Skill::from_files`]).
     pub fn fit(
         examples: &[(&[f32], &Demo)],
         kernels: usize,
         method: Method,
     ) -> Result<Skill, Error> {
+        let files = Skill::fit_demos(examples, kernels)?;
+        let examples: Vec<(&[f32], &DmpFile)> = examples
+            .iter()
+            .zip(&files)
+            .map(|((q, _), f)| (*q, f))
+            .collect();
+        Skill::from_files(&examples, method)
+    }
+
+    /// The DMP of each demonstration `(q_i, demo_i)` of a skill, in order
+    /// (as [`DmpFile::fit`]: orientations as the module docs say, but with
+    /// the fit of [`FitOptions::LEARNING`]: narrower kernels, none beyond
+    /// the ends), all with the same amplitude scaling (decided on the
+    /// first: interpolating weights only makes sense when every example
+    /// scales them alike). Every demonstration has the first one's
+    /// columns, by name and in order.
+    pub fn fit_demos(examples: &[(&[f32], &Demo)], kernels: usize) -> Result<Vec<DmpFile>, Error> {
         let (_, first) = examples.first().ok_or_else(|| {
             Error::Demonstrations("a skill needs at least one demonstration".into())
         })?;
@@ -133,10 +145,9 @@ impl Skill {
                     .filter(|d| dmp.is_scaled(*d))
                     .fold(0, |m, d| m | 1 << d),
             );
-            files.push((*q, file));
+            files.push(file);
         }
-        let examples: Vec<(&[f32], &DmpFile)> = files.iter().map(|(q, f)| (*q, f)).collect();
-        Skill::from_files(&examples, method)
+        Ok(files)
     }
 
     /// Generalizes over fitted DMPs `(q_i, file_i)`: every query of the

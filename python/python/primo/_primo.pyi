@@ -25,12 +25,53 @@ class Dmp:
         names: Optional[Sequence[str]] = None,
         kernels: int = 30,
         margin: Optional[float] = None,
+        overlap: float = 0.7,
+        ridge: float = 1e-9,
+        alpha: float = 25.0,
     ) -> Dmp:
-        """Fits ``y`` (n × columns, or n) sampled at times ``t`` (n, strictly
-        increasing): least squares on the positions, ``kernels`` (2–128) per DoF.
-        ``margin``: kernel spacings the outer kernels lie beyond the movement's
-        ends (0 to (kernels − 2)/2); ``None`` tries 0 and 1 and keeps the one
-        that reproduces ``y`` better. DMPs generalized together need the same."""
+        """Fits a discrete DMP to one demonstration: least squares on the
+        positions, so that its run reproduces ``y`` (no derivative of the
+        recording is taken; any sampling fits).
+
+        Args:
+            t: the sample times, s: n values, strictly increasing, any
+                spacing and any origin (Unix time is fine: they are counted
+                from the first sample in float64 before they are rounded to
+                the float32 the fit computes in).
+            y: the positions, n × columns (or n for one column), any unit.
+                Four columns ``<p>qw, <p>qx, <p>qy, <p>qz`` are one
+                orientation, a quaternion DMP.
+            names: the columns' names (default ``y0, y1, …``).
+            kernels: kernels per DoF, 2 to 128.
+            margin: kernel spacings the outer kernels lie beyond the
+                movement's ends, 0 to (kernels − 2)/2; ``None`` tries 0 and
+                1 and keeps the one that reproduces ``y`` better. DMPs
+                generalized together need the same.
+            overlap: the kernels' overlap ``h·Δc²`` (> 0; larger is
+                narrower: neighbours cross at ``exp(−overlap/4)``).
+            ridge: the ridge regularization, relative to the mean diagonal
+                of the Gram matrix (>= 0).
+            alpha: the spring gain α, 0.01 to 10000 (β = α/4).
+
+        ``primo learn`` fits a task's demonstrations with ``margin=0,
+        overlap=2.0, ridge=1e-6`` (``Generalizer.from_task`` builds that
+        skill itself).
+
+        Returns:
+            Dmp: the fitted DMP, as ``primo dmp fit`` writes it.
+
+        Raises:
+            ValueError: an argument out of its range (named), times that do
+                not increase, fewer than 3 samples, or weights beyond the
+                DMP's bounds.
+            TypeError: ``names`` not a sequence of strings.
+
+        >>> import numpy as np, primo
+        >>> t = 1.7e9 + np.linspace(0.0, 1.0, 101)  # stamped in Unix time
+        >>> dmp = primo.Dmp.fit(t, np.sin(t - t[0]), names=["x"], kernels=20, overlap=2.0)
+        >>> dmp.tau, dmp.names
+        (1.0, ['x'])
+        """
     @staticmethod
     def fit_rhythmic(
         t: ArrayLike,
@@ -148,11 +189,52 @@ class Generalizer:
         bandwidth: Optional[float] = None,
         noise: float = 0.0,
     ) -> None: ...
+    @staticmethod
+    def from_task(path: Path) -> Generalizer:
+        """The skill a task file builds, exactly as ``primo learn --task``
+        builds it: the task's demonstrations read and checked (their
+        columns and the task's limits), each fitted as ``primo learn``
+        fits it (``margin=0, overlap=2.0, ridge=1e-6``, the task's
+        ``kernels``, every example with the first one's amplitude scaling)
+        and generalized by the task's ``generalization``.
+
+        Args:
+            path: the task file (TOML, the book's task file reference); its
+                demonstrations are found beside it.
+
+        Returns:
+            Generalizer: one example per ``[[demo]]``, in the file's order,
+            at its ``query``.
+
+        Raises:
+            OSError: the task file cannot be read.
+            ValueError: the task file or a demonstration is refused or
+                missing (the message names the file, the line and the key),
+                or the task is the built-in pour (its cell builds its own
+                skill).
+
+        >>> import primo
+        >>> g = primo.Generalizer.from_task("examples/throw/throw.toml")  # doctest: +SKIP
+        >>> len(g), g.names, g.query_dim  # doctest: +SKIP
+        (2, ['shoulder', 'elbow'], 1)
+        """
     def generalize(self, q: Union[float, ArrayLike]) -> Dmp:
         """The DMP for query ``q``."""
     def params(self, q: Union[float, ArrayLike]) -> Array:
         """``G(q)``, the parameter vector (an orientation group's three goal
         values: its goal's rotation vector from the examples' mean goal)."""
+    @property
+    def examples(self) -> list[tuple[Array, Dmp]]:
+        """The examples ``(query, dmp)``, in order: the queries as float64
+        arrays (1 to 4 values), the DMPs as given (or, from a task file, as
+        ``primo learn`` fits them).
+
+        >>> import numpy as np, primo
+        >>> t = np.linspace(0.0, 1.0, 101)
+        >>> g = primo.Generalizer([(0.2, primo.Dmp.fit(t, 0.2 * t)), (1.0, primo.Dmp.fit(t, t))])
+        >>> [float(q[0]) for q, _ in g.examples]
+        [0.2, 1.0]
+        """
     @property
     def query_dim(self) -> int: ...
     @property

@@ -6,7 +6,7 @@ use primo_mtsics::path::read_text;
 use primo_robot::envelope::{ColumnLimit, Limits};
 use primo_skill::Skill;
 use primo_skill::csv::{Demo, check_rotation_vectors, parse_demo};
-use primo_skill::dmpfile::orientation_groups;
+use primo_skill::dmpfile::{DmpFile, orientation_groups};
 use primo_skill::skill::same_columns;
 
 use crate::Error;
@@ -73,8 +73,17 @@ impl Task {
             .zip(&demos)
             .map(|(t, (_, d))| (&t.query[..], d))
             .collect();
-        let skill = Skill::fit(&examples, self.kernels, self.regression)?;
-        Ok(Built { skill, limits, dt })
+        let fitted = Skill::fit_demos(&examples, self.kernels)?;
+        let files: Vec<(&[f32], &DmpFile)> = (examples.iter().zip(&fitted))
+            .map(|((q, _), f)| (*q, f))
+            .collect();
+        let skill = Skill::from_files(&files, self.regression)?;
+        Ok(Built {
+            skill,
+            fitted,
+            limits,
+            dt,
+        })
     }
 
     /// Orientation columns (`…qw,…qx,…qy,…qz`, the rule of `primo dmp

@@ -342,6 +342,9 @@ impl Task {
 pub struct Built {
     /// Demonstrations → DMPs → generalization.
     pub skill: Skill,
+    /// The DMP fitted to each demonstration, in the task file's order:
+    /// the examples the skill generalizes.
+    pub fitted: Vec<primo_skill::dmpfile::DmpFile>,
     /// What every trajectory passes.
     pub limits: Limits,
     /// The trajectories' time step, s.
