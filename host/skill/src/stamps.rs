@@ -30,7 +30,7 @@ pub enum Refused {
 
 impl Refused {
     /// The reason, to follow the stamp in a message; `previous` names the
-    /// previous sample ("previous row", "t[2]").
+    /// previous sample ("the previous row", `t[2]`).
     pub fn why(&self, previous: &str) -> String {
         match *self {
             Refused::NotIncreasing { previous: p } => {
