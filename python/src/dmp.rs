@@ -10,7 +10,9 @@ use pyo3::types::{PyString, PyTuple};
 use primo_core::dmp::{DEFAULT_OVERLAP, FitOptions, MAX_ALPHA, MIN_ALPHA, Margin, max_margin};
 use primo_skill::HostDmp;
 use primo_skill::csv::Demo;
-use primo_skill::dmpfile::{self, Change, DmpFile, Fitted, MAX_ROWS, Prepared, RhythmicFile};
+use primo_skill::dmpfile::{
+    self, AmplitudeScaling, Change, DmpFile, Fitted, MAX_ROWS, Prepared, RhythmicFile,
+};
 
 use crate::arrays::{Array, matrix, out, out2, times, vector};
 use crate::errors::{core, invalid, io, skill};
@@ -237,6 +239,13 @@ impl Dmp {
     ///     ridge: the ridge regularization, relative to the mean diagonal
     ///         of the Gram matrix (>= 0).
     ///     alpha: the spring gain α, 0.01 to 10000 (β = α/4).
+    ///     scaling: how the forcing term scales to a new start and goal:
+    ///         ``"per-dof"`` (each column by its own (g − y0)/(g_d − y0_d);
+    ///         a column that starts and ends together unscaled),
+    ///         ``"none"`` (the shape as demonstrated) or ``"global"`` (the
+    ///         position columns turned by the smallest rotation taking the
+    ///         demonstrated g − y0 onto the new one and stretched by the
+    ///         ratio of their lengths, Koutras & Doulgeri 2020).
     ///
     /// ``primo learn`` fits a task's demonstrations with ``margin=0,
     /// overlap=2.0, ridge=1e-6`` (``Generalizer.from_task`` builds that
@@ -259,7 +268,7 @@ impl Dmp {
     #[staticmethod]
     #[allow(clippy::too_many_arguments)] // the fit's options, as keywords
     #[pyo3(signature = (t, y, names=None, kernels=30, margin=None, overlap=0.7, ridge=1e-9,
-                        alpha=25.0))]
+                        alpha=25.0, scaling="per-dof"))]
     fn fit(
         py: Python<'_>,
         t: Array<'_>,
@@ -270,12 +279,25 @@ impl Dmp {
         overlap: f64,
         ridge: f64,
         alpha: f64,
+        scaling: &str,
     ) -> PyResult<Dmp> {
         let options = fit_options(kernels, margin, overlap, ridge, alpha)?;
+        let scaling = AmplitudeScaling::parse(scaling).ok_or_else(|| {
+            invalid(format!(
+                "scaling: {scaling:?}, expected \"per-dof\", \"none\" or \"global\""
+            ))
+        })?;
         let demo = demo(&t, &y, names)?;
         // The fit runs without the GIL: other threads go on meanwhile.
-        let file =
-            py.detach(|| DmpFile::fit_with("the demonstration", &demo, kernels, None, &options));
+        let file = py.detach(|| {
+            DmpFile::fit_with(
+                "the demonstration",
+                &demo,
+                kernels,
+                (scaling, None),
+                &options,
+            )
+        });
         Ok(Dmp::from_file(file.map_err(skill)?))
     }
 

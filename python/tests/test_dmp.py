@@ -143,6 +143,24 @@ def test_a_recording_stamped_in_unix_time_fits_as_from_0(fit):
         assert fit(*recording_at(origin)) == from_zero, origin
 
 
+@pytest.mark.parametrize("scaling", ["per-dof", "none", "global"])
+def test_scaling_is_the_command_lines(scaling, run_primo, tmp_path):
+    t, y = reach()
+    dmp = primo.Dmp.fit(t, y, names=["x", "z"], scaling=scaling)
+    cli = json.loads(run_primo("dmp", "fit", "--demo", str(REACH), "--scaling", scaling))
+    ours = json.loads(dmp.to_json())
+    assert ours["version"] == cli["version"] == 4
+    for key in ["scaled", "reference", "margin", "width"]:
+        assert ours["dmp"].get(key) == cli["dmp"].get(key), key
+    assert ("reference" in ours["dmp"]) == (scaling == "global")
+    # A new goal runs alike from the file the command line wrote.
+    (tmp_path / "dmp.json").write_text(json.dumps(cli))
+    csv = run_primo("dmp", "run", str(tmp_path / "dmp.json"), "--goal", "0.6,0.2")
+    expected = np.loadtxt(io.StringIO(csv), delimiter=",", skiprows=1)
+    _, ran = dmp.run(goal=[0.6, 0.2])
+    np.testing.assert_allclose(ran, expected[:, 1:], atol=1e-5)
+
+
 @pytest.mark.parametrize(
     "t, y, kwargs, message",
     [
@@ -166,6 +184,7 @@ def test_a_recording_stamped_in_unix_time_fits_as_from_0(fit):
         ([0, 1, 2], [0, 1, 2], {"ridge": -1e-6}, "ridge: -0.000001 must be a finite number >= 0"),
         ([0, 1, 2], [0, 1, 2], {"alpha": 0}, "alpha: 0 is outside 0.01 to 10000"),
         ([0, 1, 2], [0, 1, 2], {"alpha": float("nan")}, "alpha: NaN is outside"),
+        ([0, 1, 2], [0, 1, 2], {"scaling": "both"}, r"scaling: \"both\", expected \"per-dof\", \"none\" or \"global\""),
     ],
 )
 def test_bad_input_is_a_value_error(t, y, kwargs, message):

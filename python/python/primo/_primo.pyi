@@ -28,6 +28,7 @@ class Dmp:
         overlap: float = 0.7,
         ridge: float = 1e-9,
         alpha: float = 25.0,
+        scaling: Literal["per-dof", "none", "global"] = "per-dof",
     ) -> Dmp:
         """Fits a discrete DMP to one demonstration: least squares on the
         positions, so that its run reproduces ``y`` (no derivative of the
@@ -52,6 +53,13 @@ class Dmp:
             ridge: the ridge regularization, relative to the mean diagonal
                 of the Gram matrix (>= 0).
             alpha: the spring gain α, 0.01 to 10000 (β = α/4).
+            scaling: how the forcing term scales to a new start and goal:
+                ``"per-dof"`` (each column by its own (g − y0)/(g_d − y0_d);
+                a column that starts and ends together unscaled),
+                ``"none"`` (the shape as demonstrated) or ``"global"`` (the
+                position columns turned by the smallest rotation taking the
+                demonstrated g − y0 onto the new one and stretched by the
+                ratio of their lengths, Koutras & Doulgeri 2020).
 
         ``primo learn`` fits a task's demonstrations with ``margin=0,
         overlap=2.0, ridge=1e-6`` (``Generalizer.from_task`` builds that

@@ -73,7 +73,7 @@ impl Task {
             .zip(&demos)
             .map(|(t, (_, d))| (&t.query[..], d))
             .collect();
-        let fitted = Skill::fit_demos(&examples, self.kernels)?;
+        let fitted = Skill::fit_demos(&examples, self.kernels, self.scaling)?;
         let files: Vec<(&[f32], &DmpFile)> = (examples.iter().zip(&fitted))
             .map(|((q, _), f)| (*q, f))
             .collect();
@@ -199,5 +199,35 @@ mod tests {
         assert_eq!(examples(&unix), examples(&zero));
         let plan = |b: &Built| b.skill.plan(&[1.5], &[], b.dt).unwrap();
         assert_eq!(plan(&unix), plan(&zero));
+    }
+
+    #[test]
+    fn the_scaling_key_chooses_the_skills_scaling() {
+        let mut task = throw_at(0.0);
+        let per_dof = task.build().unwrap();
+        assert!(per_dof.fitted.iter().all(|f| f.dmp.reference().is_none()));
+        task.scaling = primo_skill::dmpfile::AmplitudeScaling::Global;
+        let global = task.build().unwrap();
+        for (f, demo) in global.fitted.iter().zip(&task.demos) {
+            let demo = parse_demo("demo", &std::fs::read_to_string(&demo.file).unwrap()).unwrap();
+            let span: Vec<f32> = (0..2)
+                .map(|d| demo.positions[demo.positions.len() - 2 + d] - demo.positions[d])
+                .collect();
+            assert_eq!(f.dmp.reference(), Some(&span[..]));
+        }
+        // At an example's query the generalized movement is that example's
+        // (LWR through two examples is exact there, to rounding).
+        let q = task.demos[0].query.clone();
+        let movement = global.skill.movement(&q, &[]).unwrap();
+        let reference = movement.dmp.reference().unwrap();
+        let example = global.fitted[0].dmp.reference().unwrap();
+        for (a, b) in reference.iter().zip(example) {
+            assert!((a - b).abs() < 1e-5 * b.abs().max(1.0), "{a} vs {b}");
+        }
+        // There both reproduce the demonstration, as fitted alike.
+        let a = global.skill.plan(&q, &[], 1e-3).unwrap();
+        let b = per_dof.skill.plan(&q, &[], 1e-3).unwrap();
+        let apart = (a.rows.iter().zip(&b.rows)).fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+        assert!(a.t == b.t && apart < 1e-4, "{apart}");
     }
 }

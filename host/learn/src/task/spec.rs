@@ -315,6 +315,10 @@ pub struct Task {
     pub demos: Vec<TaskDemo>,
     /// Kernels per DoF.
     pub kernels: usize,
+    /// How the DMPs scale their forcing terms (absent from run logs
+    /// written before it existed: per DoF, as they then did).
+    #[serde(default)]
+    pub scaling: primo_skill::dmpfile::AmplitudeScaling,
     /// The generalization.
     pub regression: Regression,
     /// The trajectory's time step, s (`None`: the first demonstration's
