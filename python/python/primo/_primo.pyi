@@ -91,7 +91,7 @@ class Dmp:
         """Fits one period (``period`` s from the first sample, or all of it)."""
     @staticmethod
     def from_json(text: str) -> Dmp:
-        """Reads the DMP file format (versions 1 and 2)."""
+        """Reads the DMP file format (versions 1 to 4)."""
     @staticmethod
     def load(path: Path) -> Dmp:
         """Reads a DMP file written by ``primo dmp fit`` or ``Dmp.save``."""
