@@ -184,6 +184,7 @@ def test_scaling_is_the_command_lines(scaling, run_primo, tmp_path):
         ([0, 1, 2], [0, 1, 2], {"ridge": -1e-6}, "ridge: -0.000001 must be a finite number >= 0"),
         ([0, 1, 2], [0, 1, 2], {"alpha": 0}, "alpha: 0 is outside 0.01 to 10000"),
         ([0, 1, 2], [0, 1, 2], {"alpha": float("nan")}, "alpha: NaN is outside"),
+        ([0, 1, 2], [0, 1, 0], {"scaling": "global"}, "global scaling needs the demonstration's goal to differ from its start"),
         ([0, 1, 2], [0, 1, 2], {"scaling": "both"}, r"scaling: \"both\", expected \"per-dof\", \"none\" or \"global\""),
     ],
 )
