@@ -7,12 +7,14 @@ use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::{PyString, PyTuple};
 
-use primo_core::dmp::{Margin, max_margin};
+use primo_core::dmp::{DEFAULT_OVERLAP, FitOptions, MAX_ALPHA, MIN_ALPHA, Margin, max_margin};
 use primo_skill::MAX_KERNELS;
 use primo_skill::csv::Demo;
-use primo_skill::dmpfile::{self, Change, DmpFile, Fitted, MAX_ROWS, RhythmicFile};
+use primo_skill::dmpfile::{
+    self, AmplitudeScaling, Change, DmpFile, Fitted, MAX_ROWS, RhythmicFile,
+};
 
-use crate::arrays::{Array, matrix, out, out2, vector};
+use crate::arrays::{Array, matrix, out, out2, times, vector};
 use crate::dmprun::{Begun, DmpRun};
 use crate::errors::{core, invalid, io, skill};
 
@@ -64,7 +66,7 @@ fn column_names(names: Option<Bound<'_, PyAny>>) -> PyResult<Option<Vec<String>>
 /// one column) and the column names (default `y0, y1, …`).
 fn demo(t: &Array<'_>, y: &Array<'_>, names: Option<Bound<'_, PyAny>>) -> PyResult<Demo> {
     let names = column_names(names)?;
-    let times = vector("t", t, false)?;
+    let times = times("t", t)?;
     let (rows, cols, positions) = match y.shape().len() {
         1 => {
             let v = vector("y", y, false)?;
@@ -186,41 +188,101 @@ impl Dmp {
     }
 }
 
+/// The fit's options from `Dmp.fit`'s keyword arguments, each checked
+/// with its name.
+fn fit_options(
+    kernels: usize,
+    margin: Option<f32>,
+    overlap: f64,
+    ridge: f64,
+    alpha: f64,
+) -> PyResult<FitOptions> {
+    let margin = match margin {
+        None => Margin::Auto,
+        Some(m) if (0.0..=max_margin(kernels)).contains(&m) => Margin::Spacings(m),
+        Some(m) => {
+            return Err(invalid(format!(
+                "margin: {m} is not a number of kernel spacings from 0 to {} (with \
+                 kernels={kernels}, one spacing must stay between the ends)",
+                max_margin(kernels)
+            )));
+        }
+    };
+    let overlap = positive("overlap", Some(overlap))?.unwrap_or(DEFAULT_OVERLAP);
+    if !(ridge.is_finite() && ridge >= 0.0 && (ridge as f32).is_finite()) {
+        return Err(invalid(format!(
+            "ridge: {ridge} must be a finite number >= 0"
+        )));
+    }
+    if !(f64::from(MIN_ALPHA)..=f64::from(MAX_ALPHA)).contains(&alpha) {
+        return Err(invalid(format!(
+            "alpha: {alpha} is outside {MIN_ALPHA} to {MAX_ALPHA} (the spring gain; β = α/4)"
+        )));
+    }
+    Ok(FitOptions {
+        alpha: alpha as f32,
+        overlap,
+        ridge: ridge as f32,
+        margin,
+        ..FitOptions::default()
+    })
+}
+
 #[pymethods]
 impl Dmp {
-    /// Fits a discrete DMP to a recording: least squares on the positions.
+    /// Fits a discrete DMP to one demonstration: least squares on the
+    /// positions, so that its run reproduces ``y`` (no derivative of the
+    /// recording is taken; any sampling fits).
     ///
     /// Args:
-    ///     t: sample times, s, shape (n,), strictly increasing, n >= 3.
-    ///     y: positions, shape (n, columns), or (n,) for one column. Four
-    ///         columns ``<p>qw, <p>qx, <p>qy, <p>qz`` are one orientation (a
-    ///         quaternion DMP; a quaternion's sign may flip between rows).
-    ///     names: the column names, one per column of ``y`` (default
-    ///         ``y0, y1, ...``).
-    ///     kernels: basis functions per DoF, 2 to 128.
-    ///     margin: kernel spacings the outer kernels lie beyond the movement's
-    ///         ends, 0 to (kernels - 2)/2; None tries 0 and 1 and keeps the one
-    ///         that reproduces ``y`` better. DMPs generalized together need the
-    ///         same margin.
+    ///     t: the sample times, s: n values, strictly increasing, any
+    ///         spacing and any origin (Unix time is fine: they are counted
+    ///         from the first sample in float64 before they are rounded to
+    ///         the float32 the fit computes in).
+    ///     y: the positions, n × columns (or n for one column), any unit.
+    ///         Four columns ``<p>qw, <p>qx, <p>qy, <p>qz`` are one
+    ///         orientation, a quaternion DMP.
+    ///     names: the columns' names (default ``y0, y1, …``).
+    ///     kernels: kernels per DoF, 2 to 128.
+    ///     margin: kernel spacings the outer kernels lie beyond the
+    ///         movement's ends, 0 to (kernels − 2)/2; ``None`` tries 0 and
+    ///         1 and keeps the one that reproduces ``y`` better. DMPs
+    ///         generalized together need the same.
+    ///     overlap: the kernels' overlap ``h·Δc²`` (> 0; larger is
+    ///         narrower: neighbours cross at ``exp(−overlap/4)``).
+    ///     ridge: the ridge regularization, relative to the mean diagonal
+    ///         of the Gram matrix (>= 0).
+    ///     alpha: the spring gain α, 0.01 to 10000 (β = α/4).
+    ///     scaling: how the forcing term scales to a new start and goal:
+    ///         ``"per-dof"`` (each column by its own (g − y0)/(g_d − y0_d);
+    ///         a column that starts and ends together unscaled),
+    ///         ``"none"`` (the shape as demonstrated) or ``"global"`` (the
+    ///         position columns turned by the smallest rotation taking the
+    ///         demonstrated g − y0 onto the new one and stretched by the
+    ///         ratio of their lengths, Koutras & Doulgeri 2020).
+    ///
+    /// ``primo learn`` fits a task's demonstrations with ``margin=0,
+    /// overlap=2.0, ridge=1e-6`` (``Generalizer.from_task`` builds that
+    /// skill itself).
     ///
     /// Returns:
-    ///     Dmp: the discrete DMP, its goal and start ``y``'s last and first rows.
+    ///     Dmp: the fitted DMP, as ``primo dmp fit`` writes it.
     ///
     /// Raises:
-    ///     ValueError: fewer than 3 samples, times not increasing, a value not
-    ///         finite in float32, shapes that do not match, a setting out of range.
-    ///     TypeError: ``names`` a string, or holding something not a string.
-    ///
-    /// The fit runs with the GIL released.
+    ///     ValueError: an argument out of its range (named), times that do
+    ///         not increase, fewer than 3 samples, or weights beyond the
+    ///         DMP's bounds.
+    ///     TypeError: ``names`` not a sequence of strings.
     ///
     /// >>> import numpy as np, primo
-    /// >>> t = np.linspace(0.0, 2.0, 201)
-    /// >>> y = np.column_stack([np.sin(t), np.cos(t)])
-    /// >>> dmp = primo.Dmp.fit(t, y, names=["x", "z"], kernels=30)
-    /// >>> dmp.names, dmp.kernels, round(dmp.tau, 3)
-    /// (['x', 'z'], 30, 2.0)
+    /// >>> t = 1.7e9 + np.linspace(0.0, 1.0, 101)  # stamped in Unix time
+    /// >>> dmp = primo.Dmp.fit(t, np.sin(t - t[0]), names=["x"], kernels=20, overlap=2.0)
+    /// >>> dmp.tau, dmp.names
+    /// (1.0, ['x'])
     #[staticmethod]
-    #[pyo3(signature = (t, y, names=None, kernels=30, margin=None))]
+    #[allow(clippy::too_many_arguments)] // the fit's options, as keywords
+    #[pyo3(signature = (t, y, names=None, kernels=30, margin=None, overlap=0.7, ridge=1e-9,
+                        alpha=25.0, scaling="per-dof"))]
     fn fit(
         py: Python<'_>,
         t: Array<'_>,
@@ -228,22 +290,29 @@ impl Dmp {
         names: Option<Bound<'_, PyAny>>,
         kernels: i64,
         margin: Option<f32>,
+        overlap: f64,
+        ridge: f64,
+        alpha: f64,
+        scaling: &str,
     ) -> PyResult<Dmp> {
         let kernels = kernel_count(kernels, 2, "")?;
-        let margin = match margin {
-            None => Margin::Auto,
-            Some(m) if (0.0..=max_margin(kernels)).contains(&m) => Margin::Spacings(m),
-            Some(m) => {
-                return Err(invalid(format!(
-                    "margin: {m} is not a number of kernel spacings from 0 to {} (with \
-                     kernels={kernels}, one spacing must stay between the ends)",
-                    max_margin(kernels)
-                )));
-            }
-        };
+        let options = fit_options(kernels, margin, overlap, ridge, alpha)?;
+        let scaling = AmplitudeScaling::parse(scaling).ok_or_else(|| {
+            invalid(format!(
+                "scaling: {scaling:?}, expected \"per-dof\", \"none\" or \"global\""
+            ))
+        })?;
         let demo = demo(&t, &y, names)?;
         // The fit runs without the GIL: other threads go on meanwhile.
-        let file = py.detach(|| DmpFile::fit("the demonstration", &demo, kernels, margin));
+        let file = py.detach(|| {
+            DmpFile::fit_with(
+                "the demonstration",
+                &demo,
+                kernels,
+                (scaling, None),
+                &options,
+            )
+        });
         Ok(Dmp::from_file(file.map_err(skill)?))
     }
 
@@ -295,7 +364,7 @@ impl Dmp {
         })
     }
 
-    /// The DMP whose file text is ``text`` (DMP file versions 1 and 2).
+    /// The DMP whose file text is ``text`` (DMP file versions 1 to 4).
     ///
     /// Args:
     ///     text: a DMP file's JSON, as ``to_json`` or ``primo dmp fit`` write it.

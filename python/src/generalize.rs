@@ -4,10 +4,13 @@
 //! groups in the tangent space at their goals' mean, as the skill layer
 //! and `primo learn` generalize them).
 
+use numpy::PyArray1;
+use pyo3::exceptions::PyOSError;
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
 
 use primo_core::generalize::Method;
+use primo_learn::task::Task;
 use primo_skill::Skill;
 use primo_skill::dmpfile::{DmpFile, Fitted};
 
@@ -87,6 +90,15 @@ fn method(name: &str, bandwidth: Option<f64>, noise: f64) -> PyResult<Method> {
     }
 }
 
+/// A task's refusal: a file that would not open is an `OSError`, as
+/// Python's own `open` raises, the rest as the learning library's.
+fn task_error(e: primo_learn::Error) -> PyErr {
+    match e {
+        primo_learn::Error::Open { .. } => PyOSError::new_err(e.to_string()),
+        e => crate::errors::learn(e),
+    }
+}
+
 /// A DMP file's columns for a message, its orientation groups named.
 fn columns(file: &DmpFile) -> String {
     let groups: Vec<String> = file
@@ -153,6 +165,55 @@ impl Generalizer {
         })
     }
 
+    /// The skill a task file builds, exactly as ``primo learn --task``
+    /// builds it: the task's demonstrations read and checked (their
+    /// columns and the task's limits), each fitted as ``primo learn``
+    /// fits it (``margin=0, overlap=2.0, ridge=1e-6``, the task's
+    /// ``kernels``, every example with the first one's amplitude scaling)
+    /// and generalized by the task's ``generalization``.
+    ///
+    /// Args:
+    ///     path: the task file (TOML, the book's task file reference); its
+    ///         demonstrations are found beside it.
+    ///
+    /// Returns:
+    ///     Generalizer: one example per ``[[demo]]``, in the file's order,
+    ///     at its ``query``.
+    ///
+    /// Raises:
+    ///     OSError: the task file cannot be read.
+    ///     ValueError: the task file or a demonstration is refused or
+    ///         missing (the message names the file, the line and the key),
+    ///         or the task is the built-in pour (its cell builds its own
+    ///         skill).
+    ///
+    /// >>> import primo
+    /// >>> g = primo.Generalizer.from_task("examples/throw/throw.toml")  # doctest: +SKIP
+    /// >>> len(g), g.names, g.query_dim  # doctest: +SKIP
+    /// (2, ['shoulder', 'elbow'], 1)
+    #[staticmethod]
+    fn from_task(py: Python<'_>, path: std::path::PathBuf) -> PyResult<Generalizer> {
+        let task = Task::load(&path).map_err(task_error)?;
+        let built = py.detach(|| task.build()).map_err(task_error)?;
+        let (method, bandwidth, noise) = match task.regression {
+            Method::Lwr { bandwidth } => ("lwr", bandwidth, 0.0),
+            Method::Gpr {
+                length_scale,
+                noise,
+            } => ("gpr", length_scale, noise),
+        };
+        let examples = (task.demos.iter().zip(built.fitted))
+            .map(|(d, file)| (d.query.clone(), Dmp::from_file(file)))
+            .collect();
+        Ok(Generalizer {
+            skill: built.skill,
+            examples,
+            method: method.to_string(),
+            bandwidth: bandwidth.map(f64::from),
+            noise: f64::from(noise),
+        })
+    }
+
     /// The DMP for query ``q``.
     ///
     /// Args:
@@ -197,6 +258,22 @@ impl Generalizer {
     fn params<'py>(&self, py: Python<'py>, q: Array<'_>) -> PyResult<Bound<'py, PyAny>> {
         let query = vector("q", &q, true)?;
         Ok(out(py, &self.skill.generalize(&query).map_err(skill)?).into_any())
+    }
+
+    /// The examples ``(query, dmp)``, in order: the queries as float64
+    /// arrays (1 to 4 values), the DMPs as given (or, from a task file, as
+    /// ``primo learn`` fits them).
+    ///
+    /// >>> import numpy as np, primo
+    /// >>> t = np.linspace(0.0, 1.0, 101)
+    /// >>> g = primo.Generalizer([(0.2, primo.Dmp.fit(t, 0.2 * t)), (1.0, primo.Dmp.fit(t, t))])
+    /// >>> [float(q[0]) for q, _ in g.examples]
+    /// [0.2, 1.0]
+    #[getter]
+    fn examples<'py>(&self, py: Python<'py>) -> Vec<(Bound<'py, PyArray1<f64>>, Dmp)> {
+        (self.examples.iter())
+            .map(|(q, dmp)| (out(py, q), dmp.clone()))
+            .collect()
     }
 
     /// The number of values in a query (1 to 4).

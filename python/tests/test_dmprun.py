@@ -122,3 +122,20 @@ def test_a_pickled_run_is_its_state_not_its_history():
         run = stepper(*args)
         with pytest.raises(ValueError, match="DmpRun: not a state this run pickled"):
             run.__setstate__(broken)
+
+
+@pytest.mark.parametrize("scaling", ["per-dof", "none", "global"])
+def test_a_pickled_run_of_any_scaling_goes_on_as_the_uninterrupted_one(scaling):
+    # Global scaling's turn is not in the state: it is rebuilt from the
+    # DMP, the start and the goal, and must come back bit for bit.
+    t = np.linspace(0.0, 1.0, 101)
+    s = t * t * (3 - 2 * t)
+    y = np.column_stack([0.6 * s, 0.1 + 0.15 * np.sin(np.pi * s) ** 2])
+    dmp = primo.Dmp.fit(t, y, names=["x", "z"], scaling=scaling)
+    whole = dmp.stepper(goal=[0.3, 0.5])
+    expected = [whole.step(0.01) for _ in range(80)]
+    run = dmp.stepper(goal=[0.3, 0.5])
+    for _ in range(30):
+        run.step(0.01)
+    resumed = pickle.loads(pickle.dumps(run))
+    assert np.array_equal([resumed.step(0.01) for _ in range(50)], expected[30:])

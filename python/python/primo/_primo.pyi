@@ -44,38 +44,60 @@ class Dmp:
         names: Optional[Sequence[str]] = None,
         kernels: int = 30,
         margin: Optional[float] = None,
+        overlap: float = 0.7,
+        ridge: float = 1e-9,
+        alpha: float = 25.0,
+        scaling: Literal["per-dof", "none", "global"] = "per-dof",
     ) -> Dmp:
-        """Fits a discrete DMP to a recording: least squares on the positions.
+        """Fits a discrete DMP to one demonstration: least squares on the
+        positions, so that its run reproduces ``y`` (no derivative of the
+        recording is taken; any sampling fits).
 
         Args:
-            t: sample times, s, shape (n,), strictly increasing, n >= 3.
-            y: positions, shape (n, columns), or (n,) for one column. Four
-                columns ``<p>qw, <p>qx, <p>qy, <p>qz`` are one orientation (a
-                quaternion DMP; a quaternion's sign may flip between rows).
-            names: the column names, one per column of ``y`` (default
-                ``y0, y1, ...``).
-            kernels: basis functions per DoF, 2 to 128.
-            margin: kernel spacings the outer kernels lie beyond the movement's
-                ends, 0 to (kernels - 2)/2; None tries 0 and 1 and keeps the one
-                that reproduces ``y`` better. DMPs generalized together need the
-                same margin.
+            t: the sample times, s: n values, strictly increasing, any
+                spacing and any origin (Unix time is fine: they are counted
+                from the first sample in float64 before they are rounded to
+                the float32 the fit computes in).
+            y: the positions, n × columns (or n for one column), any unit.
+                Four columns ``<p>qw, <p>qx, <p>qy, <p>qz`` are one
+                orientation, a quaternion DMP.
+            names: the columns' names (default ``y0, y1, …``).
+            kernels: kernels per DoF, 2 to 128.
+            margin: kernel spacings the outer kernels lie beyond the
+                movement's ends, 0 to (kernels − 2)/2; ``None`` tries 0 and
+                1 and keeps the one that reproduces ``y`` better. DMPs
+                generalized together need the same.
+            overlap: the kernels' overlap ``h·Δc²`` (> 0; larger is
+                narrower: neighbours cross at ``exp(−overlap/4)``).
+            ridge: the ridge regularization, relative to the mean diagonal
+                of the Gram matrix (>= 0).
+            alpha: the spring gain α, 0.01 to 10000 (β = α/4).
+            scaling: how the forcing term scales to a new start and goal:
+                ``"per-dof"`` (each column by its own (g − y0)/(g_d − y0_d);
+                a column that starts and ends together unscaled),
+                ``"none"`` (the shape as demonstrated) or ``"global"`` (the
+                position columns turned by the smallest rotation taking the
+                demonstrated g − y0 onto the new one and stretched by the
+                ratio of their lengths, Koutras & Doulgeri 2020).
+
+        ``primo learn`` fits a task's demonstrations with ``margin=0,
+        overlap=2.0, ridge=1e-6`` (``Generalizer.from_task`` builds that
+        skill itself).
 
         Returns:
-            Dmp: the discrete DMP, its goal and start ``y``'s last and first rows.
+            Dmp: the fitted DMP, as ``primo dmp fit`` writes it.
 
         Raises:
-            ValueError: fewer than 3 samples, times not increasing, a value not
-                finite in float32, shapes that do not match, a setting out of range.
-            TypeError: ``names`` a string, or holding something not a string.
-
-        The fit runs with the GIL released.
+            ValueError: an argument out of its range (named), times that do
+                not increase, fewer than 3 samples, or weights beyond the
+                DMP's bounds.
+            TypeError: ``names`` not a sequence of strings.
 
         >>> import numpy as np, primo
-        >>> t = np.linspace(0.0, 2.0, 201)
-        >>> y = np.column_stack([np.sin(t), np.cos(t)])
-        >>> dmp = primo.Dmp.fit(t, y, names=["x", "z"], kernels=30)
-        >>> dmp.names, dmp.kernels, round(dmp.tau, 3)
-        (['x', 'z'], 30, 2.0)
+        >>> t = 1.7e9 + np.linspace(0.0, 1.0, 101)  # stamped in Unix time
+        >>> dmp = primo.Dmp.fit(t, np.sin(t - t[0]), names=["x"], kernels=20, overlap=2.0)
+        >>> dmp.tau, dmp.names
+        (1.0, ['x'])
         """
     @staticmethod
     def fit_rhythmic(
@@ -115,7 +137,7 @@ class Dmp:
         """
     @staticmethod
     def from_json(text: str) -> Dmp:
-        """The DMP whose file text is ``text`` (DMP file versions 1 and 2).
+        """The DMP whose file text is ``text`` (DMP file versions 1 to 4).
 
         Args:
             text: a DMP file's JSON, as ``to_json`` or ``primo dmp fit`` write it.
@@ -445,6 +467,35 @@ class Generalizer:
         bandwidth: Optional[float] = None,
         noise: float = 0.0,
     ) -> None: ...
+    @staticmethod
+    def from_task(path: Path) -> Generalizer:
+        """The skill a task file builds, exactly as ``primo learn --task``
+        builds it: the task's demonstrations read and checked (their
+        columns and the task's limits), each fitted as ``primo learn``
+        fits it (``margin=0, overlap=2.0, ridge=1e-6``, the task's
+        ``kernels``, every example with the first one's amplitude scaling)
+        and generalized by the task's ``generalization``.
+
+        Args:
+            path: the task file (TOML, the book's task file reference); its
+                demonstrations are found beside it.
+
+        Returns:
+            Generalizer: one example per ``[[demo]]``, in the file's order,
+            at its ``query``.
+
+        Raises:
+            OSError: the task file cannot be read.
+            ValueError: the task file or a demonstration is refused or
+                missing (the message names the file, the line and the key),
+                or the task is the built-in pour (its cell builds its own
+                skill).
+
+        >>> import primo
+        >>> g = primo.Generalizer.from_task("examples/throw/throw.toml")  # doctest: +SKIP
+        >>> len(g), g.names, g.query_dim  # doctest: +SKIP
+        (2, ['shoulder', 'elbow'], 1)
+        """
     def generalize(self, q: Union[float, ArrayLike]) -> Dmp:
         """The DMP for query ``q``.
 
@@ -482,6 +533,18 @@ class Generalizer:
         >>> g = primo.Generalizer([(q, primo.Dmp.fit(t, q * t)) for q in (0.5, 1.0)])
         >>> g.params(0.5).shape == g.generalize(0.5).params.shape
         True
+        """
+    @property
+    def examples(self) -> list[tuple[Array, Dmp]]:
+        """The examples ``(query, dmp)``, in order: the queries as float64
+        arrays (1 to 4 values), the DMPs as given (or, from a task file, as
+        ``primo learn`` fits them).
+
+        >>> import numpy as np, primo
+        >>> t = np.linspace(0.0, 1.0, 101)
+        >>> g = primo.Generalizer([(0.2, primo.Dmp.fit(t, 0.2 * t)), (1.0, primo.Dmp.fit(t, t))])
+        >>> [float(q[0]) for q, _ in g.examples]
+        [0.2, 1.0]
         """
     @property
     def query_dim(self) -> int:

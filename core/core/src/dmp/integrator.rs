@@ -5,6 +5,8 @@
 
 use super::model::{Dmp, Execution};
 use super::options::{MAX_ABS_POSITION, check_tau};
+#[cfg(feature = "global-scaling")]
+use super::turn::Turn;
 use crate::Error;
 use crate::error::{check_bounded, check_finite, check_len, check_positive};
 use crate::spring::{add_compensated, transition_step};
@@ -53,6 +55,8 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
             start: [0.0; D],
             goal: [0.0; D],
             amplitude: [1.0; D],
+            #[cfg(feature = "global-scaling")]
+            turn: None,
             y: [0.0; D],
             y_carry: [0.0; D],
             z: [0.0; D],
@@ -70,11 +74,8 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
         run.y = run.start;
         run.set_goal(self, &exec.goal)?;
         // Forcing at s = 0 gives the initial acceleration.
-        let mut force = [0.0; D];
-        self.forcing(0.0, &mut force);
-        for ((f, raw), a) in run.force.iter_mut().zip(force).zip(run.amplitude) {
-            *f = a * raw;
-        }
+        self.forcing(0.0, &mut run.force);
+        run.scale_force();
         Ok(run)
     }
 
@@ -123,6 +124,9 @@ pub struct Run<const D: usize> {
     start: [f32; D],
     goal: [f32; D],
     amplitude: [f32; D],
+    /// Global scaling's turn and stretch ([`Turn`]), if global.
+    #[cfg(feature = "global-scaling")]
+    turn: Option<Turn<D>>,
     y: [f32; D],
     /// Compensation of `y` (Kahan): what its sums lost to rounding.
     y_carry: [f32; D],
@@ -156,18 +160,17 @@ impl<const D: usize> Run<D> {
         }
         let [d00, p01, p10, p11] = self.transition;
         dmp.forcing(self.phase + 0.5 * u, &mut self.force);
+        self.scale_force();
         let stiffness = self.alpha * self.alpha / 4.0;
-        for (((((y, carry), z), f), g), a) in self
+        for ((((y, carry), z), f), g) in self
             .y
             .iter_mut()
             .zip(self.y_carry.iter_mut())
             .zip(self.z.iter_mut())
-            .zip(self.force.iter_mut())
+            .zip(self.force.iter())
             .zip(self.goal)
-            .zip(self.amplitude)
             .take(self.dof)
         {
-            *f *= a;
             let equilibrium = g + *f / stiffness;
             let e = (*y - equilibrium) - *carry;
             // The position moves by a small step each cycle: added as a
@@ -332,7 +335,7 @@ impl<const D: usize> Run<D> {
             Some(Ok(a)) => Ok(a),
             _ => Err(Error::OutOfRange("run state")),
         };
-        Ok(Run {
+        let mut run = Run {
             dof: dmp.dof(),
             tau,
             alpha,
@@ -349,7 +352,26 @@ impl<const D: usize> Run<D> {
             y_carry: next()?,
             z: next()?,
             force: next()?,
-        })
+            #[cfg(feature = "global-scaling")]
+            turn: None,
+        };
+        // Global scaling's turn follows from the DMP, start and goal, as
+        // the amplitudes do: set again, both come back bit for bit.
+        let goal = run.goal;
+        run.set_goal(dmp, goal.get(..run.dof).unwrap_or(&[]))?;
+        Ok(run)
+    }
+
+    /// The forcing term as executed: per DoF by its amplitude, then
+    /// globally turned and stretched (identity unless global).
+    fn scale_force(&mut self) {
+        for (f, a) in self.force.iter_mut().zip(self.amplitude) {
+            *f *= a;
+        }
+        #[cfg(feature = "global-scaling")]
+        if let Some(turn) = &self.turn {
+            turn.apply(&mut self.force);
+        }
     }
 
     /// Moves the current position to `y` (one value per DoF), keeping the
@@ -382,11 +404,28 @@ impl<const D: usize> Run<D> {
             MAX_ABS_POSITION,
             "goal beyond ±1e6, the bound on any position",
         )?;
+        let global = cfg!(feature = "global-scaling") && dmp.reference().is_some();
         for (d, (dst, &g)) in self.goal.iter_mut().zip(goal).enumerate() {
             *dst = g;
             if let (Some(a), Some(&y0)) = (self.amplitude.get_mut(d), self.start.get(d)) {
-                *a = if dmp.is_scaled(d) { g - y0 } else { 1.0 };
+                *a = if dmp.is_scaled(d) && !global {
+                    g - y0
+                } else {
+                    1.0
+                };
             }
+        }
+        #[cfg(feature = "global-scaling")]
+        if let Some(reference) = dmp.reference() {
+            let (mut span, mut group) = ([0.0f32; D], [false; D]);
+            for (d, (s, g)) in span.iter_mut().zip(group.iter_mut()).enumerate() {
+                *g = d < self.dof && dmp.is_scaled(d);
+                if *g {
+                    *s = self.goal.get(d).copied().unwrap_or(0.0)
+                        - self.start.get(d).copied().unwrap_or(0.0);
+                }
+            }
+            self.turn = Some(Turn::between(&group, reference, &span));
         }
         Ok(())
     }
