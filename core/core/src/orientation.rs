@@ -31,6 +31,17 @@
 //! keep it continuous but follow a tilt across the turn's axis made there
 //! only approximately (a turn about one axis is exact).
 //!
+//! A recording that turns further than that ([`ROTATION_VECTOR_CHART_LIMIT`],
+//! 270° from its goal: a screw, a wrist's spin) is therefore charted by
+//! swing and twist about its axis `n` ([`chart_axis`], the direction of its
+//! summed turn): `q = exp(s) ⊗ exp(ψ n) ⊗ g` with the coordinates
+//! `e = s + ψ n` (`s ⊥ n`), the twist `ψ` counting every turn. This chart
+//! is singular only where the swing reaches 180°, so a wobble of the axis
+//! is followed at every turn; it is the rotation vector's wherever the
+//! movement is a turn about `n` alone. Everything above holds in it: the
+//! goal is `e = 0`, every sample is a unit quaternion, and the map back is
+//! periodic in `ψ`. [`OrientationDmp::axis`] says which chart a DMP uses.
+//!
 //! ```
 //! use primo_core::dmp::FitOptions;
 //! use primo_core::orientation::OrientationDmp;
