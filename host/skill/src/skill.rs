@@ -642,5 +642,18 @@ mod tests {
             travelled.to_degrees()
         );
         assert!(angle(&path[0], &at_a(0.0)) < 1e-4, "{:?}", path[0]);
+        // Fitted each on its own, the two screws are charted about their
+        // own axes: refused, in words.
+        let fit =
+            |demo: &Demo| DmpFile::fit_with("demo", demo, 30, None, &FitOptions::LEARNING).unwrap();
+        let (fa, fb) = (fit(&a), fit(&b));
+        assert_ne!(fa.orientations[0].axis, fb.orientations[0].axis);
+        let e = Skill::from_files(
+            &[(&[0.0], &fa), (&[1.0], &fb)],
+            Method::Lwr { bandwidth: None },
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(e.contains("charted about another axis"), "{e}");
     }
 }
