@@ -89,3 +89,45 @@ fn a_flip_then_a_spin_is_reproduced() {
         }
     }
 }
+
+fn any_quaternion() -> impl proptest::strategy::Strategy<Value = Quaternion> {
+    use proptest::prelude::*;
+    prop::array::uniform4(-1.0f32..1.0)
+        .prop_filter("non-zero", |q| q.iter().map(|v| v * v).sum::<f32>() > 1e-3)
+        .prop_map(|q| Quaternion::from_array(q).normalized().unwrap())
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::test_runner::Config { cases: 64, ..Default::default() })]
+
+    /// Rough recordings (any orientation on every row, so turns of any
+    /// size and either chart) fit, and every run of them, from any start
+    /// to any goal, stays on unit quaternions, starts exactly where it is
+    /// told and ends at its goal.
+    #[test]
+    fn rough_recordings_fit_and_run_in_either_chart(
+        rows in proptest::collection::vec(any_quaternion(), 3..30),
+        start in any_quaternion(),
+        goal in any_quaternion(),
+    ) {
+        let t: Vec<f32> = (0..rows.len()).map(|i| i as f32 * 0.1).collect();
+        let q: Vec<f32> = rows.iter().flat_map(|q| q.to_array()).collect();
+        let dmp = OrientationDmp::<10>::fit(&t, &q, 10, &FitOptions::default()).unwrap();
+        let exec = primo_core::orientation::OrientationExecution {
+            start,
+            goal,
+            ..dmp.execution()
+        };
+        let mut run = dmp.start(&exec).unwrap();
+        proptest::prop_assert!(angle(&run.orientation(), &start) < 1e-4);
+        for _ in 0..400 {
+            run.step(&dmp, exec.tau / 100.0).unwrap();
+            let now = run.orientation();
+            proptest::prop_assert!((now.norm() - 1.0).abs() < 1e-5, "{now:?}");
+        }
+        for _ in 0..200 {
+            run.step(&dmp, exec.tau).unwrap();
+        }
+        proptest::prop_assert!(angle(&run.orientation(), &goal) < 1e-3);
+    }
+}
