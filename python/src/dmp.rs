@@ -364,7 +364,7 @@ impl Dmp {
         })
     }
 
-    /// The DMP whose file text is ``text`` (DMP file versions 1 to 4).
+    /// The DMP whose file text is ``text`` (DMP file versions 1 to 5).
     ///
     /// Args:
     ///     text: a DMP file's JSON, as ``to_json`` or ``primo dmp fit`` write it.

@@ -31,6 +31,17 @@
 //! keep it continuous but follow a tilt across the turn's axis made there
 //! only approximately (a turn about one axis is exact).
 //!
+//! A recording that turns further than that ([`ROTATION_VECTOR_CHART_LIMIT`],
+//! 270° from its goal: a screw, a wrist's spin) is therefore charted by
+//! swing and twist about its axis `n` ([`chart_axis`], the direction of its
+//! summed turn): `q = exp(s) ⊗ exp(ψ n) ⊗ g` with the coordinates
+//! `e = s + ψ n` (`s ⊥ n`), the twist `ψ` counting every turn. This chart
+//! is singular only where the swing reaches 180°, so a wobble of the axis
+//! is followed at every turn; it is the rotation vector's wherever the
+//! movement is a turn about `n` alone. Everything above holds in it: the
+//! goal is `e = 0`, every sample is a unit quaternion, and the map back is
+//! periodic in `ψ`. [`OrientationDmp::axis`] says which chart a DMP uses.
+//!
 //! ```
 //! use primo_core::dmp::FitOptions;
 //! use primo_core::orientation::OrientationDmp;
@@ -82,16 +93,31 @@ pub fn unwrapped(
     quaternions: &[f32],
     visit: &mut dyn FnMut(&[f32; 3]),
 ) -> Result<Quaternion, Error> {
+    continued(quaternions, &follow, visit)
+}
+
+/// A sample's coordinates continuing its neighbour's: `(q, goal, previous)`.
+type Continue<'a> = &'a dyn Fn(&Quaternion, &Quaternion, &[f32; 3]) -> [f32; 3];
+
+/// The coordinates of a recording relative to its last orientation, each
+/// sample's `next(q, goal, previous)` continuing its neighbour's: from the
+/// goal (0) back to the start, then forwards from there, visited in
+/// order; returns the goal.
+fn continued(
+    quaternions: &[f32],
+    next: Continue<'_>,
+    visit: &mut dyn FnMut(&[f32; 3]),
+) -> Result<Quaternion, Error> {
     crate::error::check_finite(quaternions, "quaternions")?;
     let goal = rows(quaternions)
         .next_back()
         .unwrap_or(Ok(Quaternion::IDENTITY))?;
     let mut e = [0.0; 3];
     for q in rows(quaternions).rev() {
-        e = follow(&q?, &goal, &e);
+        e = next(&q?, &goal, &e);
     }
     for q in rows(quaternions) {
-        e = follow(&q?, &goal, &e);
+        e = next(&q?, &goal, &e);
         visit(&e);
     }
     Ok(goal)
@@ -191,6 +217,164 @@ fn cross(a: &[f32; 3], b: &[f32; 3]) -> [f32; 3] {
     [a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0]
 }
 
+/// Where the rotation-vector chart is used as it is: a recording whose
+/// unwrapped `|log(q ⊗ ḡ)|` stays below this (1.5π, 270°) keeps it; one
+/// that turns further is charted by swing and twist about its axis
+/// ([`chart_axis`]), since the rotation vector is singular where its norm
+/// crosses a whole turn.
+pub const ROTATION_VECTOR_CHART_LIMIT: f32 = 1.5 * core::f32::consts::PI;
+
+/// The chart axis of a recording (`[w, x, y, z]` rows, any sign, any
+/// non-zero norm): `[0, 0, 0]` (the plain rotation vector `log(q ⊗ ḡ)`)
+/// where its unwrapped rotation vector stays within
+/// [`ROTATION_VECTOR_CHART_LIMIT`], else the unit direction of its summed
+/// turn (the world-frame steps `log(q_{i+1} ⊗ q̄_i)` added up): the axis
+/// a screw or a wrist's spin turns about, that the swing–twist chart
+/// ([`from_coordinates`]) unwinds without a singularity.
+pub fn chart_axis(quaternions: &[f32]) -> Result<[f32; 3], Error> {
+    let mut widest = 0.0f32;
+    unwrapped(quaternions, &mut |e| widest = widest.max(norm(e)))?;
+    if widest < ROTATION_VECTOR_CHART_LIMIT {
+        return Ok([0.0; 3]);
+    }
+    let mut sum = [0.0f32; 3];
+    let mut previous: Option<Quaternion> = None;
+    for q in rows(quaternions) {
+        let q = q?;
+        if let Some(p) = previous {
+            let mut step = q.mul(&p.conj());
+            if step.w < 0.0 {
+                step = step.neg();
+            }
+            sum = mix(1.0, &sum, 1.0, &step.log());
+        }
+        previous = Some(q);
+    }
+    let n = norm(&sum);
+    // A recording that unwinds past 270° turns far on the whole; were it
+    // to come back, any axis charts it.
+    Ok(if n > 1e-6 {
+        mix(1.0 / n, &sum, 0.0, &sum)
+    } else {
+        [0.0, 0.0, 1.0]
+    })
+}
+
+/// The orientation of coordinates `e` relative to `goal` in the chart of
+/// `axis` (unit, or `[0, 0, 0]`): with a zero axis `exp(e) ⊗ g`
+/// ([`from_log`]); with an axis `n`, `exp(s) ⊗ exp(ψ n) ⊗ g` where
+/// `ψ = e · n` is the twist about `n` (any number of turns) and
+/// `s = e − ψ n` the swing across it. Renormalized against rounding.
+pub fn from_coordinates(e: &[f32], goal: &Quaternion, axis: &[f32; 3]) -> Quaternion {
+    if *axis == [0.0; 3] {
+        return from_log(e, goal);
+    }
+    let e: [f32; 3] = core::array::from_fn(|k| e.get(k).copied().unwrap_or(0.0));
+    let psi = dot(&e, axis);
+    let swing = mix(1.0, &e, -psi, axis);
+    let twist = mix(psi, axis, 0.0, axis);
+    Quaternion::exp(swing)
+        .mul(&Quaternion::exp(twist))
+        .mul(goal)
+        .renormalized()
+}
+
+/// Of the coordinates of `q` relative to `goal` in the chart of `axis`
+/// ([`from_coordinates`]), the ones nearest `reference`: with a zero axis
+/// [`nearest_log`]; with an axis, the twist `ψ + 2πk` nearest the
+/// reference's and the swing's rotation vector (the same for `q` and
+/// `−q`). Continuous wherever the swing stays short of 180°.
+pub fn nearest_coordinates(
+    q: &Quaternion,
+    goal: &Quaternion,
+    reference: &[f32],
+    axis: &[f32; 3],
+) -> [f32; 3] {
+    if *axis == [0.0; 3] {
+        return nearest_log(q, goal, reference);
+    }
+    let reference: [f32; 3] = core::array::from_fn(|k| reference.get(k).copied().unwrap_or(0.0));
+    let r = q.mul(&goal.conj());
+    let along = dot(&[r.x, r.y, r.z], axis);
+    let wanted = dot(&reference, axis);
+    let full = 2.0 * core::f32::consts::PI;
+    // The twist, ±2π by the sign of `q`; undefined (any) at a half-turn
+    // swing, where the reference's is kept.
+    let psi = if along * along + r.w * r.w > 1e-12 {
+        let psi = 2.0 * libm::atan2f(along, r.w);
+        psi + full * libm::roundf((wanted - psi) / full)
+    } else {
+        wanted
+    };
+    let mut swing = r.mul(&Quaternion::exp(mix(psi, axis, 0.0, axis)).conj());
+    if swing.w < 0.0 {
+        swing = swing.neg();
+    }
+    let s = swing.log();
+    // Across the axis by construction; rounding's part along it removed.
+    let s = mix(1.0, &s, -dot(&s, axis), axis);
+    mix(1.0, &s, psi, axis)
+}
+
+/// The coordinates of a recording in the chart of `axis`, visited in
+/// order as [`unwrapped`] visits its log coordinates (each continuing the
+/// previous one; the goal's are 0); returns the goal.
+pub fn unwrapped_in(
+    quaternions: &[f32],
+    axis: &[f32; 3],
+    visit: &mut dyn FnMut(&[f32; 3]),
+) -> Result<Quaternion, Error> {
+    if *axis == [0.0; 3] {
+        return unwrapped(quaternions, visit);
+    }
+    let next =
+        |q: &Quaternion, goal: &Quaternion, e: &[f32; 3]| nearest_coordinates(q, goal, e, axis);
+    continued(quaternions, &next, visit)
+}
+
+/// A recording's chart axis ([`chart_axis`]) and its coordinates in that
+/// chart written to `out` (three per row, the last row exactly 0);
+/// returns the goal and the axis.
+pub fn chart_coordinates(
+    quaternions: &[f32],
+    out: &mut [f32],
+) -> Result<(Quaternion, [f32; 3]), Error> {
+    let rows = quaternions.len() / 4;
+    crate::error::check_len("quaternions", rows * 4, quaternions.len())?;
+    crate::error::check_len("log coordinates", rows * 3, out.len())?;
+    let axis = chart_axis(quaternions)?;
+    let mut chunks = out.chunks_exact_mut(3);
+    let goal = unwrapped_in(quaternions, &axis, &mut |e| {
+        if let Some(c) = chunks.next() {
+            c.copy_from_slice(e);
+        }
+    })?;
+    if let Some(last) = out.rchunks_exact_mut(3).next() {
+        last.copy_from_slice(&[0.0; 3]);
+    }
+    Ok((goal, axis))
+}
+
+/// A chart axis as given (a file's, a generalizer's): `[0, 0, 0]` or a
+/// finite vector, normalized (a unit one to within 1e-6 kept as it is).
+pub fn checked_axis(axis: [f32; 3]) -> Result<[f32; 3], Error> {
+    if axis == [0.0; 3] {
+        return Ok(axis);
+    }
+    let n = norm(&axis);
+    if !n.is_finite() || n < 1e-3 {
+        return Err(Error::OutOfRange(
+            "an orientation's chart axis is [0, 0, 0] or a finite direction",
+        ));
+    }
+    if (n - 1.0).abs() < 1e-6 {
+        // A unit axis stays bit for bit what it is (a file's, the first
+        // demonstration's): equal axes compare equal.
+        return Ok(axis);
+    }
+    Ok(mix(1.0 / n, &axis, 0.0, &axis))
+}
+
 /// An orientation DMP with `K` kernels per axis.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct OrientationDmp<const K: usize> {
@@ -198,6 +382,11 @@ pub struct OrientationDmp<const K: usize> {
     log: Dmp<3, K>,
     /// The demonstrated goal orientation.
     goal: Quaternion,
+    /// The chart's axis ([`from_coordinates`]): `[0, 0, 0]` for the
+    /// rotation vector `log(q ⊗ ḡ)` (every DMP fitted before charts had
+    /// axes), a unit vector for swing and twist about it.
+    #[serde(default)]
+    axis: [f32; 3],
 }
 
 /// Where and how fast to execute an [`OrientationDmp`].
@@ -227,10 +416,11 @@ impl<const K: usize> OrientationDmp<K> {
             times.len().saturating_mul(4),
             quaternions.len(),
         )?;
-        let goal = unwrapped(quaternions, &mut |_| {})?;
+        let axis = chart_axis(quaternions)?;
+        let goal = unwrapped_in(quaternions, &axis, &mut |_| {})?;
         let rows = |visit: &mut dyn FnMut(&[f32])| {
             // Errors were found in the pass above; none can occur here.
-            let _ = unwrapped(quaternions, &mut |e| visit(e));
+            let _ = unwrapped_in(quaternions, &axis, &mut |e| visit(e));
         };
         let options = FitOptions {
             scaling: Scaling::Never,
@@ -240,13 +430,21 @@ impl<const K: usize> OrientationDmp<K> {
         // The goal of `e` is exactly 0 (the last sample's log is 0 up to
         // rounding).
         log.set_goal_vector(&[0.0; 3])?;
-        Ok(OrientationDmp { log, goal })
+        Ok(OrientationDmp { log, goal, axis })
     }
 
     /// From the DMP of `log(q ⊗ ḡ)` and the goal orientation (as
     /// [`OrientationDmp::log_dmp`] and [`OrientationDmp::goal`] give them):
     /// the log DMP must have 3 DoF, a zero goal, no amplitude scaling.
     pub fn from_parts(log: Dmp<3, K>, goal: Quaternion) -> Result<Self, Error> {
+        Self::from_chart(log, goal, [0.0; 3])
+    }
+
+    /// As [`OrientationDmp::from_parts`], with the log DMP's coordinates
+    /// in the chart of `axis` ([`OrientationDmp::axis`]; `[0, 0, 0]` or a
+    /// direction, normalized here).
+    pub fn from_chart(log: Dmp<3, K>, goal: Quaternion, axis: [f32; 3]) -> Result<Self, Error> {
+        let axis = checked_axis(axis)?;
         if log.dof() != 3
             || log.goal().iter().any(|g| *g != 0.0)
             || (0..3).any(|d| log.is_scaled(d))
@@ -258,7 +456,15 @@ impl<const K: usize> OrientationDmp<K> {
         Ok(OrientationDmp {
             log,
             goal: goal.normalized()?,
+            axis,
         })
+    }
+
+    /// The chart's axis: `[0, 0, 0]` where the log DMP's coordinates are
+    /// the rotation vector `log(q ⊗ ḡ)`, else the unit axis of their
+    /// swing–twist chart ([`from_coordinates`]).
+    pub fn axis(&self) -> [f32; 3] {
+        self.axis
     }
 
     /// The DMP of `log(q ⊗ ḡ)` (its parameters are what generalization and
@@ -275,7 +481,7 @@ impl<const K: usize> OrientationDmp<K> {
     /// The demonstrated start orientation.
     pub fn start_orientation(&self) -> Quaternion {
         let e = self.log.start_position();
-        from_log(e, &self.goal)
+        from_coordinates(e, &self.goal, &self.axis)
     }
 
     /// The demonstrated duration, s.
@@ -301,13 +507,17 @@ impl<const K: usize> OrientationDmp<K> {
     pub fn start(&self, exec: &OrientationExecution) -> Result<OrientationRun, Error> {
         let goal = exec.goal.normalized()?;
         let start = exec.start.normalized()?;
-        let e = nearest_log(&start, &goal, self.log.start_position());
+        let e = nearest_coordinates(&start, &goal, self.log.start_position(), &self.axis);
         let run = self.log.start(&Execution {
             tau: exec.tau,
             start: e.iter().copied().collect(),
             goal: [0.0; 3].iter().copied().collect(),
         })?;
-        Ok(OrientationRun { run, goal })
+        Ok(OrientationRun {
+            run,
+            goal,
+            axis: self.axis,
+        })
     }
 
     /// The whole execution from `t = 0` to `t = τ` at step `dt`, as
@@ -325,7 +535,8 @@ impl<const K: usize> OrientationDmp<K> {
             goal: [0.0; 3].iter().copied().collect(),
         };
         let steps = self.log.trajectory(&log_exec, dt)?;
-        Ok(steps.map(move |s| (s.time, from_log(&s.position, &goal))))
+        let axis = self.axis;
+        Ok(steps.map(move |s| (s.time, from_coordinates(&s.position, &goal, &axis))))
     }
 }
 
@@ -377,6 +588,7 @@ pub fn nearest_log(q: &Quaternion, goal: &Quaternion, reference: &[f32]) -> [f32
 pub struct OrientationRun {
     run: Run<3>,
     goal: Quaternion,
+    axis: [f32; 3],
 }
 
 impl OrientationRun {
@@ -387,7 +599,7 @@ impl OrientationRun {
 
     /// The current orientation, a unit quaternion.
     pub fn orientation(&self) -> Quaternion {
-        from_log(self.run.position(), &self.goal)
+        from_coordinates(self.run.position(), &self.goal, &self.axis)
     }
 
     /// The current goal.
@@ -406,7 +618,7 @@ impl OrientationRun {
     ) -> Result<(), Error> {
         let goal = goal.normalized()?;
         let now = self.orientation();
-        let e = nearest_log(&now, &goal, self.run.position());
+        let e = nearest_coordinates(&now, &goal, self.run.position(), &self.axis);
         self.run.rebase(&dmp.log, &e)?;
         self.goal = goal;
         Ok(())

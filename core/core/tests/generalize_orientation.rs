@@ -270,3 +270,31 @@ proptest! {
         prop_assert_eq!(generalize(false), generalize(true));
     }
 }
+
+/// Screws of several turns charted about one axis generalize, each
+/// reproduced at its query (its start, goal and chart kept); a DMP
+/// charted about another axis, or as the rotation vector, is refused.
+#[test]
+fn screws_charted_about_one_axis_generalize_and_other_charts_are_refused() {
+    let axis = [0.0, 0.0, 1.0];
+    let screw = |turn: f32, goal: f32| {
+        let log = orientation(&[0.0; 3 * K], [0.0, 0.05, -turn], yaw(goal), 1.0);
+        OrientationDmp::from_chart(log.log_dmp().clone(), log.goal(), axis).unwrap()
+    };
+    let (a, b) = (screw(9.0, 10.0), screw(12.0, 40.0));
+    assert_eq!(a.axis(), axis);
+    let g = Orientations::new(gpr(), &[(&[0.0, 0.0], &a), (&[1.0, 0.0], &b)]).unwrap();
+    for (q, example) in [([0.0, 0.0], &a), ([1.0, 0.0], &b)] {
+        let made = g.generalize(&q).unwrap();
+        assert_eq!(made.axis(), axis);
+        assert_same(&made, example, 1e-4);
+        assert!(angle(&made.start_orientation(), &example.start_orientation()) < 1e-4);
+    }
+    let tilted =
+        OrientationDmp::from_chart(a.log_dmp().clone(), a.goal(), [0.0, 0.1, 1.0]).unwrap();
+    let plain = OrientationDmp::from_parts(a.log_dmp().clone(), a.goal()).unwrap();
+    for other in [&tilted, &plain] {
+        let e = Orientations::new(gpr(), &[(&[0.0, 0.0], &a), (&[1.0, 0.0], other)]).unwrap_err();
+        assert!(e.to_string().contains("chart axis"), "{e}");
+    }
+}

@@ -2,7 +2,7 @@
 //! fit and run behind `primo dmp`.
 //!
 //! ```json
-//! { "format": "primo-dmp", "version": 4, "names": ["x", "qw", "qx", "qy", "qz"],
+//! { "format": "primo-dmp", "version": 5, "names": ["x", "qw", "qx", "qy", "qz"],
 //!   "orientations": [{ "columns": ["qw", "qx", "qy", "qz"], "goal": [1, 0, 0, 0] }],
 //!   "dmp": { "tau": 1.0, "alpha": 25.0, "width": 1682.0, "margin": 1.0,
 //!            "start": [0, 0.5, 0, 0], "goal": [1, 0, 0, 0], "scaled": [true, false, false, false],
@@ -14,7 +14,11 @@
 //! `tool_qw…`) are one orientation, a unit quaternion: it is fitted as an
 //! orientation DMP ([`primo_core::orientation`]), three DoFs of `dmp` that
 //! hold `log(q ⊗ ḡ)` with `g` the group's `goal`; every other column is one
-//! DoF. A run writes the same columns back, the quaternions unit-norm.
+//! DoF. A run writes the same columns back, the quaternions unit-norm. An
+//! orientation that turns further than 270° (a screw, a wrist's spin) has
+//! an `axis` besides (the unit axis of its turn): its three DoFs are then
+//! its swing and twist about that axis ([`primo_core::orientation::from_coordinates`]),
+//! which unwind any number of turns.
 //!
 //! A rhythmic DMP (`primo dmp fit --rhythmic`) is the same format with a
 //! `rhythmic` object (the fields of [`RhythmicDmp`]) in place of `dmp` and
@@ -22,12 +26,15 @@
 //!
 //! `format` and `version` are checked on load; a newer version is refused
 //! rather than misread. Version 1 files (no orientations), version 2
-//! files (no `margin`: none) and version 3 files (no `reference`: scaled
-//! per DoF) still load. The fields of `dmp` are those of
+//! files (no `margin`: none), version 3 files (no `reference`: scaled
+//! per DoF) and version 4 files (no `axis`: the rotation vector, as they
+//! were fitted) still load, with their old meaning. The fields of `dmp` are those of
 //! [`primo_core::dmp::Dmp`] (the book's DMP file reference, docs/src/reference/dmp-file.md).
 
 use primo_core::dmp::{FitOptions, Margin, Scaling, Trajectory};
-use primo_core::orientation::{from_log, log_coordinates, nearest_log};
+use primo_core::orientation::{
+    chart_coordinates, checked_axis, from_coordinates, nearest_coordinates, unwrapped_in,
+};
 use primo_core::quaternion::Quaternion;
 use primo_core::rhythmic::{RhythmicDmp, RhythmicRun};
 use serde::{Deserialize, Serialize};
@@ -86,8 +93,9 @@ impl AmplitudeScaling {
 pub const FORMAT: &str = "primo-dmp";
 /// The version this primo writes; it reads versions 1 to this one.
 /// 2: orientations; 3: the kernels' `margin`; 4: global scaling's
-/// `reference` (absent: per DoF, as every earlier version scales).
-pub const VERSION: u32 = 4;
+/// `reference` (absent: per DoF, as every earlier version scales); 5: an
+/// orientation's chart `axis` (absent: the rotation vector).
+pub const VERSION: u32 = 5;
 
 /// An orientation among the columns.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -96,6 +104,16 @@ pub struct Orientation {
     pub columns: [String; 4],
     /// Its goal, `[w, x, y, z]`.
     pub goal: [f32; 4],
+    /// The axis of its chart ([`primo_core::orientation::chart_axis`]):
+    /// absent (`[0, 0, 0]`) where its three DoFs are the rotation vector
+    /// `log(q ⊗ ḡ)`, a unit vector where they are swing and twist about
+    /// it (a turn beyond 270°).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub axis: [f32; 3],
+}
+
+fn is_zero(axis: &[f32; 3]) -> bool {
+    *axis == [0.0; 3]
 }
 
 /// A DMP with the names of its columns.
@@ -430,6 +448,21 @@ impl DmpFile {
         (scaling, scaled): (AmplitudeScaling, Option<u32>),
         options: &FitOptions,
     ) -> Result<Self, Error> {
+        DmpFile::fit_charted(file, demo, kernels, (scaling, scaled), None, options)
+    }
+
+    /// [`DmpFile::fit_with`] with the orientations' chart axes given (one
+    /// per orientation, as [`Orientation::axis`]), as a skill charts every
+    /// demonstration like its first (`None` decides per orientation:
+    /// [`primo_core::orientation::chart_axis`]).
+    pub fn fit_charted(
+        file: &str,
+        demo: &Demo,
+        kernels: usize,
+        (scaling, scaled): (AmplitudeScaling, Option<u32>),
+        axes: Option<&[[f32; 3]]>,
+        options: &FitOptions,
+    ) -> Result<Self, Error> {
         if !(2..=MAX_KERNELS).contains(&kernels) {
             return Err(Error::File(format!(
                 "a DMP needs 2 to {MAX_KERNELS} kernels per DoF, not {kernels}"
@@ -469,7 +502,24 @@ impl DmpFile {
                         .map(|(r, k)| demo.positions[r * columns + c + k])
                         .collect();
                     let mut log = vec![0.0f32; rows * 3];
-                    let goal = log_coordinates(&quaternions, &mut log).map_err(|e| {
+                    let given =
+                        axes.map(|a| a.get(orientations.len()).copied().unwrap_or([0.0; 3]));
+                    let charted = match given {
+                        None => chart_coordinates(&quaternions, &mut log),
+                        Some(axis) => checked_axis(axis).and_then(|axis| {
+                            let mut rows = log.chunks_exact_mut(3);
+                            let goal = unwrapped_in(&quaternions, &axis, &mut |e| {
+                                if let Some(r) = rows.next() {
+                                    r.copy_from_slice(e);
+                                }
+                            })?;
+                            if let Some(last) = log.rchunks_exact_mut(3).next() {
+                                last.fill(0.0);
+                            }
+                            Ok((goal, axis))
+                        }),
+                    };
+                    let (goal, axis) = charted.map_err(|e| {
                         Error::File(format!(
                             "{file}: columns {}…{}: not an orientation: {e}",
                             demo.names[c],
@@ -482,6 +532,7 @@ impl DmpFile {
                     orientations.push(Orientation {
                         columns: std::array::from_fn(|k| demo.names[c + k].clone()),
                         goal: goal.to_array(),
+                        axis,
                     });
                 }
             }
@@ -530,10 +581,17 @@ impl DmpFile {
                 parsed.dmp.dof()
             )));
         }
-        for o in &parsed.orientations {
+        let mut parsed = parsed;
+        for o in &mut parsed.orientations {
             Quaternion::from_array(o.goal)
                 .normalized()
                 .map_err(|e| Error::File(format!("{file}: goal of {}: {e}", o.columns[0])))?;
+            o.axis = checked_axis(o.axis).map_err(|_| {
+                Error::File(format!(
+                    "{file}: axis of {}: {:?} is neither absent nor a direction",
+                    o.columns[0], o.axis
+                ))
+            })?;
         }
         Ok(parsed)
     }
@@ -627,10 +685,11 @@ impl DmpFile {
                         }
                         None => {
                             let o = &self.orientations[s.orientation];
-                            from_log(reference, &Quaternion::from_array(o.goal))
+                            from_coordinates(reference, &Quaternion::from_array(o.goal), &o.axis)
                         }
                     };
-                    let e = nearest_log(&q, &goals[s.orientation], reference);
+                    let axis = &self.orientations[s.orientation].axis;
+                    let e = nearest_coordinates(&q, &goals[s.orientation], reference, axis);
                     exec.start[s.dof..s.dof + 3].copy_from_slice(&e);
                 }
             }
@@ -638,6 +697,7 @@ impl DmpFile {
         Ok(Prepared {
             execution: exec,
             goals,
+            axes: self.orientations.iter().map(|o| o.axis).collect(),
             layout,
             width: self.names.len(),
         })
@@ -662,6 +722,7 @@ pub struct Prepared {
     /// Start, goal and `τ` in the DMP's coordinates.
     pub execution: primo_core::dmp::Execution<HOST_MAX_DOF>,
     goals: Vec<Quaternion>,
+    axes: Vec<[f32; 3]>,
     layout: Vec<Slot>,
     width: usize,
 }
@@ -687,7 +748,8 @@ impl Prepared {
                         .copied()
                         .unwrap_or(Quaternion::IDENTITY);
                     let e = dmp.get(s.dof..s.dof + 3).unwrap_or(&[0.0; 3]);
-                    from_log(e, &goal)
+                    let axis = self.axes.get(s.orientation).copied().unwrap_or([0.0; 3]);
+                    from_coordinates(e, &goal, &axis)
                         .to_array()
                         .into_iter()
                         .for_each(&mut emit);

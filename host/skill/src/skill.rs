@@ -22,7 +22,7 @@
 //! plan writes the four columns back, unit-norm.
 use primo_core::dmp::FitOptions;
 use primo_core::generalize::{Generalizer, Method};
-use primo_core::orientation::{from_log, nearest_log};
+use primo_core::orientation::{from_coordinates, nearest_coordinates};
 use primo_core::quaternion::Quaternion;
 use primo_core::tangent::Tangent;
 use primo_robot::{Gate, JointPath};
@@ -90,6 +90,8 @@ struct Group {
     dof: usize,
     /// Where its goals and starts are vectors.
     tangent: Tangent,
+    /// Its chart's axis, every demonstration's.
+    axis: [f32; 3],
 }
 
 /// A trajectory sampled at the control step, row-major `dof` values per
@@ -107,8 +109,9 @@ pub struct Plan {
 }
 
 impl Skill {
-    /// Fits one DMP per demonstration `(q_i, demo_i)` ([`Skill::fit_demos`])
-    /// and generalizes over the queries ([`Skill::from_files`]).
+    /// Fits one DMP per demonstration `(q_i, demo_i)` ([`Skill::fit_demos`]:
+    /// every one with the first one's amplitude scaling and orientation
+    /// charts) and generalizes over the queries ([`Skill::from_files`]).
     pub fn fit(
         examples: &[(&[f32], &Demo)],
         kernels: usize,
@@ -126,9 +129,10 @@ impl Skill {
     /// The DMP of each demonstration `(q_i, demo_i)` of a skill, in order
     /// (as [`DmpFile::fit`]: orientations as the module docs say, but with
     /// the fit of [`FitOptions::LEARNING`]: narrower kernels, none beyond
-    /// the ends), their forcing terms scaled by `scaling`, all alike (per
-    /// DoF, decided on the first: interpolating weights only makes sense
-    /// when every example scales them alike). Every demonstration has the
+    /// the ends), their forcing terms scaled by `scaling` and their
+    /// orientations charted, all alike (decided on the first: interpolating
+    /// weights only makes sense when every example scales and charts them
+    /// alike). Every demonstration has the
     /// first one's columns, by name and in order.
     pub fn fit_demos(
         examples: &[(&[f32], &Demo)],
@@ -139,14 +143,23 @@ impl Skill {
             Error::Demonstrations("a skill needs at least one demonstration".into())
         })?;
         let mut scaled = None;
+        let mut axes: Option<Vec<[f32; 3]>> = None;
         let mut files = Vec::new();
         for (i, (q, demo)) in examples.iter().enumerate() {
             same_columns(&first.names, &demo.names)
                 .map_err(|why| Error::Demonstrations(format!("demonstration {}: {why}", i + 1)))?;
             let label = format!("demonstration {} (q = {q:?})", i + 1);
-            let scaling = (scaling, scaled);
-            let file = DmpFile::fit_with(&label, demo, kernels, scaling, &FitOptions::LEARNING)
-                .map_err(|e| Error::Demonstrations(e.to_string()))?;
+            let file = DmpFile::fit_charted(
+                &label,
+                demo,
+                kernels,
+                (scaling, scaled),
+                axes.as_deref(),
+                &FitOptions::LEARNING,
+            )
+            .map_err(|e| Error::Demonstrations(e.to_string()))?;
+            // Every orientation charted as the first demonstration's.
+            axes.get_or_insert_with(|| file.orientations.iter().map(|o| o.axis).collect());
             let dmp = &file.dmp;
             scaled.get_or_insert(
                 (0..dmp.dof())
@@ -229,10 +242,24 @@ impl Skill {
                 }
                 let tangent = Tangent::mean(&of_group)
                     .map_err(|e| Error::Demonstrations(format!("{}…: {e}", columns[0])))?;
+                // One chart for all: the weights of different charts are
+                // no vectors of one space.
+                let axis = first.orientations.get(j).map_or([0.0; 3], |o| o.axis);
+                for (i, (_, file)) in examples.iter().enumerate() {
+                    if file.orientations.get(j).map(|o| o.axis) != Some(axis) {
+                        return Err(Error::Demonstrations(format!(
+                            "demonstration {}: {}… is charted about another axis than demonstration 1's (fit them \
+                             with Skill::fit, which charts them alike)",
+                            i + 1,
+                            columns[0]
+                        )));
+                    }
+                }
                 Ok(Group {
                     columns,
                     dof,
                     tangent,
+                    axis,
                 })
             })
             .collect::<Result<Vec<_>, Error>>()?;
@@ -249,7 +276,11 @@ impl Skill {
             for (g, goal) in groups.iter().zip(goals) {
                 let at = goal_at + g.dof;
                 theta[at..at + 3].copy_from_slice(&g.tangent.log(goal));
-                starts.push(g.tangent.log(&from_log(&start[g.dof..g.dof + 3], goal)));
+                starts.push(g.tangent.log(&from_coordinates(
+                    &start[g.dof..g.dof + 3],
+                    goal,
+                    &g.axis,
+                )));
             }
             start_orientations.push(starts);
             generalizer
@@ -377,11 +408,12 @@ impl Skill {
                 }
             }
             let turn = &mut start[g.dof..g.dof + 3];
-            let e = nearest_log(&g.tangent.exp(&vector), &goal, turn);
+            let e = nearest_coordinates(&g.tangent.exp(&vector), &goal, turn, &g.axis);
             turn.copy_from_slice(&e);
             orientations.push(Orientation {
                 columns: g.columns.clone(),
                 goal: goal.to_array(),
+                axis: g.axis,
             });
         }
         let t = &self.template;
@@ -566,7 +598,111 @@ mod tests {
         // Δθ on the group's third goal value turns the goal about z.
         let mut delta = vec![0.0; skill.param_len()];
         delta[4 * 10 + 3] = 5f32.to_radians();
-        let end = last_orientation(&skill.plan(&[0.5], &delta, 0.01).unwrap());
+        let plan = skill.plan(&[0.5], &delta, 0.01).unwrap();
+        let end = last_orientation(&plan);
         assert!(end.dot(&yaw(185.0)).abs() > 1.0 - 1e-6, "{end:?}");
+        // The changed goal leaves the start where it was.
+        let first = &plan.rows[..5];
+        let start =
+            Quaternion::from_array([first[1], first[2], first[3], first[4]].map(|v| v as f32));
+        assert!(start.dot(&yaw(180.0)).abs() > 1.0 - 1e-6, "{start:?}");
+    }
+
+    /// A screw of `deg` degrees about a tool axis wobbling by 1°, its
+    /// sign flipped on every third row.
+    fn screw(deg: f32) -> (Demo, impl Fn(f32) -> Quaternion) {
+        let pose = Quaternion::exp([0.4, -0.3, 0.2]);
+        let at = move |t: f32| {
+            let s = t * t * (3.0 - 2.0 * t);
+            let w = 1f32.to_radians();
+            pose.mul(&Quaternion::exp([
+                w * (5.0 * t).sin(),
+                w * (3.0 * t).cos(),
+                0.0,
+            ]))
+            .mul(&Quaternion::exp([0.0, 0.0, deg.to_radians() * s]))
+        };
+        let times: Vec<f32> = (0..=500).map(|i| i as f32 / 500.0).collect();
+        let positions = times
+            .iter()
+            .enumerate()
+            .flat_map(|(i, &t)| {
+                let q = if i % 3 == 1 { at(t).neg() } else { at(t) };
+                [0.03 * t].into_iter().chain(q.to_array())
+            })
+            .collect();
+        let names = ["z", "qw", "qx", "qy", "qz"].map(String::from).to_vec();
+        (
+            Demo {
+                names,
+                times,
+                positions,
+            },
+            at,
+        )
+    }
+
+    fn angle(a: &Quaternion, b: &Quaternion) -> f32 {
+        let d = a.mul(&b.conj());
+        2.0 * (d.x * d.x + d.y * d.y + d.z * d.z).sqrt().atan2(d.w.abs())
+    }
+
+    #[test]
+    fn screws_of_several_turns_generalize_in_one_chart_and_keep_their_start() {
+        let ((a, at_a), (b, _)) = (screw(540.0), screw(630.0));
+        let skill = Skill::fit(
+            &[(&[0.0], &a), (&[1.0], &b)],
+            30,
+            Method::Lwr { bandwidth: None },
+        )
+        .unwrap();
+        let orientation = |row: &[f64]| {
+            Quaternion::from_array([row[1], row[2], row[3], row[4]].map(|v| v as f32))
+        };
+        let plan = skill.plan(&[0.0], &[], 0.002).unwrap();
+        let worst = plan
+            .rows
+            .chunks_exact(5)
+            .zip(&plan.t)
+            .map(|(row, &t)| angle(&orientation(row), &at_a(t as f32)))
+            .fold(0.0, f32::max);
+        assert!(
+            worst.to_degrees() < 0.5,
+            "the first screw off by {}°",
+            worst.to_degrees()
+        );
+        // Half way: 585°, travelled step by step; a changed goal keeps the start.
+        let mut delta = vec![0.0; skill.param_len()];
+        delta[4 * 30 + 1] = 0.2;
+        let plan = skill.plan(&[0.5], &delta, 0.002).unwrap();
+        let path: Vec<Quaternion> = plan.rows.chunks_exact(5).map(orientation).collect();
+        let travelled: f32 = path.windows(2).map(|w| angle(&w[0], &w[1])).sum();
+        assert!(
+            (travelled.to_degrees() - 585.0).abs() < 30.0,
+            "{}°",
+            travelled.to_degrees()
+        );
+        assert!(angle(&path[0], &at_a(0.0)) < 1e-4, "{:?}", path[0]);
+        // Fitted each on its own, the two screws are charted about their
+        // own axes: refused, in words.
+        let fit = |demo: &Demo| {
+            DmpFile::fit_with(
+                "demo",
+                demo,
+                30,
+                (AmplitudeScaling::PerDof, None),
+                &FitOptions::LEARNING,
+            )
+            .unwrap()
+        };
+        let (fa, fb) = (fit(&a), fit(&b));
+        assert_ne!(fa.orientations[0].axis, fb.orientations[0].axis);
+        let e = Skill::from_files(
+            &[(&[0.0], &fa), (&[1.0], &fb)],
+            Method::Lwr { bandwidth: None },
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(e.contains("charted about another axis"), "{e}");
     }
 }

@@ -137,7 +137,7 @@ class Dmp:
         """
     @staticmethod
     def from_json(text: str) -> Dmp:
-        """The DMP whose file text is ``text`` (DMP file versions 1 to 4).
+        """The DMP whose file text is ``text`` (DMP file versions 1 to 5).
 
         Args:
             text: a DMP file's JSON, as ``to_json`` or ``primo dmp fit`` write it.

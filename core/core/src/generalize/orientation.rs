@@ -21,7 +21,7 @@
 //!   then turn with that goal.) The log DMP's own goal stays 0;
 //! - `τ` is combined as a number; the start's log coordinates relative to
 //!   the new goal are taken on the side of the examples' combined ones
-//!   ([`nearest_log`]), so a demonstrated turn beyond 180°, and any number
+//!   ([`nearest_coordinates`]), so a demonstrated turn beyond 180°, and any number
 //!   of whole turns, is kept.
 //!
 //! The examples' goals must lie within 180° of their mean for the chart to
@@ -58,7 +58,7 @@ use crate::Error;
 use crate::dmp::{Dmp, Shape};
 use crate::error::{check_capacity, check_len};
 use crate::generalize::{Generalizer, Method};
-use crate::orientation::{CartesianDmp, OrientationDmp, nearest_log};
+use crate::orientation::{CartesianDmp, OrientationDmp, nearest_coordinates};
 use crate::quaternion::Quaternion;
 use crate::tangent::Tangent;
 
@@ -103,6 +103,8 @@ struct Part {
     shape: Shape,
     kernels: usize,
     at: usize,
+    /// The examples' chart axis (one for all).
+    axis: [f32; 3],
 }
 
 impl Part {
@@ -118,6 +120,11 @@ impl Part {
         for dmp in dmps {
             let f = *first.get_or_insert(dmp);
             same_shape(f.log_dmp(), dmp.log_dmp())?;
+            if f.axis() != dmp.axis() {
+                return Err(Error::OutOfRange(
+                    "every example needs the first one's chart axis (turns charted about one axis)",
+                ));
+            }
             check_capacity("examples", count + 1, E)?;
             if let Some(g) = goals.get_mut(count) {
                 *g = dmp.goal();
@@ -130,6 +137,7 @@ impl Part {
             shape: first.log_dmp().shape(),
             kernels: first.log_dmp().kernels(),
             at,
+            axis: first.axis(),
         })
     }
 
@@ -173,7 +181,7 @@ impl Part {
         };
         let goal = self.tangent.exp(&three(theta, k3));
         let start = self.tangent.exp(&three(theta, k3 + 4));
-        let turn = nearest_log(&start, &goal, &three(theta, k3 + 7));
+        let turn = nearest_coordinates(&start, &goal, &three(theta, k3 + 7), &self.axis);
         for g in theta.iter_mut().skip(k3).take(3) {
             *g = 0.0;
         }
@@ -184,7 +192,7 @@ impl Part {
             &turn,
             theta.get(..k3 + 4).unwrap_or(&[]),
         )?;
-        OrientationDmp::from_parts(log, goal)
+        OrientationDmp::from_chart(log, goal, self.axis)
     }
 }
 
