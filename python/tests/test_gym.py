@@ -192,3 +192,47 @@ def test_every_public_name_has_a_docstring_with_its_parameters_and_an_example():
             if ">>>" not in doc:
                 problems.append(f"{qualified}: no example")
     assert not problems, "\n".join(problems)
+
+
+def test_golden_section_learns_a_one_value_query():
+    # The target on the line y = 0.12; the query is its x.
+    g = primo.Generalizer([(x, fit((x, 0.12))) for x in (-0.12, 0.0, 0.12)])
+    box = reacher_box(g, query=lambda c: c[0], error=lambda env, obs, info: -obs[8:9])
+    context = (0.07, 0.12)
+    learner = primo.GoldenSection(low=0.0, high=0.15, desired=0.07, max_rollouts=20)
+    episodes = box.learn(learner, context, budget=20, seed=0)
+    assert episodes[-1].success or learner.status == "converged", [e.error for e in episodes]
+    assert abs(episodes[-1].error[0]) < abs(episodes[0].error[0])
+    assert all(e.theta.shape == (1,) for e in episodes)
+
+
+class Point(gymnasium.Env):
+    """A point on a line whose action is its velocity, or its position."""
+
+    def __init__(self, velocity=True):
+        self.velocity, self.dt, self.x = velocity, 0.01, 0.0
+        self.action_space = gymnasium.spaces.Box(-5.0, 5.0, shape=(1,))
+        self.observation_space = gymnasium.spaces.Box(-5.0, 5.0, shape=(1,))
+
+    def reset(self, *, seed=None, options=None):
+        super().reset(seed=seed)
+        self.x = 0.0
+        return np.array([self.x]), {}
+
+    def step(self, action):
+        self.x = self.x + action[0] * self.dt if self.velocity else action[0]
+        return np.array([self.x]), -abs(self.x - 0.8), False, False, {}
+
+
+@pytest.mark.parametrize("tracking", ["velocity", "position"])
+def test_velocity_and_position_actions_follow_the_movement(tracking):
+    t = np.linspace(0.0, 1.0, 101)
+    s = t * t * (3 - 2 * t)
+    dmp = primo.Dmp.fit(t, 0.8 * s, kernels=20)
+    env = Point(velocity=tracking == "velocity")
+    box = primo.gym.BlackBox(env, dmp, tracking=tracking, kp=5.0, hold=0,
+                             state=lambda env, obs: (obs, None),
+                             error=lambda env, obs, info: 0.8 - obs)
+    episode = box.episode(box.initial())
+    assert episode.steps == 100 and episode.success is None
+    assert abs(episode.error[0]) < 1e-3

@@ -101,9 +101,10 @@ class BlackBox:
     with a ``query_gain``; see ``episode`` for the shorter forms).
     ``tracking``: how the movement's desired positions ``y`` and
     velocities ``ẏ`` become actions, clipped to the action space:
-    ``"pd"`` torques ``kp (y − x) + kd (ẏ − ẋ)``; ``"velocity"``
-    ``ẏ + kp (y − x)``; ``"position"`` ``y``; ``"delta"`` a position
-    step ``kp (y − x)`` (Metaworld's Cartesian actions, about
+    ``"pd"`` torques ``kp (y − x) + kd (ẏ − ẋ)`` toward the next
+    sample; ``"velocity"`` the step's mean velocity ``(y_next − y_now) /
+    dt + kp (y_now − x)``; ``"position"`` the next ``y``; ``"delta"`` a
+    position step ``kp (y_next − x)`` (Metaworld's Cartesian actions, about
     ``kp = 50``). ``state(env, obs) -> (x, ẋ)``: the tracked positions
     and velocities (``ẋ`` may be None unless ``"pd"`` uses ``kd``);
     by default the MuJoCo joints ``env.unwrapped.data.qpos, qvel``. The
@@ -283,7 +284,7 @@ class BlackBox:
         >>> box.episode(box.initial(), seed=1).steps
         25
         """
-        theta = np.asarray(theta, dtype=np.float64)
+        theta = np.atleast_1d(np.asarray(theta, dtype=np.float64))
         dmp = self.dmp(theta, context)
         _, y, yd = dmp.run(dt=self.dt, velocities=True)
         obs = self._reset(self.env, context, seed)
@@ -291,8 +292,9 @@ class BlackBox:
         total, ever, reported, steps = 0.0, False, False, 0
         info: dict = {}
         for k in range(last + self.hold):
-            i = min(k + 1, last)
-            obs, reward, terminated, truncated, info = self.env.step(self._action(obs, y[i], yd[i]))
+            now, then = min(k, last), min(k + 1, last)
+            action = self._action(obs, y[then], yd[then], y[now])
+            obs, reward, terminated, truncated, info = self.env.step(action)
             total += float(reward)
             steps += 1
             if self._success is not None:
@@ -308,7 +310,9 @@ class BlackBox:
             error = np.atleast_1d(np.asarray(self._error(self.env, obs, info), dtype=np.float64))
         return Episode(total, ever if reported else None, error, steps, theta)
 
-    def _action(self, obs: Any, y: np.ndarray, yd: np.ndarray) -> np.ndarray:
+    def _action(self, obs: Any, y: np.ndarray, yd: np.ndarray, y_now: np.ndarray) -> np.ndarray:
+        """The action toward ``y, yd`` (the next sample's) from the state
+        at the current sample, ``y_now``."""
         action = np.zeros_like(self._low)
         if self._state is None:  # "position": the desired positions are the action
             action[: len(y)] = y
@@ -322,8 +326,8 @@ class BlackBox:
                 if xd is None:
                     raise ValueError("state: returns no velocities, which tracking='pd' with kd needs")
                 u += self.kd * (yd[:m] - np.asarray(xd, dtype=np.float64)[:m])
-        elif self.tracking == "velocity":
-            u = yd[:m] + self.kp * (y[:m] - x)
+        elif self.tracking == "velocity":  # the step's mean velocity, corrected where x is now
+            u = (y[:m] - y_now[:m]) / self.dt + self.kp * (y_now[:m] - x)
         elif self.tracking == "delta":
             u = self.kp * (y[:m] - x)
         else:
