@@ -67,6 +67,12 @@ def _power(query_gain: float) -> Callable:
     return run
 
 
+def _cost(episode):
+    """‖error‖; a movement the DMP refused (a duration under 1 ms) costs
+    1000, more than any error on these tasks (m, rad)."""
+    return 1e3 if episode.rejected else float(np.linalg.norm(episode.error))
+
+
 def _episodes_of(box, context, budget, seed, ask, tell):
     """Runs a population method's ask/tell loop over Δθ one candidate at
     a time, so that it stops at the first success."""
@@ -78,7 +84,7 @@ def _episodes_of(box, context, budget, seed, ask, tell):
             episodes.append(box.episode(np.r_[q0, delta], context, seed))
             if episodes[-1].success or len(episodes) >= budget:
                 return episodes
-            costs.append(float(np.linalg.norm(episodes[-1].error)))
+            costs.append(_cost(episodes[-1]))
         tell(population, costs)
     return episodes
 

@@ -26,7 +26,7 @@ from learners import METHODS
 from tasks import HELD_OUT_SEED, TASKS
 
 COLUMNS = ["task", "context", "seed", "method", "success", "rollouts", "rollouts_to_success",
-           "final_return", "best_return", "final_error", "seconds"]
+           "rejected", "final_return", "best_return", "final_error", "seconds"]
 
 _cache: dict = {}  # per process: task name -> (problem, held-out contexts)
 
@@ -46,13 +46,16 @@ def run_one(job):
     start = time.perf_counter()
     episodes = METHODS[method](problem, held_out[index], budget, seed)
     first = next((k for k, e in enumerate(episodes, 1) if e.success), None)
-    returns = [e.episode_return for e in episodes]
+    returns = [e.episode_return for e in episodes if not e.rejected]
+    last = episodes[-1]
     return {
         "task": name, "context": index, "seed": seed, "method": method,
         "success": int(first is not None), "rollouts": len(episodes),
         "rollouts_to_success": "" if first is None else first,
-        "final_return": round(returns[-1], 4), "best_return": round(max(returns), 4),
-        "final_error": round(float(np.linalg.norm(episodes[-1].error)), 5),
+        "rejected": sum(1 for e in episodes if e.rejected),
+        "final_return": "" if last.rejected else round(last.episode_return, 4),
+        "best_return": round(max(returns), 4) if returns else "",
+        "final_error": "" if last.rejected else round(float(np.linalg.norm(last.error)), 5),
         "seconds": round(time.perf_counter() - start, 3),
     }
 
@@ -71,8 +74,8 @@ def summary(rows, budget, seeds):
     for task in dict.fromkeys(r["task"] for r in rows):
         lines += [f"### {task}", "",
                   "| method | success | per seed | roll-outs to success, of successes | "
-                  "roll-outs, failures counted as the budget | final return |",
-                  "|---|---|---|---|---|---|"]
+                  "roll-outs, failures counted as the budget | final return | rejected roll-outs |",
+                  "|---|---|---|---|---|---|---|"]
         for method in METHODS:
             rs = [r for r in rows if r["task"] == task and r["method"] == method]
             if not rs:
@@ -84,7 +87,8 @@ def summary(rows, budget, seeds):
             lines.append(
                 f"| {method} | {len(ok)}/{len(rs)} ({len(ok) / len(rs):.0%}) | {spread} | "
                 f"{_median_interval(ok)} | {_median_interval(censored)} | "
-                f"{np.median([r['final_return'] for r in rs]):.2f} |"
+                f"{np.median([r['final_return'] for r in rs if r['final_return'] != '']):.2f} | "
+                f"{sum(r['rejected'] for r in rs)} |"
             )
         lines.append("")
     return "\n".join(lines)

@@ -179,7 +179,9 @@ def test_every_public_name_has_a_docstring_with_its_parameters_and_an_example():
     for name in primo.gym.__all__:
         obj = getattr(primo.gym, name)
         members = [(name, obj)] + [
-            (f"{name}.{a}", m) for a, m in vars(obj).items() if inspect.isclass(obj) and not a.startswith("_")
+            (f"{name}.{a}", m)
+            for a, m in vars(obj).items()
+            if inspect.isclass(obj) and not a.startswith("_") and (callable(m) or isinstance(m, property))
         ]
         for qualified, member in members:
             doc = inspect.getdoc(member) or ""
@@ -236,3 +238,16 @@ def test_velocity_and_position_actions_follow_the_movement(tracking):
     episode = box.episode(box.initial())
     assert episode.steps == 100 and episode.success is None
     assert abs(episode.error[0]) < 1e-3
+
+
+def test_parameters_the_dmp_refuses_are_a_rejected_episode(generalizer):
+    box = reacher_box(generalizer)
+    theta = box.initial(DEMOS[0])
+    theta[-1] = -1.0  # Δτ: a negative duration
+    episode = box.episode(theta, DEMOS[0])
+    assert episode.rejected and "tau" in episode.rejected
+    assert episode.steps == 0 and episode.success is False and np.isnan(episode.episode_return)
+    d, n = box.query_dim, box.size
+    power = primo.Power(theta, blocks=[(d, 1e-4, 1.0), (n, 1e-6, 1.0)], query_gain=0.5)
+    episodes = box.learn(power, DEMOS[0], budget=4, reward=lambda e: 1.0)
+    assert all(e.rejected for e in episodes) and power.rollouts == 4

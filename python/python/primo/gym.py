@@ -59,7 +59,11 @@ class Episode:
     environment reports none; ``error``: the error vector (``desired −
     measured``) of the ``error`` function at the end, or None without
     one; ``steps``: the environment steps taken; ``theta``: the
-    parameters it was given.
+    parameters it was given; ``rejected``: why the DMP refused ``theta``
+    (a duration under 1 ms, a value beyond float32), or None. A rejected
+    episode takes no step: its return is NaN, its success False and its
+    error None (``learn`` tells error learners ``tell_infeasible`` and
+    ``Power`` the reward 0).
 
     >>> import numpy as np, primo.gym
     >>> primo.gym.Episode(episode_return=-1.5, success=True, error=None, steps=3, theta=np.zeros(2)).steps
@@ -71,6 +75,19 @@ class Episode:
     error: Optional[np.ndarray]
     steps: int
     theta: np.ndarray
+    rejected: Optional[str] = None
+
+
+class _Rejected(ValueError):
+    """The DMP refused the parameters (not a caller's shape error)."""
+
+
+def _with_params(dmp: Dmp, theta: np.ndarray) -> Dmp:
+    try:
+        dmp.params = theta
+    except ValueError as e:
+        raise _Rejected(f"theta: {e}") from e
+    return dmp
 
 
 def _default_reset(env: Any, context: Any, seed: Optional[int]) -> Any:
@@ -257,9 +274,7 @@ class BlackBox:
         if self.generalizer is None:
             if theta.shape != (n,):
                 raise ValueError(f"theta: shape {theta.shape}, the DMP has {n} parameters")
-            dmp = Dmp.from_json(self._dmp.to_json())
-            dmp.params = theta
-            return dmp
+            return _with_params(Dmp.from_json(self._dmp.to_json()), theta)
         if theta.shape == (d,):
             return self.generalizer.generalize(theta)
         if theta.shape == (n,):
@@ -271,12 +286,13 @@ class BlackBox:
                 f"theta: shape {theta.shape}; expected [q̂, Δθ] ({d + n}), Δθ ({n}) or q̂ ({d})"
             )
         dmp = self.generalizer.generalize(q)
-        dmp.params = np.asarray(dmp.params) + delta
-        return dmp
+        return _with_params(dmp, np.asarray(dmp.params) + delta)
 
     def episode(self, theta: Any, context: Any = None, seed: Optional[int] = None) -> Episode:
         """Runs one episode: resets at ``context`` (with ``seed``), then
-        tracks the movement of ``theta`` (see ``dmp``) step by step.
+        tracks the movement of ``theta`` (see ``dmp``) step by step. A
+        ``theta`` the DMP refuses is a rejected episode (see ``Episode``);
+        one of the wrong shape is a ``ValueError``.
 
         >>> import gymnasium, numpy as np, primo, primo.gym
         >>> dmp = primo.Dmp.fit(np.linspace(0, 0.4, 21), np.zeros((21, 2)), kernels=5)
@@ -285,7 +301,10 @@ class BlackBox:
         25
         """
         theta = np.atleast_1d(np.asarray(theta, dtype=np.float64))
-        dmp = self.dmp(theta, context)
+        try:
+            dmp = self.dmp(theta, context)
+        except _Rejected as e:
+            return Episode(float("nan"), False, None, 0, theta, rejected=str(e))
         _, y, yd = dmp.run(dt=self.dt, velocities=True)
         obs = self._reset(self.env, context, seed)
         last = len(y) - 1
@@ -389,12 +408,17 @@ class BlackBox:
             episodes.append(episode)
             if until_success and episode.success:
                 break
-            if isinstance(learner, Power):
-                r = float(reward(episode))  # type: ignore[misc]
-                if episode.error is None:
+            if episode.rejected and not isinstance(learner, Power):
+                learner.tell_infeasible()
+            elif isinstance(learner, Power):
+                # A rejected roll-out: reward 0 (no weight) and, for a query
+                # gain, a zero error (the query stays).
+                r = 0.0 if episode.rejected else float(reward(episode))  # type: ignore[misc]
+                error = np.zeros(self.query_dim) if episode.rejected and self.query_dim else episode.error
+                if error is None:
                     learner.tell(r)
                 else:
-                    learner.tell(r, episode.error)
+                    learner.tell(r, error)
             elif isinstance(learner, Secant):
                 learner.tell(episode.error)
             else:
