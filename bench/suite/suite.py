@@ -125,6 +125,7 @@ def main(argv=None):
     parser.add_argument("--methods", nargs="+", default=list(METHODS), choices=list(METHODS))
     parser.add_argument("--contexts", type=int, default=20, help="held-out contexts per task")
     parser.add_argument("--seeds", type=int, default=3, help="seeds of every learner per context")
+    parser.add_argument("--first-seed", type=int, default=1, help="seeds run from this one on")
     parser.add_argument("--budget", type=int, default=50, help="roll-outs per learner and context")
     parser.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
     parser.add_argument("--out", help="default bench/results/suite, with --smoke target/bench-smoke")
@@ -135,7 +136,7 @@ def main(argv=None):
         args.tasks, args.contexts, args.seeds, args.budget = ["reach-v3", "Reacher-v5"], 1, 1, 3
     args.out = args.out or ("target/bench-smoke" if args.smoke else "bench/results/suite")
     command = "bench/suite/run.sh " + " ".join(sys.argv[1:] if argv is None else argv)
-    seeds = list(range(1, args.seeds + 1))
+    seeds = list(range(args.first_seed, args.first_seed + args.seeds))
     jobs = [(t, args.contexts, i, s, m, args.budget)
             for t in args.tasks for i in range(args.contexts) for s in seeds for m in args.methods]
     start = time.time()
