@@ -54,7 +54,8 @@ def run(cell, start, seeds, budget, s1, s2, sampler, gain):
     x0 = np.asarray(start["start"])
     initial = np.concatenate([x0[-1:], x0[:-1]])
     learners = [
-        primo.Power(initial, blocks(start, s1, s2), sampler=sampler, seed=s, query_gain=gain)
+        primo.Power(initial, blocks(start, s1, s2), sampler=sampler, seed=s, query_gain=gain,
+                    query=1)
         for s in seeds
     ]
     rows = [[] for _ in seeds]

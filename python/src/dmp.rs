@@ -7,18 +7,26 @@ use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::{PyString, PyTuple};
 
-use primo_core::dmp::{Margin, max_margin};
-use primo_skill::HostDmp;
+use primo_core::dmp::{DEFAULT_OVERLAP, FitOptions, MAX_ALPHA, MIN_ALPHA, Margin, max_margin};
+use primo_skill::MAX_KERNELS;
 use primo_skill::csv::Demo;
-use primo_skill::dmpfile::{self, Change, DmpFile, Fitted, MAX_ROWS, Prepared, RhythmicFile};
+use primo_skill::dmpfile::{
+    self, AmplitudeScaling, Change, DmpFile, Fitted, MAX_ROWS, RhythmicFile,
+};
 
-use crate::arrays::{Array, matrix, out, out2, vector};
+use crate::arrays::{Array, matrix, out, out2, times, vector};
+use crate::dmprun::{Begun, DmpRun};
 use crate::errors::{core, invalid, io, skill};
 
-/// A fitted DMP with its column names: discrete (four columns
-/// `<p>qw,<p>qx,<p>qy,<p>qz` are one orientation, a quaternion DMP) or
-/// rhythmic; its JSON is the DMP file of `primo dmp fit` and `run`.
-/// Computed in float32 (the fit's normal equations in float64).
+/// A fitted DMP with its column names, discrete or rhythmic.
+///
+/// A discrete DMP moves from a start to a goal (four columns
+/// ``<p>qw, <p>qx, <p>qy, <p>qz`` are one orientation, a quaternion DMP); a
+/// rhythmic one repeats a period. Its JSON is the DMP file of
+/// ``primo dmp fit`` and ``primo dmp run``. Computed in float32 (the fit's
+/// normal equations in float64); arrays come out as float64. Make one with
+/// ``Dmp.fit``, ``Dmp.fit_rhythmic``, ``Dmp.load`` or ``Dmp.from_json``;
+/// it pickles, copies and compares (``==``) by value.
 ///
 /// >>> import numpy as np, primo
 /// >>> t = np.linspace(0.0, 1.0, 101)
@@ -35,15 +43,6 @@ use crate::errors::{core, invalid, io, skill};
 #[derive(Clone)]
 pub struct Dmp {
     pub(crate) fitted: Fitted,
-}
-
-/// A discrete DMP executed one control step at a time (`Dmp.stepper()`);
-/// it gives the same samples as `Dmp.run`, bit for bit.
-#[pyclass(module = "primo._primo")]
-pub struct DmpRun {
-    dmp: HostDmp,
-    run: primo_core::dmp::Run<{ primo_skill::HOST_MAX_DOF }>,
-    prepared: Prepared,
 }
 
 /// `names` as column names: any sequence of strings, but not a string,
@@ -67,7 +66,7 @@ fn column_names(names: Option<Bound<'_, PyAny>>) -> PyResult<Option<Vec<String>>
 /// one column) and the column names (default `y0, y1, …`).
 fn demo(t: &Array<'_>, y: &Array<'_>, names: Option<Bound<'_, PyAny>>) -> PyResult<Demo> {
     let names = column_names(names)?;
-    let times = vector("t", t, false)?;
+    let times = times("t", t)?;
     let (rows, cols, positions) = match y.shape().len() {
         1 => {
             let v = vector("y", y, false)?;
@@ -105,8 +104,21 @@ fn demo(t: &Array<'_>, y: &Array<'_>, names: Option<Bound<'_, PyAny>>) -> PyResu
     })
 }
 
+/// `kernels` of a fit in Python's terms (a negative count included, which
+/// PyO3 would refuse as an overflow): `fewest` to [`MAX_KERNELS`] per DoF.
+pub(crate) fn kernel_count(kernels: i64, fewest: usize, kind: &str) -> PyResult<usize> {
+    usize::try_from(kernels)
+        .ok()
+        .filter(|k| (fewest..=MAX_KERNELS).contains(k))
+        .ok_or_else(|| {
+            invalid(format!(
+                "kernels={kernels}: a {kind}DMP needs {fewest} to {MAX_KERNELS} kernels per DoF"
+            ))
+        })
+}
+
 /// An optional finite number of seconds above 0 (`what` names it).
-fn positive(what: &str, v: Option<f64>) -> PyResult<Option<f32>> {
+pub(crate) fn positive(what: &str, v: Option<f64>) -> PyResult<Option<f32>> {
     match v {
         Some(x) if !(x.is_finite() && x > 0.0 && (x as f32) > 0.0) => Err(invalid(format!(
             "{what}: {x} must be a positive, finite number"
@@ -127,7 +139,11 @@ fn check_rows(dt: f32, duration: f32) -> PyResult<()> {
 }
 
 /// An optional array of one value per column (`what` names it).
-fn per_column(what: &str, a: Option<Array<'_>>, names: &[String]) -> PyResult<Option<Vec<f32>>> {
+pub(crate) fn per_column(
+    what: &str,
+    a: Option<Array<'_>>,
+    names: &[String],
+) -> PyResult<Option<Vec<f32>>> {
     let Some(a) = a else { return Ok(None) };
     let v = vector(what, &a, false)?;
     if v.len() != names.len() {
@@ -172,35 +188,161 @@ impl Dmp {
     }
 }
 
+/// The fit's options from `Dmp.fit`'s keyword arguments, each checked
+/// with its name.
+fn fit_options(
+    kernels: usize,
+    margin: Option<f32>,
+    overlap: f64,
+    ridge: f64,
+    alpha: f64,
+) -> PyResult<FitOptions> {
+    let margin = match margin {
+        None => Margin::Auto,
+        Some(m) if (0.0..=max_margin(kernels)).contains(&m) => Margin::Spacings(m),
+        Some(m) => {
+            return Err(invalid(format!(
+                "margin: {m} is not a number of kernel spacings from 0 to {} (with \
+                 kernels={kernels}, one spacing must stay between the ends)",
+                max_margin(kernels)
+            )));
+        }
+    };
+    let overlap = positive("overlap", Some(overlap))?.unwrap_or(DEFAULT_OVERLAP);
+    if !(ridge.is_finite() && ridge >= 0.0 && (ridge as f32).is_finite()) {
+        return Err(invalid(format!(
+            "ridge: {ridge} must be a finite number >= 0"
+        )));
+    }
+    if !(f64::from(MIN_ALPHA)..=f64::from(MAX_ALPHA)).contains(&alpha) {
+        return Err(invalid(format!(
+            "alpha: {alpha} is outside {MIN_ALPHA} to {MAX_ALPHA} (the spring gain; β = α/4)"
+        )));
+    }
+    Ok(FitOptions {
+        alpha: alpha as f32,
+        overlap,
+        ridge: ridge as f32,
+        margin,
+        ..FitOptions::default()
+    })
+}
+
 #[pymethods]
 impl Dmp {
+    /// Fits a discrete DMP to one demonstration: least squares on the
+    /// positions, so that its run reproduces ``y`` (no derivative of the
+    /// recording is taken; any sampling fits).
+    ///
+    /// Args:
+    ///     t: the sample times, s: n values, strictly increasing, any
+    ///         spacing and any origin (Unix time is fine: they are counted
+    ///         from the first sample in float64 before they are rounded to
+    ///         the float32 the fit computes in).
+    ///     y: the positions, n × columns (or n for one column), any unit.
+    ///         Four columns ``<p>qw, <p>qx, <p>qy, <p>qz`` are one
+    ///         orientation, a quaternion DMP.
+    ///     names: the columns' names (default ``y0, y1, …``).
+    ///     kernels: kernels per DoF, 2 to 128.
+    ///     margin: kernel spacings the outer kernels lie beyond the
+    ///         movement's ends, 0 to (kernels − 2)/2; ``None`` tries 0 and
+    ///         1 and keeps the one that reproduces ``y`` better. DMPs
+    ///         generalized together need the same.
+    ///     overlap: the kernels' overlap ``h·Δc²`` (> 0; larger is
+    ///         narrower: neighbours cross at ``exp(−overlap/4)``).
+    ///     ridge: the ridge regularization, relative to the mean diagonal
+    ///         of the Gram matrix (>= 0).
+    ///     alpha: the spring gain α, 0.01 to 10000 (β = α/4).
+    ///     scaling: how the forcing term scales to a new start and goal:
+    ///         ``"per-dof"`` (each column by its own (g − y0)/(g_d − y0_d);
+    ///         a column that starts and ends together unscaled),
+    ///         ``"none"`` (the shape as demonstrated) or ``"global"`` (the
+    ///         position columns turned by the smallest rotation taking the
+    ///         demonstrated g − y0 onto the new one and stretched by the
+    ///         ratio of their lengths, Koutras & Doulgeri 2020).
+    ///
+    /// ``primo learn`` fits a task's demonstrations with ``margin=0,
+    /// overlap=2.0, ridge=1e-6`` (``Generalizer.from_task`` builds that
+    /// skill itself).
+    ///
+    /// Returns:
+    ///     Dmp: the fitted DMP, as ``primo dmp fit`` writes it.
+    ///
+    /// Raises:
+    ///     ValueError: an argument out of its range (named), times that do
+    ///         not increase, fewer than 3 samples, or weights beyond the
+    ///         DMP's bounds.
+    ///     TypeError: ``names`` not a sequence of strings.
+    ///
+    /// >>> import numpy as np, primo
+    /// >>> t = 1.7e9 + np.linspace(0.0, 1.0, 101)  # stamped in Unix time
+    /// >>> dmp = primo.Dmp.fit(t, np.sin(t - t[0]), names=["x"], kernels=20, overlap=2.0)
+    /// >>> dmp.tau, dmp.names
+    /// (1.0, ['x'])
     #[staticmethod]
-    #[pyo3(signature = (t, y, names=None, kernels=30, margin=None))]
+    #[allow(clippy::too_many_arguments)] // the fit's options, as keywords
+    #[pyo3(signature = (t, y, names=None, kernels=30, margin=None, overlap=0.7, ridge=1e-9,
+                        alpha=25.0, scaling="per-dof"))]
     fn fit(
         py: Python<'_>,
         t: Array<'_>,
         y: Array<'_>,
         names: Option<Bound<'_, PyAny>>,
-        kernels: usize,
+        kernels: i64,
         margin: Option<f32>,
+        overlap: f64,
+        ridge: f64,
+        alpha: f64,
+        scaling: &str,
     ) -> PyResult<Dmp> {
-        let margin = match margin {
-            None => Margin::Auto,
-            Some(m) if (0.0..=max_margin(kernels)).contains(&m) => Margin::Spacings(m),
-            Some(m) => {
-                return Err(invalid(format!(
-                    "margin: {m} is not a number of kernel spacings from 0 to {} (with \
-                     kernels={kernels}, one spacing must stay between the ends)",
-                    max_margin(kernels)
-                )));
-            }
-        };
+        let kernels = kernel_count(kernels, 2, "")?;
+        let options = fit_options(kernels, margin, overlap, ridge, alpha)?;
+        let scaling = AmplitudeScaling::parse(scaling).ok_or_else(|| {
+            invalid(format!(
+                "scaling: {scaling:?}, expected \"per-dof\", \"none\" or \"global\""
+            ))
+        })?;
         let demo = demo(&t, &y, names)?;
         // The fit runs without the GIL: other threads go on meanwhile.
-        let file = py.detach(|| DmpFile::fit("the demonstration", &demo, kernels, margin));
+        let file = py.detach(|| {
+            DmpFile::fit_with(
+                "the demonstration",
+                &demo,
+                kernels,
+                (scaling, None),
+                &options,
+            )
+        });
         Ok(Dmp::from_file(file.map_err(skill)?))
     }
 
+    /// Fits a rhythmic DMP to one period of a recording.
+    ///
+    /// Args:
+    ///     t: sample times, s, shape (n,), strictly increasing, n >= 3.
+    ///     y: positions, shape (n, columns), or (n,) for one column (no
+    ///         orientation columns).
+    ///     names: the column names, one per column of ``y`` (default
+    ///         ``y0, y1, ...``).
+    ///     kernels: basis functions per DoF, 2 to 128.
+    ///     period: the period, s, counted from the first sample; None takes
+    ///         the whole recording as one period.
+    ///
+    /// Returns:
+    ///     Dmp: the rhythmic DMP (``rhythmic`` is True).
+    ///
+    /// Raises:
+    ///     ValueError: as ``fit``, or a period that is not positive or longer
+    ///         than the recording.
+    ///     TypeError: ``names`` a string, or holding something not a string.
+    ///
+    /// The fit runs with the GIL released.
+    ///
+    /// >>> import numpy as np, primo
+    /// >>> t = np.linspace(0.0, 1.0, 201)
+    /// >>> dmp = primo.Dmp.fit_rhythmic(t, np.sin(2 * np.pi * t), names=["x"])
+    /// >>> dmp.rhythmic, dmp.kernels, round(dmp.period, 3)
+    /// (True, 30, 1.0)
     #[staticmethod]
     #[pyo3(signature = (t, y, names=None, kernels=30, period=None))]
     fn fit_rhythmic(
@@ -208,9 +350,10 @@ impl Dmp {
         t: Array<'_>,
         y: Array<'_>,
         names: Option<Bound<'_, PyAny>>,
-        kernels: usize,
+        kernels: i64,
         period: Option<f64>,
     ) -> PyResult<Dmp> {
+        let kernels = kernel_count(kernels, 3, "rhythmic ")?;
         let demo = demo(&t, &y, names)?;
         let period = positive("period", period)?;
         let file = py
@@ -221,12 +364,45 @@ impl Dmp {
         })
     }
 
+    /// The DMP whose file text is ``text`` (DMP file versions 1 to 4).
+    ///
+    /// Args:
+    ///     text: a DMP file's JSON, as ``to_json`` or ``primo dmp fit`` write it.
+    ///
+    /// Returns:
+    ///     Dmp: the DMP it describes.
+    ///
+    /// Raises:
+    ///     ValueError: not JSON, or not a DMP file (the message says where).
+    ///
+    /// >>> import numpy as np, primo
+    /// >>> dmp = primo.Dmp.fit(np.linspace(0, 1, 11), np.linspace(0, 1, 11))
+    /// >>> primo.Dmp.from_json(dmp.to_json()) == dmp
+    /// True
     #[staticmethod]
     fn from_json(text: &str) -> PyResult<Dmp> {
         let fitted = dmpfile::parse("the DMP's JSON", text).map_err(skill)?;
         Ok(Dmp { fitted })
     }
 
+    /// Reads a DMP file written by ``primo dmp fit`` or ``Dmp.save``.
+    ///
+    /// Args:
+    ///     path: the file's path (str or path-like).
+    ///
+    /// Returns:
+    ///     Dmp: the DMP in the file.
+    ///
+    /// Raises:
+    ///     OSError: the file cannot be read.
+    ///     ValueError: not a DMP file (the message names the file and where).
+    ///
+    /// >>> import numpy as np, os, primo, tempfile
+    /// >>> dmp = primo.Dmp.fit(np.linspace(0, 1, 11), np.linspace(0, 1, 11))
+    /// >>> path = os.path.join(tempfile.mkdtemp(), "dmp.json")
+    /// >>> dmp.save(path)
+    /// >>> primo.Dmp.load(path) == dmp
+    /// True
     #[staticmethod]
     fn load(path: std::path::PathBuf) -> PyResult<Dmp> {
         let text = std::fs::read_to_string(&path).map_err(|e| io(&path, e))?;
@@ -234,25 +410,51 @@ impl Dmp {
         Ok(Dmp { fitted })
     }
 
+    /// The DMP file's text (JSON), as ``primo dmp fit`` writes it.
+    ///
+    /// Returns:
+    ///     str: the JSON text (without a final newline).
+    ///
+    /// >>> import numpy as np, json, primo
+    /// >>> dmp = primo.Dmp.fit(np.linspace(0, 1, 11), np.linspace(0, 1, 11))
+    /// >>> json.loads(dmp.to_json())["names"]
+    /// ['y0']
     fn to_json(&self) -> PyResult<String> {
         self.json()
     }
 
+    /// Writes the DMP file to ``path``, atomically: a reader sees the old file
+    /// or the new one, never half of it.
+    ///
+    /// Args:
+    ///     path: the file's path (str or path-like); an existing file is replaced.
+    ///
+    /// Raises:
+    ///     OSError: the file cannot be written (the old one is kept).
+    ///
+    /// >>> import numpy as np, os, primo, tempfile
+    /// >>> path = os.path.join(tempfile.mkdtemp(), "dmp.json")
+    /// >>> primo.Dmp.fit(np.linspace(0, 1, 11), np.linspace(0, 1, 11)).save(path)
+    /// >>> os.path.exists(path)
+    /// True
     fn save(&self, path: std::path::PathBuf) -> PyResult<()> {
         let text = format!("{}\n", self.json()?);
         primo_learn::output::write_file(&path, text.as_bytes()).map_err(crate::errors::learn)
     }
 
+    /// The column names, in the order of ``y``'s columns.
     #[getter]
     fn names(&self) -> Vec<String> {
         self.names_ref().to_vec()
     }
 
+    /// True for a rhythmic DMP, False for a discrete one.
     #[getter]
     fn rhythmic(&self) -> bool {
         matches!(self.fitted, Fitted::Rhythmic(_))
     }
 
+    /// The basis functions per DoF.
     #[getter]
     fn kernels(&self) -> usize {
         match &self.fitted {
@@ -261,6 +463,7 @@ impl Dmp {
         }
     }
 
+    /// The DMP's DoFs: one per column, an orientation (four columns) counting 3.
     #[getter]
     fn dof(&self) -> usize {
         match &self.fitted {
@@ -269,6 +472,8 @@ impl Dmp {
         }
     }
 
+    /// The orientation groups, each its four column names
+    /// ``[<p>qw, <p>qx, <p>qy, <p>qz]`` (empty for a rhythmic DMP).
     #[getter]
     fn orientations(&self) -> Vec<Vec<String>> {
         match &self.fitted {
@@ -277,11 +482,13 @@ impl Dmp {
         }
     }
 
+    /// The demonstrated duration, s (discrete; ValueError for a rhythmic DMP).
     #[getter]
     fn tau(&self) -> PyResult<f64> {
         Ok(f64::from(self.discrete("tau")?.dmp.tau()))
     }
 
+    /// The demonstrated period, s (rhythmic; ValueError for a discrete DMP).
     #[getter]
     fn period(&self) -> PyResult<f64> {
         match &self.fitted {
@@ -290,7 +497,8 @@ impl Dmp {
         }
     }
 
-    /// The demonstrated start, per column.
+    /// The demonstrated start, per column (discrete; ValueError for a
+    /// rhythmic DMP).
     #[getter]
     fn start<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let d = self.discrete("start")?;
@@ -298,7 +506,7 @@ impl Dmp {
         Ok(out(py, &prepared.columns(&prepared.execution.start)))
     }
 
-    /// The goal, per column.
+    /// The goal, per column (discrete; ValueError for a rhythmic DMP).
     #[getter]
     fn goal<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let d = self.discrete("goal")?;
@@ -306,6 +514,11 @@ impl Dmp {
         Ok(out(py, &prepared.columns(&prepared.execution.goal)))
     }
 
+    /// The parameter vector θ = [weights row by row, goals, τ] of the DMP's
+    /// DoFs (discrete): ``dof * kernels + dof + 1`` values, an orientation's
+    /// goal as its 3 DoFs. Assigning it sets the DMP's weights, goal and
+    /// duration (ValueError for a wrong length or a non-finite value, or for a
+    /// rhythmic DMP).
     #[getter]
     fn params<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let d = self.discrete("params")?;
@@ -326,6 +539,39 @@ impl Dmp {
     #[allow(clippy::too_many_arguments)] // the keyword arguments of `primo dmp run`
     #[pyo3(signature = (dt=0.001, tau=None, start=None, goal=None, velocities=false,
                         duration=None, frequency=None, amplitude=None, anchor=None))]
+    /// Runs the DMP at a fixed step, from start to goal (discrete) or for a
+    /// duration (rhythmic), with the GIL released.
+    ///
+    /// Args:
+    ///     dt: the step, s (positive).
+    ///     tau: the duration, s (discrete; default the demonstrated one).
+    ///     start: the start, per column (discrete; default the demonstrated one).
+    ///     goal: the goal, per column (discrete; default the demonstrated one).
+    ///         A changed goal does not move the start.
+    ///     velocities: also return the velocities (discrete, no orientation
+    ///         columns).
+    ///     duration: how long to run, s (rhythmic; default three periods).
+    ///     frequency: the frequency, Hz (rhythmic; default the demonstrated one).
+    ///     amplitude: the amplitude, per column (rhythmic; default 1 each:
+    ///         as demonstrated).
+    ///     anchor: the centre of the oscillation, per column (rhythmic; default
+    ///         the demonstrated one).
+    ///
+    /// Returns:
+    ///     tuple: ``(times, positions)``, shapes (m,) and (m, columns), m the
+    ///     number of samples from time 0; with ``velocities``, a third array
+    ///     (m, columns) of velocities.
+    ///
+    /// Raises:
+    ///     ValueError: a setting of the other kind of DMP, a value out of range,
+    ///         a per-column array of the wrong length, more than a million samples.
+    ///
+    /// >>> import numpy as np, primo
+    /// >>> t = np.linspace(0.0, 1.0, 101)
+    /// >>> dmp = primo.Dmp.fit(t, t * t * (3 - 2 * t), names=["x"])
+    /// >>> times, x = dmp.run(dt=0.01, goal=[0.5])
+    /// >>> times.shape, round(float(x[-1, 0]), 2)
+    /// ((101,), 0.5)
     fn run<'py>(
         &self,
         py: Python<'py>,
@@ -426,6 +672,25 @@ impl Dmp {
         }
     }
 
+    /// A step-by-step execution of the DMP (discrete): a ``DmpRun`` at time 0.
+    ///
+    /// Args:
+    ///     tau: the duration, s (default the demonstrated one).
+    ///     start: the start, per column (default the demonstrated one).
+    ///     goal: the goal, per column (default the demonstrated one).
+    ///
+    /// Returns:
+    ///     DmpRun: the execution, at its start.
+    ///
+    /// Raises:
+    ///     ValueError: a rhythmic DMP, a value out of range, a per-column array
+    ///         of the wrong length.
+    ///
+    /// >>> import numpy as np, primo
+    /// >>> t = np.linspace(0.0, 1.0, 101)
+    /// >>> run = primo.Dmp.fit(t, t, names=["x"]).stepper(tau=2.0)
+    /// >>> run.step(0.001).shape, round(run.time, 6)
+    /// ((1,), 0.001)
     #[pyo3(signature = (tau=None, start=None, goal=None))]
     fn stepper(
         &self,
@@ -437,15 +702,7 @@ impl Dmp {
         let tau = positive("tau", tau)?;
         let start = per_column("start", start, &d.names)?;
         let goal = per_column("goal", goal, &d.names)?;
-        let prepared = d
-            .prepare(tau, start.as_deref(), goal.as_deref())
-            .map_err(skill)?;
-        let run = d.dmp.start(&prepared.execution).map_err(core)?;
-        Ok(DmpRun {
-            dmp: d.dmp.clone(),
-            run,
-            prepared,
-        })
+        DmpRun::new(d.clone(), Begun { tau, start, goal })
     }
 
     fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyTuple>> {
@@ -476,52 +733,5 @@ impl Dmp {
             self.names_ref(),
             self.kernels()
         )
-    }
-}
-
-#[pymethods]
-impl DmpRun {
-    /// Advances by `dt` seconds and returns the position, per column.
-    fn step<'py>(&mut self, py: Python<'py>, dt: f64) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let dt = positive("dt", Some(dt))?.unwrap_or(0.001);
-        self.run.step(&self.dmp, dt).map_err(core)?;
-        Ok(out(py, &self.prepared.columns(self.run.position())))
-    }
-
-    #[getter]
-    fn position<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        out(py, &self.prepared.columns(self.run.position()))
-    }
-
-    #[getter]
-    fn velocity<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        if !self.prepared.is_plain() {
-            return Err(invalid(
-                "velocity: given for DMPs without orientation columns only",
-            ));
-        }
-        let s = self.run.sample();
-        Ok(out(py, &s.velocity[..self.dmp.dof()]))
-    }
-
-    #[getter]
-    fn time(&self) -> f64 {
-        f64::from(self.run.time())
-    }
-
-    #[getter]
-    fn phase(&self) -> f64 {
-        f64::from(self.run.phase())
-    }
-
-    /// A new goal from the next step on (DMPs without orientation columns).
-    fn set_goal(&mut self, goal: Array<'_>) -> PyResult<()> {
-        if !self.prepared.is_plain() {
-            return Err(invalid(
-                "set_goal: for DMPs without orientation columns only",
-            ));
-        }
-        let goal = vector("goal", &goal, false)?;
-        self.run.set_goal(&self.dmp, &goal).map_err(core)
     }
 }

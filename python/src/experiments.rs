@@ -426,6 +426,7 @@ pub fn write_golden(
 /// reports. For the runs of ``primo experiment power --seed S --runs N``
 /// (seeds S, S + 1, …) the files are the command's, byte for byte, but
 /// for that time. The figures are computed again from the roll-outs.
+/// ``force`` replaces an earlier result in ``out``.
 ///
 /// >>> import tempfile, pathlib
 /// >>> from primo.experiments import power_run, write_power

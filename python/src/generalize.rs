@@ -4,10 +4,13 @@
 //! groups in the tangent space at their goals' mean, as the skill layer
 //! and `primo learn` generalize them).
 
+use numpy::PyArray1;
+use pyo3::exceptions::PyOSError;
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
 
 use primo_core::generalize::Method;
+use primo_learn::task::Task;
 use primo_skill::Skill;
 use primo_skill::dmpfile::{DmpFile, Fitted};
 
@@ -15,18 +18,32 @@ use crate::arrays::{Array, out, vector};
 use crate::dmp::Dmp;
 use crate::errors::{invalid, skill};
 
-/// `G(q)` over examples `(query, dmp)` (a query is a float or 1 to 4
-/// values): LWR (`method="lwr"`, `bandwidth`) or GPR (`"gpr"`,
-/// `bandwidth` as length scale, `noise`) on the DMPs' parameter vectors,
-/// the start generalized with the same coefficients. With two examples
-/// both are the straight line through them. Every example is a discrete
-/// DMP with the first one's columns; orientation groups
-/// (`<p>qw,<p>qx,<p>qy,<p>qz`) are generalized as `primo learn` does: goals
-/// and starts as rotation vectors at the mean of the examples' goals (in
-/// `params`, a group's three goal values are its goal's rotation vector
-/// from that mean), weights as they are, so every `generalize(q)` is an
-/// orientation DMP whose quaternions are unit-norm, equal to each example
-/// at its query where the regression interpolates.
+/// ``G(q)``: a DMP for any task query, generalized from examples.
+///
+/// Examples are ``(query, dmp)`` pairs (a query is a float or 1 to 4 values);
+/// a regression on the DMPs' parameter vectors gives the DMP for a new query,
+/// the start generalized with the same coefficients. With two examples both
+/// methods give the straight line through them. Every example is a discrete
+/// DMP with the first one's columns, in order. Orientation groups
+/// (``<p>qw, <p>qx, <p>qy, <p>qz``) are generalized as ``primo learn`` does:
+/// goals and starts as rotation vectors at the mean of the examples' goals,
+/// weights as they are, so every ``generalize(q)`` is an orientation DMP
+/// whose quaternions are unit-norm, equal to each example at its query where
+/// the regression interpolates. It pickles with its examples.
+///
+/// Args:
+///     examples: a sequence of ``(query, dmp)``: query a float or 1 to 4
+///         values, the same count in every example; dmp a discrete ``Dmp``.
+///     method: ``"lwr"`` (locally weighted regression) or ``"gpr"``
+///         (Gaussian process regression).
+///     bandwidth: LWR's kernel bandwidth, or GPR's length scale, in query
+///         units (positive; default from the examples' spacing).
+///     noise: GPR's noise variance (>= 0; 0 interpolates the examples).
+///
+/// Raises:
+///     ValueError: no example, a rhythmic DMP, columns that differ from the
+///         first example's, queries of different lengths, a setting out of
+///         range.
 ///
 /// >>> import numpy as np, primo
 /// >>> t = np.linspace(0.0, 1.0, 101)
@@ -37,7 +54,7 @@ use crate::errors::{invalid, skill};
 /// 0.6
 #[pyclass(module = "primo._primo")]
 pub struct Generalizer {
-    skill: Skill,
+    pub(crate) skill: Skill,
     /// The examples and settings, for pickling.
     examples: Vec<(Vec<f32>, Dmp)>,
     method: String,
@@ -70,6 +87,15 @@ fn method(name: &str, bandwidth: Option<f64>, noise: f64) -> PyResult<Method> {
         other => Err(invalid(format!(
             "method: `{other}`, expected \"lwr\" or \"gpr\""
         ))),
+    }
+}
+
+/// A task's refusal: a file that would not open is an `OSError`, as
+/// Python's own `open` raises, the rest as the learning library's.
+fn task_error(e: primo_learn::Error) -> PyErr {
+    match e {
+        primo_learn::Error::Open { .. } => PyOSError::new_err(e.to_string()),
+        e => crate::errors::learn(e),
     }
 }
 
@@ -139,7 +165,71 @@ impl Generalizer {
         })
     }
 
-    /// The DMP for query `q`.
+    /// The skill a task file builds, exactly as ``primo learn --task``
+    /// builds it: the task's demonstrations read and checked (their
+    /// columns and the task's limits), each fitted as ``primo learn``
+    /// fits it (``margin=0, overlap=2.0, ridge=1e-6``, the task's
+    /// ``kernels``, every example with the first one's amplitude scaling)
+    /// and generalized by the task's ``generalization``.
+    ///
+    /// Args:
+    ///     path: the task file (TOML, the book's task file reference); its
+    ///         demonstrations are found beside it.
+    ///
+    /// Returns:
+    ///     Generalizer: one example per ``[[demo]]``, in the file's order,
+    ///     at its ``query``.
+    ///
+    /// Raises:
+    ///     OSError: the task file cannot be read.
+    ///     ValueError: the task file or a demonstration is refused or
+    ///         missing (the message names the file, the line and the key),
+    ///         or the task is the built-in pour (its cell builds its own
+    ///         skill).
+    ///
+    /// >>> import primo
+    /// >>> g = primo.Generalizer.from_task("examples/throw/throw.toml")  # doctest: +SKIP
+    /// >>> len(g), g.names, g.query_dim  # doctest: +SKIP
+    /// (2, ['shoulder', 'elbow'], 1)
+    #[staticmethod]
+    fn from_task(py: Python<'_>, path: std::path::PathBuf) -> PyResult<Generalizer> {
+        let task = Task::load(&path).map_err(task_error)?;
+        let built = py.detach(|| task.build()).map_err(task_error)?;
+        let (method, bandwidth, noise) = match task.regression {
+            Method::Lwr { bandwidth } => ("lwr", bandwidth, 0.0),
+            Method::Gpr {
+                length_scale,
+                noise,
+            } => ("gpr", length_scale, noise),
+        };
+        let examples = (task.demos.iter().zip(built.fitted))
+            .map(|(d, file)| (d.query.clone(), Dmp::from_file(file)))
+            .collect();
+        Ok(Generalizer {
+            skill: built.skill,
+            examples,
+            method: method.to_string(),
+            bandwidth: bandwidth.map(f64::from),
+            noise: f64::from(noise),
+        })
+    }
+
+    /// The DMP for query ``q``.
+    ///
+    /// Args:
+    ///     q: the query: a float, or ``query_dim`` values.
+    ///
+    /// Returns:
+    ///     Dmp: the generalized discrete DMP, with the examples' columns.
+    ///
+    /// Raises:
+    ///     ValueError: a query of the wrong length or not finite.
+    ///
+    /// >>> import numpy as np, primo
+    /// >>> t = np.linspace(0.0, 1.0, 101)
+    /// >>> g = primo.Generalizer([(q, primo.Dmp.fit(t, q * t)) for q in (0.5, 1.0)])
+    /// >>> round(float(g.generalize(0.75).goal[0]), 4)
+    /// 0.75
     fn generalize(&self, q: Array<'_>) -> PyResult<Dmp> {
         let query = vector("q", &q, true)?;
         Ok(Dmp::from_file(
@@ -147,17 +237,52 @@ impl Generalizer {
         ))
     }
 
-    /// `G(q)`, the parameter vector.
+    /// ``G(q)``, the generalized parameter vector, laid out as ``Dmp.params``
+    /// (an orientation group's three goal values: its goal's rotation vector
+    /// from the examples' mean goal).
+    ///
+    /// Args:
+    ///     q: the query: a float, or ``query_dim`` values.
+    ///
+    /// Returns:
+    ///     numpy.ndarray: the parameter vector θ.
+    ///
+    /// Raises:
+    ///     ValueError: a query of the wrong length or not finite.
+    ///
+    /// >>> import numpy as np, primo
+    /// >>> t = np.linspace(0.0, 1.0, 101)
+    /// >>> g = primo.Generalizer([(q, primo.Dmp.fit(t, q * t)) for q in (0.5, 1.0)])
+    /// >>> g.params(0.5).shape == g.generalize(0.5).params.shape
+    /// True
     fn params<'py>(&self, py: Python<'py>, q: Array<'_>) -> PyResult<Bound<'py, PyAny>> {
         let query = vector("q", &q, true)?;
         Ok(out(py, &self.skill.generalize(&query).map_err(skill)?).into_any())
     }
 
+    /// The examples ``(query, dmp)``, in order: the queries as float64
+    /// arrays (1 to 4 values), the DMPs as given (or, from a task file, as
+    /// ``primo learn`` fits them).
+    ///
+    /// >>> import numpy as np, primo
+    /// >>> t = np.linspace(0.0, 1.0, 101)
+    /// >>> g = primo.Generalizer([(0.2, primo.Dmp.fit(t, 0.2 * t)), (1.0, primo.Dmp.fit(t, t))])
+    /// >>> [float(q[0]) for q, _ in g.examples]
+    /// [0.2, 1.0]
+    #[getter]
+    fn examples<'py>(&self, py: Python<'py>) -> Vec<(Bound<'py, PyArray1<f64>>, Dmp)> {
+        (self.examples.iter())
+            .map(|(q, dmp)| (out(py, q), dmp.clone()))
+            .collect()
+    }
+
+    /// The number of values in a query (1 to 4).
     #[getter]
     fn query_dim(&self) -> usize {
         self.skill.query_dim()
     }
 
+    /// The examples' column names.
     #[getter]
     fn names(&self) -> Vec<String> {
         self.skill.names().to_vec()

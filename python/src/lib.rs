@@ -14,6 +14,7 @@ use pyo3::prelude::*;
 mod arrays;
 mod cell;
 mod dmp;
+mod dmprun;
 mod errors;
 mod experiments;
 mod generalize;
@@ -24,7 +25,7 @@ mod robot;
 fn _primo(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_class::<dmp::Dmp>()?;
-    m.add_class::<dmp::DmpRun>()?;
+    m.add_class::<dmprun::DmpRun>()?;
     m.add_class::<generalize::Generalizer>()?;
     m.add_class::<learners::GoldenSection>()?;
     m.add_class::<learners::Illinois>()?;

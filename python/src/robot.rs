@@ -245,6 +245,38 @@ fn limits_of(limits: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<Limit>> {
 
 #[pymethods]
 impl Robot {
+    /// The chain of the URDF at ``path``, from ``base`` to ``tip``.
+    ///
+    /// Args:
+    ///     path: the URDF file (str or path-like; plain URDF, not xacro).
+    ///     base: the chain's base link (default: the URDF's root link).
+    ///     tip: the chain's last link (default: the one leaf below the base;
+    ///         name it when there are several).
+    ///     tool: a 4 × 4 homogeneous transform from the tip link to the tool
+    ///         frame (default: the identity).
+    ///     limits: joint name → ``(lower, upper, velocity)`` (rad or m, rad/s
+    ///         or m/s), for joints the URDF gives none or to narrow them.
+    ///
+    /// Returns:
+    ///     Robot: the chain with its joints' limits.
+    ///
+    /// Raises:
+    ///     OSError: the file cannot be read.
+    ///     ValueError: a xacro file, a mimic, floating or planar joint in the
+    ///         chain, a joint without limits, a malformed URDF (naming its line
+    ///         and column), a bad tool or limit.
+    ///
+    /// >>> import os, primo, tempfile
+    /// >>> urdf = '''<robot name="arm"><link name="base"/><link name="tip"/>
+    /// ... <joint name="j1" type="revolute"><parent link="base"/><child link="tip"/>
+    /// ... <origin xyz="0 0 0.5"/><axis xyz="0 0 1"/>
+    /// ... <limit lower="-1" upper="1" velocity="2" effort="10"/></joint></robot>'''
+    /// >>> path = os.path.join(tempfile.mkdtemp(), "arm.urdf")
+    /// >>> with open(path, "w") as f:
+    /// ...     _ = f.write(urdf)
+    /// >>> robot = primo.Robot.from_urdf(path)
+    /// >>> robot.name, robot.joint_names, robot.tip
+    /// ('arm', ['j1'], 'tip')
     #[staticmethod]
     #[pyo3(signature = (path, base=None, tip=None, tool=None, limits=None))]
     fn from_urdf(
@@ -259,6 +291,27 @@ impl Robot {
         Robot::from_urdf_text(text, base, tip, tool, limits, file)
     }
 
+    /// ``from_urdf`` of a URDF's text.
+    ///
+    /// Args:
+    ///     text: the URDF's XML text.
+    ///     base: the chain's base link (default: the URDF's root link).
+    ///     tip: the chain's last link (default: the one leaf below the base).
+    ///     tool: a 4 × 4 transform from the tip link to the tool frame.
+    ///     limits: joint name → ``(lower, upper, velocity)``.
+    ///     file: the name errors give the text.
+    ///
+    /// Returns:
+    ///     Robot: the chain with its joints' limits.
+    ///
+    /// Raises:
+    ///     ValueError: as ``from_urdf``, the place named in ``file``.
+    ///
+    /// >>> import primo
+    /// >>> primo.Robot.from_urdf_text("<robot>", file="arm.urdf")
+    /// Traceback (most recent call last):
+    /// ...
+    /// ValueError: arm.urdf:1:8: ...
     #[staticmethod]
     #[pyo3(signature = (text, base=None, tip=None, tool=None, limits=None, file="<string>".to_string()))]
     fn from_urdf_text(
@@ -280,52 +333,82 @@ impl Robot {
         })
     }
 
+    /// The built-in KUKA LWR 4 (its DH table, the flange as tip, joints
+    /// ``a1`` to ``a7``).
+    ///
+    /// Returns:
+    ///     Robot: the arm.
+    ///
+    /// >>> import primo
+    /// >>> primo.Robot.lwr4().dof
+    /// 7
     #[staticmethod]
     fn lwr4() -> PyResult<Robot> {
         Robot::build(Source::Lwr4)
     }
 
+    /// The URDF's robot name.
     #[getter]
     fn name(&self) -> String {
         self.chain.robot.clone()
     }
 
+    /// The chain's base link.
     #[getter]
     fn base(&self) -> String {
         self.chain.base.clone()
     }
 
+    /// The chain's tip link.
     #[getter]
     fn tip(&self) -> String {
         self.chain.tip.clone()
     }
 
+    /// The moving joints, base to tip: the order of every ``q``.
     #[getter]
     fn joint_names(&self) -> Vec<String> {
         self.chain.names().into_iter().map(String::from).collect()
     }
 
+    /// The number of moving joints.
     #[getter]
     fn dof(&self) -> usize {
         self.chain.dof()
     }
 
+    /// The lowest positions, rad or m (−inf for a continuous joint).
     #[getter]
     fn lower<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         PyArray1::from_vec(py, self.limit(|l| l.lower))
     }
 
+    /// The highest positions, rad or m (+inf for a continuous joint).
     #[getter]
     fn upper<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         PyArray1::from_vec(py, self.limit(|l| l.upper))
     }
 
+    /// The fastest speeds, rad/s or m/s.
     #[getter]
     fn velocity<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         PyArray1::from_vec(py, self.limit(|l| l.velocity))
     }
 
-    /// The tool's pose at `q`, a 4 × 4 homogeneous matrix.
+    /// The tool's pose at ``q``.
+    ///
+    /// Args:
+    ///     q: the joint positions, ``dof`` values, rad or m.
+    ///
+    /// Returns:
+    ///     numpy.ndarray: the pose, a 4 × 4 homogeneous matrix in the base frame.
+    ///
+    /// Raises:
+    ///     ValueError: a wrong length or a value that is not finite.
+    ///
+    /// >>> import numpy as np, primo
+    /// >>> primo.Robot.lwr4().forward(np.zeros(7))[:3, 3].round(3)
+    /// array([0.   , 0.   , 1.178])
     fn forward<'py>(&self, py: Python<'py>, q: Array<'_>) -> PyResult<Bound<'py, PyAny>> {
         let q = joints("q", &q, self.chain.dof())?;
         let mut m = Vec::with_capacity(16);
@@ -333,7 +416,21 @@ impl Robot {
         Ok(PyArray1::from_vec(py, m).reshape([4, 4])?.into_any())
     }
 
-    /// The tool's poses at each row of `qs`, an m × 4 × 4 array.
+    /// The tool's poses at each row of ``qs``, with the GIL released.
+    ///
+    /// Args:
+    ///     qs: joint positions, shape (m, dof).
+    ///
+    /// Returns:
+    ///     numpy.ndarray: the poses, shape (m, 4, 4).
+    ///
+    /// Raises:
+    ///     ValueError: a wrong shape, a value that is not finite, more than
+    ///         3.6 million rows.
+    ///
+    /// >>> import numpy as np, primo
+    /// >>> primo.Robot.lwr4().forward_many(np.zeros((5, 7))).shape
+    /// (5, 4, 4)
     fn forward_many<'py>(&self, py: Python<'py>, qs: Array<'_>) -> PyResult<Bound<'py, PyAny>> {
         let dof = self.chain.dof();
         let shape = qs.shape().to_vec();
@@ -356,8 +453,21 @@ impl Robot {
         Ok(PyArray1::from_vec(py, out).reshape([m, 4, 4])?.into_any())
     }
 
-    /// The geometric Jacobian at `q`, 6 × dof: rows vx, vy, vz, wx, wy, wz
-    /// of the tool in the base frame.
+    /// The geometric Jacobian at ``q``.
+    ///
+    /// Args:
+    ///     q: the joint positions, ``dof`` values.
+    ///
+    /// Returns:
+    ///     numpy.ndarray: 6 × dof; rows vx, vy, vz, wx, wy, wz of the tool
+    ///     frame's origin, in the base frame.
+    ///
+    /// Raises:
+    ///     ValueError: a wrong length or a value that is not finite.
+    ///
+    /// >>> import numpy as np, primo
+    /// >>> primo.Robot.lwr4().jacobian(np.zeros(7)).shape
+    /// (6, 7)
     fn jacobian<'py>(&self, py: Python<'py>, q: Array<'_>) -> PyResult<Bound<'py, PyAny>> {
         let dof = self.chain.dof();
         let q = joints("q", &q, dof)?;
@@ -369,13 +479,35 @@ impl Robot {
         Ok(PyArray1::from_vec(py, values).reshape([6, dof])?.into_any())
     }
 
-    /// Joint positions within the limits putting the tool at `target` (4 ×
-    /// 4) to `tolerance` (m and rad), searched from `seed` and pulled
-    /// toward `rest` in the null space (default: each joint's mid-range, 0
-    /// if continuous). A local search: seed it near the answer. Raises
-    /// `RuntimeError` naming the smallest position and orientation errors
-    /// reached if it does not converge within `iterations`; `ValueError`
-    /// for a wrong shape or length, or a value that is not finite.
+    /// Joint positions within the limits that put the tool at ``target``.
+    ///
+    /// Damped least squares from ``seed``, pulled toward ``rest`` in the null
+    /// space. A local search: seed it near the answer (a path's previous
+    /// sample).
+    ///
+    /// Args:
+    ///     target: the tool's pose, 4 × 4 homogeneous (an orthonormal, proper
+    ///         rotation).
+    ///     seed: the joint positions to start from, ``dof`` values.
+    ///     rest: the posture the null space pulls toward (default: each joint's
+    ///         mid-range, 0 if continuous).
+    ///     tolerance: the position (m) and orientation (rad) error to reach.
+    ///     iterations: the most iterations.
+    ///
+    /// Returns:
+    ///     numpy.ndarray: the joint positions, ``dof`` values.
+    ///
+    /// Raises:
+    ///     RuntimeError: no convergence within ``iterations``, naming the
+    ///         smallest position and orientation errors reached.
+    ///     ValueError: a wrong shape or length, a value that is not finite.
+    ///
+    /// >>> import numpy as np, primo
+    /// >>> robot = primo.Robot.lwr4()
+    /// >>> q = np.array([0.3, 0.6, -0.2, -1.2, 0.4, 0.7, -0.5])
+    /// >>> solved = robot.inverse(robot.forward(q), seed=q + 0.05)
+    /// >>> bool(np.abs(robot.forward(solved) - robot.forward(q)).max() < 1e-9)
+    /// True
     #[pyo3(signature = (target, seed, rest=None, tolerance=1e-9, iterations=200))]
     fn inverse<'py>(
         &self,
@@ -397,11 +529,32 @@ impl Robot {
         Ok(PyArray1::from_vec(py, solved))
     }
 
-    /// Each target of `targets` (m × 4 × 4) solved as `inverse` does from
-    /// the previous sample's solution (the first from `seed`): m × dof,
-    /// the GIL released. A sample that does not converge raises
-    /// `RuntimeError` naming it, or with `on_failure="nan"` gives a row of
-    /// NaN (the next sample starts from the last solution).
+    /// Each of ``targets`` solved as ``inverse`` does, from the previous
+    /// sample's solution (the first from ``seed``), with the GIL released.
+    ///
+    /// Args:
+    ///     targets: the tool's poses, shape (m, 4, 4).
+    ///     seed: the joint positions the first sample starts from.
+    ///     rest: the posture the null space pulls toward.
+    ///     tolerance: the position (m) and orientation (rad) error to reach.
+    ///     iterations: the most iterations per sample.
+    ///     on_failure: ``"raise"``: a sample that does not converge is a
+    ///         ``RuntimeError`` naming it; ``"nan"``: its row is NaN and the
+    ///         next sample starts from the last solution.
+    ///
+    /// Returns:
+    ///     numpy.ndarray: the joint positions, shape (m, dof).
+    ///
+    /// Raises:
+    ///     RuntimeError: a sample that does not converge (with ``"raise"``).
+    ///     ValueError: a wrong shape or length, a value that is not finite.
+    ///
+    /// >>> import numpy as np, primo
+    /// >>> robot = primo.Robot.lwr4()
+    /// >>> q = np.array([0.3, 0.6, -0.2, -1.2, 0.4, 0.7, -0.5])
+    /// >>> path = robot.forward_many(q + np.linspace(0, 0.1, 4)[:, None])
+    /// >>> robot.inverse_path(path, seed=q).shape
+    /// (4, 7)
     #[pyo3(signature = (targets, seed, rest=None, tolerance=1e-9, iterations=200, on_failure="raise"))]
     #[allow(clippy::too_many_arguments)] // inverse's keywords, and what to do on a failure
     fn inverse_path<'py>(

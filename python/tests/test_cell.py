@@ -1,5 +1,6 @@
 """The pouring cell: the same numbers as `primo rollout`, in parallel."""
 
+import csv
 import json
 import pickle
 import subprocess
@@ -105,7 +106,8 @@ def test_bad_input_is_a_value_error(cell):
         (lambda: cell.rollout(np.zeros(n), seed=-1), "seed"),
         (lambda: primo.Cell(glass="huge"), "glass"),
         (lambda: primo.Cell(bottle=0.1, target=0.2), "target 0.2"),
-        (lambda: primo.Cell(kernels=1), "kernels 1"),
+        (lambda: primo.Cell(kernels=1), "^kernels=1: a DMP needs 2 to 128 kernels per DoF$"),
+        (lambda: primo.Cell(kernels=-1), "^kernels=-1: a DMP needs 2 to 128"),
         (lambda: primo.Cell(bottle=float("nan")), "bottle"),
     ]:
         if message is None:
@@ -124,3 +126,80 @@ def test_bad_input_is_a_value_error(cell):
     theta[dof * kernels : dof * kernels + dof] = 3.0
     theta[-2] = cell.start()["start"][-2]
     assert cell.rollout(theta)["safe"] is False
+
+
+def pour(primo_bin, tmp_path, *flags):
+    """`primo pour` on the joint-space cell: its summary and roll-outs."""
+    out = tmp_path / "pour"
+    subprocess.run([str(primo_bin), "pour", "--space", "joint", "--glass", "small", "--kernels",
+                    "10", "--bottle", "0.6", "--target", "0.2", "--seed", "7", "--out", str(out),
+                    *flags], check=True, capture_output=True, text=True)
+    with open(out / "rollouts.csv", newline="") as f:
+        rows = list(csv.DictReader(f))
+    return json.loads((out / "summary.json").read_text()), rows
+
+
+def same_as_logged(result, row):
+    """A roll-out's numbers are those rollouts.csv logged (its 6 decimals)."""
+    for key in ["poured", "spilled", "error", "reward"]:
+        assert f"{result[key]:.6f}" == row[f"{key}_l" if key != "reward" else key], (key, row)
+    assert (result["rejected"] or "") == row["rejected"]
+
+
+def test_a_python_loop_repeats_primo_pours_error_learning(primo_bin, tmp_path):
+    # Was impossible without internals: the per-roll-out seed and the
+    # glass's capacity (which bounds the search) were not exposed.
+    summary, rows = pour(primo_bin, tmp_path, "--method", "golden", "--max-rollouts", "8")
+    cell = primo.Cell(**{**SETTINGS, "bottle": 0.6, "target": 0.2, "seed": 7})
+    assert cell.glass_holds == summary["settings"]["glass_holds"]
+    low = max(np.float32(0.1), np.float32(0.6 + 0.2 - cell.glass_holds))
+    search = primo.GoldenSection(float(low), 1.5, desired=0.6, precision=0.002, max_rollouts=8)
+    start = cell.start()["start"]
+    assert len(rows) >= 3
+    for k, row in enumerate(rows, start=1):
+        query = search.ask()
+        assert np.float32(query) == np.float32(row["query"]), k
+        result = cell.rollout(np.append(start[:-1], query), seed=cell.pour_seed(k))
+        same_as_logged(result, row)
+        if result["rejected"]:
+            search.tell_infeasible()
+        else:
+            search.tell(result["error"])
+
+
+@pytest.mark.parametrize("method, defaults", [
+    ("power", {}),
+    ("power-el", {"s1": 0.0, "query_gain": 1.0}),
+])
+def test_power_defaults_repeat_primo_pours_power(primo_bin, tmp_path, method, defaults):
+    # Power.defaults is the exploration `primo pour` builds, and
+    # rollout_delta executes [q̂, Δθ] as it does: the same roll-outs, bit
+    # for bit, for 3 updates.
+    summary, rows = pour(primo_bin, tmp_path, "--method", method, "--max-rollouts", "12")
+    assert (summary["settings"]["s1"], summary["settings"]["s2"]) == (
+        defaults.get("s1", 0.2), 0.05)
+    cell = primo.Cell(**{**SETTINGS, "bottle": 0.6, "target": 0.2, "seed": 7})
+    power = primo.Power.defaults(cell, seed=7, **defaults)
+    for k, row in enumerate(rows, start=1):
+        assert (power.updates, power.next_is_mean) == (int(row["update"]), row["mean"] == "true")
+        params = power.ask()
+        assert np.float32(params[0]) == np.float32(row["query"]), k
+        result = cell.rollout_delta(params[:1], params[1:], seed=cell.pour_seed(k))
+        same_as_logged(result, row)
+        power.tell(result["reward"], error=[result["error"]] if power.query and defaults else None)
+    assert power.updates == 3
+
+
+def test_pour_seed_and_with_context():
+    cell = primo.Cell(**SETTINGS)
+    seeds = {cell.pour_seed(k) for k in range(1, 50)}
+    assert len(seeds) == 49 and cell.pour_seed(3, seed=8) != cell.pour_seed(3)
+    for bad in [0, -1, 2**32]:
+        with pytest.raises(ValueError, match=f"rollout={bad}: roll-outs are numbered from 1"):
+            cell.pour_seed(bad)
+    other = cell.with_context(bottle=0.9)
+    assert (other.bottle, other.target, other.kernels, other.seed) == (0.9, 0.2, 10, 7)
+    np.testing.assert_array_equal(other.start()["start"],
+                                  primo.Cell(**{**SETTINGS, "bottle": 0.9}).start()["start"])
+    with pytest.raises(ValueError, match="target"):
+        cell.with_context(target=2.0)

@@ -126,15 +126,53 @@ def test_rhythmic_defaults_are_the_command_lines(run_primo, tmp_path):
     np.testing.assert_allclose(ours["weights"], cli["weights"], rtol=1e-4, atol=1e-6)
 
 
+def recording_at(origin):
+    """A 1 kHz recording of two DoF stamped from `origin` s: the same
+    instants whatever the origin (those a recorder stamping from 1.7e9 s,
+    Unix time, can hold)."""
+    since_first = (1.7e9 + np.arange(1001) * 1e-3) - 1.7e9
+    s = since_first / since_first[-1]
+    return origin + since_first, np.stack([s * s * (3 - 2 * s), 0.25 * np.sin(np.pi * s)], axis=1)
+
+
+@pytest.mark.parametrize("fit", [primo.Dmp.fit, primo.Dmp.fit_rhythmic])
+def test_a_recording_stamped_in_unix_time_fits_as_from_0(fit):
+    # Was "times must be strictly increasing" (the stamps cut to float32).
+    from_zero = fit(*recording_at(0.0))
+    for origin in (1.7e9, 1000.0, -2.5):
+        assert fit(*recording_at(origin)) == from_zero, origin
+
+
+@pytest.mark.parametrize("scaling", ["per-dof", "none", "global"])
+def test_scaling_is_the_command_lines(scaling, run_primo, tmp_path):
+    t, y = reach()
+    dmp = primo.Dmp.fit(t, y, names=["x", "z"], scaling=scaling)
+    cli = json.loads(run_primo("dmp", "fit", "--demo", str(REACH), "--scaling", scaling))
+    ours = json.loads(dmp.to_json())
+    assert ours["version"] == cli["version"] == 4
+    for key in ["scaled", "reference", "margin", "width"]:
+        assert ours["dmp"].get(key) == cli["dmp"].get(key), key
+    assert ("reference" in ours["dmp"]) == (scaling == "global")
+    # A new goal runs alike from the file the command line wrote.
+    (tmp_path / "dmp.json").write_text(json.dumps(cli))
+    csv = run_primo("dmp", "run", str(tmp_path / "dmp.json"), "--goal", "0.6,0.2")
+    expected = np.loadtxt(io.StringIO(csv), delimiter=",", skiprows=1)
+    _, ran = dmp.run(goal=[0.6, 0.2])
+    np.testing.assert_allclose(ran, expected[:, 1:], atol=1e-5)
+
+
 @pytest.mark.parametrize(
     "t, y, kwargs, message",
     [
         ([0, 1, 2], [[0, 1, 2]], {}, "y has 1 rows, t has 3 samples"),
         ([0, 1, np.nan], [0, 1, 2], {}, r"t\[2\]: NaN is not a finite number"),
         ([0, 1, 2], [0, np.inf, 2], {}, r"y\[1\]: inf is not a finite number"),
-        ([0, 1, 1], [0, 1, 2], {}, "strictly increasing"),
+        ([0, 1, 1], [0, 1, 2], {}, r"t\[2\] = 1 does not increase: t\[1\] is at t = 1"),
+        ([5, 1005, 1005.00001], [0, 1, 2], {}, r"t\[2\] = 1005.00001 is 1.000e-5 s after t\[1\]: 1000.00001 s into the recording, stamps must be at least 6.104e-5 s apart"),
         ([], [], {}, "at least 3 samples"),
-        ([0, 1, 2], [0, 1, 2], {"kernels": 1}, "outside 2..=128"),
+        ([0, 1, 2], [0, 1, 2], {"kernels": 1}, "^kernels=1: a DMP needs 2 to 128 kernels per DoF$"),
+        ([0, 1, 2], [0, 1, 2], {"kernels": 129}, "^kernels=129: a DMP needs 2 to 128"),
+        ([0, 1, 2], [0, 1, 2], {"kernels": -3}, "^kernels=-3: a DMP needs 2 to 128"),
         ([0, 1, 2], [[0, 1], [1, 2], [2, 3]], {"names": ["x"]}, "1 names for 2 columns"),
         ([0, 1, 2], [[0, 1], [1, 2], [2, 3]], {"names": ["x", "x"]}, "repeated"),
         ([[0, 1, 2]], [0, 1, 2], {}, "expected a 1-D array"),
@@ -143,11 +181,30 @@ def test_rhythmic_defaults_are_the_command_lines(run_primo, tmp_path):
         ([0, 1, 2], [0, 1, 2], {"kernels": 10, "margin": 4.5}, "margin: 4.5 is not a number of kernel spacings from 0 to 4"),
         ([0, 1, 2], [0, 1, 2], {"margin": -1}, "margin: -1"),
         ([0, 1, 2], [0, 1, 2], {"margin": float("nan")}, "margin: NaN"),
+        ([0, 1, 2], [0, 1, 2], {"overlap": 0}, "overlap: 0 must be a positive, finite number"),
+        ([0, 1, 2], [0, 1, 2], {"overlap": float("inf")}, "overlap: inf must be"),
+        ([0, 1, 2], [0, 1, 2], {"ridge": -1e-6}, "ridge: -0.000001 must be a finite number >= 0"),
+        ([0, 1, 2], [0, 1, 2], {"alpha": 0}, "alpha: 0 is outside 0.01 to 10000"),
+        ([0, 1, 2], [0, 1, 2], {"alpha": float("nan")}, "alpha: NaN is outside"),
+        ([0, 1, 2], [0, 1, 0], {"scaling": "global"}, "global scaling needs the demonstration's goal to differ from its start"),
+        ([0, 1, 2], [0, 1, 2], {"scaling": "both"}, r"scaling: \"both\", expected \"per-dof\", \"none\" or \"global\""),
     ],
 )
 def test_bad_input_is_a_value_error(t, y, kwargs, message):
     with pytest.raises(ValueError, match=message):
         primo.Dmp.fit(t, y, **kwargs)
+
+
+def test_a_kernel_count_out_of_range_is_said_in_python_terms():
+    # Was "kernels: 1 is outside 2..=128", the library's words.
+    t = np.linspace(0.0, 1.0, 50)
+    y = np.sin(2 * np.pi * t)
+    for fit, fewest, kind in [(primo.Dmp.fit, 2, ""), (primo.Dmp.fit_rhythmic, 3, "rhythmic ")]:
+        for k in [fewest - 1, 129, -1]:
+            with pytest.raises(ValueError) as e:
+                fit(t, y, kernels=k)
+            assert str(e.value) == f"kernels={k}: a {kind}DMP needs {fewest} to 128 kernels per DoF"
+        assert fit(t, y, kernels=fewest).kernels == fewest
 
 
 @pytest.mark.parametrize("fit", [primo.Dmp.fit, primo.Dmp.fit_rhythmic])

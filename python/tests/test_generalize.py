@@ -1,11 +1,13 @@
 """Generalization over DMPs at task queries."""
 
 import pickle
+import shutil
 
 import numpy as np
 import pytest
 
 import primo
+from conftest import ROOT
 
 
 def demo(height):
@@ -126,3 +128,51 @@ def test_examples_with_other_orientation_columns_are_refused():
     rhythmic = primo.Dmp.fit_rhythmic(t, np.sin(2 * np.pi * t), names=["x"])
     with pytest.raises(ValueError, match=r"examples\[0\]: a rhythmic DMP"):
         primo.Generalizer([(0.0, rhythmic)])
+
+
+def throw_task(tmp_path):
+    """The example throw in a directory of its own: two roll-outs, and a
+    time step given (the run below takes it)."""
+    shutil.copytree(ROOT / "examples" / "throw", tmp_path / "throw")
+    task = tmp_path / "throw" / "throw.toml"
+    text = task.read_text().replace("max_rollouts = 20", "max_rollouts = 2")
+    task.write_text(text.replace("[movement]\n", "[movement]\ndt = 0.01\n"))
+    return task
+
+
+def test_from_task_is_the_skill_primo_learn_builds(run_primo, tmp_path):
+    # Was not possible: Dmp.fit could not choose primo learn's fit (its
+    # skill came out 7.7e-5 apart) and nothing read a task file.
+    task = throw_task(tmp_path)
+    run_primo("learn", "--task", str(task), "--out", str(tmp_path / "out"))
+    g = primo.Generalizer.from_task(task)
+    assert (len(g), g.names, g.query_dim) == (2, ["shoulder", "elbow"], 1)
+    rollouts = np.genfromtxt(tmp_path / "out" / "rollouts.csv", delimiter=",", names=True)
+    assert len(rollouts) == 2
+    for r in rollouts:
+        handed = np.loadtxt(tmp_path / "out" / "trajectories" / f"rollout-{int(r['rollout']):04}.csv",
+                            delimiter=",", skiprows=1)
+        times, y = g.generalize(r["query"]).run(dt=0.01)
+        np.testing.assert_allclose(times, handed[:, 0], atol=1e-6)
+        np.testing.assert_array_equal(y.astype(np.float32), handed[:, 1:].astype(np.float32))
+    # The first demonstration's DMP is Dmp.fit's with primo learn's options
+    # (the others take the first one's amplitude scaling).
+    data = np.loadtxt(task.parent / "demos" / "fast.csv", delimiter=",", skiprows=1)
+    fast = primo.Dmp.fit(data[:, 0], data[:, 1:], names=["shoulder", "elbow"], kernels=20,
+                         margin=0, overlap=2.0, ridge=1e-6)
+    assert g.examples[0][1] == fast
+    assert fast != primo.Dmp.fit(data[:, 0], data[:, 1:], names=["shoulder", "elbow"], kernels=20)
+    assert [float(q[0]) for q, _ in g.examples] == [np.float32(1.8079), np.float32(1.0639)]
+    again = pickle.loads(pickle.dumps(g))
+    np.testing.assert_array_equal(again.params(1.5), g.params(1.5))
+
+
+def test_a_task_that_cannot_be_built_is_refused_in_python_terms(tmp_path):
+    with pytest.raises(OSError, match="nothing.toml"):
+        primo.Generalizer.from_task(tmp_path / "nothing.toml")
+    task = throw_task(tmp_path)
+    (task.parent / "demos" / "slow.csv").unlink()
+    with pytest.raises(ValueError, match="slow.csv"):
+        primo.Generalizer.from_task(task)
+    with pytest.raises(ValueError, match="built-in pour builds its skill itself"):
+        primo.Generalizer.from_task(ROOT / "examples" / "pour.toml")

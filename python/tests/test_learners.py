@@ -185,3 +185,54 @@ def test_power_errors():
         learner.tell(-1.0)
     with pytest.raises(ValueError, match="capacity"):
         primo.Power(np.zeros(5000), [(5000, 0.1, 1.0)])
+
+
+def test_power_names_its_query_and_refuses_an_error_of_another_length():
+    # Was: query_gain=K corrected the first len(error) parameters, whatever
+    # they were; a query put last corrected kernel weights instead.
+    with pytest.raises(ValueError, match="name the query: query=n"):
+        primo.Power(np.zeros(3), [(2, 0.1, 1.0), (1, 0.1, 1.0)], query_gain=1.0)
+    with pytest.raises(ValueError, match=r"query=-1: the query's length"):
+        primo.Power(np.zeros(3), [(3, 0.1, 1.0)], query=-1)
+    with pytest.raises(ValueError, match=r"query=1: .* the blocks end at \[2, 3\]"):
+        primo.Power(np.zeros(3), [(2, 0.1, 1.0), (1, 0.1, 1.0)], query=1, query_gain=1.0)
+    learner = primo.Power(np.zeros(3), [(2, 0.0, 1.0), (1, 0.0, 1.0)], rollouts_per_update=1,
+                          roll_out_mean=False, sampler=1, query=2, query_gain=0.5)
+    assert learner.query == 2
+    learner.ask()
+    with pytest.raises(ValueError, match=r"error: 1 values, one per query entry: .*\(query=2\)"):
+        learner.tell(1.0, error=[0.2])
+    with pytest.raises(ValueError, match="needs each roll-out's error"):
+        learner.tell(1.0)
+    assert learner.rollouts == 0  # refused tells change nothing
+    assert learner.tell(1.0, error=[0.2, -0.4]) is True
+    # The query, and only the query, moved by K·error.
+    np.testing.assert_array_equal(learner.mean, np.float32([0.1, -0.2, 0.0]))
+    copy = pickle.loads(pickle.dumps(learner))
+    assert copy.query == 2
+    np.testing.assert_array_equal(copy.mean, learner.mean)
+    plain = primo.Power(np.zeros(2), [(2, 0.1, 1.0)])
+    plain.ask()
+    with pytest.raises(ValueError, match=r"no query \(query=0\)"):
+        plain.tell(1.0, error=[0.1])
+
+
+def test_power_defaults_need_a_skill_and_its_query():
+    with pytest.raises(TypeError, match="a primo.Cell or a primo.Generalizer"):
+        primo.Power.defaults(np.zeros(3))
+    cell = primo.Cell(kernels=10, bottle=0.6)
+    power = primo.Power.defaults(cell, seed=3)
+    assert power.query == 1 and power.mean[0] == np.float32(0.6) and not power.mean[1:].any()
+    assert len(power.mean) == len(cell)
+    # The query block first, then a block per DoF's weights, the goals, τ.
+    assert len(power.variances) == 1 + 7 + 1 + 1
+    with pytest.raises(ValueError, match="PoWER's s1 -1: must be finite and >= 0"):
+        primo.Power.defaults(cell, s1=-1.0)
+    with pytest.raises(ValueError, match="start: 2 values, the skill's query has 1"):
+        primo.Power.defaults(cell, start=[0.5, 0.5])
+    t = np.linspace(0, 1, 50)
+    dmps = [(q, primo.Dmp.fit(t, q * t, names=["x"], kernels=5)) for q in (0.3, 1.0)]
+    g = primo.Generalizer(dmps)
+    with pytest.raises(ValueError, match="start: the first query, needed for a Generalizer"):
+        primo.Power.defaults(g)
+    assert primo.Power.defaults(g, start=0.5).mean[0] == 0.5

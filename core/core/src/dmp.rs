@@ -14,6 +14,14 @@
 //! a   = g − y0  (amplitude-scaled DoF)  or  1  (loop-like DoF)
 //! ```
 //!
+//! or, scaling globally ([`Scaling::Global`], Koutras & Doulgeri 2020, their
+//! eq. 11), the forcing terms of a group of DoFs (the positions) as one
+//! vector, fitted as demonstrated and executed as `k·R·f(s)`: `k = ‖g −
+//! y0‖/‖g_d − y0_d‖` and `R` the smallest rotation taking the demonstrated
+//! `g_d − y0_d` ([`Dmp::reference`]) onto `g − y0`. With the spring linear
+//! the run is the demonstrated one turned and stretched about the start.
+//! [`Scaling::Never`] leaves every forcing term as demonstrated.
+//!
 //! Why this form, against the anchors' known failures:
 //! - The forcing term is scaled by the new amplitude `g − y0`, so a goal moved
 //!   close to the start shrinks the whole shape instead of overshooting
@@ -84,6 +92,8 @@ mod integrator;
 mod kernels;
 mod model;
 mod options;
+#[cfg(feature = "global-scaling")]
+mod turn;
 
 pub use integrator::{Run, Sample, Trajectory};
 pub use model::{Dmp, Execution, Shape};

@@ -5,7 +5,9 @@ use std::path::{Path, PathBuf};
 use primo_core::dmp::{Margin, max_margin};
 use primo_skill::MAX_KERNELS;
 use primo_skill::csv::{parse_demo, write_rows};
-use primo_skill::dmpfile::{self, Change, DmpFile, Fitted, MAX_ROWS, RhythmicFile};
+use primo_skill::dmpfile::{
+    self, AmplitudeScaling, Change, DmpFile, Fitted, MAX_ROWS, RhythmicFile,
+};
 
 use crate::error::CliError;
 use crate::output::{check_out_file, emit, read};
@@ -40,6 +42,17 @@ pub enum DmpCommand {
             allow_hyphen_values = true
         )]
         margin: String,
+        /// How the forcing term scales to a new start and goal: `per-dof`
+        /// (each column by its own (g − y0)/(g_d − y0_d)), `none` (the
+        /// shape as demonstrated) or `global` (the position columns turned
+        /// and stretched together, Koutras & Doulgeri 2020).
+        #[arg(
+            long,
+            default_value = "per-dof",
+            value_parser = AmplitudeScaling::NAMES,
+            conflicts_with = "rhythmic"
+        )]
+        scaling: String,
         /// Output JSON file (stdout when absent).
         #[arg(long)]
         out: Option<PathBuf>,
@@ -97,12 +110,13 @@ pub fn run(command: DmpCommand) -> Result<(), CliError> {
             rhythmic,
             period,
             margin,
+            scaling,
             out,
         } => fit(
             &demo,
             kernels,
             rhythmic.then_some(period),
-            &margin,
+            (&margin, &scaling),
             out.as_deref(),
         ),
         DmpCommand::Run {
@@ -169,9 +183,11 @@ fn fit(
     demo_path: &Path,
     kernels: usize,
     rhythmic: Option<Option<f32>>,
-    margin: &str,
+    (margin, scaling): (&str, &str),
     out: Option<&Path>,
 ) -> Result<(), CliError> {
+    // Clap kept to the names.
+    let scaling = AmplitudeScaling::parse(scaling).unwrap_or_default();
     let file = demo_path.display().to_string();
     // A periodic DMP needs a kernel more than a discrete one.
     let fewest = if rhythmic.is_some() { 3 } else { 2 };
@@ -198,7 +214,7 @@ fn fit(
     }
     let demo = parse_demo(&file, &read(Some("--demo"), demo_path)?)?;
     let json = match rhythmic {
-        None => DmpFile::fit(&file, &demo, kernels, margin)?.to_json(),
+        None => DmpFile::fit(&file, &demo, kernels, margin, scaling)?.to_json(),
         Some(period) => RhythmicFile::fit(&file, &demo, kernels, period)?.to_json(),
     }
     .map_err(|e| CliError::other(format!("cannot serialize the DMP: {e}")))?;

@@ -75,6 +75,116 @@ fn fit_then_run_reproduces_the_demo_and_reaches_new_goals() {
     assert_eq!(rows[10].split(',').next(), Some("0.9"));
 }
 
+/// A 1 kHz recording of two DoF at `origin` seconds: the same instants
+/// whatever the origin (those a recorder stamping from `origin` can hold),
+/// each stamp printed so that it reads back exactly.
+fn recording_at(origin: f64) -> String {
+    let mut text = String::from("t,x,z\n");
+    for i in 0..=1000 {
+        let since_first = (1.7e9 + f64::from(i) * 1e-3) - 1.7e9;
+        let s = since_first as f32;
+        let (x, z) = (
+            s * s * (3.0 - 2.0 * s),
+            0.25 * (std::f32::consts::PI * s).sin(),
+        );
+        text.push_str(&format!("{},{x},{z}\n", origin + since_first));
+    }
+    text
+}
+
+#[test]
+fn a_recording_stamped_in_unix_time_fits_as_from_0() {
+    let fit = |origin: f64| {
+        let (demo, json) = (
+            tmp(&format!("at-{origin}.csv")),
+            tmp(&format!("at-{origin}.json")),
+        );
+        std::fs::write(&demo, recording_at(origin)).unwrap();
+        let demo = demo.to_str().unwrap();
+        let (code, _, err) = primo(&[
+            "dmp",
+            "fit",
+            "--demo",
+            demo,
+            "--out",
+            json.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0, "{origin}: {err}");
+        std::fs::read_to_string(json).unwrap()
+    };
+    let from_zero = fit(0.0);
+    assert_eq!(fit(1.7e9), from_zero, "Unix time");
+    assert_eq!(fit(-2.5), from_zero, "before 0");
+}
+
+/// `primo dmp fit --demo DEMO ARGS --out NAME` (in the test's directory):
+/// the file written and its JSON.
+fn fit_to(demo: &Path, args: &[&str], name: &str) -> (std::path::PathBuf, serde_json::Value) {
+    let json = tmp(name);
+    let mut all = vec!["dmp", "fit", "--demo", demo.to_str().unwrap()];
+    all.extend(args);
+    all.extend(["--out", json.to_str().unwrap()]);
+    let (code, _, err) = primo(&all);
+    assert_eq!(code, 0, "{args:?}: {err}");
+    let file = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    (json, file)
+}
+
+/// A reach in `x` with `z` rising 0.1 m besides a via-point bump of
+/// 0.25 m, at 1 kHz.
+fn rise_and_bump() -> String {
+    let mut text = String::from("t,x,z\n");
+    for i in 0..=1000 {
+        let t = i as f32 / 1000.0;
+        let s = t * t * (3.0 - 2.0 * t);
+        let z = 0.1 + 0.1 * s + 0.25 * (std::f32::consts::PI * t).sin().powi(2);
+        text.push_str(&format!("{t},{},{z}\n", 0.6 * s));
+    }
+    text
+}
+
+#[test]
+fn scaling_none_or_global_keeps_a_bump_whose_goal_meets_its_start() {
+    let demo = tmp("bump.csv");
+    std::fs::write(&demo, rise_and_bump()).unwrap();
+    let height = |scaling: &str| {
+        let (json, file) = fit_to(&demo, &["--scaling", scaling], &format!("{scaling}.json"));
+        assert_eq!(file["version"], 4);
+        assert_eq!(file["dmp"].get("reference").is_some(), scaling == "global");
+        // z's goal onto its start.
+        let (code, csv, err) = primo(&["dmp", "run", json.to_str().unwrap(), "--goal", "0.6,0.1"]);
+        assert_eq!(code, 0, "{scaling}: {err}");
+        let z = csv
+            .lines()
+            .skip(1)
+            .map(|l| l.split(',').nth(2).unwrap().parse::<f32>().unwrap());
+        (z.fold(0.0f32, |m, z| m.max((z - 0.1).abs())), json)
+    };
+    let (per_dof, json) = height("per-dof");
+    assert!(per_dof < 1e-3, "per DoF the bump is flattened: {per_dof}");
+    for scaling in ["none", "global"] {
+        let (h, _) = height(scaling);
+        assert!(h > 0.15, "{scaling}: {h} of the 0.25 m bump");
+    }
+    // A version 3 file (before the choice) scales per DoF, as it did.
+    let text = std::fs::read_to_string(&json).unwrap();
+    let old = tmp("v3.json");
+    std::fs::write(&old, text.replace("\"version\": 4", "\"version\": 3")).unwrap();
+    let run =
+        |f: &std::path::Path| primo(&["dmp", "run", f.to_str().unwrap(), "--goal", "0.6,0.1"]);
+    assert_eq!(run(&old), run(&json));
+    let (code, _, err) = primo(&[
+        "dmp",
+        "fit",
+        "--demo",
+        demo.to_str().unwrap(),
+        "--scaling",
+        "both",
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("per-dof") && err.contains("global"), "{err}");
+}
+
 #[test]
 fn malformed_input_gets_a_one_line_error_and_status_2() {
     let cases: &[(&str, &str)] = &[
@@ -89,6 +199,11 @@ fn malformed_input_gets_a_one_line_error_and_status_2() {
         (
             "t,x\n0,1\n1,2\n0.5,3\n",
             "bad.csv:4:1: t = 0.5 does not increase",
+        ),
+        (
+            "t,x\n0,1\n1000,2\n1000.00001,3\n",
+            "bad.csv:4:1: t = 1000.00001 is 1.000e-5 s after the previous row: 1000.00001 s \
+             into the recording, stamps must be at least 6.104e-5 s apart",
         ),
         ("t,x\n0,1\n1,2\n", "bad.csv: too few rows"),
     ];
@@ -141,11 +256,11 @@ fn malformed_input_gets_a_one_line_error_and_status_2() {
     assert_eq!(code, 2);
     assert!(err.contains("broken.json:2:"), "{err}");
     let written = std::fs::read_to_string(&json).unwrap();
-    let future = written.replace("\"version\": 3", "\"version\": 4");
+    let future = written.replace("\"version\": 4", "\"version\": 5");
     std::fs::write(&broken, future).unwrap();
     let (code, _, err) = primo(&["dmp", "run", broken.to_str().unwrap()]);
     assert_eq!(code, 2);
-    assert!(err.contains("unsupported version 4"), "{err}");
+    assert!(err.contains("unsupported version 5"), "{err}");
     // Version 2 (no margin) and version 1 (no orientations either) files
     // still run, with no kernels beyond the ends.
     let margin = written
@@ -153,7 +268,7 @@ fn malformed_input_gets_a_one_line_error_and_status_2() {
         .find(|l| l.trim_start().starts_with("\"margin\":"))
         .unwrap();
     let v2 = written
-        .replace("\"version\": 3", "\"version\": 2")
+        .replace("\"version\": 4", "\"version\": 2")
         .replace(&format!("{margin}\n"), "");
     let v1 = v2
         .replace("\"version\": 2", "\"version\": 1")
@@ -262,19 +377,8 @@ fn orientation_columns_fit_and_run_as_a_quaternion_dmp() {
     }
     let demo = tmp("pour-yaw.csv");
     std::fs::write(&demo, csv).unwrap();
-    let json = tmp("pour-yaw.json");
-    let (code, _, err) = primo(&[
-        "dmp",
-        "fit",
-        "--demo",
-        demo.to_str().unwrap(),
-        "--out",
-        json.to_str().unwrap(),
-    ]);
-    assert_eq!(code, 0, "{err}");
-    let file: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
-    assert_eq!(file["version"], 3);
+    let (json, file) = fit_to(&demo, &[], "pour-yaw.json");
+    assert_eq!(file["version"], 4);
     assert_eq!(
         file["orientations"][0]["columns"],
         serde_json::json!(["qw", "qx", "qy", "qz"])

@@ -247,3 +247,22 @@ fn the_summary_gives_the_bounds_searched_and_the_time_over_every_session() {
         "{first}\n{again}"
     );
 }
+
+#[test]
+fn a_kernel_count_out_of_range_is_named_by_its_flag() {
+    // The library says it neutrally; the command line names its flag, once.
+    let demo = reach();
+    for (extra, message) in [
+        (&[][..], "--kernels: 1 is outside 2..=128"),
+        (
+            &["--rhythmic"][..],
+            "--kernels: 1 is outside 3..=128 for a rhythmic DMP",
+        ),
+    ] {
+        let mut args = vec!["dmp", "fit", "--demo", &demo, "--kernels", "1"];
+        args.extend_from_slice(extra);
+        let (code, _, err) = primo(&args);
+        assert_eq!((code, err.lines().count()), (2, 1), "{err}");
+        assert!(err.contains(message), "{err}");
+    }
+}

@@ -42,6 +42,13 @@ pub const QUERY_DECAY: f32 = 0.9;
 ///   reach 2000), so one spread over all weights gave the unscaled joints
 ///   five times their own.
 pub fn power_blocks(skill: &Skill, s1: f32, s2: f32, decay: f32) -> Result<Vec<Block>, Error> {
+    for (name, s) in [("s1", s1), ("s2", s2)] {
+        if !(s.is_finite() && s >= 0.0) {
+            return Err(Error::Invalid(format!(
+                "PoWER's {name} {s}: must be finite and >= 0"
+            )));
+        }
+    }
     let query: Vec<&[f32]> = skill.examples().map(|(q, _)| q).collect();
     let thetas: Vec<&[f32]> = skill.examples().map(|(_, t)| t).collect();
     let block = |s: f32, examples: &[&[f32]], range: std::ops::Range<usize>, decay: f32| {

@@ -1,17 +1,18 @@
 //! Demonstration and trajectory CSV: a header `t,<name>,…` then one row per
-//! sample, `t` in seconds and strictly increasing, one column per DoF.
-//! Errors name the file, line and column.
+//! sample, `t` in seconds and strictly increasing (from any origin: Unix
+//! time is fine), one column per DoF. Errors name the file, line and column.
 
 use primo_core::quaternion::Quaternion;
 
 use crate::Error;
+use crate::stamps::Stamps;
 
 /// A parsed demonstration.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Demo {
     /// DoF names from the header (without `t`).
     pub names: Vec<String>,
-    /// Sample times.
+    /// Sample times, s since the first sample ([`crate::stamps`]).
     pub times: Vec<f32>,
     /// Positions, row-major: `times.len() × names.len()`.
     pub positions: Vec<f32>,
@@ -80,6 +81,7 @@ pub fn parse_demo(file: &str, text: &str) -> Result<Demo, Error> {
     }
     let width = cells.len();
     let mut times = Vec::new();
+    let mut stamps = Stamps::new();
     let mut positions = Vec::new();
     for (line, row) in lines {
         if row.trim().is_empty() {
@@ -104,10 +106,12 @@ pub fn parse_demo(file: &str, text: &str) -> Result<Demo, Error> {
             ));
         }
         for (c, cell) in cells.iter().enumerate() {
-            let v: f32 = cell
+            // Times in f64: a stamp in Unix time is relative only then.
+            let v: f64 = cell
                 .parse()
                 .map_err(|_| err(line, Some(c + 1), format!("`{cell}` is not a number")))?;
-            if !v.is_finite() {
+            let single = v as f32;
+            if !v.is_finite() || (c > 0 && !single.is_finite()) {
                 return Err(err(
                     line,
                     Some(c + 1),
@@ -115,18 +119,16 @@ pub fn parse_demo(file: &str, text: &str) -> Result<Demo, Error> {
                 ));
             }
             if c == 0 {
-                if let Some(&prev) = times.last()
-                    && v <= prev
-                {
-                    return Err(err(
+                let t = stamps.push(v).map_err(|why| {
+                    err(
                         line,
                         Some(1),
-                        format!("t = {v} does not increase (previous row t = {prev})"),
-                    ));
-                }
-                times.push(v);
+                        format!("t = {cell} {}", why.why("the previous row")),
+                    )
+                })?;
+                times.push(t);
             } else {
-                positions.push(v);
+                positions.push(single);
             }
         }
     }
@@ -616,7 +618,7 @@ mod tests {
         );
         assert_eq!(
             msg("t,x\n0,1\n0.5,2\n0.5,3\n"),
-            "d.csv:4:1: t = 0.5 does not increase (previous row t = 0.5)"
+            "d.csv:4:1: t = 0.5 does not increase: the previous row is at t = 0.5"
         );
         assert_eq!(
             msg("t,x\n0,1\n1,2\n"),

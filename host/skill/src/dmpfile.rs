@@ -2,7 +2,7 @@
 //! fit and run behind `primo dmp`.
 //!
 //! ```json
-//! { "format": "primo-dmp", "version": 3, "names": ["x", "qw", "qx", "qy", "qz"],
+//! { "format": "primo-dmp", "version": 4, "names": ["x", "qw", "qx", "qy", "qz"],
 //!   "orientations": [{ "columns": ["qw", "qx", "qy", "qz"], "goal": [1, 0, 0, 0] }],
 //!   "dmp": { "tau": 1.0, "alpha": 25.0, "width": 1682.0, "margin": 1.0,
 //!            "start": [0, 0.5, 0, 0], "goal": [1, 0, 0, 0], "scaled": [true, false, false, false],
@@ -21,8 +21,9 @@
 //! `orientations`: one period, replayed at any frequency and amplitude.
 //!
 //! `format` and `version` are checked on load; a newer version is refused
-//! rather than misread. Version 1 files (no orientations) and version 2
-//! files (no `margin`: none) still load. The fields of `dmp` are those of
+//! rather than misread. Version 1 files (no orientations), version 2
+//! files (no `margin`: none) and version 3 files (no `reference`: scaled
+//! per DoF) still load. The fields of `dmp` are those of
 //! [`primo_core::dmp::Dmp`] (the book's DMP file reference, docs/src/reference/dmp-file.md).
 
 use primo_core::dmp::{FitOptions, Margin, Scaling, Trajectory};
@@ -38,11 +39,55 @@ use crate::{Error, HOST_MAX_DOF, HostDmp, MAX_KERNELS};
 /// `primo dmp run` and the Python package refuse more.
 pub const MAX_ROWS: usize = 10_000_000;
 
+/// How a discrete DMP scales its forcing term to a new start and goal
+/// (`primo dmp fit --scaling`, a task file's `scaling`, Python's
+/// `scaling=`). The book's DMP chapter compares them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum AmplitudeScaling {
+    /// Each column by its own `(g − y0)/(g_d − y0_d)`, a column that
+    /// starts and ends (almost) together unscaled ([`Scaling::Auto`]).
+    #[default]
+    PerDof,
+    /// None: the shape as demonstrated ([`Scaling::Never`]).
+    None,
+    /// The position columns together (Koutras & Doulgeri 2020,
+    /// [`Scaling::Global`]); orientations unscaled.
+    Global,
+}
+
+impl AmplitudeScaling {
+    /// The names, as given.
+    pub const NAMES: [&str; 3] = ["per-dof", "none", "global"];
+
+    /// The choice named `name` (one of [`AmplitudeScaling::NAMES`]).
+    pub fn parse(name: &str) -> Option<AmplitudeScaling> {
+        match name {
+            "per-dof" => Some(AmplitudeScaling::PerDof),
+            "none" => Some(AmplitudeScaling::None),
+            "global" => Some(AmplitudeScaling::Global),
+            _ => None,
+        }
+    }
+
+    /// The core's scaling for a demonstration whose position DoFs are
+    /// `positions` (bit `d`: DMP DoF `d`), or those of `scaled` (a skill's
+    /// examples scale per DoF as the first does).
+    fn of(self, positions: u32, scaled: Option<u32>) -> Scaling {
+        match self {
+            AmplitudeScaling::PerDof => scaled.map_or(Scaling::AutoWhere(positions), Scaling::Mask),
+            AmplitudeScaling::None => Scaling::Never,
+            AmplitudeScaling::Global => Scaling::Global(positions),
+        }
+    }
+}
+
 /// The `format` field's value.
 pub const FORMAT: &str = "primo-dmp";
 /// The version this primo writes; it reads versions 1 to this one.
-/// 2: orientations; 3: the kernels' `margin`.
-pub const VERSION: u32 = 3;
+/// 2: orientations; 3: the kernels' `margin`; 4: global scaling's
+/// `reference` (absent: per DoF, as every earlier version scales).
+pub const VERSION: u32 = 4;
 
 /// An orientation among the columns.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -165,7 +210,7 @@ impl RhythmicFile {
     ) -> Result<Self, Error> {
         if !(3..=MAX_KERNELS).contains(&kernels) {
             return Err(Error::File(format!(
-                "kernels: {kernels} is outside 3..={MAX_KERNELS} for a rhythmic DMP"
+                "a rhythmic DMP needs 3 to {MAX_KERNELS} kernels per DoF, not {kernels}"
             )));
         }
         if let Some(Slot { column: c, .. }) = layout(&demo.names)
@@ -357,30 +402,37 @@ fn dmp_dof(layout: &[Slot]) -> usize {
 
 impl DmpFile {
     /// Fits a DMP of `kernels` kernels per DoF to a demonstration (`file`
-    /// names it in errors), its outer kernels placed by `margin`;
-    /// orientations as the module docs say.
-    pub fn fit(file: &str, demo: &Demo, kernels: usize, margin: Margin) -> Result<Self, Error> {
+    /// names it in errors), its outer kernels placed by `margin`, its
+    /// forcing term scaled by `scaling`; orientations as the module docs
+    /// say.
+    pub fn fit(
+        file: &str,
+        demo: &Demo,
+        kernels: usize,
+        margin: Margin,
+        scaling: AmplitudeScaling,
+    ) -> Result<Self, Error> {
         let options = FitOptions {
             margin,
             ..FitOptions::default()
         };
-        DmpFile::fit_with(file, demo, kernels, None, &options)
+        DmpFile::fit_with(file, demo, kernels, (scaling, None), &options)
     }
 
-    /// [`DmpFile::fit`] with the amplitude-scaled DoFs given (bit `d`:
-    /// DMP DoF `d`), as a skill fits every demonstration like its first
-    /// (`None` decides per column, an orientation's never scaled), and the
-    /// fit's other `options`.
+    /// [`DmpFile::fit`] with the fit's other `options`, and, scaling per
+    /// DoF, the amplitude-scaled DoFs given (bit `d`: DMP DoF `d`), as a
+    /// skill fits every demonstration like its first (`None` decides per
+    /// column, an orientation's never scaled).
     pub fn fit_with(
         file: &str,
         demo: &Demo,
         kernels: usize,
-        scaled: Option<u32>,
+        (scaling, scaled): (AmplitudeScaling, Option<u32>),
         options: &FitOptions,
     ) -> Result<Self, Error> {
         if !(2..=MAX_KERNELS).contains(&kernels) {
             return Err(Error::File(format!(
-                "kernels: {kernels} is outside 2..={MAX_KERNELS}"
+                "a DMP needs 2 to {MAX_KERNELS} kernels per DoF, not {kernels}"
             )));
         }
         crate::csv::check_rotation_vectors(file, demo)?;
@@ -435,7 +487,7 @@ impl DmpFile {
             }
         }
         let options = FitOptions {
-            scaling: scaled.map_or(Scaling::AutoWhere(scaled_mask), Scaling::Mask),
+            scaling: scaling.of(scaled_mask, scaled),
             ..*options
         };
         let dmp = HostDmp::fit(&demo.times, &positions, dof, kernels, &options).map_err(|e| {

@@ -3,6 +3,7 @@
 //!
 //! - [`csv`]: demonstration and trajectory CSV files (`t,<DoF names>`).
 //! - [`dmpfile`]: the versioned JSON format of a fitted DMP.
+//! - [`stamps`]: sample times taken relative to the first sample.
 //! - [`skill`]: demonstrations → DMPs → generalization → checked plans.
 #![deny(missing_docs)]
 
@@ -10,6 +11,7 @@ pub mod csv;
 pub mod dmpfile;
 mod error;
 pub mod skill;
+pub mod stamps;
 
 pub use error::Error;
 pub use skill::{MAX_QUERY, Plan, Skill};

@@ -28,7 +28,7 @@ use primo_core::tangent::Tangent;
 use primo_robot::{Gate, JointPath};
 
 use crate::csv::Demo;
-use crate::dmpfile::{DmpFile, FORMAT, Orientation, VERSION, orientation_groups};
+use crate::dmpfile::{AmplitudeScaling, DmpFile, FORMAT, Orientation, VERSION, orientation_groups};
 use crate::{Error, HOST_MAX_DOF, HostDmp, MAX_KERNELS};
 
 /// Most examples a skill generalizes over.
@@ -73,6 +73,9 @@ pub struct Skill {
     /// Per example, the DMP's start (an orientation's: its log
     /// coordinates, the turn to its goal).
     starts: Vec<Vec<f32>>,
+    /// Per example, global scaling's demonstrated `g − y0` (none: per
+    /// DoF), generalized as the starts are.
+    references: Vec<Vec<f32>>,
     /// Per example and orientation, the start's tangent vector.
     start_orientations: Vec<Vec<[f32; 3]>>,
     groups: Vec<Group>,
@@ -104,18 +107,34 @@ pub struct Plan {
 }
 
 impl Skill {
-    /// Fits one DMP per demonstration `(q_i, demo_i)` (as
-    /// [`DmpFile::fit`]: orientations as the module docs say, but with the
-    /// fit of [`FitOptions::LEARNING`]: narrower kernels, none beyond the ends), all with the same
-    /// amplitude scaling (decided on the first: interpolating weights
-    /// only makes sense when every example scales them alike), and
-    /// generalizes over the queries ([`Skill::from_files`]). Every
-    /// demonstration has the first one's columns, by name and in order.
+    /// Fits one DMP per demonstration `(q_i, demo_i)` ([`Skill::fit_demos`])
+    /// and generalizes over the queries ([`Skill::from_files`]).
     pub fn fit(
         examples: &[(&[f32], &Demo)],
         kernels: usize,
         method: Method,
     ) -> Result<Skill, Error> {
+        let files = Skill::fit_demos(examples, kernels, AmplitudeScaling::PerDof)?;
+        let examples: Vec<(&[f32], &DmpFile)> = examples
+            .iter()
+            .zip(&files)
+            .map(|((q, _), f)| (*q, f))
+            .collect();
+        Skill::from_files(&examples, method)
+    }
+
+    /// The DMP of each demonstration `(q_i, demo_i)` of a skill, in order
+    /// (as [`DmpFile::fit`]: orientations as the module docs say, but with
+    /// the fit of [`FitOptions::LEARNING`]: narrower kernels, none beyond
+    /// the ends), their forcing terms scaled by `scaling`, all alike (per
+    /// DoF, decided on the first: interpolating weights only makes sense
+    /// when every example scales them alike). Every demonstration has the
+    /// first one's columns, by name and in order.
+    pub fn fit_demos(
+        examples: &[(&[f32], &Demo)],
+        kernels: usize,
+        scaling: AmplitudeScaling,
+    ) -> Result<Vec<DmpFile>, Error> {
         let (_, first) = examples.first().ok_or_else(|| {
             Error::Demonstrations("a skill needs at least one demonstration".into())
         })?;
@@ -125,7 +144,8 @@ impl Skill {
             same_columns(&first.names, &demo.names)
                 .map_err(|why| Error::Demonstrations(format!("demonstration {}: {why}", i + 1)))?;
             let label = format!("demonstration {} (q = {q:?})", i + 1);
-            let file = DmpFile::fit_with(&label, demo, kernels, scaled, &FitOptions::LEARNING)
+            let scaling = (scaling, scaled);
+            let file = DmpFile::fit_with(&label, demo, kernels, scaling, &FitOptions::LEARNING)
                 .map_err(|e| Error::Demonstrations(e.to_string()))?;
             let dmp = &file.dmp;
             scaled.get_or_insert(
@@ -133,10 +153,9 @@ impl Skill {
                     .filter(|d| dmp.is_scaled(*d))
                     .fold(0, |m, d| m | 1 << d),
             );
-            files.push((*q, file));
+            files.push(file);
         }
-        let examples: Vec<(&[f32], &DmpFile)> = files.iter().map(|(q, f)| (*q, f)).collect();
-        Skill::from_files(&examples, method)
+        Ok(files)
     }
 
     /// Generalizes over fitted DMPs `(q_i, file_i)`: every query of the
@@ -166,8 +185,14 @@ impl Skill {
                 )));
             }
             let dmp = &file.dmp;
-            if (dmp.dof(), dmp.kernels(), dmp.shape())
-                != (template.dof(), template.kernels(), template.shape())
+            let global = |d: &HostDmp| d.reference().is_some();
+            if (dmp.dof(), dmp.kernels(), dmp.shape(), global(dmp))
+                != (
+                    template.dof(),
+                    template.kernels(),
+                    template.shape(),
+                    global(template),
+                )
             {
                 return Err(Error::Demonstrations(format!(
                     "demonstration {}: its DMP has {} DoF and {} kernels, demonstration 1's {} \
@@ -240,6 +265,10 @@ impl Skill {
             starts: examples
                 .iter()
                 .map(|(_, f)| f.dmp.start_position().to_vec())
+                .collect(),
+            references: examples
+                .iter()
+                .filter_map(|(_, f)| f.dmp.reference().map(<[f32]>::to_vec))
                 .collect(),
             start_orientations,
             groups,
@@ -356,8 +385,20 @@ impl Skill {
             });
         }
         let t = &self.template;
-        let dmp = HostDmp::from_shape(&t.shape(), t.dof(), t.kernels(), &start, &theta)
+        let mut dmp = HostDmp::from_shape(&t.shape(), t.dof(), t.kernels(), &start, &theta)
             .map_err(|e| Error::Movement(format!("movement for q = {query:?}: {e}")))?;
+        if !self.references.is_empty() {
+            let reference: Vec<f32> = (0..self.dof())
+                .map(|d| {
+                    (self.references.iter().zip(c))
+                        .map(|(r, c)| c * r.get(d).copied().unwrap_or(0.0))
+                        .sum()
+                })
+                .collect();
+            dmp.set_reference(Some(&reference)).map_err(|e| {
+                Error::Movement(format!("movement for q = {query:?}: global scaling: {e}"))
+            })?;
+        }
         Ok(DmpFile {
             format: FORMAT.into(),
             version: VERSION,

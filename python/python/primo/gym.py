@@ -66,7 +66,7 @@ class Episode:
     ``Power`` the reward 0).
 
     >>> import numpy as np, primo.gym
-    >>> primo.gym.Episode(episode_return=-1.5, success=True, error=None, steps=3, theta=np.zeros(2)).steps
+    >>> primo.gym.Episode(episode_return=-1.5, success=True, error=None, steps=3, theta=np.zeros(2), rejected=None).steps
     3
     """
 
@@ -75,7 +75,7 @@ class Episode:
     error: Optional[np.ndarray]
     steps: int
     theta: np.ndarray
-    rejected: Optional[str] = None
+    rejected: Optional[str]
 
 
 class _Rejected(ValueError):
@@ -304,7 +304,7 @@ class BlackBox:
         try:
             dmp = self.dmp(theta, context)
         except _Rejected as e:
-            return Episode(float("nan"), False, None, 0, theta, rejected=str(e))
+            return Episode(float("nan"), False, None, 0, theta, str(e))
         _, y, yd = dmp.run(dt=self.dt, velocities=True)
         obs = self._reset(self.env, context, seed)
         last = len(y) - 1
@@ -327,7 +327,7 @@ class BlackBox:
         error = None
         if self._error is not None:
             error = np.atleast_1d(np.asarray(self._error(self.env, obs, info), dtype=np.float64))
-        return Episode(total, ever if reported else None, error, steps, theta)
+        return Episode(total, ever if reported else None, error, steps, theta, None)
 
     def _action(self, obs: Any, y: np.ndarray, yd: np.ndarray, y_now: np.ndarray) -> np.ndarray:
         """The action toward ``y, yd`` (the next sample's) from the state

@@ -168,7 +168,12 @@ class Sweep:
     def directories(self, out: Union[str, os.PathLike]) -> List[pathlib.Path]:
         """Where ``Results.write(out)`` writes each group of runs (see
         ``Results.groups``), in order: ``out`` itself if there is one
-        group, else ``out/NAME=VALUE,…`` naming the settings that vary."""
+        group, else ``out/NAME=VALUE,…`` naming the settings that vary.
+
+        >>> sweep = Sweep("power", grid={"kernels": [10, 30]}, seeds=[1, 2])
+        >>> [p.as_posix() for p in sweep.directories("out")]
+        ['out/kernels=10', 'out/kernels=30']
+        """
         out = pathlib.Path(out)
         keys = FILES_PER[self.kind]
         varying = [k for k in keys if len(self.axes[k]) > 1]
@@ -181,7 +186,11 @@ class Sweep:
     def check_out(self, out: Union[str, os.PathLike], force: bool = False) -> None:
         """Refuses (``ValueError``) before any run an ``out`` whose
         directories (``directories``) hold an earlier result, unless
-        ``force``, or that another primo is writing into."""
+        ``force``, or that another primo is writing into.
+
+        >>> import tempfile
+        >>> Sweep("golden", seeds=[1]).check_out(tempfile.mkdtemp())  # empty: fine
+        """
         for where in self.directories(out):
             check_out(where, self.kind, force)
 
@@ -210,6 +219,10 @@ class Sweep:
         remote one through Ray Client). A Ray session already started by
         ``ray.init`` is used as it is, and one this starts is left running
         for the next sweep (``ray.shutdown()`` ends it).
+
+        >>> sweep = Sweep("golden", grid={"volume": 0.5, "method": "golden"}, seeds=[1, 2])
+        >>> [(r["seed"], r["rollouts_to_precision"]) for r in sweep.run(backend="serial")]
+        [(1, 8), (2, 8)]
         """
         if backend not in BACKENDS:
             raise ValueError(f"backend: `{backend}`, expected one of {', '.join(BACKENDS)}")
@@ -261,8 +274,12 @@ def _on_ray(
 class Results:
     """A sweep's runs, in the order of ``Sweep.tasks()``; iterable.
 
-    ``runs``: the dicts of ``golden_run`` or ``power_run``; ``seconds``:
-    the sweep's wall-clock time.
+    ``sweep``: the sweep that ran; ``runs``: the dicts of ``golden_run``
+    or ``power_run``; ``seconds``: the sweep's wall-clock time.
+
+    >>> results = Sweep("golden", grid={"volume": 0.5, "method": "secant"}, seeds=[1]).run(backend="serial")
+    >>> len(results), results.groups()[0][0]
+    (1, {'precision': 0.002, 'seed': 1})
     """
 
     def __init__(self, sweep: Sweep, runs: List[Dict[str, Any]], seconds: float) -> None:
@@ -289,7 +306,13 @@ class Results:
         """Writes the files ``primo experiment`` writes, one directory per
         group (``groups()``, into ``Sweep.directories(out)``); an earlier
         result there is replaced only with ``force``. Returns the
-        directories."""
+        directories.
+
+        >>> import tempfile
+        >>> results = Sweep("golden", grid={"volume": 0.5, "method": "secant"}, seeds=[1]).run(backend="serial")
+        >>> [p.name for p in results.write(tempfile.mkdtemp() + "/out")]
+        ['out']
+        """
         written = []
         for (_, runs), where in zip(self.groups(), self.sweep.directories(out)):
             if self.sweep.kind == "golden":

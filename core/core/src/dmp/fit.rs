@@ -186,8 +186,11 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
                         && amplitude != 0.0
                         && libm::fabsf(amplitude) >= AUTO_SCALING_MIN_FRACTION * (hi - lo)
                 }
+                // Marks the group scaled together.
+                #[cfg(feature = "global-scaling")]
+                Scaling::Global(m) => d < 32 && (m >> d) & 1 == 1,
             };
-            if on && amplitude == 0.0 {
+            if on && amplitude == 0.0 && !options.scaling.is_global() {
                 return Err(Error::OutOfRange(
                     "an amplitude-scaled DoF needs its goal to differ from its start",
                 ));
@@ -201,10 +204,26 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
 
         let alpha = options.alpha;
         let mut amplitude = [1.0f32; D];
+        // Global scaling fits the forcing term as demonstrated (amplitude
+        // 1) and keeps the group's demonstrated `g − y0` to turn it by.
+        let mut reference: Vec<f32, D> = Vec::new();
+        let global = options.scaling.is_global();
         for (d, a) in amplitude.iter_mut().enumerate().take(dof) {
-            if scaled.get(d) == Some(&true) {
-                *a = goal.get(d).copied().unwrap_or(0.0) - start.get(d).copied().unwrap_or(0.0);
+            let span = goal.get(d).copied().unwrap_or(0.0) - start.get(d).copied().unwrap_or(0.0);
+            let on = scaled.get(d) == Some(&true);
+            match global {
+                true => {
+                    let _ = reference.push(if on { span } else { 0.0 });
+                }
+                false if on => *a = span,
+                false => {}
             }
+        }
+        if global && !super::model::check_reference(&reference, &scaled) {
+            return Err(Error::OutOfRange(
+                "global scaling needs the demonstration's goal to differ from its start on the \
+                 scaled DoFs",
+            ));
         }
         let demo = Demonstration {
             times,
@@ -260,6 +279,7 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
             start,
             goal,
             scaled,
+            reference,
             weights: weights
                 .iter()
                 .take(dof)

@@ -5,8 +5,10 @@
 
 use super::model::{Dmp, Execution};
 use super::options::{MAX_ABS_POSITION, check_tau};
+#[cfg(feature = "global-scaling")]
+use super::turn::Turn;
 use crate::Error;
-use crate::error::{check_bounded, check_len, check_positive};
+use crate::error::{check_bounded, check_finite, check_len, check_positive};
 use crate::spring::{add_compensated, transition_step};
 
 /// One point of an executed trajectory.
@@ -53,6 +55,8 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
             start: [0.0; D],
             goal: [0.0; D],
             amplitude: [1.0; D],
+            #[cfg(feature = "global-scaling")]
+            turn: None,
             y: [0.0; D],
             y_carry: [0.0; D],
             z: [0.0; D],
@@ -70,11 +74,8 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
         run.y = run.start;
         run.set_goal(self, &exec.goal)?;
         // Forcing at s = 0 gives the initial acceleration.
-        let mut force = [0.0; D];
-        self.forcing(0.0, &mut force);
-        for ((f, raw), a) in run.force.iter_mut().zip(force).zip(run.amplitude) {
-            *f = a * raw;
-        }
+        self.forcing(0.0, &mut run.force);
+        run.scale_force();
         Ok(run)
     }
 
@@ -123,6 +124,9 @@ pub struct Run<const D: usize> {
     start: [f32; D],
     goal: [f32; D],
     amplitude: [f32; D],
+    /// Global scaling's turn and stretch ([`Turn`]), if global.
+    #[cfg(feature = "global-scaling")]
+    turn: Option<Turn<D>>,
     y: [f32; D],
     /// Compensation of `y` (Kahan): what its sums lost to rounding.
     y_carry: [f32; D],
@@ -156,18 +160,17 @@ impl<const D: usize> Run<D> {
         }
         let [d00, p01, p10, p11] = self.transition;
         dmp.forcing(self.phase + 0.5 * u, &mut self.force);
+        self.scale_force();
         let stiffness = self.alpha * self.alpha / 4.0;
-        for (((((y, carry), z), f), g), a) in self
+        for ((((y, carry), z), f), g) in self
             .y
             .iter_mut()
             .zip(self.y_carry.iter_mut())
             .zip(self.z.iter_mut())
-            .zip(self.force.iter_mut())
+            .zip(self.force.iter())
             .zip(self.goal)
-            .zip(self.amplitude)
             .take(self.dof)
         {
-            *f *= a;
             let equilibrium = g + *f / stiffness;
             let e = (*y - equilibrium) - *carry;
             // The position moves by a small step each cycle: added as a
@@ -183,6 +186,192 @@ impl<const D: usize> Run<D> {
             }
         }
         add_compensated(&mut self.time, &mut self.time_carry, dt);
+    }
+
+    /// [`Run::step`] with a coupling term: an additional acceleration per
+    /// DoF (units per s², `dof` values) held over the step, as in
+    /// `τ²ÿ = K(g − y) − ατẏ + f + τ²·coupling` (obstacle avoidance, joint
+    /// limits, a controller's correction all enter this way). The step's
+    /// exact spring solution takes it as its equilibrium moved by
+    /// `τ²·coupling/K`; a DoF whose coupling is 0 steps as [`Run::step`]
+    /// does, bit for bit.
+    pub fn step_coupled<const K: usize>(
+        &mut self,
+        dmp: &Dmp<D, K>,
+        dt: f32,
+        coupling: &[f32],
+    ) -> Result<(), Error> {
+        check_len("coupling", self.dof, coupling.len())?;
+        check_finite(coupling, "coupling")?;
+        let shift = self.tau * self.tau / (self.alpha * self.alpha / 4.0);
+        let goal = self.goal;
+        for (g, &c) in self.goal.iter_mut().zip(coupling) {
+            if c != 0.0 {
+                *g += shift * c;
+            }
+        }
+        // The goal itself is untouched: the shift lasts this step only.
+        let stepped = check_bounded(
+            self.goal.get(..self.dof).unwrap_or(&[]),
+            MAX_ABS_POSITION,
+            "coupling moves the rest point beyond ±1e6, the bound on any position",
+        )
+        .and_then(|()| self.step(dmp, dt));
+        self.goal = goal;
+        stepped
+    }
+
+    /// Feeds back a measured state, for closed-loop execution (as
+    /// movement_primitives' `step(last_y, last_yd)`): the `position` and/or
+    /// the `velocity` (per second), `dof` values each, replace the run's
+    /// from here on. A value equal to the run's own ([`Run::position`],
+    /// [`Run::sample`]'s velocity) changes nothing, its rounding
+    /// compensation kept: feeding the run's own state back is the
+    /// open-loop run, bit for bit. Nothing changes if either is refused.
+    pub fn measured<const K: usize>(
+        &mut self,
+        dmp: &Dmp<D, K>,
+        position: Option<&[f32]>,
+        velocity: Option<&[f32]>,
+    ) -> Result<(), Error> {
+        check_len("DMP DoF", self.dof, dmp.dof())?;
+        if let Some(y) = position {
+            check_len("measured position", self.dof, y.len())?;
+            check_bounded(
+                y,
+                MAX_ABS_POSITION,
+                "measured position beyond ±1e6, the bound on any position",
+            )?;
+        }
+        if let Some(v) = velocity {
+            check_len("measured velocity", self.dof, v.len())?;
+            check_finite(v, "measured velocity")?;
+            if !v.iter().all(|v| (v * self.tau).is_finite()) {
+                return Err(Error::OutOfRange("measured velocity × τ overflows"));
+            }
+        }
+        for ((y, carry), &m) in self
+            .y
+            .iter_mut()
+            .zip(self.y_carry.iter_mut())
+            .zip(position.unwrap_or(&[]))
+        {
+            if *y != m {
+                (*y, *carry) = (m, 0.0);
+            }
+        }
+        for (z, &m) in self.z.iter_mut().zip(velocity.unwrap_or(&[])) {
+            // `sample` reports z/τ: a velocity equal to it keeps z's bits.
+            if *z / self.tau != m {
+                *z = m * self.tau;
+            }
+        }
+        Ok(())
+    }
+
+    /// Length of [`Run::state`].
+    pub const STATE_LEN: usize = 12 + 7 * D;
+
+    /// The whole state as [`Run::STATE_LEN`] numbers, to keep it and go on
+    /// later with [`Run::from_state`], bit for bit. Its layout is not an
+    /// interface: read it back with the same primo.
+    pub fn state(&self) -> impl Iterator<Item = f32> + '_ {
+        let scalars = [
+            self.dof as f32,
+            self.tau,
+            self.alpha,
+            self.phase,
+            self.phase_carry,
+            self.time,
+            self.time_carry,
+            self.step_dt,
+        ];
+        scalars
+            .into_iter()
+            .chain(self.transition)
+            .chain(self.start)
+            .chain(self.goal)
+            .chain(self.amplitude)
+            .chain(self.y)
+            .chain(self.y_carry)
+            .chain(self.z)
+            .chain(self.force)
+    }
+
+    /// The run [`Run::state`] gave, of `dmp`. Checked so that no state
+    /// makes a later step panic or overflow: its length, its DoF (the
+    /// DMP's), finite values (the step size remembered may be NaN: none
+    /// yet) and `τ`.
+    pub fn from_state<const K: usize>(dmp: &Dmp<D, K>, state: &[f32]) -> Result<Run<D>, Error> {
+        check_len("run state", Self::STATE_LEN, state.len())?;
+        let (head, arrays) = state.split_at_checked(12).ok_or(Error::Length {
+            what: "run state",
+            expected: Self::STATE_LEN,
+            found: state.len(),
+        })?;
+        let [
+            dof,
+            tau,
+            alpha,
+            phase,
+            phase_carry,
+            time,
+            time_carry,
+            step_dt,
+            t0,
+            t1,
+            t2,
+            t3,
+        ] = <[f32; 12]>::try_from(head).map_err(|_| Error::OutOfRange("run state"))?;
+        if dof != dmp.dof() as f32 {
+            return Err(Error::OutOfRange("run state: of a DMP of another DoF"));
+        }
+        let scalars = [alpha, phase, phase_carry, time, time_carry, t0, t1, t2, t3];
+        check_finite(&scalars, "run state")?;
+        check_finite(arrays, "run state")?;
+        check_tau(tau, "run state: τ must be finite and at least 0.001 s")?;
+        let mut chunks = arrays.chunks_exact(D.max(1)).map(<[f32; D]>::try_from);
+        let mut next = || match chunks.next() {
+            Some(Ok(a)) => Ok(a),
+            _ => Err(Error::OutOfRange("run state")),
+        };
+        let mut run = Run {
+            dof: dmp.dof(),
+            tau,
+            alpha,
+            step_dt,
+            transition: [t0, t1, t2, t3],
+            phase,
+            phase_carry,
+            time,
+            time_carry,
+            start: next()?,
+            goal: next()?,
+            amplitude: next()?,
+            y: next()?,
+            y_carry: next()?,
+            z: next()?,
+            force: next()?,
+            #[cfg(feature = "global-scaling")]
+            turn: None,
+        };
+        // Global scaling's turn follows from the DMP, start and goal, as
+        // the amplitudes do: set again, both come back bit for bit.
+        let goal = run.goal;
+        run.set_goal(dmp, goal.get(..run.dof).unwrap_or(&[]))?;
+        Ok(run)
+    }
+
+    /// The forcing term as executed: per DoF by its amplitude, then
+    /// globally turned and stretched (identity unless global).
+    fn scale_force(&mut self) {
+        for (f, a) in self.force.iter_mut().zip(self.amplitude) {
+            *f *= a;
+        }
+        #[cfg(feature = "global-scaling")]
+        if let Some(turn) = &self.turn {
+            turn.apply(&mut self.force);
+        }
     }
 
     /// Moves the current position to `y` (one value per DoF), keeping the
@@ -215,11 +404,28 @@ impl<const D: usize> Run<D> {
             MAX_ABS_POSITION,
             "goal beyond ±1e6, the bound on any position",
         )?;
+        let global = cfg!(feature = "global-scaling") && dmp.reference().is_some();
         for (d, (dst, &g)) in self.goal.iter_mut().zip(goal).enumerate() {
             *dst = g;
             if let (Some(a), Some(&y0)) = (self.amplitude.get_mut(d), self.start.get(d)) {
-                *a = if dmp.is_scaled(d) { g - y0 } else { 1.0 };
+                *a = if dmp.is_scaled(d) && !global {
+                    g - y0
+                } else {
+                    1.0
+                };
             }
+        }
+        #[cfg(feature = "global-scaling")]
+        if let Some(reference) = dmp.reference() {
+            let (mut span, mut group) = ([0.0f32; D], [false; D]);
+            for (d, (s, g)) in span.iter_mut().zip(group.iter_mut()).enumerate() {
+                *g = d < self.dof && dmp.is_scaled(d);
+                if *g {
+                    *s = self.goal.get(d).copied().unwrap_or(0.0)
+                        - self.start.get(d).copied().unwrap_or(0.0);
+                }
+            }
+            self.turn = Some(Turn::between(&group, reference, &span));
         }
         Ok(())
     }

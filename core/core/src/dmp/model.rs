@@ -22,7 +22,26 @@ pub struct Dmp<const D: usize, const K: usize> {
     pub(super) start: Vec<f32, D>,
     pub(super) goal: Vec<f32, D>,
     pub(super) scaled: Vec<bool, D>,
+    /// Global scaling ([`Scaling::Global`](super::Scaling::Global)): the
+    /// demonstrated `g − y0` of the scaled DoFs (0 on the others). Empty:
+    /// each scaled DoF by its own amplitude.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub(super) reference: Vec<f32, D>,
     pub(super) weights: Vec<Vec<f32, K>, D>,
+}
+
+/// Whether `reference` is a global scaling's (empty, or one value per
+/// DoF, bounded, zero off the scaled DoFs and not all zero on them).
+pub(super) fn check_reference(reference: &[f32], scaled: &[bool]) -> bool {
+    if reference.is_empty() {
+        return true;
+    }
+    reference.len() == scaled.len()
+        && reference
+            .iter()
+            .zip(scaled)
+            .all(|(r, s)| libm::fabsf(*r) <= 2.0 * MAX_ABS_POSITION && (*s || *r == 0.0))
+        && reference.iter().any(|r| *r != 0.0)
 }
 
 /// The serialized form, checked before it becomes a [`Dmp`].
@@ -37,6 +56,9 @@ struct DmpFields<const D: usize, const K: usize> {
     start: Vec<f32, D>,
     goal: Vec<f32, D>,
     scaled: Vec<bool, D>,
+    /// Absent from DMPs saved before global scaling existed: per DoF.
+    #[serde(default)]
+    reference: Vec<f32, D>,
     weights: Vec<Vec<f32, K>, D>,
 }
 
@@ -76,6 +98,12 @@ impl<const D: usize, const K: usize> TryFrom<DmpFields<D, K>> for Dmp<D, K> {
         check_alpha(f.alpha)?;
         check_positive(f.width, "width must be finite and > 0")?;
         check_margin(f.margin, k)?;
+        if !check_reference(&f.reference, &f.scaled) {
+            return Err(Error::OutOfRange(
+                "reference must be empty or one finite value per DoF, 0 off the scaled DoFs and \
+                 not all 0",
+            ));
+        }
         Ok(Dmp {
             tau: f.tau,
             alpha: f.alpha,
@@ -84,6 +112,7 @@ impl<const D: usize, const K: usize> TryFrom<DmpFields<D, K>> for Dmp<D, K> {
             start: f.start,
             goal: f.goal,
             scaled: f.scaled,
+            reference: f.reference,
             weights: f.weights,
         })
     }
@@ -149,6 +178,28 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
     /// Whether DoF `d`'s forcing term is scaled by its amplitude.
     pub fn is_scaled(&self, d: usize) -> bool {
         self.scaled.get(d).copied().unwrap_or(false)
+    }
+
+    /// Global scaling's demonstrated `g − y0` (0 off the scaled DoFs), or
+    /// `None`: each scaled DoF by its own amplitude.
+    pub fn reference(&self) -> Option<&[f32]> {
+        Some(self.reference.as_slice()).filter(|r| !r.is_empty())
+    }
+
+    /// Scales the scaled DoFs globally about `reference` (one value per
+    /// DoF, 0 off the scaled DoFs; see [`Dmp::reference`]), or per DoF
+    /// with `None`: a DMP rebuilt by [`Dmp::from_shape`] takes its
+    /// template's. On error the DMP is unchanged.
+    pub fn set_reference(&mut self, reference: Option<&[f32]>) -> Result<(), Error> {
+        let reference = reference.unwrap_or(&[]);
+        if !check_reference(reference, &self.scaled) {
+            return Err(Error::OutOfRange(
+                "reference must be empty or one finite value per DoF, 0 off the scaled DoFs and \
+                 not all 0",
+            ));
+        }
+        self.reference = reference.iter().copied().collect();
+        Ok(())
     }
 
     /// The kernel weights of DoF `d`.
@@ -262,6 +313,7 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
             scaled: (0..dof)
                 .map(|d| d < 32 && shape.scaled >> d & 1 == 1)
                 .collect(),
+            reference: Vec::new(),
             weights: (0..dof).map(|_| zeros(kernels).collect()).collect(),
         })?;
         dmp.set_params(theta)?;
@@ -355,6 +407,7 @@ mod tests {
             start: Vec::from_slice(&[0.0; 7]).unwrap(),
             goal: Vec::from_slice(&[1.0; 7]).unwrap(),
             scaled: Vec::from_slice(&[true; 7]).unwrap(),
+            reference: Vec::new(),
             weights: Vec::new(),
         };
         let mut seed = 12345u32;

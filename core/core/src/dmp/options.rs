@@ -78,6 +78,27 @@ pub enum Scaling {
     /// [`Scaling::Auto`] for the DoFs whose bit is set, unscaled for the
     /// others (e.g. the log coordinates of an orientation).
     AutoWhere(u32),
+    /// The DoFs whose bit is set (positions: not an orientation's log
+    /// coordinates) scaled together, as Koutras & Doulgeri (2020) scale
+    /// them: their forcing term, as demonstrated, turned by the smallest
+    /// rotation that takes the demonstrated `g − y0` onto the executed
+    /// one and stretched by the ratio of their lengths; the others
+    /// unscaled. A coordinate whose goal meets its start keeps its shape,
+    /// turned. Needs the demonstrated `g ≠ y0` on those DoFs. With the
+    /// `global-scaling` feature (a default one).
+    #[cfg(feature = "global-scaling")]
+    Global(u32),
+}
+
+impl Scaling {
+    /// Whether the DoFs are scaled globally.
+    pub(super) fn is_global(&self) -> bool {
+        #[cfg(feature = "global-scaling")]
+        if let Scaling::Global(_) = self {
+            return true;
+        }
+        false
+    }
 }
 
 /// Options for [`Dmp::fit`](super::Dmp::fit).

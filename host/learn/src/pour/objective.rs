@@ -120,6 +120,11 @@ impl Objective {
         self.target
     }
 
+    /// What the glass holds to its rim, l (`primo pour`'s `glass_holds`).
+    pub fn glass_litres(&self) -> f64 {
+        self.rig.glass_litres()
+    }
+
     /// `values` as the vector: [`Objective::len`] numbers, each a finite
     /// `f32`, its τ a movement the skill plans ([`check_duration`]). The
     /// message says what is wrong (the caller names the input).
@@ -164,12 +169,34 @@ impl Objective {
         }
         let (theta, query) = x.split_at(self.base.len());
         let delta: Vec<f32> = theta.iter().zip(&self.base).map(|(t, b)| t - b).collect();
+        self.roll_out_delta(query, &delta, seed, record)
+    }
+
+    /// One roll-out of `G(query) + delta`, PoWER's extended vector `[q̂,
+    /// Δθ]` as a learning run executes it: [`Objective::roll_out`] without
+    /// the subtraction of `G(bottle)`, whose rounding would move Δθ.
+    pub fn roll_out_delta(
+        &self,
+        query: &[f32],
+        delta: &[f32],
+        seed: u64,
+        record: bool,
+    ) -> Result<Trial, Error> {
+        if delta.len() != self.base.len() || query.len() != self.skill.query_dim() {
+            return Err(Error::Invalid(format!(
+                "{} query and {} Δθ values, the layout needs {} and {}",
+                query.len(),
+                delta.len(),
+                self.skill.query_dim(),
+                self.base.len()
+            )));
+        }
         let rig = match record {
             true => Cow::Owned(self.rig.recording(1)),
             false => Cow::Borrowed(&self.rig),
         };
         Ok(
-            match self.skill.checked(rig.gate(), rig.dt(), query, &delta) {
+            match self.skill.checked(rig.gate(), rig.dt(), query, delta) {
                 Ok((plan, path)) => {
                     Trial::scored(self.target, rig.execute_seeded(&plan, &path, seed)?)
                 }

@@ -57,6 +57,13 @@ pub fn roll_out(
     }
 }
 
+/// The scale's noise seed of roll-out `rollout` (numbered from 1) of a
+/// learning run seeded `seed`: a pure function, so a roll-out can be
+/// repeated outside the run (the Python package's `Cell.pour_seed`).
+pub fn rollout_seed(seed: u64, rollout: u32) -> u64 {
+    seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ u64::from(rollout)
+}
+
 /// The simulated cell: every roll-out starts from a full bottle and an
 /// empty glass, the scale's noise seeded per roll-out, so a run is a pure
 /// function of its settings and seed.
@@ -89,9 +96,9 @@ impl Simulated {
         rig
     }
 
-    /// The scale's noise seed for roll-out `i`.
-    fn trial_seed(&self, i: u32) -> u64 {
-        self.seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ u64::from(i)
+    /// What the simulated glass holds to its rim, l.
+    pub fn glass_litres(&self) -> f64 {
+        self.cell.glass_litres()
     }
 
     /// Executes `path` with the scale's noise from `noise`.
@@ -143,7 +150,7 @@ impl Rig for Simulated {
     }
 
     fn execute(&mut self, rollout: u32, plan: &Plan, path: &JointPath) -> Result<Measured, Error> {
-        self.execute_seeded(plan, path, self.trial_seed(rollout))
+        self.execute_seeded(plan, path, rollout_seed(self.seed, rollout))
     }
 }
 

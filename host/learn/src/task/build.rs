@@ -6,7 +6,7 @@ use primo_mtsics::path::read_text;
 use primo_robot::envelope::{ColumnLimit, Limits};
 use primo_skill::Skill;
 use primo_skill::csv::{Demo, check_rotation_vectors, parse_demo};
-use primo_skill::dmpfile::orientation_groups;
+use primo_skill::dmpfile::{DmpFile, orientation_groups};
 use primo_skill::skill::same_columns;
 
 use crate::Error;
@@ -73,8 +73,17 @@ impl Task {
             .zip(&demos)
             .map(|(t, (_, d))| (&t.query[..], d))
             .collect();
-        let skill = Skill::fit(&examples, self.kernels, self.regression)?;
-        Ok(Built { skill, limits, dt })
+        let fitted = Skill::fit_demos(&examples, self.kernels, self.scaling)?;
+        let files: Vec<(&[f32], &DmpFile)> = (examples.iter().zip(&fitted))
+            .map(|((q, _), f)| (*q, f))
+            .collect();
+        let skill = Skill::from_files(&files, self.regression)?;
+        Ok(Built {
+            skill,
+            fitted,
+            limits,
+            dt,
+        })
     }
 
     /// Orientation columns (`…qw,…qx,…qy,…qz`, the rule of `primo dmp
@@ -127,4 +136,98 @@ fn median_step(times: &[f32]) -> f64 {
         .collect();
     steps.sort_by(f64::total_cmp);
     steps.get(steps.len() / 2).copied().unwrap_or(0.01)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The example throw's task in a directory of its own, its
+    /// demonstrations resampled at 1 kHz (linearly) and stamped from
+    /// `origin`: the same instants whatever the origin (those a recorder
+    /// stamping from 1.7e9 s can hold), each stamp printed so that it
+    /// reads back exactly.
+    fn throw_at(origin: f64) -> Task {
+        let examples =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/throw");
+        let dir = std::env::temp_dir()
+            .join(format!("primo-task-build-{}", std::process::id()))
+            .join(origin.to_string());
+        std::fs::create_dir_all(dir.join("demos")).unwrap();
+        for name in ["fast", "slow"] {
+            let file = examples.join(format!("demos/{name}.csv"));
+            let demo = parse_demo("demo", &std::fs::read_to_string(file).unwrap()).unwrap();
+            let mut out = format!("t,{}\n", demo.names.join(","));
+            let rows: Vec<&[f32]> = demo.positions.chunks_exact(demo.names.len()).collect();
+            let end = f64::from(*demo.times.last().unwrap());
+            for i in 0..=(end * 1e3).round() as u32 {
+                let since_first = (1.7e9 + f64::from(i) * 1e-3) - 1.7e9;
+                let at = demo.times.partition_point(|t| f64::from(*t) <= since_first);
+                let (k, l) = (at.saturating_sub(1), at.min(demo.times.len() - 1));
+                let (a, b) = (f64::from(demo.times[k]), f64::from(demo.times[l]));
+                let w = if l > k {
+                    (since_first - a) / (b - a)
+                } else {
+                    0.0
+                } as f32;
+                out.push_str(&(origin + since_first).to_string());
+                for (p, q) in rows[k].iter().zip(rows[l]) {
+                    out.push_str(&format!(",{}", p + w * (q - p)));
+                }
+                out.push('\n');
+            }
+            std::fs::write(dir.join(format!("demos/{name}.csv")), out).unwrap();
+        }
+        let task = dir.join("throw.toml");
+        std::fs::copy(examples.join("throw.toml"), &task).unwrap();
+        Task::load(&task).unwrap()
+    }
+
+    #[test]
+    fn demonstrations_stamped_in_unix_time_build_the_skill_from_0() {
+        let (unix, zero) = (
+            throw_at(1.7e9).build().unwrap(),
+            throw_at(0.0).build().unwrap(),
+        );
+        assert_eq!(unix.dt, zero.dt);
+        assert!((unix.dt - 1e-3).abs() < 1e-6, "{}", unix.dt);
+        let examples = |b: &Built| -> Vec<(Vec<f32>, Vec<f32>)> {
+            (b.skill.examples())
+                .map(|(q, p)| (q.to_vec(), p.to_vec()))
+                .collect()
+        };
+        assert_eq!(examples(&unix), examples(&zero));
+        let plan = |b: &Built| b.skill.plan(&[1.5], &[], b.dt).unwrap();
+        assert_eq!(plan(&unix), plan(&zero));
+    }
+
+    #[test]
+    fn the_scaling_key_chooses_the_skills_scaling() {
+        let mut task = throw_at(0.0);
+        let per_dof = task.build().unwrap();
+        assert!(per_dof.fitted.iter().all(|f| f.dmp.reference().is_none()));
+        task.scaling = primo_skill::dmpfile::AmplitudeScaling::Global;
+        let global = task.build().unwrap();
+        for (f, demo) in global.fitted.iter().zip(&task.demos) {
+            let demo = parse_demo("demo", &std::fs::read_to_string(&demo.file).unwrap()).unwrap();
+            let span: Vec<f32> = (0..2)
+                .map(|d| demo.positions[demo.positions.len() - 2 + d] - demo.positions[d])
+                .collect();
+            assert_eq!(f.dmp.reference(), Some(&span[..]));
+        }
+        // At an example's query the generalized movement is that example's
+        // (LWR through two examples is exact there, to rounding).
+        let q = task.demos[0].query.clone();
+        let movement = global.skill.movement(&q, &[]).unwrap();
+        let reference = movement.dmp.reference().unwrap();
+        let example = global.fitted[0].dmp.reference().unwrap();
+        for (a, b) in reference.iter().zip(example) {
+            assert!((a - b).abs() < 1e-5 * b.abs().max(1.0), "{a} vs {b}");
+        }
+        // There both reproduce the demonstration, as fitted alike.
+        let a = global.skill.plan(&q, &[], 1e-3).unwrap();
+        let b = per_dof.skill.plan(&q, &[], 1e-3).unwrap();
+        let apart = (a.rows.iter().zip(&b.rows)).fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+        assert!(a.t == b.t && apart < 1e-4, "{apart}");
+    }
 }

@@ -63,6 +63,7 @@ impl Task {
         let kept = [
             ("[[demo]]", a.demos == b.demos),
             ("[movement] kernels", a.kernels == b.kernels),
+            ("[movement] scaling", a.scaling == b.scaling),
             ("[movement] generalization", a.regression == b.regression),
             ("[movement] dt", a.dt == b.dt),
             ("[movement] robot and limits", a.limits == b.limits),

@@ -8,6 +8,7 @@ use std::path::Path;
 use primo_core::generalize::Method as Regression;
 use primo_mtsics::path::{Wanted, check};
 use primo_robot::urdf::MAX_DISTANCE;
+use primo_skill::dmpfile::AmplitudeScaling;
 use primo_skill::skill::MAX_EXAMPLES;
 use primo_skill::{MAX_KERNELS, MAX_QUERY};
 use toml::Spanned;
@@ -160,6 +161,23 @@ impl Task {
                 }
             },
         };
+        let scaling = match m.and_then(|m| m.scaling.as_ref()) {
+            None => AmplitudeScaling::default(),
+            Some(v) if pour => {
+                return Err(p.at(
+                    v.span(),
+                    "[movement] scaling",
+                    "the built-in pour scales its own DMPs: remove the key",
+                ));
+            }
+            Some(v) => AmplitudeScaling::parse(v.get_ref()).ok_or_else(|| {
+                p.at(
+                    v.span(),
+                    "[movement] scaling",
+                    format!("`{}`: must be `per-dof`, `none` or `global`", v.get_ref()),
+                )
+            })?,
+        };
         let dt = m
             .and_then(|m| m.dt.as_ref())
             .map(|v| positive(&p, v, "[movement] dt"))
@@ -171,6 +189,7 @@ impl Task {
             file: file.to_path_buf(),
             demos,
             kernels,
+            scaling,
             regression,
             dt,
             limits,
@@ -876,6 +895,20 @@ command = ["python3", "throw.py"]
             e.starts_with("/lab/throw.toml:12: [movement] kernels: 1: must be in 2..="),
             "{e}"
         );
+        let e = refused(&THROW.replace(
+            "[movement.limits]",
+            "[movement]\nscaling = \"both\"\n\n[movement.limits]",
+        ));
+        assert_eq!(
+            e,
+            "/lab/throw.toml:12: [movement] scaling: `both`: must be `per-dof`, `none` or `global`"
+        );
+        assert_eq!(parse(THROW).unwrap().scaling, AmplitudeScaling::PerDof);
+        let global = THROW.replace(
+            "[movement.limits]",
+            "[movement]\nscaling = \"global\"\n\n[movement.limits]",
+        );
+        assert_eq!(parse(&global).unwrap().scaling, AmplitudeScaling::Global);
         let e = refused(&THROW.replace("desired = [1.5]", "desired = [1.5, 0.2]"));
         assert!(
             e.contains("[goal] desired: 2 values; the demonstrations' queries have 1"),

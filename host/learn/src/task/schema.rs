@@ -36,6 +36,7 @@ pub(super) struct DemoKeys {
 #[serde(deny_unknown_fields)]
 pub(super) struct MovementKeys {
     pub(super) kernels: Option<Spanned<usize>>,
+    pub(super) scaling: Option<Spanned<String>>,
     pub(super) generalization: Option<Spanned<String>>,
     pub(super) dt: Option<Spanned<f64>>,
     pub(super) robot: Option<Spanned<String>>,

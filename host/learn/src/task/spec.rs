@@ -315,6 +315,10 @@ pub struct Task {
     pub demos: Vec<TaskDemo>,
     /// Kernels per DoF.
     pub kernels: usize,
+    /// How the DMPs scale their forcing terms (absent from run logs
+    /// written before it existed: per DoF, as they then did).
+    #[serde(default)]
+    pub scaling: primo_skill::dmpfile::AmplitudeScaling,
     /// The generalization.
     pub regression: Regression,
     /// The trajectory's time step, s (`None`: the first demonstration's
@@ -342,6 +346,9 @@ impl Task {
 pub struct Built {
     /// Demonstrations → DMPs → generalization.
     pub skill: Skill,
+    /// The DMP fitted to each demonstration, in the task file's order:
+    /// the examples the skill generalizes.
+    pub fitted: Vec<primo_skill::dmpfile::DmpFile>,
     /// What every trajectory passes.
     pub limits: Limits,
     /// The trajectories' time step, s.
