@@ -29,7 +29,8 @@ KERNELS = 20
 def unscaled(dmp: primo.Dmp) -> primo.Dmp:
     """The same DMP without amplitude scaling (weights times g − y0 on
     scaled DoFs), so that demos Dmp.fit scaled differently generalize
-    together. Goes once Dmp.fit(..., scaling=...) exists."""
+    together. Goes for Dmp.fit(..., scaling="none"), merged from main
+    with issue 30 but not yet in a wheel the suite was run on."""
     j = json.loads(dmp.to_json())
     m = j["dmp"]
     for i, scaled in enumerate(m["scaled"]):
