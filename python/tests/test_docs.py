@@ -27,6 +27,7 @@ def _modules():
     modules = [primo, primo.experiments, primo.sweep]
     try:
         modules.append(importlib.import_module("primo.env"))
+        modules.append(importlib.import_module("primo.gym"))
     except ImportError:  # Gymnasium is the [gym] extra
         pass
     return modules

@@ -23,7 +23,9 @@ equations in float64), so values must be finite in float32.
 True
 
 ``primo.env`` has the Gymnasium environment (``primo/Pouring-v0``,
-registered on import when Gymnasium is installed), ``primo.experiments``
+registered on import when Gymnasium is installed), ``primo.gym``
+(``import primo.gym``) ``BlackBox``, which makes any Gymnasium task an
+episodic one for primo's learners, ``primo.experiments``
 one seeded run of each of the paper's experiments (``primo experiment``'s
 own), and ``primo.sweep`` (``import primo.sweep``) sweeps of them
 (methods × settings × seeds) on local processes or Ray, written as

@@ -1,0 +1,453 @@
+"""Any Gymnasium environment as an episodic task for primo's learners.
+
+``BlackBox`` turns an environment whose actions are joint torques,
+velocities, positions or position steps into the black box the
+movement-primitive literature learns on (fancy_gym's "black-box"
+environments): one parameter vector in, one whole episode out. A DMP,
+or a ``Generalizer`` over demonstrations, gives the movement; a tracking
+law turns it into the environment's actions step by step; the context
+(for example a goal position) is set at reset and, with a
+``Generalizer``, is also the query of the generalized movement.
+
+Gymnasium is the ``[gym]`` extra: ``pip install "primo-robotics[gym]"``
+(MuJoCo tasks also need ``gymnasium[mujoco]``; Metaworld ``metaworld``).
+
+>>> import gymnasium, numpy as np, primo, primo.gym
+>>> env = gymnasium.make("Pendulum-v1")  # torque on one joint
+>>> t = np.linspace(0.0, 1.0, 21)
+>>> dmp = primo.Dmp.fit(t, 0.5 * np.sin(np.pi * t / 2), kernels=10)
+>>> box = primo.gym.BlackBox(env, dmp, tracking="pd", kp=10.0, kd=1.0,
+...                          state=lambda env, obs: (np.arctan2(obs[1:2], obs[0:1]), obs[2:3]),
+...                          dt=0.05)
+>>> episode = box.episode(dmp.params, seed=0)
+>>> episode.steps, episode.success
+(30, None)
+"""
+
+from __future__ import annotations
+
+import pickle
+from dataclasses import dataclass
+from typing import Any, Callable, Optional, Sequence, Union
+
+import numpy as np
+
+try:
+    from gymnasium import spaces
+except ImportError as e:  # pragma: no cover - the [gym] extra is missing
+    raise ImportError(
+        'primo.gym needs Gymnasium: pip install "primo-robotics[gym]" '
+        '(and "gymnasium[mujoco]" for the MuJoCo tasks)'
+    ) from e
+
+from primo._primo import Dmp, Generalizer, GoldenSection, Illinois, Power, Secant
+
+__all__ = ["BlackBox", "Episode", "metaworld_reset"]
+
+TRACKING = ("pd", "velocity", "position", "delta")
+
+State = Callable[[Any, np.ndarray], tuple[Any, Any]]
+
+
+@dataclass
+class Episode:
+    """One episode of a ``BlackBox``.
+
+    ``episode_return``: the sum of the environment's rewards;
+    ``success``: whether the success test (the environment's
+    ``info["success"]`` by default) held at any step, or None when the
+    environment reports none; ``error``: the error vector (``desired −
+    measured``) of the ``error`` function at the end, or None without
+    one; ``steps``: the environment steps taken; ``theta``: the
+    parameters it was given; ``rejected``: why the DMP refused ``theta``
+    (a duration under 1 ms, a value beyond float32), or None. A rejected
+    episode takes no step: its return is NaN, its success False and its
+    error None (``learn`` tells error learners ``tell_infeasible`` and
+    ``Power`` the reward 0).
+
+    >>> import numpy as np, primo.gym
+    >>> primo.gym.Episode(episode_return=-1.5, success=True, error=None, steps=3, theta=np.zeros(2), rejected=None).steps
+    3
+    """
+
+    episode_return: float
+    success: Optional[bool]
+    error: Optional[np.ndarray]
+    steps: int
+    theta: np.ndarray
+    rejected: Optional[str]
+
+
+class _Rejected(ValueError):
+    """The DMP refused the parameters (not a caller's shape error)."""
+
+
+def _with_params(dmp: Dmp, theta: np.ndarray) -> Dmp:
+    try:
+        dmp.params = theta
+    except ValueError as e:
+        raise _Rejected(f"theta: {e}") from e
+    return dmp
+
+
+def _default_reset(env: Any, context: Any, seed: Optional[int]) -> Any:
+    """``env.reset(seed=seed, options={"context": context})``."""
+    options = None if context is None else {"context": context}
+    return env.reset(seed=seed, options=options)[0]
+
+
+def _mujoco_state(env: Any, obs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The first joints' positions and velocities of a MuJoCo environment
+    (sliced to the tracked DoFs by the caller)."""
+    data = getattr(env.unwrapped, "data", None)
+    if data is None:
+        raise ValueError(
+            "state: the environment has no MuJoCo data (env.unwrapped.data); "
+            "pass state=lambda env, obs: (positions, velocities)"
+        )
+    return data.qpos, data.qvel
+
+
+class BlackBox:
+    """An environment run as one episode per parameter vector.
+
+    ``env``: a Gymnasium environment with a one-dimensional ``Box``
+    action space. ``movement``: a discrete ``primo.Dmp`` (``theta`` is
+    its ``params``) or a ``primo.Generalizer`` (``theta`` is
+    ``[q̂, Δθ]``, the movement ``G(q̂) + Δθ``, the layout of ``Power``
+    with a ``query_gain``; see ``episode`` for the shorter forms).
+    ``tracking``: how the movement's desired positions ``y`` and
+    velocities ``ẏ`` become actions, clipped to the action space:
+    ``"pd"`` torques ``kp (y − x) + kd (ẏ − ẋ)`` toward the next
+    sample; ``"velocity"`` the step's mean velocity ``(y_next − y_now) /
+    dt + kp (y_now − x)``; ``"position"`` the next ``y``; ``"delta"`` a
+    position step ``kp (y_next − x)`` (Metaworld's Cartesian actions, about
+    ``kp = 50``). ``state(env, obs) -> (x, ẋ)``: the tracked positions
+    and velocities (``ẋ`` may be None unless ``"pd"`` uses ``kd``);
+    by default the MuJoCo joints ``env.unwrapped.data.qpos, qvel``. The
+    movement's first DoFs are tracked, one per action value; DoFs beyond
+    the state's (a gripper command) are passed to the next action values
+    as they are, and the actions left over are 0. ``reset(env, context,
+    seed) -> obs`` sets the context; by default ``env.reset(seed=seed,
+    options={"context": context})``. ``query(context)``: the
+    ``Generalizer``'s query for a context (the context itself by
+    default). ``success(env, obs, info) -> bool``: the success test
+    after each step (default: ``info["success"]``, if given). ``error(env,
+    obs, info) -> vector``: the error ``desired − measured`` after the
+    last step, for error learning. ``dt``: the environment's step, s
+    (default ``env.unwrapped.dt``). ``hold``: steps after the movement
+    ends, holding its goal. ``stop_on_success``: end the episode at the
+    first success (as Metaworld's evaluation does).
+
+    >>> import gymnasium, numpy as np, primo, primo.gym
+    >>> env = gymnasium.make("Reacher-v5")
+    >>> t = np.linspace(0.0, 0.6, 31)
+    >>> dmp = primo.Dmp.fit(t, np.outer(t / 0.6, [0.5, 1.0]), names=["j0", "j1"], kernels=10)
+    >>> box = primo.gym.BlackBox(env, dmp, tracking="pd", kp=2.0, kd=0.1,
+    ...                          error=lambda env, obs, info: -obs[8:10])
+    >>> episode = box.episode(box.initial(), seed=0)
+    >>> episode.steps, episode.error.shape
+    (40, (2,))
+    """
+
+    def __init__(
+        self,
+        env: Any,
+        movement: Union[Dmp, Generalizer],
+        tracking: str = "pd",
+        kp: float = 1.0,
+        kd: float = 0.0,
+        state: Optional[State] = None,
+        reset: Optional[Callable[[Any, Any, Optional[int]], Any]] = None,
+        query: Optional[Callable[[Any], Any]] = None,
+        success: Optional[Callable[[Any, np.ndarray, dict], bool]] = None,
+        error: Optional[Callable[[Any, np.ndarray, dict], Any]] = None,
+        dt: Optional[float] = None,
+        hold: int = 10,
+        stop_on_success: bool = False,
+    ) -> None:
+        space = getattr(env, "action_space", None)
+        if not isinstance(space, spaces.Box) or len(space.shape) != 1:
+            raise TypeError(
+                f"env: its action space is {space}; BlackBox drives a one-dimensional Box "
+                "of joint torques, velocities, positions or position steps"
+            )
+        if tracking not in TRACKING:
+            raise ValueError(f"tracking: {tracking!r}, one of {', '.join(TRACKING)}")
+        if isinstance(movement, Generalizer):
+            self.generalizer: Optional[Generalizer] = movement
+            names = movement.names
+            example = movement.generalize(np.zeros(movement.query_dim))
+        elif isinstance(movement, Dmp):
+            if movement.rhythmic:
+                raise ValueError("movement: a rhythmic DMP; BlackBox runs discrete movements")
+            self.generalizer = None
+            names = movement.names
+            example = movement
+        else:
+            raise TypeError(f"movement: {type(movement).__name__}, expected a primo.Dmp or primo.Generalizer")
+        if example.dof != len(names) or example.orientations:
+            raise ValueError("movement: orientation DMPs cannot be tracked per action value; use position columns")
+        if example.dof > space.shape[0]:
+            raise ValueError(
+                f"movement: {example.dof} DoFs ({', '.join(names)}) but the action has {space.shape[0]} values"
+            )
+        if dt is None:
+            dt = getattr(env.unwrapped, "dt", None)
+            if dt is None:
+                raise ValueError("dt: the environment has no dt (env.unwrapped.dt); pass the step in seconds")
+        if not (np.isfinite(dt) and dt > 0):
+            raise ValueError(f"dt: {dt}, a positive number of seconds")
+        if hold < 0:
+            raise ValueError(f"hold: {hold}, at least 0 steps")
+        self.env = env
+        self.movement = movement
+        self.tracking = tracking
+        self.kp = float(kp)
+        self.kd = float(kd)
+        self.dt = float(dt)
+        self.hold = int(hold)
+        self.stop_on_success = stop_on_success
+        self._dmp = example
+        self._state = state if state is not None else (None if tracking == "position" else _mujoco_state)
+        self._reset = reset if reset is not None else _default_reset
+        self._query = query
+        self._success = success
+        self._error = error
+        self._low = np.asarray(space.low, dtype=np.float64)
+        self._high = np.asarray(space.high, dtype=np.float64)
+
+    @property
+    def size(self) -> int:
+        """The movement's parameter count ``n`` (``Δθ``'s length)."""
+        return len(self._dmp.params)
+
+    @property
+    def query_dim(self) -> int:
+        """The ``Generalizer``'s query length (0 for a plain DMP)."""
+        return 0 if self.generalizer is None else self.generalizer.query_dim
+
+    def query(self, context: Any) -> np.ndarray:
+        """The query of ``context`` (``query(context)``, or the context).
+
+        >>> import numpy as np, primo, primo.gym, gymnasium
+        >>> t = np.linspace(0.0, 1.0, 11)
+        >>> g = primo.Generalizer([(q, primo.Dmp.fit(t, q * t, kernels=5, margin=1)) for q in (1.0, 2.0)])
+        >>> primo.gym.BlackBox(gymnasium.make("Reacher-v5"), g).query(1.5).tolist()
+        [1.5]
+        """
+        if context is None:
+            raise ValueError("context: None; a Generalizer's movement needs the context its query comes from")
+        q = np.atleast_1d(np.asarray(self._query(context) if self._query else context, dtype=np.float64))
+        if q.shape != (self.query_dim,):
+            raise ValueError(f"context: its query has shape {q.shape}, the Generalizer's is ({self.query_dim},)")
+        return q
+
+    def initial(self, context: Any = None) -> np.ndarray:
+        """The parameters of the movement as given: a DMP's ``params``,
+        or a ``Generalizer``'s ``[q̂, 0…]`` at the query of ``context``.
+
+        >>> import numpy as np, primo, primo.gym, gymnasium
+        >>> dmp = primo.Dmp.fit(np.linspace(0, 1, 11), np.zeros((11, 2)), kernels=5)
+        >>> primo.gym.BlackBox(gymnasium.make("Reacher-v5"), dmp).initial().shape
+        (13,)
+        """
+        if self.generalizer is None:
+            return np.asarray(self._dmp.params, dtype=np.float64).copy()
+        return np.concatenate([self.query(context), np.zeros(self.size)])
+
+    def dmp(self, theta: Any, context: Any = None) -> Dmp:
+        """The DMP that ``theta`` stands for. A plain DMP's ``theta`` is
+        its ``params``. A ``Generalizer``'s is ``[q̂, Δθ]``, or ``Δθ``
+        alone (at the query of ``context``), or ``q̂`` alone (``Δθ = 0``:
+        the error learners' queries).
+
+        >>> import numpy as np, primo, primo.gym, gymnasium
+        >>> t = np.linspace(0.0, 1.0, 11)
+        >>> g = primo.Generalizer([(q, primo.Dmp.fit(t, q * t, kernels=5, margin=1)) for q in (1.0, 2.0)])
+        >>> box = primo.gym.BlackBox(gymnasium.make("Reacher-v5"), g)
+        >>> round(float(box.dmp([1.5]).goal[0]), 3)
+        1.5
+        """
+        theta = np.atleast_1d(np.asarray(theta, dtype=np.float64))
+        n, d = self.size, self.query_dim
+        if self.generalizer is None:
+            if theta.shape != (n,):
+                raise ValueError(f"theta: shape {theta.shape}, the DMP has {n} parameters")
+            return _with_params(Dmp.from_json(self._dmp.to_json()), theta)
+        if theta.shape == (d,):
+            return self.generalizer.generalize(theta)
+        if theta.shape == (n,):
+            q, delta = self.query(context), theta
+        elif theta.shape == (d + n,):
+            q, delta = theta[:d], theta[d:]
+        else:
+            raise ValueError(
+                f"theta: shape {theta.shape}; expected [q̂, Δθ] ({d + n}), Δθ ({n}) or q̂ ({d})"
+            )
+        dmp = self.generalizer.generalize(q)
+        return _with_params(dmp, np.asarray(dmp.params) + delta)
+
+    def episode(self, theta: Any, context: Any = None, seed: Optional[int] = None) -> Episode:
+        """Runs one episode: resets at ``context`` (with ``seed``), then
+        tracks the movement of ``theta`` (see ``dmp``) step by step. A
+        ``theta`` the DMP refuses is a rejected episode (see ``Episode``);
+        one of the wrong shape is a ``ValueError``.
+
+        >>> import gymnasium, numpy as np, primo, primo.gym
+        >>> dmp = primo.Dmp.fit(np.linspace(0, 0.4, 21), np.zeros((21, 2)), kernels=5)
+        >>> box = primo.gym.BlackBox(gymnasium.make("Reacher-v5"), dmp, kp=2.0, hold=5)
+        >>> box.episode(box.initial(), seed=1).steps
+        25
+        """
+        theta = np.atleast_1d(np.asarray(theta, dtype=np.float64))
+        try:
+            dmp = self.dmp(theta, context)
+        except _Rejected as e:
+            return Episode(float("nan"), False, None, 0, theta, str(e))
+        _, y, yd = dmp.run(dt=self.dt, velocities=True)
+        obs = self._reset(self.env, context, seed)
+        last = len(y) - 1
+        total, ever, reported, steps = 0.0, False, False, 0
+        info: dict = {}
+        for k in range(last + self.hold):
+            now, then = min(k, last), min(k + 1, last)
+            action = self._action(obs, y[then], yd[then], y[now])
+            obs, reward, terminated, truncated, info = self.env.step(action)
+            total += float(reward)
+            steps += 1
+            if self._success is not None:
+                ever |= bool(self._success(self.env, obs, info))
+                reported = True
+            elif "success" in info:
+                ever |= bool(info["success"])
+                reported = True
+            if terminated or truncated or (ever and self.stop_on_success):
+                break
+        error = None
+        if self._error is not None:
+            error = np.atleast_1d(np.asarray(self._error(self.env, obs, info), dtype=np.float64))
+        return Episode(total, ever if reported else None, error, steps, theta, None)
+
+    def _action(self, obs: Any, y: np.ndarray, yd: np.ndarray, y_now: np.ndarray) -> np.ndarray:
+        """The action toward ``y, yd`` (the next sample's) from the state
+        at the current sample, ``y_now``."""
+        action = np.zeros_like(self._low)
+        if self._state is None:  # "position": the desired positions are the action
+            action[: len(y)] = y
+            return np.clip(action, self._low, self._high)
+        x, xd = self._state(self.env, obs)
+        m = min(len(np.atleast_1d(x)), len(y))
+        x = np.asarray(x, dtype=np.float64)[:m]
+        if self.tracking == "pd":
+            u = self.kp * (y[:m] - x)
+            if self.kd:
+                if xd is None:
+                    raise ValueError("state: returns no velocities, which tracking='pd' with kd needs")
+                u += self.kd * (yd[:m] - np.asarray(xd, dtype=np.float64)[:m])
+        elif self.tracking == "velocity":  # the step's mean velocity, corrected where x is now
+            u = (y[:m] - y_now[:m]) / self.dt + self.kp * (y_now[:m] - x)
+        elif self.tracking == "delta":
+            u = self.kp * (y[:m] - x)
+        else:
+            u = y[:m]
+        action[:m] = u
+        action[m : len(y)] = y[m:]  # untracked DoFs (a gripper) as they are
+        return np.clip(action, self._low, self._high)
+
+    def learn(
+        self,
+        learner: Union[GoldenSection, Illinois, Secant, Power],
+        context: Any = None,
+        budget: int = 100,
+        reward: Optional[Callable[[Episode], float]] = None,
+        seed: Optional[int] = None,
+        until_success: bool = True,
+    ) -> list[Episode]:
+        """Lets a learner of primo's run episodes at ``context`` until it
+        is done, ``budget`` episodes are spent or, with
+        ``until_success``, an episode succeeds; returns the episodes.
+
+        ``GoldenSection``, ``Illinois`` and ``Secant`` ask queries of the
+        ``Generalizer`` and are told the episode's error (the ``error``
+        function is needed). ``Power`` asks ``theta`` in any form
+        ``dmp`` takes and is told ``reward(episode)`` (needed: a reward
+        >= 0, larger is better) and the error, when there is one.
+        ``seed``: every episode's reset seed.
+
+        >>> import gymnasium, numpy as np, primo, primo.gym
+        >>> dmp = primo.Dmp.fit(np.linspace(0, 0.4, 21), np.zeros((21, 2)), kernels=5)
+        >>> box = primo.gym.BlackBox(gymnasium.make("Reacher-v5"), dmp, kp=2.0)
+        >>> power = primo.Power(box.initial(), blocks=[(box.size, 0.1, 1.0)], seed=1)
+        >>> episodes = box.learn(power, budget=6, reward=lambda e: np.exp(e.episode_return), seed=0)
+        >>> len(episodes), power.rollouts
+        (6, 6)
+        """
+        if budget < 1:
+            raise ValueError(f"budget: {budget}, at least 1 episode")
+        if isinstance(learner, Power):
+            if reward is None:
+                raise ValueError(
+                    "reward: Power needs a reward >= 0 per episode, e.g. "
+                    "reward=lambda e: np.exp(-10 * np.linalg.norm(e.error))"
+                )
+        elif isinstance(learner, (GoldenSection, Illinois, Secant)):
+            if self.generalizer is None or self._error is None:
+                raise ValueError(
+                    f"learner: {type(learner).__name__} learns a Generalizer's query from the error; "
+                    "this BlackBox needs a Generalizer movement and error=..."
+                )
+        else:
+            raise TypeError(f"learner: {type(learner).__name__}, expected GoldenSection, Illinois, Secant or Power")
+        episodes: list[Episode] = []
+        while len(episodes) < budget:
+            theta = learner.ask()
+            if theta is None:  # an error learner that is done
+                break
+            episode = self.episode(theta, context, seed)
+            episodes.append(episode)
+            if until_success and episode.success:
+                break
+            if episode.rejected and not isinstance(learner, Power):
+                learner.tell_infeasible()
+            elif isinstance(learner, Power):
+                # A rejected roll-out: reward 0 (no weight) and, for a query
+                # gain, a zero error (the query stays).
+                r = 0.0 if episode.rejected else float(reward(episode))  # type: ignore[misc]
+                error = np.zeros(self.query_dim) if episode.rejected and self.query_dim else episode.error
+                if error is None:
+                    learner.tell(r)
+                else:
+                    learner.tell(r, error)
+            elif isinstance(learner, Secant):
+                learner.tell(episode.error)
+            else:
+                e = episode.error
+                if e is None or e.shape != (1,):
+                    raise ValueError(f"error: {type(learner).__name__} needs one error value, got {e}")
+                learner.tell(float(e[0]))
+        return episodes
+
+
+def metaworld_reset(env: Any, context: Sequence[float], seed: Optional[int] = None) -> np.ndarray:
+    """Resets a Metaworld v3 environment at ``context``, its task's
+    ``rand_vec`` (reach-v3: object xyz then goal xyz; push-v3: puck xyz
+    then goal xyz; button-press-v3: box xyz), with the goal observable,
+    through Metaworld's own ``set_task``; ``seed`` is unused (Metaworld
+    resets deterministically). Pass it as ``BlackBox(..., reset=primo.gym.metaworld_reset)``.
+    The context ``env._random_reset_space`` draws is what Metaworld's own
+    tasks use; reach-v3 and push-v3 loop forever on an object within
+    0.15 m of the goal (in x, y).
+
+    >>> from metaworld.env_dict import ALL_V3_ENVIRONMENTS
+    >>> import primo.gym
+    >>> env = ALL_V3_ENVIRONMENTS["reach-v3"]()
+    >>> obs = primo.gym.metaworld_reset(env, [0.0, 0.6, 0.02, 0.05, 0.85, 0.2])
+    >>> [round(float(v), 2) for v in obs[-3:]]
+    [0.05, 0.85, 0.2]
+    """
+    from metaworld.types import Task
+
+    data = {"rand_vec": np.asarray(context, dtype=np.float64), "env_cls": type(env), "partially_observable": False}
+    env.set_task(Task(env_name=type(env).__name__, data=pickle.dumps(data)))
+    return env.reset()[0]
