@@ -60,7 +60,9 @@ def _power(query_gain: float) -> Callable:
         kernels = box.dmp(box.query(context)).kernels
         blocks += [(kernels, float(sigma[i] ** 2), 1.0) for i in range(0, weights, kernels)]
         blocks += [(1, float(v**2), 1.0) for v in sigma[weights:]]  # goals, τ
-        learner = primo.Power(box.initial(context), blocks=blocks, seed=seed, query_gain=query_gain)
+        learner = primo.Power(
+            box.initial(context), blocks=blocks, seed=seed, query_gain=query_gain, query=box.query_dim
+        )
         reward = lambda e: float(np.exp(-np.linalg.norm(e.error) / problem.tolerance))  # noqa: E731
         return box.learn(learner, context, budget, reward=reward, seed=seed)
 

@@ -103,6 +103,7 @@ def test_power_learns_query_and_shape_together(generalizer):
         blocks=[(d, 1e-4, 1.0), (n - 3, 1.0, 1.0), (3, 1e-6, 1.0)],
         seed=3,
         query_gain=0.5,
+        query=d,
     )
     episodes = box.learn(
         power, context, budget=12, reward=lambda e: float(np.exp(-20 * np.linalg.norm(e.error))), seed=0
@@ -224,6 +225,6 @@ def test_parameters_the_dmp_refuses_are_a_rejected_episode(generalizer):
     assert episode.rejected and "tau" in episode.rejected
     assert episode.steps == 0 and episode.success is False and np.isnan(episode.episode_return)
     d, n = box.query_dim, box.size
-    power = primo.Power(theta, blocks=[(d, 1e-4, 1.0), (n, 1e-6, 1.0)], query_gain=0.5)
+    power = primo.Power(theta, blocks=[(d, 1e-4, 1.0), (n, 1e-6, 1.0)], query_gain=0.5, query=d)
     episodes = box.learn(power, DEMOS[0], budget=4, reward=lambda e: 1.0)
     assert all(e.rejected for e in episodes) and power.rollouts == 4

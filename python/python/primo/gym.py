@@ -115,7 +115,7 @@ class BlackBox:
     action space. ``movement``: a discrete ``primo.Dmp`` (``theta`` is
     its ``params``) or a ``primo.Generalizer`` (``theta`` is
     ``[q̂, Δθ]``, the movement ``G(q̂) + Δθ``, the layout of ``Power``
-    with a ``query_gain``; see ``episode`` for the shorter forms).
+    with ``query=len(q̂)``; see ``episode`` for the shorter forms).
     ``tracking``: how the movement's desired positions ``y`` and
     velocities ``ẏ`` become actions, clipped to the action space:
     ``"pd"`` torques ``kp (y − x) + kd (ẏ − ẋ)`` toward the next
@@ -439,11 +439,13 @@ def metaworld_reset(env: Any, context: Sequence[float], seed: Optional[int] = No
     tasks use; reach-v3 and push-v3 loop forever on an object within
     0.15 m of the goal (in x, y).
 
-    >>> from metaworld.env_dict import ALL_V3_ENVIRONMENTS
+    With Metaworld installed (``bench/suite/run.sh`` installs it):
+
+    >>> from metaworld.env_dict import ALL_V3_ENVIRONMENTS  # doctest: +SKIP
     >>> import primo.gym
-    >>> env = ALL_V3_ENVIRONMENTS["reach-v3"]()
-    >>> obs = primo.gym.metaworld_reset(env, [0.0, 0.6, 0.02, 0.05, 0.85, 0.2])
-    >>> [round(float(v), 2) for v in obs[-3:]]
+    >>> env = ALL_V3_ENVIRONMENTS["reach-v3"]()  # doctest: +SKIP
+    >>> obs = primo.gym.metaworld_reset(env, [0.0, 0.6, 0.02, 0.05, 0.85, 0.2])  # doctest: +SKIP
+    >>> [round(float(v), 2) for v in obs[-3:]]  # doctest: +SKIP
     [0.05, 0.85, 0.2]
     """
     from metaworld.types import Task
