@@ -411,14 +411,16 @@ class BlackBox:
             if episode.rejected and not isinstance(learner, Power):
                 learner.tell_infeasible()
             elif isinstance(learner, Power):
-                # A rejected roll-out: reward 0 (no weight) and, for a query
-                # gain, a zero error (the query stays).
+                # A rejected roll-out: reward 0 (no weight) and, for a query,
+                # a zero error (the query stays). A PoWER without a query
+                # takes no error, whatever the episode measured.
                 r = 0.0 if episode.rejected else float(reward(episode))  # type: ignore[misc]
-                error = np.zeros(self.query_dim) if episode.rejected and self.query_dim else episode.error
-                if error is None:
+                if not learner.query:
                     learner.tell(r)
+                elif episode.rejected or episode.error is None:
+                    learner.tell(r, np.zeros(learner.query))
                 else:
-                    learner.tell(r, error)
+                    learner.tell(r, episode.error)
             elif isinstance(learner, Secant):
                 learner.tell(episode.error)
             else:
