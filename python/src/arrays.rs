@@ -4,6 +4,9 @@
 //! the message). Sample times are taken relative to the first in f64
 //! first ([`times`]).
 
+use std::borrow::Cow;
+
+use numpy::ndarray::ArrayViewD;
 use numpy::{
     AllowTypeChange, PyArray1, PyArray2, PyArrayLikeDyn, PyArrayMethods, PyUntypedArrayMethods,
 };
@@ -48,15 +51,20 @@ fn check_1d(what: &str, a: &Array<'_>, scalar_ok: bool) -> PyResult<()> {
 pub fn vector(what: &str, a: &Array<'_>, scalar_ok: bool) -> PyResult<Vec<f32>> {
     check_1d(what, a, scalar_ok)?;
     let view = a.as_array();
-    let at = |i: usize| format!("[{i}]");
+    finite(what, &row_major(&view), |i| format!("[{i}]"))
+}
+
+/// The array's values in row-major order: its memory when C-contiguous
+/// (iterating a dynamic-dimension view costs 20 ns a value), else a copy
+/// (a transpose, a slice).
+fn row_major<'a>(view: &'a ArrayViewD<'_, f64>) -> Cow<'a, [f64]> {
     match view.as_slice() {
-        Some(values) => finite(what, values, at),
-        None => finite(what, &view.iter().copied().collect::<Vec<_>>(), at),
+        Some(values) => Cow::Borrowed(values),
+        None => Cow::Owned(view.iter().copied().collect()),
     }
 }
 
-/// Every value as a finite f32; `at(i)` names value `i`'s place. A plain
-/// loop over a slice: iterating a dynamic-dimension view costs 20 ns a value.
+/// Every value as a finite f32; `at(i)` names value `i`'s place.
 fn finite(what: &str, values: &[f64], at: impl Fn(usize) -> String) -> PyResult<Vec<f32>> {
     values
         .iter()
@@ -70,8 +78,9 @@ fn finite(what: &str, values: &[f64], at: impl Fn(usize) -> String) -> PyResult<
 /// subtracted in f64 before rounding ([`primo_skill::stamps`]).
 pub fn times(what: &str, a: &Array<'_>) -> PyResult<Vec<f32>> {
     check_1d(what, a, false)?;
+    let view = a.as_array();
     let mut stamps = Stamps::new();
-    a.as_array()
+    row_major(&view)
         .iter()
         .enumerate()
         .map(|(i, &t)| {
@@ -97,12 +106,7 @@ pub fn matrix(what: &str, a: &Array<'_>) -> PyResult<(usize, usize, Vec<f32>)> {
     };
     let view = a.as_array();
     let at = |i: usize| format!("[{}, {}]", i / cols.max(1), i % cols.max(1));
-    let values = match view.as_slice() {
-        Some(values) => finite(what, values, at)?,
-        // Not C-contiguous (a transpose, a slice): copied in row-major order.
-        None => finite(what, &view.iter().copied().collect::<Vec<_>>(), at)?,
-    };
-    Ok((rows, cols, values))
+    Ok((rows, cols, finite(what, &row_major(&view), at)?))
 }
 
 /// f32 values as a float64 array.
