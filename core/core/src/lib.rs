@@ -20,6 +20,8 @@
 //!   and Cartesian DMPs (position and orientation on one phase);
 //!   [`tangent`]: orientations as rotation vectors at a reference, the way
 //!   [`generalize::orientation`] combines them over a query.
+//! - [`coupling`]: obstacles, joint limits and phase stopping, as terms a
+//!   running DMP takes each step.
 //! - [`rhythmic`]: periodic DMPs, frequency and amplitude changed online.
 //! - [`normal`]: a seedable standard-normal sampler on any [`rand_core::Rng`].
 //! - [`linalg`]: Cholesky factorization and solves of symmetric
@@ -65,6 +67,7 @@
 #[cfg(test)]
 extern crate std;
 
+pub mod coupling;
 pub mod dmp;
 mod error;
 pub mod generalize;
@@ -80,5 +83,6 @@ pub mod rng;
 pub mod secant;
 mod spring;
 pub mod tangent;
+mod vec3;
 
 pub use error::{Error, check_capacity, check_len};

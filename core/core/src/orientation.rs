@@ -73,6 +73,7 @@ use serde::{Deserialize, Serialize};
 use crate::Error;
 use crate::dmp::{Dmp, Execution, FitOptions, Run, Scaling};
 use crate::quaternion::Quaternion;
+use crate::vec3::{cross, dot, mix, norm};
 
 /// Normalized quaternions of a recording (`[w, x, y, z]` rows).
 fn rows(quaternions: &[f32]) -> impl DoubleEndedIterator<Item = Result<Quaternion, Error>> + '_ {
@@ -195,26 +196,6 @@ fn damped_step(e: &[f32; 3], residual: &[f32; 3]) -> [f32; 3] {
         -scale * b,
         &turned,
     )
-}
-
-/// `a x + b y`.
-fn mix(a: f32, x: &[f32; 3], b: f32, y: &[f32; 3]) -> [f32; 3] {
-    let ([x0, x1, x2], [y0, y1, y2]) = (x, y);
-    [a * x0 + b * y0, a * x1 + b * y1, a * x2 + b * y2]
-}
-
-fn norm(v: &[f32; 3]) -> f32 {
-    libm::sqrtf(dot(v, v))
-}
-
-fn dot(a: &[f32; 3], b: &[f32; 3]) -> f32 {
-    let ([a0, a1, a2], [b0, b1, b2]) = (a, b);
-    a0 * b0 + a1 * b1 + a2 * b2
-}
-
-fn cross(a: &[f32; 3], b: &[f32; 3]) -> [f32; 3] {
-    let ([a0, a1, a2], [b0, b1, b2]) = (a, b);
-    [a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0]
 }
 
 /// Where the rotation-vector chart is used as it is: a recording whose

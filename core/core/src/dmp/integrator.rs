@@ -8,6 +8,7 @@ use super::options::{MAX_ABS_POSITION, check_tau};
 #[cfg(feature = "global-scaling")]
 use super::turn::Turn;
 use crate::Error;
+use crate::coupling::Coupling;
 use crate::error::{check_bounded, check_finite, check_len, check_positive};
 use crate::spring::{add_compensated, transition_step};
 
@@ -219,6 +220,28 @@ impl<const D: usize> Run<D> {
         .and_then(|()| self.step(dmp, dt));
         self.goal = goal;
         stepped
+    }
+
+    /// [`Run::step_coupled`] with the sum of `terms`, each computed from
+    /// the run's position and velocity before the step.
+    pub fn step_with<const K: usize>(
+        &mut self,
+        dmp: &Dmp<D, K>,
+        dt: f32,
+        terms: &[&dyn Coupling],
+    ) -> Result<(), Error> {
+        let now = self.sample();
+        let dof = self.dof;
+        let (position, velocity) = match (now.position.get(..dof), now.velocity.get(..dof)) {
+            (Some(p), Some(v)) => (p, v),
+            _ => return Err(Error::BadState("run DoF beyond its capacity")),
+        };
+        let mut coupling = [0.0f32; D];
+        let acceleration = coupling.get_mut(..dof).unwrap_or(&mut []);
+        for term in terms {
+            term.add_to(position, velocity, acceleration)?;
+        }
+        self.step_coupled(dmp, dt, acceleration)
     }
 
     /// Feeds back a measured state, for closed-loop execution (as
