@@ -2,8 +2,10 @@
 
 use std::path::{Path, PathBuf};
 
+use primo_core::coupling::Sphere;
 use primo_core::dmp::{Margin, max_margin};
 use primo_skill::MAX_KERNELS;
+use primo_skill::coupled::{Avoidance, MAX_OBSTACLES, OVERTIME};
 use primo_skill::csv::{parse_demo, write_rows};
 use primo_skill::dmpfile::{
     self, AmplitudeScaling, Change, DmpFile, Fitted, MAX_ROWS, RhythmicFile,
@@ -95,6 +97,21 @@ pub enum DmpCommand {
         #[arg(long = "change", value_name = "T KEY=VALUE ...", allow_hyphen_values = true,
               conflicts_with_all = ["tau", "start", "goal"])]
         changes: Vec<String>,
+        /// A sphere to steer round, "X,Y,Z,R" in the units of the position
+        /// columns (R ≥ 0; 0 is a point); repeat for more (up to 16). The
+        /// run then goes on past τ until it reaches its goal (at most 3τ
+        /// in all).
+        #[arg(long = "obstacle", value_name = "X,Y,Z,R", allow_hyphen_values = true,
+              conflicts_with_all = ["duration", "frequency", "amplitude", "anchor", "changes"])]
+        obstacles: Vec<String>,
+        /// The three position columns the obstacles are in.
+        #[arg(
+            long,
+            value_name = "X,Y,Z",
+            default_value = "x,y,z",
+            requires = "obstacles"
+        )]
+        obstacle_columns: String,
         /// Output CSV file (stdout when absent).
         #[arg(long)]
         out: Option<PathBuf>,
@@ -130,6 +147,8 @@ pub fn run(command: DmpCommand) -> Result<(), CliError> {
             amplitude,
             anchor,
             changes,
+            obstacles,
+            obstacle_columns,
             out,
         } => {
             let file = dmp.display().to_string();
@@ -154,7 +173,9 @@ pub fn run(command: DmpCommand) -> Result<(), CliError> {
                              not a rhythmic DMP"
                         )));
                     }
-                    run_discrete(&file, &dmp, dt, tau, start.as_deref(), goal.as_deref())?
+                    let avoid = avoidance(&obstacles, &obstacle_columns)?;
+                    let ends = (start.as_deref(), goal.as_deref());
+                    run_discrete(&file, &dmp, dt, tau, ends, avoid.as_ref())?
                 }
                 Fitted::Rhythmic(dmp) => {
                     let from_start = Change {
@@ -261,14 +282,56 @@ pub fn parse_vector(flag: &str, text: &str, names: &[String]) -> Result<Vec<f32>
         .collect()
 }
 
-/// The rows of a discrete DMP's run, as CSV.
+/// `--obstacle X,Y,Z,R ...` and `--obstacle-columns`: none when no
+/// obstacle is given.
+fn avoidance(obstacles: &[String], columns: &str) -> Result<Option<Avoidance>, CliError> {
+    if obstacles.is_empty() {
+        return Ok(None);
+    }
+    let mut spheres = Vec::new();
+    for text in obstacles {
+        let bad = |why: &str| CliError::input(format!("--obstacle {text}: {why}"));
+        let values: Vec<f32> = text
+            .split(',')
+            .map(|v| v.trim().parse::<f32>())
+            .collect::<Result<_, _>>()
+            .map_err(|_| bad("expected four numbers X,Y,Z,R"))?;
+        match values[..] {
+            [x, y, z, r] if values.iter().all(|v| v.is_finite()) && r >= 0.0 => {
+                spheres.push(Sphere {
+                    center: [x, y, z],
+                    radius: r,
+                });
+            }
+            [_, _, _, r] if r < 0.0 => return Err(bad("the radius R must be >= 0")),
+            _ => return Err(bad("expected four finite numbers X,Y,Z,R")),
+        }
+    }
+    if spheres.len() > MAX_OBSTACLES {
+        return Err(CliError::input(format!(
+            "--obstacle: {} given, at most {MAX_OBSTACLES}",
+            spheres.len()
+        )));
+    }
+    let names: Vec<String> = columns.split(',').map(|n| n.trim().to_string()).collect();
+    let columns: [String; 3] = names.try_into().map_err(|names: Vec<String>| {
+        CliError::input(format!(
+            "--obstacle-columns {columns}: expected three column names, found {}",
+            names.len()
+        ))
+    })?;
+    Ok(Some(Avoidance { spheres, columns }))
+}
+
+/// The rows of a discrete DMP's run, as CSV: steered round `avoid`'s
+/// obstacles when there are any.
 fn run_discrete(
     file: &str,
     dmp: &DmpFile,
     dt: f32,
     tau: Option<f32>,
-    start: Option<&str>,
-    goal: Option<&str>,
+    (start, goal): (Option<&str>, Option<&str>),
+    avoid: Option<&Avoidance>,
 ) -> Result<Vec<u8>, CliError> {
     if let Some(tau) = tau
         && !(tau.is_finite() && tau > 0.0)
@@ -284,13 +347,25 @@ fn run_discrete(
         .map(|text| parse_vector("--goal", text, &dmp.names))
         .transpose()?;
     let duration = tau.unwrap_or(dmp.dmp.tau());
-    check_rows(dt, duration, "tau")?;
-    let trajectory = dmp
-        .run(dt, tau, start.as_deref(), goal.as_deref())
-        .map_err(|e| CliError::input(format!("{file}: {e}")))?;
+    let movement = |e| CliError::input(format!("{file}: {e}"));
     let mut buf = Vec::new();
-    write_rows(&mut buf, &dmp.names, trajectory)
-        .map_err(|e| CliError::other(format!("writing the trajectory: {e}")))?;
+    let written = match avoid {
+        None => {
+            check_rows(dt, duration, "tau")?;
+            let trajectory = dmp
+                .run(dt, tau, start.as_deref(), goal.as_deref())
+                .map_err(movement)?;
+            write_rows(&mut buf, &dmp.names, trajectory)
+        }
+        Some(avoid) => {
+            check_rows(dt, duration * (1.0 + OVERTIME), "tau (3τ with obstacles)")?;
+            let rows = dmp
+                .run_avoiding(dt, tau, start.as_deref(), goal.as_deref(), avoid)
+                .map_err(movement)?;
+            write_rows(&mut buf, &dmp.names, rows.into_iter())
+        }
+    };
+    written.map_err(|e| CliError::other(format!("writing the trajectory: {e}")))?;
     Ok(buf)
 }
 

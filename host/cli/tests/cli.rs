@@ -733,3 +733,81 @@ fn a_rhythmic_fit_replays_faster_and_wider() {
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("--period"), "{err}");
 }
+
+/// `dmp run --obstacle`: a 0.6 m reach in `x` passing 1 cm from a 5 cm
+/// ball's centre keeps out of it and ends at its goal (a little after τ);
+/// a ball on the start, a malformed or misplaced obstacle and one that
+/// blocks the way each get a one-line error and status 2.
+#[test]
+fn dmp_run_steers_round_an_obstacle_and_refuses_what_it_cannot() {
+    let demo = tmp("straight.csv");
+    let mut text = String::from("t,x,y,z\n");
+    for i in 0..=100 {
+        let t = i as f32 / 100.0;
+        let s = t * t * t * (10.0 - 15.0 * t + 6.0 * t * t);
+        text.push_str(&format!("{t},{},0.1,0.2\n", 0.6 * s));
+    }
+    std::fs::write(&demo, text).unwrap();
+    let (json, _) = fit_to(&demo, &["--kernels", "20"], "straight.json");
+    let json = json.to_str().unwrap();
+    let run = |extra: &[&str]| {
+        let mut args = vec!["dmp", "run", json, "--dt", "0.002"];
+        args.extend(extra);
+        primo(&args)
+    };
+    let (code, csv, err) = run(&["--obstacle", "0.3,0.11,0.2,0.05"]);
+    assert_eq!(code, 0, "{err}");
+    let rows: Vec<Vec<f64>> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    let clearance = rows
+        .iter()
+        .map(|r| {
+            ((r[1] - 0.3).powi(2) + (r[2] - 0.11).powi(2) + (r[3] - 0.2).powi(2)).sqrt() - 0.05
+        })
+        .fold(f64::INFINITY, f64::min);
+    assert!(clearance > 0.0, "entered the ball: {clearance}");
+    let last = rows.last().unwrap();
+    assert!(last[0] >= 1.0 && last[0] < 3.0, "ended at {} s", last[0]);
+    assert!(
+        (last[1] - 0.6).abs() < 1e-3 && (last[2] - 0.1).abs() < 1e-3,
+        "{last:?}"
+    );
+    for (args, says) in [
+        (
+            &["--obstacle", "0,0.1,0.2,0.05"][..],
+            "obstacle 1 (centre 0,0.1,0.2, radius 0.05): out of range: an obstacle holds the \
+             movement's start",
+        ),
+        (
+            &["--obstacle", "0.3,0.1"],
+            "--obstacle 0.3,0.1: expected four finite numbers X,Y,Z,R",
+        ),
+        (
+            &["--obstacle", "0.3,0.1,0.2,-1"],
+            "--obstacle 0.3,0.1,0.2,-1: the radius R must be >= 0",
+        ),
+        (
+            &[
+                "--obstacle",
+                "0.3,0.1,0.2,0.1",
+                "--obstacle-columns",
+                "x,y,w",
+            ],
+            "obstacles: no position column `w` among x,y,z",
+        ),
+        (
+            &["--obstacle", "0.3,0.1,0.2,0.2"],
+            "the obstacles keep the movement",
+        ),
+    ] {
+        let (code, out, err) = run(args);
+        assert_eq!((code, out.as_str()), (2, ""), "{args:?}: {err}");
+        assert!(
+            err.contains(says) && err.lines().count() == 1,
+            "{args:?}: {err}"
+        );
+    }
+}

@@ -703,6 +703,17 @@ impl DmpFile {
         })
     }
 
+    /// The DMP's DoF that holds the scalar column `name`, if there is one
+    /// (not an orientation's).
+    pub fn scalar_dof(&self, name: &str) -> Option<usize> {
+        layout(&self.names)
+            .into_iter()
+            .find(|s| {
+                s.kind == Column::Scalar && self.names.get(s.column).is_some_and(|n| n == name)
+            })
+            .map(|s| s.dof)
+    }
+
     fn check_len(&self, flag: &str, values: &[f32]) -> Result<(), Error> {
         if values.len() != self.names.len() {
             return Err(Error::Movement(format!(

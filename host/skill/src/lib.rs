@@ -1,12 +1,14 @@
 //! primo's skills: demonstrations fitted as DMPs, generalized over a task
 //! query, planned, and checked by the safety gate.
 //!
+//! - [`coupled`]: a DMP's run steered round obstacles.
 //! - [`csv`]: demonstration and trajectory CSV files (`t,<DoF names>`).
 //! - [`dmpfile`]: the versioned JSON format of a fitted DMP.
 //! - [`stamps`]: sample times taken relative to the first sample.
 //! - [`skill`]: demonstrations → DMPs → generalization → checked plans.
 #![deny(missing_docs)]
 
+pub mod coupled;
 pub mod csv;
 pub mod dmpfile;
 mod error;
