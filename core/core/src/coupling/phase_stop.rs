@@ -48,12 +48,13 @@ impl PhaseStop {
             .map(|(m, c)| (m - c) * (m - c))
             .sum();
         let slowed = dt / (1.0 + self.gain * lag);
-        // An infinite lag or gain would stop the clock for good; the
-        // smallest positive step keeps the run a run.
+        // A lag so large the step underflows (or the slowing overflows)
+        // would stop the clock for good; the smallest normal step (or `dt`
+        // itself, if smaller) keeps the run a run.
         Ok(if slowed > 0.0 {
             slowed
         } else {
-            f32::MIN_POSITIVE
+            dt.min(f32::MIN_POSITIVE)
         })
     }
 }
