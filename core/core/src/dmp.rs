@@ -94,6 +94,7 @@ mod model;
 mod options;
 #[cfg(feature = "global-scaling")]
 mod turn;
+mod via;
 
 pub use integrator::{Run, Sample, Trajectory};
 pub use model::{Dmp, Execution, Shape};
@@ -103,3 +104,4 @@ pub use options::{
     DEFAULT_OVERLAP, FitOptions, KERNEL_CUTOFF, LEARNING_OVERLAP, MAX_ABS_POSITION, MAX_ABS_WEIGHT,
     MAX_ALPHA, MIN_ALPHA, MIN_TAU, Margin, Scaling, max_margin,
 };
+pub use via::{MAX_VIA_POINTS, ViaPoint};

@@ -207,6 +207,12 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
         self.weights.get(d).map_or(&[], |w| w.as_slice())
     }
 
+    /// Kernel `k`'s weight of DoF `d`, to change in place (unchecked
+    /// against [`MAX_ABS_WEIGHT`]: the caller checks).
+    pub(crate) fn weight_mut(&mut self, d: usize, k: usize) -> Option<&mut f32> {
+        self.weights.get_mut(d)?.get_mut(k)
+    }
+
     /// Length of the parameter vector: `dof·kernels + dof + 1`.
     pub fn param_len(&self) -> usize {
         self.dof() * self.kernels() + self.dof() + 1
