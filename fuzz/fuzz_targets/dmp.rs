@@ -8,7 +8,7 @@
 use arbitrary::{Result, Unstructured};
 use libfuzzer_sys::fuzz_target;
 use primo_core::dmp::{
-    Dmp, Execution, FitOptions, MAX_ABS_POSITION, MAX_ABS_WEIGHT, Margin, Scaling, Shape,
+    Dmp, Execution, FinalVelocity, FitOptions, MAX_ABS_POSITION, MAX_ABS_WEIGHT, Margin, Scaling, Shape,
 };
 use primo_fuzz::{num, positive};
 
@@ -50,6 +50,10 @@ fn options(u: &mut Unstructured) -> Result<FitOptions> {
         margin: match u.int_in_range(0..=1)? {
             0 => Margin::Auto,
             _ => Margin::Spacings(margin(u)?),
+        },
+        final_velocity: match u.arbitrary()? {
+            true => FinalVelocity::Demonstrated,
+            false => FinalVelocity::AtRest,
         },
     })
 }
@@ -120,6 +124,13 @@ fn integrate(u: &mut Unstructured, dmp: &mut Dmp<D, K>) -> Result<()> {
     }
     if u.ratio(1, 2)? {
         exec.tau = positive(u, 10.0)?;
+    }
+    if u.ratio(1, 4)? {
+        // A hit or a throw: the goal moving at some velocity until τ.
+        exec.goal_velocity.clear();
+        for _ in 0..u.int_in_range(0..=dmp.dof() + 1)? {
+            let _ = exec.goal_velocity.push(num(u, 10.0)?);
+        }
     }
     if u.ratio(1, 4)? {
         // New weights, goals and τ: a learner's θ.

@@ -149,7 +149,7 @@ def test_scaling_is_the_command_lines(scaling, run_primo, tmp_path):
     dmp = primo.Dmp.fit(t, y, names=["x", "z"], scaling=scaling)
     cli = json.loads(run_primo("dmp", "fit", "--demo", str(REACH), "--scaling", scaling))
     ours = json.loads(dmp.to_json())
-    assert ours["version"] == cli["version"] == 5
+    assert ours["version"] == cli["version"] == 6
     for key in ["scaled", "reference", "margin", "width"]:
         assert ours["dmp"].get(key) == cli["dmp"].get(key), key
     assert ("reference" in ours["dmp"]) == (scaling == "global")

@@ -101,7 +101,8 @@ pub use model::{Dmp, Execution, Shape};
 pub(crate) use options::check_alpha;
 pub use options::{
     AUTO_MARGIN, AUTO_SAMPLES_PER_SPACING, AUTO_SCALING_MIN_FRACTION, DEFAULT_ALPHA,
-    DEFAULT_OVERLAP, FitOptions, KERNEL_CUTOFF, LEARNING_OVERLAP, MAX_ABS_POSITION, MAX_ABS_WEIGHT,
-    MAX_ALPHA, MIN_ALPHA, MIN_TAU, Margin, Scaling, max_margin,
+    DEFAULT_OVERLAP, FINAL_VELOCITY_WINDOW, FinalVelocity, FitOptions, KERNEL_CUTOFF,
+    LEARNING_OVERLAP, MAX_ABS_POSITION, MAX_ABS_WEIGHT, MAX_ALPHA, MIN_ALPHA, MIN_TAU, Margin,
+    Scaling, max_margin,
 };
 pub use via::{MAX_VIA_POINTS, ViaPoint};

@@ -493,6 +493,7 @@ impl<const K: usize> OrientationDmp<K> {
             tau: exec.tau,
             start: e.iter().copied().collect(),
             goal: [0.0; 3].iter().copied().collect(),
+            goal_velocity: heapless::Vec::new(),
         })?;
         Ok(OrientationRun {
             run,
@@ -514,6 +515,7 @@ impl<const K: usize> OrientationDmp<K> {
             tau: exec.tau,
             start: run.run.position().iter().copied().collect(),
             goal: [0.0; 3].iter().copied().collect(),
+            goal_velocity: heapless::Vec::new(),
         };
         let steps = self.log.trajectory(&log_exec, dt)?;
         let axis = self.axis;

@@ -39,6 +39,7 @@ fn run(dmp: &Dmp3, start: &[f32], goal: &[f32]) -> Vec<[f32; 3]> {
         tau: dmp.tau(),
         start: start.iter().copied().collect(),
         goal: goal.iter().copied().collect(),
+        goal_velocity: Default::default(),
     };
     let positions = dmp.trajectory(&exec, 1e-3).unwrap().map(|s| s.position);
     positions.collect()

@@ -3,13 +3,14 @@
 use std::path::{Path, PathBuf};
 
 use primo_core::coupling::Sphere;
-use primo_core::dmp::{Margin, max_margin};
+use primo_core::dmp::{FinalVelocity, FitOptions, Margin, max_margin};
 use primo_skill::MAX_KERNELS;
 use primo_skill::coupled::{Avoidance, MAX_OBSTACLES, OVERTIME};
 use primo_skill::csv::{parse_demo, write_rows};
 use primo_skill::dmpfile::{
     self, AmplitudeScaling, Change, DmpFile, Fitted, MAX_ROWS, RhythmicFile,
 };
+use primo_skill::shaping::Via;
 
 use crate::error::CliError;
 use crate::output::{check_out_file, emit, read};
@@ -55,6 +56,13 @@ pub enum DmpCommand {
             conflicts_with = "rhythmic"
         )]
         scaling: String,
+        /// The velocity at the goal: `rest` (the classic DMP, default) or
+        /// `demonstrated` (the recording's speed at its end, for a hit or a
+        /// throw: the goal moves at it until τ; `dmp run --goal-velocity`
+        /// changes it).
+        #[arg(long, default_value = "rest", value_parser = ["rest", "demonstrated"],
+              conflicts_with = "rhythmic")]
+        final_velocity: String,
         /// Output JSON file (stdout when absent).
         #[arg(long)]
         out: Option<PathBuf>,
@@ -97,6 +105,18 @@ pub enum DmpCommand {
         #[arg(long = "change", value_name = "T KEY=VALUE ...", allow_hyphen_values = true,
               conflicts_with_all = ["tau", "start", "goal"])]
         changes: Vec<String>,
+        /// The velocity at the goal, one value per column, per second: the
+        /// run reaches its goal at τ moving so (a DMP fitted with
+        /// `--final-velocity demonstrated` has its recording's).
+        #[arg(long, allow_hyphen_values = true,
+              conflicts_with_all = ["duration", "frequency", "amplitude", "anchor", "changes"])]
+        goal_velocity: Option<String>,
+        /// A via-point "T,COLUMN,VALUE": the column passes VALUE at T
+        /// seconds (0 < T < τ); repeat for more (up to 8). The DMP's
+        /// weights change least to pass them, without a refit.
+        #[arg(long = "via", value_name = "T,COLUMN,VALUE", allow_hyphen_values = true,
+              conflicts_with_all = ["duration", "frequency", "amplitude", "anchor", "changes"])]
+        vias: Vec<String>,
         /// A sphere to steer round, "X,Y,Z,R" in the units of the position
         /// columns (R ≥ 0; 0 is a point); repeat for more (up to 16). The
         /// run then goes on past τ until it reaches its goal (at most 3τ
@@ -128,12 +148,13 @@ pub fn run(command: DmpCommand) -> Result<(), CliError> {
             period,
             margin,
             scaling,
+            final_velocity,
             out,
         } => fit(
             &demo,
             kernels,
             rhythmic.then_some(period),
-            (&margin, &scaling),
+            (&margin, &scaling, &final_velocity),
             out.as_deref(),
         ),
         DmpCommand::Run {
@@ -147,6 +168,8 @@ pub fn run(command: DmpCommand) -> Result<(), CliError> {
             amplitude,
             anchor,
             changes,
+            goal_velocity,
+            vias,
             obstacles,
             obstacle_columns,
             out,
@@ -173,9 +196,18 @@ pub fn run(command: DmpCommand) -> Result<(), CliError> {
                              not a rhythmic DMP"
                         )));
                     }
-                    let avoid = avoidance(&obstacles, &obstacle_columns)?;
+                    let shape = Shape {
+                        goal_velocity: goal_velocity
+                            .map(|text| parse_vector("--goal-velocity", &text, &dmp.names))
+                            .transpose()?,
+                        vias: vias
+                            .iter()
+                            .map(|v| parse_via(v))
+                            .collect::<Result<_, _>>()?,
+                        avoid: avoidance(&obstacles, &obstacle_columns)?,
+                    };
                     let ends = (start.as_deref(), goal.as_deref());
-                    run_discrete(&file, &dmp, dt, tau, ends, avoid.as_ref())?
+                    run_discrete(&file, &dmp, dt, tau, ends, &shape)?
                 }
                 Fitted::Rhythmic(dmp) => {
                     let from_start = Change {
@@ -204,11 +236,15 @@ fn fit(
     demo_path: &Path,
     kernels: usize,
     rhythmic: Option<Option<f32>>,
-    (margin, scaling): (&str, &str),
+    (margin, scaling, final_velocity): (&str, &str, &str),
     out: Option<&Path>,
 ) -> Result<(), CliError> {
     // Clap kept to the names.
     let scaling = AmplitudeScaling::parse(scaling).unwrap_or_default();
+    let final_velocity = match final_velocity {
+        "demonstrated" => FinalVelocity::Demonstrated,
+        _ => FinalVelocity::AtRest,
+    };
     let file = demo_path.display().to_string();
     // A periodic DMP needs a kernel more than a discrete one.
     let fewest = if rhythmic.is_some() { 3 } else { 2 };
@@ -235,7 +271,14 @@ fn fit(
     }
     let demo = parse_demo(&file, &read(Some("--demo"), demo_path)?)?;
     let json = match rhythmic {
-        None => DmpFile::fit(&file, &demo, kernels, margin, scaling)?.to_json(),
+        None => {
+            let options = FitOptions {
+                margin,
+                final_velocity,
+                ..FitOptions::default()
+            };
+            DmpFile::fit_with(&file, &demo, kernels, (scaling, None), &options)?.to_json()
+        }
         Some(period) => RhythmicFile::fit(&file, &demo, kernels, period)?.to_json(),
     }
     .map_err(|e| CliError::other(format!("cannot serialize the DMP: {e}")))?;
@@ -323,15 +366,47 @@ fn avoidance(obstacles: &[String], columns: &str) -> Result<Option<Avoidance>, C
     Ok(Some(Avoidance { spheres, columns }))
 }
 
-/// The rows of a discrete DMP's run, as CSV: steered round `avoid`'s
-/// obstacles when there are any.
+/// How a discrete run is shaped beyond its start, goal and `τ`.
+struct Shape {
+    goal_velocity: Option<Vec<f32>>,
+    vias: Vec<Via>,
+    avoid: Option<Avoidance>,
+}
+
+/// `--via T,COLUMN,VALUE`.
+fn parse_via(text: &str) -> Result<Via, CliError> {
+    let bad = || {
+        CliError::input(format!(
+            "--via {text}: expected T,COLUMN,VALUE (seconds, a column's name, a number)"
+        ))
+    };
+    let mut parts = text.split(',').map(str::trim);
+    let (Some(time), Some(column), Some(value), None) =
+        (parts.next(), parts.next(), parts.next(), parts.next())
+    else {
+        return Err(bad());
+    };
+    match (time.parse::<f32>(), value.parse::<f32>()) {
+        (Ok(time), Ok(value)) if time.is_finite() && value.is_finite() && !column.is_empty() => {
+            Ok(Via {
+                time,
+                column: column.to_string(),
+                value,
+            })
+        }
+        _ => Err(bad()),
+    }
+}
+
+/// The rows of a discrete DMP's run, as CSV: with the velocity at the
+/// goal, through the via-points and round the obstacles `shape` gives.
 fn run_discrete(
     file: &str,
     dmp: &DmpFile,
     dt: f32,
     tau: Option<f32>,
     (start, goal): (Option<&str>, Option<&str>),
-    avoid: Option<&Avoidance>,
+    shape: &Shape,
 ) -> Result<Vec<u8>, CliError> {
     if let Some(tau) = tau
         && !(tau.is_finite() && tau > 0.0)
@@ -347,21 +422,33 @@ fn run_discrete(
         .map(|text| parse_vector("--goal", text, &dmp.names))
         .transpose()?;
     let duration = tau.unwrap_or(dmp.dmp.tau());
+    match shape.avoid {
+        None => check_rows(dt, duration, "tau")?,
+        Some(_) => check_rows(dt, duration * (1.0 + OVERTIME), "tau (3τ with obstacles)")?,
+    }
     let movement = |e| CliError::input(format!("{file}: {e}"));
+    let mut prepared = dmp
+        .prepare(tau, start.as_deref(), goal.as_deref())
+        .map_err(movement)?;
+    if let Some(v) = &shape.goal_velocity {
+        dmp.set_goal_velocity(&mut prepared, v).map_err(movement)?;
+    }
+    let bent;
+    let dmp = match shape.vias.is_empty() {
+        true => dmp,
+        false => {
+            bent = dmp.through(&prepared, dt, &shape.vias).map_err(movement)?;
+            &bent
+        }
+    };
     let mut buf = Vec::new();
-    let written = match avoid {
+    let written = match &shape.avoid {
         None => {
-            check_rows(dt, duration, "tau")?;
-            let trajectory = dmp
-                .run(dt, tau, start.as_deref(), goal.as_deref())
-                .map_err(movement)?;
-            write_rows(&mut buf, &dmp.names, trajectory)
+            let rows = dmp.run_prepared(&prepared, dt).map_err(movement)?;
+            write_rows(&mut buf, &dmp.names, rows)
         }
         Some(avoid) => {
-            check_rows(dt, duration * (1.0 + OVERTIME), "tau (3τ with obstacles)")?;
-            let rows = dmp
-                .run_avoiding(dt, tau, start.as_deref(), goal.as_deref(), avoid)
-                .map_err(movement)?;
+            let rows = dmp.run_avoiding(&prepared, dt, avoid).map_err(movement)?;
             write_rows(&mut buf, &dmp.names, rows.into_iter())
         }
     };

@@ -149,7 +149,7 @@ fn scaling_none_or_global_keeps_a_bump_whose_goal_meets_its_start() {
     std::fs::write(&demo, rise_and_bump()).unwrap();
     let height = |scaling: &str| {
         let (json, file) = fit_to(&demo, &["--scaling", scaling], &format!("{scaling}.json"));
-        assert_eq!(file["version"], 5);
+        assert_eq!(file["version"], 6);
         assert_eq!(file["dmp"].get("reference").is_some(), scaling == "global");
         // z's goal onto its start.
         let (code, csv, err) = primo(&["dmp", "run", json.to_str().unwrap(), "--goal", "0.6,0.1"]);
@@ -256,19 +256,21 @@ fn malformed_input_gets_a_one_line_error_and_status_2() {
     assert_eq!(code, 2);
     assert!(err.contains("broken.json:2:"), "{err}");
     let written = std::fs::read_to_string(&json).unwrap();
-    let future = written.replace("\"version\": 5", "\"version\": 6");
+    let future = written.replace("\"version\": 6", "\"version\": 7");
     std::fs::write(&broken, future).unwrap();
     let (code, _, err) = primo(&["dmp", "run", broken.to_str().unwrap()]);
     assert_eq!(code, 2);
-    assert!(err.contains("unsupported version 6"), "{err}");
-    // Version 4 (no orientation axis), version 3 (no scaling reference
-    // either), version 2 (no margin either) and version 1 (no orientations
-    // either) files still run, with no kernels beyond the ends.
+    assert!(err.contains("unsupported version 7"), "{err}");
+    // Version 5 (no goal velocity), version 4 (no orientation axis either),
+    // version 3 (no scaling reference either), version 2 (no margin either)
+    // and version 1 (no orientations either) files still run, with no
+    // kernels beyond the ends.
     let margin = written
         .lines()
         .find(|l| l.trim_start().starts_with("\"margin\":"))
         .unwrap();
-    let v4 = written.replace("\"version\": 5", "\"version\": 4");
+    let v5 = written.replace("\"version\": 6", "\"version\": 5");
+    let v4 = v5.replace("\"version\": 5", "\"version\": 4");
     let v3 = v4.replace("\"version\": 4", "\"version\": 3");
     let v2 = v3
         .replace("\"version\": 3", "\"version\": 2")
@@ -280,7 +282,7 @@ fn malformed_input_gets_a_one_line_error_and_status_2() {
         !v1.contains("orientations") && !v2.contains("margin"),
         "{v1}"
     );
-    for old in [v4, v3, v2, v1] {
+    for old in [v5, v4, v3, v2, v1] {
         std::fs::write(&broken, old).unwrap();
         let (code, _, err) = primo(&["dmp", "run", broken.to_str().unwrap()]);
         assert_eq!(code, 0, "{err}");
@@ -381,7 +383,7 @@ fn orientation_columns_fit_and_run_as_a_quaternion_dmp() {
     let demo = tmp("pour-yaw.csv");
     std::fs::write(&demo, csv).unwrap();
     let (json, file) = fit_to(&demo, &[], "pour-yaw.json");
-    assert_eq!(file["version"], 5);
+    assert_eq!(file["version"], 6);
     assert_eq!(
         file["orientations"][0]["columns"],
         serde_json::json!(["qw", "qx", "qy", "qz"])
@@ -533,7 +535,7 @@ fn a_screw_of_540_degrees_fits_replays_and_keeps_its_start_under_a_new_goal() {
     assert_eq!(code, 0, "{err}");
     let file: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
-    assert_eq!(file["version"], 5);
+    assert_eq!(file["version"], 6);
     let axis = file["orientations"][0]["axis"]
         .as_array()
         .expect("charted about its axis");
@@ -804,6 +806,83 @@ fn dmp_run_steers_round_an_obstacle_and_refuses_what_it_cannot() {
         ),
     ] {
         let (code, out, err) = run(args);
+        assert_eq!((code, out.as_str()), (2, ""), "{args:?}: {err}");
+        assert!(
+            err.contains(says) && err.lines().count() == 1,
+            "{args:?}: {err}"
+        );
+    }
+}
+
+/// A throw fitted with `--final-velocity demonstrated` keeps its end's
+/// speed (version 6 file, `goal_velocity`), `--goal-velocity` sets a new
+/// one, reached at the goal at τ; `--via` passes a column through a value
+/// at a time. Bad via-points and velocities get one line and status 2.
+#[test]
+fn dmp_run_reaches_a_goal_velocity_and_passes_via_points() {
+    let demo = tmp("throw.csv");
+    let mut text = String::from("t,x,y\n");
+    for i in 0..=500 {
+        let t = i as f64 / 500.0;
+        let x = -0.5 * (std::f64::consts::PI * t).sin() + 0.8 * t.powi(3);
+        text.push_str(&format!("{t},{x},{}\n", 0.1 * t * t * (3.0 - 2.0 * t)));
+    }
+    std::fs::write(&demo, text).unwrap();
+    let (json, file) = fit_to(&demo, &["--final-velocity", "demonstrated"], "throw.json");
+    assert_eq!(file["version"], 6);
+    let v = file["dmp"]["goal_velocity"][0].as_f64().unwrap();
+    // The recording ends at 0.5π + 2.4 ≈ 3.97 m/s.
+    assert!((v - 3.97).abs() < 0.1, "{v}");
+    let json = json.to_str().unwrap();
+    let rows = |extra: &[&str]| -> Vec<Vec<f64>> {
+        let mut args = vec!["dmp", "run", json, "--dt", "0.002"];
+        args.extend(extra);
+        let (code, csv, err) = primo(&args);
+        assert_eq!(code, 0, "{extra:?}: {err}");
+        csv.lines()
+            .skip(1)
+            .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+            .collect()
+    };
+    for (flag, speed) in [(None, v), (Some("1.5,0"), 1.5)] {
+        let run = rows(&flag.map_or(vec![], |f| vec!["--goal-velocity", f]));
+        let (a, b) = (&run[run.len() - 2], &run[run.len() - 1]);
+        let end_speed = (b[1] - a[1]) / (b[0] - a[0]);
+        assert!((b[1] - 0.8).abs() < 5e-3, "{flag:?}: ends at {}", b[1]);
+        assert!(
+            (end_speed - speed).abs() < 0.2,
+            "{flag:?}: ends at {end_speed} m/s"
+        );
+    }
+    let run = rows(&["--via", "0.5,y,0.3", "--via", "0.8,x,0.2"]);
+    assert!(
+        (run[250][0] - 0.5).abs() < 1e-9 && (run[250][2] - 0.3).abs() < 1e-4,
+        "{:?}",
+        run[250]
+    );
+    assert!((run[400][1] - 0.2).abs() < 1e-4, "{:?}", run[400]);
+    for (args, says) in [
+        (
+            &["--via", "1.5,y,0.3"][..],
+            "a via-point's time must lie within the movement",
+        ),
+        (
+            &["--via", "0.5,w,0.3"],
+            "via-point at 0.5 s: no position column `w` among x,y",
+        ),
+        (&["--via", "0.5,y"], "--via 0.5,y: expected T,COLUMN,VALUE"),
+        (
+            &["--via", "0.5,y,0.3", "--via", "0.5,y,0.4"],
+            "two ask one DoF for two places at once",
+        ),
+        (
+            &["--goal-velocity", "1"],
+            "--goal-velocity: expected 2 values",
+        ),
+    ] {
+        let mut all = vec!["dmp", "run", json];
+        all.extend(args);
+        let (code, out, err) = primo(&all);
         assert_eq!((code, out.as_str()), (2, ""), "{args:?}: {err}");
         assert!(
             err.contains(says) && err.lines().count() == 1,

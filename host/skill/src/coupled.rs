@@ -5,7 +5,7 @@
 use primo_core::coupling::{Coupling, Obstacles, Sphere};
 
 use crate::Error;
-use crate::dmpfile::DmpFile;
+use crate::dmpfile::{DmpFile, Prepared};
 
 /// The most obstacles one run avoids.
 pub const MAX_OBSTACLES: usize = 16;
@@ -28,20 +28,17 @@ pub struct Avoidance {
 }
 
 impl DmpFile {
-    /// [`DmpFile::run`] steered round `avoid`'s spheres, at steps of `dt`
-    /// from 0: the rows (time, one value per column). The detour takes
+    /// [`DmpFile::run_prepared`] steered round `avoid`'s spheres, at steps
+    /// of `dt` from 0: the rows (time, one value per column). The detour takes
     /// time, so the run goes on past `τ` until it is within [`ARRIVAL`] of
     /// its goal, for at most [`OVERTIME`]·`τ` more; a run the obstacles
     /// keep from its goal is an error that says by how much.
     pub fn run_avoiding(
         &self,
+        prepared: &Prepared,
         dt: f32,
-        tau: Option<f32>,
-        start: Option<&[f32]>,
-        goal: Option<&[f32]>,
         avoid: &Avoidance,
     ) -> Result<Vec<(f32, Vec<f32>)>, Error> {
-        let prepared = self.prepare(tau, start, goal)?;
         let exec = &prepared.execution;
         let dof = self.dmp.dof();
         let mut axes = [0; 3];

@@ -2,7 +2,7 @@
 //! fit and run behind `primo dmp`.
 //!
 //! ```json
-//! { "format": "primo-dmp", "version": 5, "names": ["x", "qw", "qx", "qy", "qz"],
+//! { "format": "primo-dmp", "version": 6, "names": ["x", "qw", "qx", "qy", "qz"],
 //!   "orientations": [{ "columns": ["qw", "qx", "qy", "qz"], "goal": [1, 0, 0, 0] }],
 //!   "dmp": { "tau": 1.0, "alpha": 25.0, "width": 1682.0, "margin": 1.0,
 //!            "start": [0, 0.5, 0, 0], "goal": [1, 0, 0, 0], "scaled": [true, false, false, false],
@@ -94,8 +94,9 @@ pub const FORMAT: &str = "primo-dmp";
 /// The version this primo writes; it reads versions 1 to this one.
 /// 2: orientations; 3: the kernels' `margin`; 4: global scaling's
 /// `reference` (absent: per DoF, as every earlier version scales); 5: an
-/// orientation's chart `axis` (absent: the rotation vector).
-pub const VERSION: u32 = 5;
+/// orientation's chart `axis` (absent: the rotation vector); 6: the DMP's
+/// `goal_velocity` (absent: it ends at rest).
+pub const VERSION: u32 = 6;
 
 /// An orientation among the columns.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -613,6 +614,20 @@ impl DmpFile {
         goal: Option<&[f32]>,
     ) -> Result<impl Iterator<Item = (f32, Vec<f32>)> + '_, Error> {
         let (prepared, steps) = self.steps(dt, tau, start, goal)?;
+        Ok(steps.map(move |s| (s.time, prepared.columns(&s.position))))
+    }
+
+    /// [`DmpFile::run`] of an execution already prepared ([`DmpFile::prepare`],
+    /// and perhaps shaped: [`crate::shaping`]).
+    pub fn run_prepared<'a>(
+        &'a self,
+        prepared: &'a Prepared,
+        dt: f32,
+    ) -> Result<impl Iterator<Item = (f32, Vec<f32>)> + 'a, Error> {
+        let steps = self
+            .dmp
+            .trajectory(&prepared.execution, dt)
+            .map_err(|e| Error::Movement(e.to_string()))?;
         Ok(steps.map(move |s| (s.time, prepared.columns(&s.position))))
     }
 

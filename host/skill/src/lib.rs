@@ -5,6 +5,7 @@
 //! - [`csv`]: demonstration and trajectory CSV files (`t,<DoF names>`).
 //! - [`dmpfile`]: the versioned JSON format of a fitted DMP.
 //! - [`stamps`]: sample times taken relative to the first sample.
+//! - [`shaping`]: a run's velocity at the goal and via-points, by column.
 //! - [`skill`]: demonstrations → DMPs → generalization → checked plans.
 #![deny(missing_docs)]
 
@@ -12,6 +13,7 @@ pub mod coupled;
 pub mod csv;
 pub mod dmpfile;
 mod error;
+pub mod shaping;
 pub mod skill;
 pub mod stamps;
 

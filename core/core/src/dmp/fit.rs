@@ -35,8 +35,9 @@ use heapless::Vec;
 use super::kernels::{Layout, span};
 use super::model::Dmp;
 use super::options::{
-    AUTO_MARGIN, AUTO_SAMPLES_PER_SPACING, AUTO_SCALING_MIN_FRACTION, FitOptions, MAX_ABS_POSITION,
-    MAX_ABS_WEIGHT, Margin, Scaling, check_alpha, check_margin, check_tau,
+    AUTO_MARGIN, AUTO_SAMPLES_PER_SPACING, AUTO_SCALING_MIN_FRACTION, FINAL_VELOCITY_WINDOW,
+    FinalVelocity, FitOptions, MAX_ABS_POSITION, MAX_ABS_WEIGHT, Margin, Scaling, check_alpha,
+    check_margin, check_tau,
 };
 use crate::Error;
 use crate::error::{check_bounded, check_capacity, check_finite, check_len, check_positive};
@@ -225,6 +226,10 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
                  scaled DoFs",
             ));
         }
+        let goal_velocity: Vec<f32, D> = match options.final_velocity {
+            FinalVelocity::AtRest => Vec::new(),
+            FinalVelocity::Demonstrated => final_velocity(times, rows, dof)?,
+        };
         let demo = Demonstration {
             times,
             rows,
@@ -238,6 +243,7 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
             start: &start,
             goal: &goal,
             amplitude: &amplitude,
+            velocity: &goal_velocity,
         };
         let layout = |margin: f32, stride: usize, out: &mut [[f32; K]; D]| {
             fit_layout(&demo, options.overlap, margin, stride, out)
@@ -280,6 +286,7 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
             goal,
             scaled,
             reference,
+            goal_velocity,
             weights: weights
                 .iter()
                 .take(dof)
@@ -287,6 +294,57 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
                 .collect(),
         })
     }
+}
+
+/// The demonstration's velocity at its end, per DoF: the least-squares
+/// slope over its last [`FINAL_VELOCITY_WINDOW`] of the duration, at
+/// least its last two samples.
+fn final_velocity<const D: usize>(
+    times: &[f32],
+    rows: &Rows,
+    dof: usize,
+) -> Result<Vec<f32, D>, Error> {
+    let (Some(&t0), Some(&t_end)) = (times.first(), times.last()) else {
+        return Err(Error::OutOfRange(
+            "a demonstration needs at least 3 samples",
+        ));
+    };
+    let from = t_end - FINAL_VELOCITY_WINDOW * (t_end - t0);
+    let first = times
+        .iter()
+        .position(|&t| t >= from)
+        .unwrap_or(0)
+        .min(times.len().saturating_sub(2));
+    // Sums about the last time, in f64: Σs, Σs², Σy, Σsy.
+    let (mut n, mut st, mut stt) = (0.0f64, 0.0f64, 0.0f64);
+    let (mut sy, mut sty) = ([0.0f64; D], [0.0f64; D]);
+    let mut i = 0usize;
+    rows(&mut |row: &[f32]| {
+        if i >= first
+            && let Some(&t) = times.get(i)
+        {
+            let s = f64::from(t) - f64::from(t_end);
+            (n, st, stt) = (n + 1.0, st + s, stt + s * s);
+            for ((y, sy), sty) in row.iter().zip(sy.iter_mut()).zip(sty.iter_mut()).take(dof) {
+                *sy += f64::from(*y);
+                *sty += s * f64::from(*y);
+            }
+        }
+        i += 1;
+    });
+    let spread = n * stt - st * st;
+    let velocity: Vec<f32, D> = sy
+        .iter()
+        .zip(sty)
+        .take(dof)
+        .map(|(sy, sty)| ((n * sty - st * sy) / spread) as f32)
+        .collect();
+    check_bounded(
+        &velocity,
+        MAX_ABS_POSITION,
+        "the demonstration's final velocity beyond ±1e6 per second",
+    )?;
+    Ok(velocity)
 }
 
 /// Fits `demo`'s weights into `out` with the kernels `margin` spacings
@@ -348,6 +406,8 @@ struct Demonstration<'a> {
     pub start: &'a [f32],
     pub goal: &'a [f32],
     pub amplitude: &'a [f32],
+    /// Per DoF, the velocity at the goal (empty: at rest).
+    pub velocity: &'a [f32],
 }
 
 /// The normalized kernels `φ_k(u)` (zero for `u ≥ 1`), over the same
@@ -427,11 +487,20 @@ fn weights<const D: usize, const K: usize>(
             q += END_WEIGHT * spacing;
         }
         // The unforced spring from rest at y0: y_h = g + (y0 − g)(1 + αu/2)e^(−αu/2).
-        let decay = (1.0 + 0.5 * alpha * u) * libm::exp(-0.5 * alpha * u);
+        // With a goal moving at ġ until τ and fed forward, the goal
+        // itself, `g − c(1 − u)` (c = ġτ), is the particular solution,
+        // and from rest y_h = g − c(1 − u) + ((y0 − g + c)(1 + αu/2) − cu)e^(−αu/2).
+        let fade = libm::exp(-0.5 * alpha * u);
+        let decay = (1.0 + 0.5 * alpha * u) * fade;
         normal.add(q, r, |d| {
             let at = |v: &[f32]| v.get(d).map_or(0.0, |x| f64::from(*x));
             let (y0, g, a) = (at(demo.start), at(demo.goal), at(demo.amplitude));
-            (at(row) - (g + (y0 - g) * decay)) / a
+            let c = at(demo.velocity) * tau;
+            let unforced = match c {
+                0.0 => g + (y0 - g) * decay,
+                c => g - c * (1.0 - u) + (y0 - g + c) * decay - c * u * fade,
+            };
+            (at(row) - unforced) / a
         });
         i += 1;
     });

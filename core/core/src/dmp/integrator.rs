@@ -42,7 +42,8 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
         check_tau(
             exec.tau,
             "execution tau must be finite and at least 0.001 s",
-        )
+        )?;
+        super::model::check_goal_velocity(&exec.goal_velocity, self.dof())
     }
 
     /// Starts an execution at rest at `exec.start`; advance it with
@@ -68,8 +69,12 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
             time_carry: 0.0,
             step_dt: f32::NAN,
             transition: [0.0; 4],
+            goal_velocity: [0.0; D],
         };
         for (dst, src) in run.start.iter_mut().zip(&exec.start) {
+            *dst = *src;
+        }
+        for (dst, src) in run.goal_velocity.iter_mut().zip(&exec.goal_velocity) {
             *dst = *src;
         }
         run.y = run.start;
@@ -139,6 +144,8 @@ pub struct Run<const D: usize> {
     time_carry: f32,
     step_dt: f32,
     transition: [f32; 4],
+    /// The velocity at the goal at `τ` (all 0: at rest).
+    goal_velocity: [f32; D],
 }
 
 impl<const D: usize> Run<D> {
@@ -160,18 +167,32 @@ impl<const D: usize> Run<D> {
             self.step_dt = dt;
         }
         let [d00, p01, p10, p11] = self.transition;
-        dmp.forcing(self.phase + 0.5 * u, &mut self.force);
+        let middle = self.phase + 0.5 * u;
+        dmp.forcing(middle, &mut self.force);
         self.scale_force();
         let stiffness = self.alpha * self.alpha / 4.0;
-        for ((((y, carry), z), f), g) in self
+        // A goal velocity moves the goal at it until τ, `g − ġτ(1 − s)`,
+        // and feeds it forward (`ατġ` on the spring, `4τġ/α` on its rest
+        // point): the run then reaches the goal at that velocity. After τ
+        // the goal holds still.
+        let (lead, ahead) = match middle < 1.0 {
+            true => (self.tau * (1.0 - middle), 4.0 * self.tau / self.alpha),
+            false => (0.0, 0.0),
+        };
+        for (((((y, carry), z), f), g), v) in self
             .y
             .iter_mut()
             .zip(self.y_carry.iter_mut())
             .zip(self.z.iter_mut())
             .zip(self.force.iter())
             .zip(self.goal)
+            .zip(self.goal_velocity)
             .take(self.dof)
         {
+            let g = match v {
+                0.0 => g,
+                v => g + v * (ahead - lead),
+            };
             let equilibrium = g + *f / stiffness;
             let e = (*y - equilibrium) - *carry;
             // The position moves by a small step each cycle: added as a
@@ -293,7 +314,7 @@ impl<const D: usize> Run<D> {
     }
 
     /// Length of [`Run::state`].
-    pub const STATE_LEN: usize = 12 + 7 * D;
+    pub const STATE_LEN: usize = 12 + 8 * D;
 
     /// The whole state as [`Run::STATE_LEN`] numbers, to keep it and go on
     /// later with [`Run::from_state`], bit for bit. Its layout is not an
@@ -319,6 +340,7 @@ impl<const D: usize> Run<D> {
             .chain(self.y_carry)
             .chain(self.z)
             .chain(self.force)
+            .chain(self.goal_velocity)
     }
 
     /// The run [`Run::state`] gave, of `dmp`. Checked so that no state
@@ -375,6 +397,7 @@ impl<const D: usize> Run<D> {
             y_carry: next()?,
             z: next()?,
             force: next()?,
+            goal_velocity: next()?,
             #[cfg(feature = "global-scaling")]
             turn: None,
         };

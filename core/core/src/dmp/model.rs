@@ -27,6 +27,10 @@ pub struct Dmp<const D: usize, const K: usize> {
     /// each scaled DoF by its own amplitude.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub(super) reference: Vec<f32, D>,
+    /// The velocity at the goal at `τ`, per DoF per second (a hit, a
+    /// throw: [`FinalVelocity`](super::FinalVelocity)). Empty: at rest.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub(super) goal_velocity: Vec<f32, D>,
     pub(super) weights: Vec<Vec<f32, K>, D>,
 }
 
@@ -44,6 +48,15 @@ pub(super) fn check_reference(reference: &[f32], scaled: &[bool]) -> bool {
         && reference.iter().any(|r| *r != 0.0)
 }
 
+/// A goal velocity: empty, or one finite value per DoF within ±1e6/s.
+pub(super) fn check_goal_velocity(v: &[f32], dof: usize) -> Result<(), Error> {
+    if !v.is_empty() {
+        check_len("goal velocity", dof, v.len())?;
+        check_bounded(v, MAX_ABS_POSITION, "goal velocity beyond ±1e6 per second")?;
+    }
+    Ok(())
+}
+
 /// The serialized form, checked before it becomes a [`Dmp`].
 #[derive(Deserialize)]
 struct DmpFields<const D: usize, const K: usize> {
@@ -59,6 +72,9 @@ struct DmpFields<const D: usize, const K: usize> {
     /// Absent from DMPs saved before global scaling existed: per DoF.
     #[serde(default)]
     reference: Vec<f32, D>,
+    /// Absent from DMPs that end at rest.
+    #[serde(default)]
+    goal_velocity: Vec<f32, D>,
     weights: Vec<Vec<f32, K>, D>,
 }
 
@@ -104,6 +120,7 @@ impl<const D: usize, const K: usize> TryFrom<DmpFields<D, K>> for Dmp<D, K> {
                  not all 0",
             ));
         }
+        check_goal_velocity(&f.goal_velocity, n)?;
         Ok(Dmp {
             tau: f.tau,
             alpha: f.alpha,
@@ -113,6 +130,7 @@ impl<const D: usize, const K: usize> TryFrom<DmpFields<D, K>> for Dmp<D, K> {
             goal: f.goal,
             scaled: f.scaled,
             reference: f.reference,
+            goal_velocity: f.goal_velocity,
             weights: f.weights,
         })
     }
@@ -141,6 +159,12 @@ pub struct Execution<const D: usize> {
     pub start: Vec<f32, D>,
     /// Goal position, one value per DoF.
     pub goal: Vec<f32, D>,
+    /// Velocity at the goal at `τ`, one value per DoF, per second: the
+    /// goal moves at it until `τ` (Kober et al. 2010) and the run reaches
+    /// it moving so; afterwards the goal holds still and the run brakes
+    /// back onto it. Empty: at rest, as the plain DMP.
+    #[serde(default)]
+    pub goal_velocity: Vec<f32, D>,
 }
 
 impl<const D: usize, const K: usize> Dmp<D, K> {
@@ -200,6 +224,12 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
         }
         self.reference = reference.iter().copied().collect();
         Ok(())
+    }
+
+    /// The velocity at the goal at `τ`, per DoF per second; empty when the
+    /// DMP ends at rest.
+    pub fn goal_velocity(&self) -> &[f32] {
+        &self.goal_velocity
     }
 
     /// The kernel weights of DoF `d`.
@@ -320,6 +350,7 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
                 .map(|d| d < 32 && shape.scaled >> d & 1 == 1)
                 .collect(),
             reference: Vec::new(),
+            goal_velocity: Vec::new(),
             weights: (0..dof).map(|_| zeros(kernels).collect()).collect(),
         })?;
         dmp.set_params(theta)?;
@@ -332,6 +363,7 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
             tau: self.tau,
             start: self.start.clone(),
             goal: self.goal.clone(),
+            goal_velocity: self.goal_velocity.clone(),
         }
     }
 
@@ -414,6 +446,7 @@ mod tests {
             goal: Vec::from_slice(&[1.0; 7]).unwrap(),
             scaled: Vec::from_slice(&[true; 7]).unwrap(),
             reference: Vec::new(),
+            goal_velocity: Vec::new(),
             weights: Vec::new(),
         };
         let mut seed = 12345u32;

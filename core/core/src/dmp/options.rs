@@ -117,7 +117,28 @@ pub struct FitOptions {
     pub scaling: Scaling,
     /// Where the outer kernels go.
     pub margin: Margin,
+    /// The velocity the DMP reaches its goal with.
+    pub final_velocity: FinalVelocity,
 }
+
+/// The velocity a fitted DMP reaches its goal with, at `τ`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum FinalVelocity {
+    /// At rest, whatever the demonstration's end: the classic DMP.
+    #[default]
+    AtRest,
+    /// The demonstration's: the slope of a straight line fitted to its
+    /// last [`FINAL_VELOCITY_WINDOW`] of the duration (at least its last
+    /// two samples). The goal moves at that velocity until `τ` (Kober et
+    /// al. 2010's hitting DMP), so a throw or a strike replays as
+    /// demonstrated, and a new velocity ([`Execution::goal_velocity`](super::Execution::goal_velocity))
+    /// changes the end's speed and nothing that does not need to change.
+    Demonstrated,
+}
+
+/// The end of a demonstration whose slope is its final velocity, as a
+/// fraction of its duration: 2 %, 20 ms of a one-second throw.
+pub const FINAL_VELOCITY_WINDOW: f32 = 0.02;
 
 impl FitOptions {
     /// The fit of the DMPs of skills that are learned (the pour, task
@@ -132,6 +153,7 @@ impl FitOptions {
         ridge: 1e-6,
         scaling: Scaling::Auto,
         margin: Margin::Spacings(0.0),
+        final_velocity: FinalVelocity::AtRest,
     };
 }
 
@@ -143,6 +165,7 @@ impl Default for FitOptions {
             ridge: 1e-9,
             scaling: Scaling::Auto,
             margin: Margin::Auto,
+            final_velocity: FinalVelocity::AtRest,
         }
     }
 }
