@@ -1,7 +1,8 @@
 //! Measures the firmware's costs on the target, under QEMU with
 //! `-icount shift=0` (virtual time counts instructions; SysTick is
 //! calibrated against a loop of known length): instructions per 7×30 DMP
-//! step, per 3×30 orientation DMP step and per 219-parameter PoWER update,
+//! step (plain, and with one obstacle's coupling term), per 3×30
+//! orientation DMP step and per 219-parameter PoWER update,
 //! the stack the service needs for a whole PoWER run, frames and all, as
 //! the firmware runs it; and the scale's instructions per ADC reading and
 //! per weighing request, and its stack.
@@ -12,6 +13,7 @@ use cortex_m::peripheral::{SYST, syst::SystClkSource};
 use cortex_m_rt::entry;
 use cortex_m_semihosting::hprintln;
 use heapless::Vec;
+use primo_core::coupling::{Coupling, Obstacles, Sphere};
 use primo_core::dmp::{DEFAULT_ALPHA, DEFAULT_OVERLAP, Dmp, Shape};
 use primo_core::generalize::Method;
 use primo_core::orientation::OrientationDmp;
@@ -127,7 +129,7 @@ fn turn() -> OrientationDmp<KERNELS> {
 /// Ticks of [`STEPS`] steps of [`reach`] and of [`turn`]. A function of
 /// its own, so its runs are off the stack when the service's is measured.
 #[inline(never)]
-fn step_costs(syst: &mut SYST, dmp: &Dmp<MAX_DOF, KERNELS>) -> (u64, u64) {
+fn step_costs(syst: &mut SYST, dmp: &Dmp<MAX_DOF, KERNELS>) -> (u64, u64, u64) {
     let Ok(mut run) = dmp.start(&dmp.execution()) else {
         fail("start")
     };
@@ -154,7 +156,30 @@ fn step_costs(syst: &mut SYST, dmp: &Dmp<MAX_DOF, KERNELS>) -> (u64, u64) {
     if !ok || !w.is_finite() {
         fail("turn step");
     }
-    (dmp_ticks, turn_ticks)
+    // The same reach with a ball by its first three DoFs' path (as if they
+    // were x, y, z): the term is computed every step.
+    let exec = dmp.execution();
+    let ball = Sphere {
+        center: [0.15, -0.1, 0.3],
+        radius: 0.05,
+    };
+    let Ok(obstacles) = Obstacles::<1>::new([0, 1, 2], &[ball], &exec.start, &exec.goal) else {
+        fail("obstacles")
+    };
+    let Ok(mut coupled) = dmp.start(&exec) else {
+        fail("coupled start")
+    };
+    let coupled_ticks = ticks(syst, || {
+        for _ in 0..STEPS {
+            ok &= coupled
+                .step_with(dmp, 0.001, &[&obstacles as &dyn Coupling])
+                .is_ok();
+        }
+    });
+    if !ok {
+        fail("coupled step");
+    }
+    (dmp_ticks, turn_ticks, coupled_ticks)
 }
 
 /// PoWER over `[q̂, Δθ]` of 219 parameters through the service: two
@@ -313,7 +338,7 @@ fn main() -> ! {
     let instructions = |ticks: u64, n: u32| ticks * calib_instr / calib_ticks / u64::from(n);
 
     let dmp = reach();
-    let (dmp_ticks, turn_ticks) = step_costs(&mut p.SYST, &dmp);
+    let (dmp_ticks, turn_ticks, coupled_ticks) = step_costs(&mut p.SYST, &dmp);
     let mut update_ticks = 0;
     let stack = primo_firmware::stack_used_by(|| {
         update_ticks = power_run(SERVICE, &mut p.SYST, &dmp);
@@ -326,6 +351,10 @@ fn main() -> ! {
     hprintln!(
         "dmp step 7x30: {} instructions",
         instructions(dmp_ticks, STEPS)
+    );
+    hprintln!(
+        "dmp step 7x30 with one obstacle: {} instructions",
+        instructions(coupled_ticks, STEPS)
     );
     hprintln!(
         "orientation step 3x30 (with the quaternion): {} instructions",
