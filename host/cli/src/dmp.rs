@@ -10,7 +10,7 @@ use primo_skill::csv::{parse_demo, write_rows};
 use primo_skill::dmpfile::{
     self, AmplitudeScaling, Change, DmpFile, Fitted, MAX_ROWS, RhythmicFile,
 };
-use primo_skill::shaping::Via;
+use primo_skill::shaping::{Shaping, Via};
 
 use crate::error::CliError;
 use crate::output::{check_out_file, emit, read};
@@ -196,7 +196,7 @@ pub fn run(command: DmpCommand) -> Result<(), CliError> {
                              not a rhythmic DMP"
                         )));
                     }
-                    let shape = Shape {
+                    let shape = Shaping {
                         goal_velocity: goal_velocity
                             .map(|text| parse_vector("--goal-velocity", &text, &dmp.names))
                             .transpose()?,
@@ -366,13 +366,6 @@ fn avoidance(obstacles: &[String], columns: &str) -> Result<Option<Avoidance>, C
     Ok(Some(Avoidance { spheres, columns }))
 }
 
-/// How a discrete run is shaped beyond its start, goal and `τ`.
-struct Shape {
-    goal_velocity: Option<Vec<f32>>,
-    vias: Vec<Via>,
-    avoid: Option<Avoidance>,
-}
-
 /// `--via T,COLUMN,VALUE`.
 fn parse_via(text: &str) -> Result<Via, CliError> {
     let bad = || {
@@ -406,7 +399,7 @@ fn run_discrete(
     dt: f32,
     tau: Option<f32>,
     (start, goal): (Option<&str>, Option<&str>),
-    shape: &Shape,
+    shape: &Shaping,
 ) -> Result<Vec<u8>, CliError> {
     if let Some(tau) = tau
         && !(tau.is_finite() && tau > 0.0)
@@ -427,28 +420,19 @@ fn run_discrete(
         Some(_) => check_rows(dt, duration * (1.0 + OVERTIME), "tau (3τ with obstacles)")?,
     }
     let movement = |e| CliError::input(format!("{file}: {e}"));
-    let mut prepared = dmp
+    let prepared = dmp
         .prepare(tau, start.as_deref(), goal.as_deref())
         .map_err(movement)?;
-    if let Some(v) = &shape.goal_velocity {
-        dmp.set_goal_velocity(&mut prepared, v).map_err(movement)?;
-    }
-    let bent;
-    let dmp = match shape.vias.is_empty() {
-        true => dmp,
-        false => {
-            bent = dmp.through(&prepared, dt, &shape.vias).map_err(movement)?;
-            &bent
-        }
-    };
     let mut buf = Vec::new();
-    let written = match &shape.avoid {
-        None => {
-            let rows = dmp.run_prepared(&prepared, dt).map_err(movement)?;
-            write_rows(&mut buf, &dmp.names, rows)
-        }
-        Some(avoid) => {
-            let rows = dmp.run_avoiding(&prepared, dt, avoid).map_err(movement)?;
+    let written = match shape.is_plain() {
+        // Streamed: the common case keeps no rows.
+        true => write_rows(
+            &mut buf,
+            &dmp.names,
+            dmp.run_prepared(&prepared, dt).map_err(movement)?,
+        ),
+        false => {
+            let rows = dmp.run_shaped(prepared, dt, shape).map_err(movement)?;
             write_rows(&mut buf, &dmp.names, rows.into_iter())
         }
     };

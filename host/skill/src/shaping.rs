@@ -1,9 +1,11 @@
 //! A DMP file's run shaped at execution time, by column name: a velocity
-//! at the goal (a hit, a throw) and via-points passed at given times
-//! ([`primo_core::dmp::Dmp::through`]), without refitting.
+//! at the goal (a hit, a throw), via-points passed at given times
+//! ([`primo_core::dmp::Dmp::through`]), without refitting, and obstacles
+//! steered round ([`crate::coupled`]).
 
 use primo_core::dmp::{MAX_VIA_POINTS, ViaPoint};
 
+use crate::coupled::Avoidance;
 use crate::dmpfile::{DmpFile, Prepared};
 use crate::{Error, HOST_MAX_DOF};
 
@@ -18,7 +20,51 @@ pub struct Via {
     pub value: f32,
 }
 
+/// How a run is shaped beyond its start, goal and `τ`: all optional.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Shaping {
+    /// The velocity at the goal, one value per column (per second).
+    pub goal_velocity: Option<Vec<f32>>,
+    /// Via-points to pass.
+    pub vias: Vec<Via>,
+    /// Obstacles to steer round.
+    pub avoid: Option<Avoidance>,
+}
+
+impl Shaping {
+    /// Whether it changes nothing.
+    pub fn is_plain(&self) -> bool {
+        self.goal_velocity.is_none() && self.vias.is_empty() && self.avoid.is_none()
+    }
+}
+
 impl DmpFile {
+    /// The run of `prepared` at steps of `dt` shaped by `shaping`: its
+    /// rows (time, one value per column), from 0 to `τ`, or until it
+    /// reaches its goal when it steers round obstacles.
+    pub fn run_shaped(
+        &self,
+        mut prepared: Prepared,
+        dt: f32,
+        shaping: &Shaping,
+    ) -> Result<Vec<(f32, Vec<f32>)>, Error> {
+        if let Some(v) = &shaping.goal_velocity {
+            self.set_goal_velocity(&mut prepared, v)?;
+        }
+        let bent;
+        let file = match shaping.vias.is_empty() {
+            true => self,
+            false => {
+                bent = self.through(&prepared, dt, &shaping.vias)?;
+                &bent
+            }
+        };
+        match &shaping.avoid {
+            None => Ok(file.run_prepared(&prepared, dt)?.collect()),
+            Some(avoid) => file.run_avoiding(&prepared, dt, avoid),
+        }
+    }
+
     /// Sets `prepared`'s velocity at the goal from one value per column
     /// (per second). Orientation columns take none yet: a file with
     /// orientations is refused.
