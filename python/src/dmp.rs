@@ -7,7 +7,9 @@ use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::{PyString, PyTuple};
 
-use primo_core::dmp::{DEFAULT_OVERLAP, FitOptions, MAX_ALPHA, MIN_ALPHA, Margin, max_margin};
+use primo_core::dmp::{
+    DEFAULT_OVERLAP, FinalVelocity, FitOptions, MAX_ALPHA, MIN_ALPHA, Margin, max_margin,
+};
 use primo_skill::MAX_KERNELS;
 use primo_skill::csv::Demo;
 use primo_skill::dmpfile::{
@@ -17,6 +19,7 @@ use primo_skill::dmpfile::{
 use crate::arrays::{Array, matrix, out, out2, times, vector};
 use crate::dmprun::{Begun, DmpRun};
 use crate::errors::{core, invalid, io, skill};
+use crate::shaping::shaping;
 
 /// A fitted DMP with its column names, discrete or rhythmic.
 ///
@@ -196,7 +199,17 @@ fn fit_options(
     overlap: f64,
     ridge: f64,
     alpha: f64,
+    final_velocity: &str,
 ) -> PyResult<FitOptions> {
+    let final_velocity = match final_velocity {
+        "rest" => FinalVelocity::AtRest,
+        "demonstrated" => FinalVelocity::Demonstrated,
+        other => {
+            return Err(invalid(format!(
+                "final_velocity: {other:?}, expected \"rest\" or \"demonstrated\""
+            )));
+        }
+    };
     let margin = match margin {
         None => Margin::Auto,
         Some(m) if (0.0..=max_margin(kernels)).contains(&m) => Margin::Spacings(m),
@@ -224,6 +237,7 @@ fn fit_options(
         overlap,
         ridge: ridge as f32,
         margin,
+        final_velocity,
         ..FitOptions::default()
     })
 }
@@ -260,6 +274,10 @@ impl Dmp {
     ///         position columns turned by the smallest rotation taking the
     ///         demonstrated g − y0 onto the new one and stretched by the
     ///         ratio of their lengths, Koutras & Doulgeri 2020).
+    ///     final_velocity: the velocity at the goal: ``"rest"`` (the
+    ///         classic DMP) or ``"demonstrated"`` (the recording's speed at
+    ///         its end, for a hit or a throw: the goal moves at it until τ,
+    ///         Kober et al. 2010; ``run(goal_velocity=)`` changes it).
     ///
     /// ``primo learn`` fits a task's demonstrations with ``margin=0,
     /// overlap=2.0, ridge=1e-6`` (``Generalizer.from_task`` builds that
@@ -282,7 +300,7 @@ impl Dmp {
     #[staticmethod]
     #[allow(clippy::too_many_arguments)] // the fit's options, as keywords
     #[pyo3(signature = (t, y, names=None, kernels=30, margin=None, overlap=0.7, ridge=1e-9,
-                        alpha=25.0, scaling="per-dof"))]
+                        alpha=25.0, scaling="per-dof", final_velocity="rest"))]
     fn fit(
         py: Python<'_>,
         t: Array<'_>,
@@ -294,9 +312,10 @@ impl Dmp {
         ridge: f64,
         alpha: f64,
         scaling: &str,
+        final_velocity: &str,
     ) -> PyResult<Dmp> {
         let kernels = kernel_count(kernels, 2, "")?;
-        let options = fit_options(kernels, margin, overlap, ridge, alpha)?;
+        let options = fit_options(kernels, margin, overlap, ridge, alpha, final_velocity)?;
         let scaling = AmplitudeScaling::parse(scaling).ok_or_else(|| {
             invalid(format!(
                 "scaling: {scaling:?}, expected \"per-dof\", \"none\" or \"global\""
@@ -538,7 +557,8 @@ impl Dmp {
 
     #[allow(clippy::too_many_arguments)] // the keyword arguments of `primo dmp run`
     #[pyo3(signature = (dt=0.001, tau=None, start=None, goal=None, velocities=false,
-                        duration=None, frequency=None, amplitude=None, anchor=None))]
+                        duration=None, frequency=None, amplitude=None, anchor=None,
+                        goal_velocity=None, via=None, obstacles=None, obstacle_columns=None))]
     /// Runs the DMP at a fixed step, from start to goal (discrete) or for a
     /// duration (rhythmic), with the GIL released.
     ///
@@ -556,11 +576,23 @@ impl Dmp {
     ///         as demonstrated).
     ///     anchor: the centre of the oscillation, per column (rhythmic; default
     ///         the demonstrated one).
+    ///     goal_velocity: the velocity at the goal, per column, per second
+    ///         (discrete, no orientation columns): reached at the goal at τ.
+    ///     via: via-points, a list of ``(time, column, value)`` (discrete,
+    ///         up to 8): the column passes ``value`` at ``time`` s, strictly
+    ///         inside the movement; the weights change least to pass them.
+    ///     obstacles: spheres to steer round, shape (n, 4) rows of ``x, y,
+    ///         z, radius`` (discrete, n up to 16; Park et al.'s dynamic
+    ///         potential); the run goes on past τ until it reaches its goal,
+    ///         at most 3τ.
+    ///     obstacle_columns: the three position columns of ``x, y, z``
+    ///         (default ``["x", "y", "z"]``).
     ///
     /// Returns:
     ///     tuple: ``(times, positions)``, shapes (m,) and (m, columns), m the
     ///     number of samples from time 0; with ``velocities``, a third array
-    ///     (m, columns) of velocities.
+    ///     (m, columns) of velocities (not with goal_velocity, via or
+    ///     obstacles).
     ///
     /// Raises:
     ///     ValueError: a setting of the other kind of DMP, a value out of range,
@@ -572,6 +604,9 @@ impl Dmp {
     /// >>> times, x = dmp.run(dt=0.01, goal=[0.5])
     /// >>> times.shape, round(float(x[-1, 0]), 2)
     /// ((101,), 0.5)
+    /// >>> times, x = dmp.run(dt=0.01, via=[(0.5, "x", 0.8)])
+    /// >>> round(float(x[50, 0]), 3)
+    /// 0.8
     fn run<'py>(
         &self,
         py: Python<'py>,
@@ -584,11 +619,54 @@ impl Dmp {
         frequency: Option<f64>,
         amplitude: Option<Array<'_>>,
         anchor: Option<Array<'_>>,
+        goal_velocity: Option<Array<'_>>,
+        via: Option<Vec<(f64, String, f64)>>,
+        obstacles: Option<Array<'_>>,
+        obstacle_columns: Option<Vec<String>>,
     ) -> PyResult<Bound<'py, PyTuple>> {
         let dt = positive("dt", Some(dt))?.unwrap_or(0.001);
         let names = self.names_ref();
         let width = names.len();
+        let shaped = goal_velocity.is_some() || via.is_some() || obstacles.is_some();
+        let shape = shaping(names, goal_velocity, via, obstacles, obstacle_columns)?;
         match &self.fitted {
+            Fitted::Discrete(d) if !shape.is_plain() => {
+                if duration.is_some()
+                    || frequency.is_some()
+                    || amplitude.is_some()
+                    || anchor.is_some()
+                    || velocities
+                {
+                    return Err(invalid(
+                        "duration, frequency, amplitude, anchor, velocities: not with \
+                         goal_velocity, via or obstacles",
+                    ));
+                }
+                let tau = positive("tau", tau)?;
+                let start = per_column("start", start, names)?;
+                let goal = per_column("goal", goal, names)?;
+                let duration = tau.unwrap_or(d.dmp.tau());
+                check_rows(
+                    dt,
+                    if shape.avoid.is_some() {
+                        3.0 * duration
+                    } else {
+                        duration
+                    },
+                )?;
+                let prepared = d
+                    .prepare(tau, start.as_deref(), goal.as_deref())
+                    .map_err(skill)?;
+                let rows = py
+                    .detach(|| d.run_shaped(prepared, dt, &shape))
+                    .map_err(skill)?;
+                let t: Vec<f32> = rows.iter().map(|(t, _)| *t).collect();
+                let y: Vec<f32> = rows.into_iter().flat_map(|(_, row)| row).collect();
+                PyTuple::new(
+                    py,
+                    [out(py, &t).into_any(), out2(py, &y, width)?.into_any()],
+                )
+            }
             Fitted::Discrete(d) => {
                 if duration.is_some()
                     || frequency.is_some()
@@ -631,9 +709,10 @@ impl Dmp {
                 PyTuple::new(py, items)
             }
             Fitted::Rhythmic(r) => {
-                if tau.is_some() || start.is_some() || goal.is_some() || velocities {
+                if tau.is_some() || start.is_some() || goal.is_some() || velocities || shaped {
                     return Err(invalid(
-                        "tau, start, goal, velocities: for a discrete DMP only",
+                        "tau, start, goal, velocities, goal_velocity, via, obstacles: for a \
+                         discrete DMP only",
                     ));
                 }
                 let duration = match duration {

@@ -20,6 +20,7 @@ mod experiments;
 mod generalize;
 mod learners;
 mod robot;
+mod shaping;
 
 #[pymodule]
 fn _primo(m: &Bound<'_, PyModule>) -> PyResult<()> {

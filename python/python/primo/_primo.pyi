@@ -48,6 +48,7 @@ class Dmp:
         ridge: float = 1e-9,
         alpha: float = 25.0,
         scaling: Literal["per-dof", "none", "global"] = "per-dof",
+        final_velocity: Literal["rest", "demonstrated"] = "rest",
     ) -> Dmp:
         """Fits a discrete DMP to one demonstration: least squares on the
         positions, so that its run reproduces ``y`` (no derivative of the
@@ -79,6 +80,10 @@ class Dmp:
                 position columns turned by the smallest rotation taking the
                 demonstrated g − y0 onto the new one and stretched by the
                 ratio of their lengths, Koutras & Doulgeri 2020).
+            final_velocity: the velocity at the goal: ``"rest"`` (the
+                classic DMP) or ``"demonstrated"`` (the recording's speed at
+                its end, for a hit or a throw: the goal moves at it until τ,
+                Kober et al. 2010; ``run(goal_velocity=)`` changes it).
 
         ``primo learn`` fits a task's demonstrations with ``margin=0,
         overlap=2.0, ridge=1e-6`` (``Generalizer.from_task`` builds that
@@ -250,6 +255,11 @@ class Dmp:
         start: Optional[ArrayLike] = None,
         goal: Optional[ArrayLike] = None,
         velocities: Literal[False] = False,
+        *,
+        goal_velocity: Optional[ArrayLike] = None,
+        via: Optional[Sequence[tuple[float, str, float]]] = None,
+        obstacles: Optional[ArrayLike] = None,
+        obstacle_columns: Optional[Sequence[str]] = None,
     ) -> tuple[Array, Array]:
         """Runs the DMP at a fixed step, from start to goal (discrete) or for a
         duration (rhythmic), with the GIL released.
@@ -268,11 +278,23 @@ class Dmp:
                 as demonstrated).
             anchor: the centre of the oscillation, per column (rhythmic; default
                 the demonstrated one).
+            goal_velocity: the velocity at the goal, per column, per second
+                (discrete, no orientation columns): reached at the goal at τ.
+            via: via-points, a list of ``(time, column, value)`` (discrete,
+                up to 8): the column passes ``value`` at ``time`` s, strictly
+                inside the movement; the weights change least to pass them.
+            obstacles: spheres to steer round, shape (n, 4) rows of ``x, y,
+                z, radius`` (discrete, n up to 16; Park et al.'s dynamic
+                potential); the run goes on past τ until it reaches its goal,
+                at most 3τ.
+            obstacle_columns: the three position columns of ``x, y, z``
+                (default ``["x", "y", "z"]``).
 
         Returns:
             tuple: ``(times, positions)``, shapes (m,) and (m, columns), m the
             number of samples from time 0; with ``velocities``, a third array
-            (m, columns) of velocities.
+            (m, columns) of velocities (not with goal_velocity, via or
+            obstacles).
 
         Raises:
             ValueError: a setting of the other kind of DMP, a value out of range,
@@ -284,6 +306,9 @@ class Dmp:
         >>> times, x = dmp.run(dt=0.01, goal=[0.5])
         >>> times.shape, round(float(x[-1, 0]), 2)
         ((101,), 0.5)
+        >>> times, x = dmp.run(dt=0.01, via=[(0.5, "x", 0.8)])
+        >>> round(float(x[50, 0]), 3)
+        0.8
         """
     @overload
     def run(
