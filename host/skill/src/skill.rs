@@ -27,6 +27,7 @@ use primo_core::quaternion::Quaternion;
 use primo_core::tangent::Tangent;
 use primo_robot::{Gate, JointPath};
 
+use crate::coupled::{Avoidance, OVERTIME};
 use crate::csv::Demo;
 use crate::dmpfile::{AmplitudeScaling, DmpFile, FORMAT, Orientation, VERSION, orientation_groups};
 use crate::{Error, HOST_MAX_DOF, HostDmp, MAX_KERNELS};
@@ -79,6 +80,9 @@ pub struct Skill {
     /// Per example and orientation, the start's tangent vector.
     start_orientations: Vec<Vec<[f32; 3]>>,
     groups: Vec<Group>,
+    /// Obstacles every planned movement steers round (none: planned as
+    /// the DMP runs).
+    avoid: Option<Avoidance>,
 }
 
 /// An orientation among the columns.
@@ -305,6 +309,7 @@ impl Skill {
             groups,
             template: template.clone(),
             generalizer,
+            avoid: None,
         })
     }
 
@@ -440,12 +445,48 @@ impl Skill {
         })
     }
 
+    /// This skill with every planned movement steered round `avoid`'s
+    /// obstacles ([`DmpFile::run_avoiding`]); its columns must be
+    /// position columns of the skill's.
+    pub fn with_obstacles(mut self, avoid: Avoidance) -> Result<Self, Error> {
+        if let Some(name) = avoid
+            .columns
+            .iter()
+            .find(|c| !self.names.contains(c) || self.groups.iter().any(|g| g.columns.contains(c)))
+        {
+            return Err(Error::Movement(format!(
+                "obstacles: no position column `{name}` among {}",
+                self.names.join(",")
+            )));
+        }
+        self.avoid = Some(avoid);
+        Ok(self)
+    }
+
     /// The movement sampled every `dt` seconds from 0 to τ, one value per
-    /// column; a movement beyond [`check_duration`]'s bounds is refused
-    /// before anything is allocated.
+    /// column (round the skill's obstacles, if any, until it reaches its
+    /// goal: at most 3τ); a movement beyond [`check_duration`]'s bounds
+    /// is refused before anything is allocated.
     pub fn plan(&self, query: &[f32], delta: &[f32], dt: f64) -> Result<Plan, Error> {
         let file = self.movement(query, delta)?;
         check_duration(file.dmp.tau(), dt)?;
+        if let Some(avoid) = &self.avoid {
+            check_duration(file.dmp.tau() * (1.0 + OVERTIME), dt)?;
+            let prepared = file.prepare(None, None, None)?;
+            let rows = file.run_avoiding(&prepared, dt as f32, avoid)?;
+            let dof = self.names.len();
+            let mut plan = Plan {
+                names: self.names.clone(),
+                t: Vec::with_capacity(rows.len()),
+                rows: Vec::with_capacity(rows.len() * dof),
+                dof,
+            };
+            for (time, row) in rows {
+                plan.t.push(f64::from(time));
+                plan.rows.extend(row.into_iter().map(f64::from));
+            }
+            return Ok(plan);
+        }
         let (prepared, mut steps) = file
             .steps(dt as f32, None, None, None)
             .map_err(|e| Error::Movement(format!("integrating the movement: {e}")))?;

@@ -77,7 +77,10 @@ impl Task {
         let files: Vec<(&[f32], &DmpFile)> = (examples.iter().zip(&fitted))
             .map(|((q, _), f)| (*q, f))
             .collect();
-        let skill = Skill::from_files(&files, self.regression)?;
+        let mut skill = Skill::from_files(&files, self.regression)?;
+        if let Some(o) = &self.obstacles {
+            skill = skill.with_obstacles(o.avoidance())?;
+        }
         Ok(Built {
             skill,
             fitted,
@@ -181,6 +184,71 @@ mod tests {
         let task = dir.join("throw.toml");
         std::fs::copy(examples.join("throw.toml"), &task).unwrap();
         Task::load(&task).unwrap()
+    }
+
+    /// A task over two reaches in `x, y, z` (to 0.6 and 0.8 m in `x`),
+    /// with a ball halfway and just off the path, in a directory of its own.
+    fn reach_past_a_ball(obstacles: &str) -> Task {
+        let dir = std::env::temp_dir()
+            .join(format!("primo-task-obstacles-{}", std::process::id()))
+            .join(obstacles.len().to_string());
+        std::fs::create_dir_all(&dir).unwrap();
+        for (name, reach) in [("near", 0.6), ("far", 0.8)] {
+            let mut out = String::from("t,x,y,z\n");
+            for i in 0..=100 {
+                let t = f64::from(i) / 100.0;
+                let s = t * t * t * (10.0 - 15.0 * t + 6.0 * t * t);
+                out.push_str(&format!("{t},{},0.1,0.2\n", reach * s));
+            }
+            std::fs::write(dir.join(format!("{name}.csv")), out).unwrap();
+        }
+        let text = format!(
+            "version = 1\n\n[[demo]]\nfile = \"near.csv\"\nquery = [0.6]\n\n[[demo]]\n\
+             file = \"far.csv\"\nquery = [0.8]\n\n[movement]\n{obstacles}\n\n\
+             [movement.limits]\nx = {{ min = -1.0, max = 1.0, max_speed = 10.0 }}\ny = {{ min = -1.0, max = 1.0, max_speed = 10.0 }}\nz = {{ min = -1.0, max = 1.0, max_speed = 10.0 }}\n\n[goal]\ndesired = [0.7]\nlow = [0.5]\nhigh = [0.9]\nprecision = 0.01\n\n\
+             [learner]\nmethod = \"golden\"\n\n[evaluate]\ncommand = [\"true\"]\n"
+        );
+        std::fs::write(dir.join("reach.toml"), text).unwrap();
+        Task::load(&dir.join("reach.toml")).unwrap()
+    }
+
+    #[test]
+    fn a_tasks_obstacles_steer_every_planned_movement() {
+        let built = reach_past_a_ball("obstacles = [[0.35, 0.11, 0.2, 0.05]]")
+            .build()
+            .unwrap();
+        let plan = built.skill.plan(&[0.7], &[], 0.002).unwrap();
+        let clearance = plan
+            .rows
+            .chunks_exact(3)
+            .map(|p| {
+                ((p[0] - 0.35).powi(2) + (p[1] - 0.11).powi(2) + (p[2] - 0.2).powi(2)).sqrt() - 0.05
+            })
+            .fold(f64::INFINITY, f64::min);
+        assert!(clearance > 0.0, "entered the ball: {clearance}");
+        let end = &plan.rows[plan.rows.len() - 3..];
+        assert!(
+            (end[0] - 0.7).abs() < 1e-3 && (end[1] - 0.1).abs() < 1e-3,
+            "{end:?}"
+        );
+        // Without them, the path goes through the ball.
+        let plain = reach_past_a_ball("").build().unwrap();
+        let through = plain.skill.plan(&[0.7], &[], 0.002).unwrap();
+        assert!(
+            through
+                .rows
+                .chunks_exact(3)
+                .any(|p| (p[0] - 0.35).abs() < 0.01 && (p[1] - 0.11).abs() < 0.05)
+        );
+        // Columns the demonstrations lack are refused when the skill is built.
+        let wrong = reach_past_a_ball(
+            "obstacles = [[0.35, 0.11, 0.2, 0.05]]\nobstacle_columns = [\"x\", \"y\", \"w\"]",
+        );
+        let e = wrong.build().unwrap_err().to_string();
+        assert!(
+            e.contains("obstacles: no position column `w` among x,y,z"),
+            "{e}"
+        );
     }
 
     #[test]

@@ -65,6 +65,7 @@ impl Task {
             ("[movement] kernels", a.kernels == b.kernels),
             ("[movement] scaling", a.scaling == b.scaling),
             ("[movement] generalization", a.regression == b.regression),
+            ("[movement] obstacles", a.obstacles == b.obstacles),
             ("[movement] dt", a.dt == b.dt),
             ("[movement] robot and limits", a.limits == b.limits),
             ("[goal] desired", a.goal.desired == b.goal.desired),

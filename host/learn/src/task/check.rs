@@ -8,6 +8,7 @@ use std::path::Path;
 use primo_core::generalize::Method as Regression;
 use primo_mtsics::path::{Wanted, check};
 use primo_robot::urdf::MAX_DISTANCE;
+use primo_skill::coupled::MAX_OBSTACLES;
 use primo_skill::dmpfile::AmplitudeScaling;
 use primo_skill::skill::MAX_EXAMPLES;
 use primo_skill::{MAX_KERNELS, MAX_QUERY};
@@ -22,7 +23,7 @@ use crate::rollouts::MAX_ROLLOUTS;
 use super::schema::{EvaluateKeys, File, GoalKeys, LearnerKeys, MovementKeys, ToolKeys};
 use super::spec::{
     ColumnRange, DEFAULT_TIMEOUT, Evaluate, Goal, LearnerSettings, LimitsSpec, MAX_TIMEOUT,
-    PourTask, RewardRule, RobotModel, RobotSpec, Task, TaskDemo, VERSION,
+    Obstacles, PourTask, RewardRule, RobotModel, RobotSpec, Task, TaskDemo, VERSION,
 };
 
 /// Messages that name a place in the task file.
@@ -182,6 +183,7 @@ impl Task {
             .and_then(|m| m.dt.as_ref())
             .map(|v| positive(&p, v, "[movement] dt"))
             .transpose()?;
+        let obstacles = m.map(|m| obstacles(&p, m, pour)).transpose()?.flatten();
         let limits = limits(&p, movement, &dir, pour)?;
         let learner = learner(&p, &raw.learner, dim, &demos, pour)?;
         let goal = goal(&p, &raw.goal, dim, learner.method)?;
@@ -191,6 +193,7 @@ impl Task {
             kernels,
             scaling,
             regression,
+            obstacles,
             dt,
             limits,
             goal,
@@ -198,6 +201,64 @@ impl Task {
             evaluate,
         })
     }
+}
+
+/// `[movement] obstacles` (spheres `[x, y, z, radius]`, at most
+/// [`MAX_OBSTACLES`]) and `obstacle_columns` (three names, default `x, y,
+/// z`); the built-in pour takes none.
+fn obstacles(p: &Place, m: &MovementKeys, pour: bool) -> Result<Option<Obstacles>, Error> {
+    let Some(spheres) = &m.obstacles else {
+        if let Some(c) = &m.obstacle_columns {
+            return Err(p.at(
+                c.span(),
+                "[movement] obstacle_columns",
+                "given without obstacles",
+            ));
+        }
+        return Ok(None);
+    };
+    let at = |why: String| p.at(spheres.span(), "[movement] obstacles", why);
+    if pour {
+        return Err(at(
+            "the built-in pour has its own cell: remove the key".into()
+        ));
+    }
+    if spheres.get_ref().len() > MAX_OBSTACLES {
+        return Err(at(format!(
+            "{} spheres, at most {MAX_OBSTACLES}",
+            spheres.get_ref().len()
+        )));
+    }
+    for (i, s) in spheres.get_ref().iter().enumerate() {
+        let finite = s.iter().all(|v| v.is_finite() && (*v as f32).is_finite());
+        if !finite || s[3] < 0.0 {
+            return Err(at(format!(
+                "sphere {} {s:?}: expected [x, y, z, radius], finite, radius >= 0",
+                i + 1
+            )));
+        }
+    }
+    let columns = match &m.obstacle_columns {
+        None => ["x", "y", "z"].map(String::from),
+        Some(c) => c
+            .get_ref()
+            .clone()
+            .try_into()
+            .map_err(|names: Vec<String>| {
+                p.at(
+                    c.span(),
+                    "[movement] obstacle_columns",
+                    format!(
+                        "{} names: expected three, the position columns of x, y, z",
+                        names.len()
+                    ),
+                )
+            })?,
+    };
+    Ok(Some(Obstacles {
+        spheres: spheres.get_ref().clone(),
+        columns,
+    }))
 }
 
 fn demos(p: &Place, raw: &File, dir: &Path, pour: bool) -> Result<Vec<TaskDemo>, Error> {
@@ -848,6 +909,46 @@ command = ["python3", "throw.py"]
     fn refused(text: &str) -> String {
         let e = parse(text).unwrap_err().to_string();
         e.replace(&lab().display().to_string(), "/lab")
+    }
+
+    #[test]
+    fn obstacles_are_spheres_in_three_columns() {
+        let with = |keys: &str| {
+            THROW.replace(
+                "[movement.limits]",
+                &format!("[movement]\n{keys}\n\n[movement.limits]"),
+            )
+        };
+        let task = parse(&with("obstacles = [[0.5, 0.5, 0.5, 0.1]]")).unwrap();
+        let o = task.obstacles.unwrap();
+        assert_eq!(o.spheres, vec![[0.5, 0.5, 0.5, 0.1]]);
+        assert_eq!(o.columns, ["x", "y", "z"].map(String::from));
+        let task = parse(&with(
+            "obstacles = [[0.5, 0.5, 0.5, 0.1], [1, 2, 3, 0]]\nobstacle_columns = [\"a\", \"b\", \"c\"]",
+        ))
+        .unwrap();
+        assert_eq!(
+            task.obstacles.unwrap().columns,
+            ["a", "b", "c"].map(String::from)
+        );
+        for (keys, says) in [
+            (
+                "obstacles = [[0.5, 0.5, 0.5, -0.1]]",
+                "/lab/throw.toml:12: [movement] obstacles: sphere 1 [0.5, 0.5, 0.5, -0.1]: \
+                 expected [x, y, z, radius], finite, radius >= 0",
+            ),
+            (
+                "obstacle_columns = [\"a\", \"b\", \"c\"]",
+                "/lab/throw.toml:12: [movement] obstacle_columns: given without obstacles",
+            ),
+            (
+                "obstacles = [[0.5, 0.5, 0.5, 0.1]]\nobstacle_columns = [\"a\", \"b\"]",
+                "/lab/throw.toml:13: [movement] obstacle_columns: 2 names: expected three, the \
+                 position columns of x, y, z",
+            ),
+        ] {
+            assert_eq!(refused(&with(keys)), says);
+        }
     }
 
     #[test]

@@ -47,6 +47,8 @@ pub(super) struct MovementKeys {
     pub(super) start: Option<Spanned<BTreeMap<String, f64>>>,
     pub(super) limits: Option<Spanned<BTreeMap<String, ColumnRange>>>,
     pub(super) workspace: Option<Spanned<Workspace>>,
+    pub(super) obstacles: Option<Spanned<Vec<[f64; 4]>>>,
+    pub(super) obstacle_columns: Option<Spanned<Vec<String>>>,
 }
 
 /// A tool frame, as a URDF's `<origin>`.

@@ -235,6 +235,33 @@ fn robot_preset(name: &str) -> Result<Robot, Error> {
     }
 }
 
+/// `[movement] obstacles`: spheres `[x, y, z, radius]` in three position
+/// columns.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Obstacles {
+    /// Each sphere's centre and radius.
+    pub spheres: Vec<[f64; 4]>,
+    /// The columns of `x, y, z`.
+    pub columns: [String; 3],
+}
+
+impl Obstacles {
+    /// As the skill takes them.
+    pub fn avoidance(&self) -> primo_skill::coupled::Avoidance {
+        primo_skill::coupled::Avoidance {
+            spheres: self
+                .spheres
+                .iter()
+                .map(|[x, y, z, r]| primo_core::coupling::Sphere {
+                    center: [*x as f32, *y as f32, *z as f32],
+                    radius: *r as f32,
+                })
+                .collect(),
+            columns: self.columns.clone(),
+        }
+    }
+}
+
 /// The query to reach.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Goal {
@@ -321,6 +348,10 @@ pub struct Task {
     pub scaling: primo_skill::dmpfile::AmplitudeScaling,
     /// The generalization.
     pub regression: Regression,
+    /// Spheres every roll-out steers round (absent from run logs written
+    /// before they existed: none).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub obstacles: Option<Obstacles>,
     /// The trajectory's time step, s (`None`: the first demonstration's
     /// median step).
     pub dt: Option<f64>,
