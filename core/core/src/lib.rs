@@ -16,6 +16,8 @@
 //!   by secant (Broyden) updates.
 //! - [`power`]: PoWER over the extended parameter set `[q̂, Δθ]` with
 //!   per-block exploration and an importance sampler.
+//! - [`promp`]: probabilistic movement primitives from several
+//!   demonstrations: mean and variance, conditioning, blending.
 //! - [`quaternion`] and [`orientation`]: unit quaternions, orientation DMPs
 //!   and Cartesian DMPs (position and orientation on one phase);
 //!   [`tangent`]: orientations as rotation vectors at a reference, the way
@@ -77,6 +79,7 @@ pub mod linalg;
 pub mod normal;
 pub mod orientation;
 pub mod power;
+pub mod promp;
 pub mod quaternion;
 pub mod rhythmic;
 pub mod rng;
