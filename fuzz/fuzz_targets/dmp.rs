@@ -8,7 +8,8 @@
 use arbitrary::{Result, Unstructured};
 use libfuzzer_sys::fuzz_target;
 use primo_core::dmp::{
-    Dmp, Execution, FinalVelocity, FitOptions, MAX_ABS_POSITION, MAX_ABS_WEIGHT, Margin, Scaling, Shape,
+    Dmp, Execution, FinalVelocity, FitOptions, MAX_ABS_POSITION, MAX_ABS_WEIGHT, Margin, Scaling,
+    Shape,
 };
 use primo_fuzz::{num, positive};
 
