@@ -67,7 +67,11 @@ fn column_names(names: Option<Bound<'_, PyAny>>) -> PyResult<Option<Vec<String>>
 
 /// A recording as a demonstration: `t` (n), `y` (n × columns, or n for
 /// one column) and the column names (default `y0, y1, …`).
-fn demo(t: &Array<'_>, y: &Array<'_>, names: Option<Bound<'_, PyAny>>) -> PyResult<Demo> {
+pub(crate) fn demo(
+    t: &Array<'_>,
+    y: &Array<'_>,
+    names: Option<Bound<'_, PyAny>>,
+) -> PyResult<Demo> {
     let names = column_names(names)?;
     let times = times("t", t)?;
     let (rows, cols, positions) = match y.shape().len() {

@@ -19,6 +19,7 @@ mod errors;
 mod experiments;
 mod generalize;
 mod learners;
+mod promp;
 mod robot;
 mod shaping;
 
@@ -27,6 +28,7 @@ fn _primo(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_class::<dmp::Dmp>()?;
     m.add_class::<dmprun::DmpRun>()?;
+    m.add_class::<promp::ProMp>()?;
     m.add_class::<generalize::Generalizer>()?;
     m.add_class::<learners::GoldenSection>()?;
     m.add_class::<learners::Illinois>()?;

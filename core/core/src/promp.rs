@@ -226,6 +226,96 @@ impl<const D: usize, const K: usize> ProMp<D, K> {
         Ok(p)
     }
 
+    /// The whole ProMP as numbers, to keep it and rebuild it with
+    /// [`ProMp::from_values`]: DoF, kernels, duration, noise, then the
+    /// mean (DoF by DoF) and the covariance (`[a][i][b][j]` order) of the
+    /// weights in use.
+    pub fn values(&self) -> impl Iterator<Item = f64> + '_ {
+        let (dof, kernels) = (self.dof, self.kernels);
+        let head = [dof as f64, kernels as f64, self.duration, self.noise];
+        let mean = (0..dof).flat_map(move |a| (0..kernels).map(move |i| at2(&self.mean, a, i)));
+        let cov = (0..dof).flat_map(move |a| {
+            (0..kernels).flat_map(move |i| {
+                (0..dof).flat_map(move |b| (0..kernels).map(move |j| self.cov_at(a, b, i, j)))
+            })
+        });
+        head.into_iter().chain(mean).chain(cov)
+    }
+
+    /// The ProMP [`ProMp::values`] gave. Checked: the sizes, finite
+    /// values, a positive duration, a noise and a covariance diagonal
+    /// `>= 0`, a symmetric covariance.
+    pub fn from_values(values: &[f64]) -> Result<Self, Error> {
+        let bad = Error::OutOfRange("not the values of a ProMP of this size");
+        let (dof, kernels, duration, noise) = match values {
+            [d, k, t, n, ..] => (*d as usize, *k as usize, *t, *n),
+            _ => return Err(bad),
+        };
+        if dof == 0 || dof > D || kernels < 2 || kernels > K {
+            return Err(bad);
+        }
+        let w = dof * kernels;
+        crate::check_len("ProMP values", 4 + w + w * w, values.len())?;
+        if !values.iter().all(|v| v.is_finite()) {
+            return Err(Error::NotFinite("ProMP values"));
+        }
+        if !(duration > 0.0 && noise >= 0.0) {
+            return Err(bad);
+        }
+        let mut p = ProMp {
+            dof,
+            kernels,
+            duration,
+            noise,
+            mean: [[0.0; K]; D],
+            cov: [[[[0.0; K]; K]; D]; D],
+        };
+        let rest = values.get(4..).unwrap_or(&[]);
+        let (mean, cov) = rest.split_at(w.min(rest.len()));
+        for (n, v) in mean.iter().enumerate() {
+            if let Some(m) = p
+                .mean
+                .get_mut(n / kernels)
+                .and_then(|r| r.get_mut(n % kernels))
+            {
+                *m = *v;
+            }
+        }
+        for (n, v) in cov.iter().enumerate() {
+            let (row, column) = (n / w, n % w);
+            let (a, i, b, j) = (
+                row / kernels,
+                row % kernels,
+                column / kernels,
+                column % kernels,
+            );
+            if let Some(c) = p
+                .cov
+                .get_mut(a)
+                .and_then(|r| r.get_mut(b))
+                .and_then(|r| r.get_mut(i))
+                .and_then(|r| r.get_mut(j))
+            {
+                *c = *v;
+            }
+        }
+        for (row, column) in (0..w).flat_map(|r| (0..w).map(move |c| (r, c))) {
+            let (a, i, b, j) = (
+                row / kernels,
+                row % kernels,
+                column / kernels,
+                column % kernels,
+            );
+            let (x, y) = (p.cov_at(a, b, i, j), p.cov_at(b, a, j, i));
+            if (row == column && x < 0.0) || (x - y).abs() > 1e-9 * (x.abs() + y.abs()) {
+                return Err(Error::OutOfRange(
+                    "a ProMP's covariance must be symmetric with a diagonal >= 0",
+                ));
+            }
+        }
+        Ok(p)
+    }
+
     /// The DoFs.
     pub fn dof(&self) -> usize {
         self.dof

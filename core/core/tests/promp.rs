@@ -184,3 +184,30 @@ fn what_a_promp_cannot_take_is_refused() {
         Err(Error::Singular(_))
     ));
 }
+
+/// Its values rebuild it exactly; bent values are refused.
+#[test]
+fn values_rebuild_it_and_bad_ones_are_refused() {
+    let mut p = fitted(&[0.8, 1.0, 1.2]);
+    p.condition(
+        0.5,
+        &[Observation {
+            dof: 1,
+            position: 0.21,
+        }],
+        1e-4,
+    )
+    .unwrap();
+    let values: Vec<f64> = p.values().collect();
+    assert_eq!(values.len(), 4 + 40 + 40 * 40);
+    assert_eq!(ProMp::<2, 20>::from_values(&values).unwrap(), p);
+    // Too big for a smaller ProMP, cut short, asymmetric, not finite.
+    assert!(ProMp::<2, 10>::from_values(&values).is_err());
+    assert!(ProMp::<2, 20>::from_values(&values[..100]).is_err());
+    let mut skew = values.clone();
+    skew[4 + 40 + 1] += 1.0;
+    assert!(ProMp::<2, 20>::from_values(&skew).is_err());
+    let mut nan = values;
+    nan[10] = f64::NAN;
+    assert!(ProMp::<2, 20>::from_values(&nan).is_err());
+}

@@ -448,6 +448,156 @@ class DmpRun:
     def __copy__(self) -> DmpRun: ...
     def __deepcopy__(self, memo: Any) -> DmpRun: ...
 
+class ProMp:
+    """A probabilistic movement primitive (Paraschos et al. 2013): a Gaussian
+    over the weights of normalized Gaussian kernels on the phase (each
+    demonstration's time over its duration), fitted to several
+    demonstrations; the trajectory's mean and variance at any phase,
+    conditioned on positions (via-points, the goal) and blended with
+    another. Pickles and copies.
+
+    >>> import numpy as np, primo
+    >>> t = np.linspace(0.0, 1.0, 101)
+    >>> demos = [(t, h * t * t * (3 - 2 * t)) for h in (0.9, 1.0, 1.1)]
+    >>> p = primo.ProMp.fit(demos, names=["x"], kernels=20)
+    >>> round(float(p.mean([1.0])[0, 0]), 3)
+    1.0
+    >>> q = p.condition(1.0, {"x": 1.05})
+    >>> round(float(q.mean([1.0])[0, 0]), 3), round(float(q.mean([0.5])[0, 0]), 3)
+    (1.05, 0.525)
+    """
+
+    @staticmethod
+    def fit(
+        demos: Sequence[tuple[ArrayLike, ArrayLike]],
+        names: Optional[Sequence[str]] = None,
+        kernels: int = 20,
+        ridge: float = 1e-6,
+    ) -> ProMp:
+        """Fits a ProMP to several demonstrations of the same columns and the
+        same number of samples: each one's kernel weights by least squares,
+        their mean and covariance (with a ridge), and the mean squared
+        residual as the observation noise.
+
+        Args:
+            demos: a sequence of ``(t, y)``: times, s (n, strictly
+                increasing; each demonstration's own duration is its phase
+                0 to 1) and positions (n, columns), or (n,) for one column.
+            names: the columns' names (default ``y0, y1, …``).
+            kernels: kernels per column, 2 to 40.
+            ridge: the covariance's ridge, relative to its mean variance
+                (>= 0): what keeps it invertible with few demonstrations.
+
+        Returns:
+            ProMp: the fitted ProMP.
+
+        Raises:
+            ValueError: fewer than two demonstrations, ones of different
+                lengths or columns, more than 8 columns, times that do not
+                increase, a value that is not finite, kernels or ridge out
+                of range.
+
+        >>> import numpy as np, primo
+        >>> t = np.linspace(0.0, 1.0, 51)
+        >>> p = primo.ProMp.fit([(t, t), (t, 2 * t)], kernels=10)
+        >>> p.names, p.kernels, round(p.duration, 6)
+        (['y0'], 10, 1.0)
+        """
+    @property
+    def names(self) -> list[str]:
+        """The columns' names."""
+    @property
+    def kernels(self) -> int:
+        """Kernels per column."""
+    @property
+    def duration(self) -> float:
+        """The demonstrations' mean duration, s (phase 1)."""
+    def mean(self, z: ArrayLike) -> Array:
+        """The mean position at each phase.
+
+        Args:
+            z: phases in [0, 1], shape (m,) (or one number).
+
+        Returns:
+            numpy.ndarray: shape (m, columns).
+
+        Raises:
+            ValueError: a phase outside [0, 1] or not finite.
+
+        >>> import numpy as np, primo
+        >>> t = np.linspace(0.0, 1.0, 51)
+        >>> p = primo.ProMp.fit([(t, t), (t, 3 * t)], kernels=10)
+        >>> p.mean([0.0, 1.0]).round(2).tolist()
+        [[0.0], [2.0]]
+        """
+    def variance(self, z: ArrayLike) -> Array:
+        """The variance of the position at each phase: the weights' spread and
+        the observation noise.
+
+        Args:
+            z: phases in [0, 1], shape (m,) (or one number).
+
+        Returns:
+            numpy.ndarray: shape (m, columns).
+
+        Raises:
+            ValueError: a phase outside [0, 1] or not finite.
+
+        >>> import numpy as np, primo
+        >>> t = np.linspace(0.0, 1.0, 51)
+        >>> p = primo.ProMp.fit([(t, t), (t, 3 * t)], kernels=10)
+        >>> round(float(p.variance(1.0)[0, 0]), 2)  # the ends 1 and 3
+        2.0
+        """
+    def condition(self, z: float, positions: Mapping[str, float], variance: float = 0.0) -> ProMp:
+        """This ProMP conditioned on positions at a phase: the columns pass
+        them (a via-point, the goal), the rest moves with its correlations.
+
+        Args:
+            z: the phase, in [0, 1].
+            positions: ``{column: position}``.
+            variance: how sure the positions are (>= 0; 0 is exact).
+
+        Returns:
+            ProMp: the conditioned ProMP (this one is unchanged).
+
+        Raises:
+            ValueError: an unknown column, a phase outside [0, 1], a
+                negative variance, a position that is not finite, or one the
+                distribution cannot take (no spread there to move by).
+
+        >>> import numpy as np, primo
+        >>> t = np.linspace(0.0, 1.0, 51)
+        >>> p = primo.ProMp.fit([(t, t), (t, 3 * t)], kernels=10)
+        >>> round(float(p.condition(0.5, {"y0": 1.25}).mean(1.0)[0, 0]), 2)
+        2.5
+        """
+    def blend(self, other: ProMp, alpha: ArrayLike, z: ArrayLike) -> tuple[Array, Array]:
+        """Blends this ProMP (activation ``alpha``) with ``other`` (``1 −
+        alpha``) at phases: per column, the product of the two positions'
+        distributions with each precision weighted by its activation.
+
+        Args:
+            other: a ProMP of the same columns.
+            alpha: this one's activation, in [0, 1]: one number, or one per
+                phase.
+            z: phases in [0, 1], shape (m,).
+
+        Returns:
+            tuple: ``(mean, variance)``, each (m, columns).
+
+        Raises:
+            ValueError: other columns, an activation or phase out of range.
+
+        >>> import numpy as np, primo
+        >>> t = np.linspace(0.0, 1.0, 51)
+        >>> a = primo.ProMp.fit([(t, t), (t, 1.1 * t)], kernels=10)
+        >>> b = primo.ProMp.fit([(t, -t), (t, -1.1 * t)], kernels=10)
+        >>> mean, var = a.blend(b, [1.0, 0.5, 0.0], [1.0, 1.0, 1.0])
+        >>> mean.round(2).ravel().tolist()
+        [1.05, 0.0, -1.05]
+        """
+
 class Generalizer:
     """``G(q)``: a DMP for any task query, generalized from examples.
 

@@ -1,0 +1,360 @@
+//! `ProMp`: a probabilistic movement primitive from several
+//! demonstrations (the core's [`primo_core::promp`]), by column name. It
+//! pickles as its names and the core's values.
+
+use numpy::PyArray1;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyTuple};
+
+use primo_core::promp::{Observation, ProMp as CoreProMp, blend};
+
+use crate::arrays::{Array, out2, vector};
+use crate::dmp::demo;
+use crate::errors::{core, invalid};
+
+/// The most DoFs (columns) a ProMP takes here.
+const MAX_COLUMNS: usize = 8;
+/// The most kernels per DoF a ProMP takes here.
+const MAX_KERNELS: usize = 40;
+
+type Core = CoreProMp<MAX_COLUMNS, MAX_KERNELS>;
+
+/// A probabilistic movement primitive (Paraschos et al. 2013): a Gaussian
+/// over the weights of normalized Gaussian kernels on the phase (each
+/// demonstration's time over its duration), fitted to several
+/// demonstrations; the trajectory's mean and variance at any phase,
+/// conditioned on positions (via-points, the goal) and blended with
+/// another. Pickles and copies.
+///
+/// >>> import numpy as np, primo
+/// >>> t = np.linspace(0.0, 1.0, 101)
+/// >>> demos = [(t, h * t * t * (3 - 2 * t)) for h in (0.9, 1.0, 1.1)]
+/// >>> p = primo.ProMp.fit(demos, names=["x"], kernels=20)
+/// >>> round(float(p.mean([1.0])[0, 0]), 3)
+/// 1.0
+/// >>> q = p.condition(1.0, {"x": 1.05})
+/// >>> round(float(q.mean([1.0])[0, 0]), 3), round(float(q.mean([0.5])[0, 0]), 3)
+/// (1.05, 0.525)
+#[pyclass(module = "primo._primo")]
+#[derive(Clone)]
+pub struct ProMp {
+    names: Vec<String>,
+    promp: Box<Core>,
+}
+
+impl ProMp {
+    fn dof_of(&self, name: &str) -> PyResult<usize> {
+        self.names.iter().position(|n| n == name).ok_or_else(|| {
+            invalid(format!(
+                "no column {name:?} among {}",
+                self.names.join(", ")
+            ))
+        })
+    }
+
+    /// `f(phase, dof)` for each phase in `z` and each column: (len(z), columns).
+    fn per_phase<'py>(
+        &self,
+        py: Python<'py>,
+        z: &Array<'_>,
+        f: impl Fn(&Core, f64, usize) -> f64,
+    ) -> PyResult<Bound<'py, numpy::PyArray2<f64>>> {
+        let z = vector("z", z, true)?;
+        if let Some(bad) = z.iter().find(|z| !(0.0..=1.0).contains(*z)) {
+            return Err(invalid(format!("z: {bad} is not a phase in [0, 1]")));
+        }
+        let values: Vec<f32> = z
+            .iter()
+            .flat_map(|&z| (0..self.names.len()).map(move |d| (z, d)))
+            .map(|(z, d)| f(&self.promp, f64::from(z), d) as f32)
+            .collect();
+        out2(py, &values, self.names.len())
+    }
+}
+
+#[pymethods]
+impl ProMp {
+    /// Fits a ProMP to several demonstrations of the same columns and the
+    /// same number of samples: each one's kernel weights by least squares,
+    /// their mean and covariance (with a ridge), and the mean squared
+    /// residual as the observation noise.
+    ///
+    /// Args:
+    ///     demos: a sequence of ``(t, y)``: times, s (n, strictly
+    ///         increasing; each demonstration's own duration is its phase
+    ///         0 to 1) and positions (n, columns), or (n,) for one column.
+    ///     names: the columns' names (default ``y0, y1, …``).
+    ///     kernels: kernels per column, 2 to 40.
+    ///     ridge: the covariance's ridge, relative to its mean variance
+    ///         (>= 0): what keeps it invertible with few demonstrations.
+    ///
+    /// Returns:
+    ///     ProMp: the fitted ProMP.
+    ///
+    /// Raises:
+    ///     ValueError: fewer than two demonstrations, ones of different
+    ///         lengths or columns, more than 8 columns, times that do not
+    ///         increase, a value that is not finite, kernels or ridge out
+    ///         of range.
+    ///
+    /// >>> import numpy as np, primo
+    /// >>> t = np.linspace(0.0, 1.0, 51)
+    /// >>> p = primo.ProMp.fit([(t, t), (t, 2 * t)], kernels=10)
+    /// >>> p.names, p.kernels, round(p.duration, 6)
+    /// (['y0'], 10, 1.0)
+    #[staticmethod]
+    #[pyo3(signature = (demos, names=None, kernels=20, ridge=1e-6))]
+    fn fit(
+        py: Python<'_>,
+        demos: Vec<(Array<'_>, Array<'_>)>,
+        names: Option<Bound<'_, PyAny>>,
+        kernels: i64,
+        ridge: f64,
+    ) -> PyResult<ProMp> {
+        if !(2..=MAX_KERNELS as i64).contains(&kernels) {
+            return Err(invalid(format!(
+                "kernels={kernels}: a ProMP takes 2 to {MAX_KERNELS} kernels per column"
+            )));
+        }
+        if !(ridge.is_finite() && ridge >= 0.0) {
+            return Err(invalid(format!(
+                "ridge: {ridge} must be a finite number >= 0"
+            )));
+        }
+        let mut parsed = Vec::with_capacity(demos.len());
+        for (i, (t, y)) in demos.iter().enumerate() {
+            let d = demo(t, y, names.clone()).map_err(|e| invalid(format!("demos[{i}]: {e}")))?;
+            if let Some(first) = parsed.first().map(|f: &primo_skill::csv::Demo| &f.names)
+                && *first != d.names
+            {
+                return Err(invalid(format!(
+                    "demos[{i}]: columns {} where demos[0] has {}",
+                    d.names.join(","),
+                    first.join(",")
+                )));
+            }
+            parsed.push(d);
+        }
+        let names = parsed.first().map(|d| d.names.clone()).unwrap_or_default();
+        if names.len() > MAX_COLUMNS {
+            return Err(invalid(format!(
+                "{} columns: a ProMP takes at most {MAX_COLUMNS}",
+                names.len()
+            )));
+        }
+        let refs: Vec<(&[f32], &[f32])> = parsed
+            .iter()
+            .map(|d| (&d.times[..], &d.positions[..]))
+            .collect();
+        let fitted =
+            py.detach(|| Core::fit(&refs, names.len(), kernels as usize, ridge).map(Box::new));
+        Ok(ProMp {
+            names,
+            promp: fitted.map_err(core)?,
+        })
+    }
+
+    /// The columns' names.
+    #[getter]
+    fn names(&self) -> Vec<String> {
+        self.names.clone()
+    }
+
+    /// Kernels per column.
+    #[getter]
+    fn kernels(&self) -> usize {
+        self.promp.kernels()
+    }
+
+    /// The demonstrations' mean duration, s (phase 1).
+    #[getter]
+    fn duration(&self) -> f64 {
+        self.promp.duration()
+    }
+
+    /// The mean position at each phase.
+    ///
+    /// Args:
+    ///     z: phases in [0, 1], shape (m,) (or one number).
+    ///
+    /// Returns:
+    ///     numpy.ndarray: shape (m, columns).
+    ///
+    /// Raises:
+    ///     ValueError: a phase outside [0, 1] or not finite.
+    ///
+    /// >>> import numpy as np, primo
+    /// >>> t = np.linspace(0.0, 1.0, 51)
+    /// >>> p = primo.ProMp.fit([(t, t), (t, 3 * t)], kernels=10)
+    /// >>> p.mean([0.0, 1.0]).round(2).tolist()
+    /// [[0.0], [2.0]]
+    fn mean<'py>(
+        &self,
+        py: Python<'py>,
+        z: Array<'_>,
+    ) -> PyResult<Bound<'py, numpy::PyArray2<f64>>> {
+        self.per_phase(py, &z, |p, z, d| p.mean(z, d))
+    }
+
+    /// The variance of the position at each phase: the weights' spread and
+    /// the observation noise.
+    ///
+    /// Args:
+    ///     z: phases in [0, 1], shape (m,) (or one number).
+    ///
+    /// Returns:
+    ///     numpy.ndarray: shape (m, columns).
+    ///
+    /// Raises:
+    ///     ValueError: a phase outside [0, 1] or not finite.
+    ///
+    /// >>> import numpy as np, primo
+    /// >>> t = np.linspace(0.0, 1.0, 51)
+    /// >>> p = primo.ProMp.fit([(t, t), (t, 3 * t)], kernels=10)
+    /// >>> round(float(p.variance(1.0)[0, 0]), 2)  # the ends 1 and 3
+    /// 2.0
+    fn variance<'py>(
+        &self,
+        py: Python<'py>,
+        z: Array<'_>,
+    ) -> PyResult<Bound<'py, numpy::PyArray2<f64>>> {
+        self.per_phase(py, &z, |p, z, d| p.variance(z, d))
+    }
+
+    /// This ProMP conditioned on positions at a phase: the columns pass
+    /// them (a via-point, the goal), the rest moves with its correlations.
+    ///
+    /// Args:
+    ///     z: the phase, in [0, 1].
+    ///     positions: ``{column: position}``.
+    ///     variance: how sure the positions are (>= 0; 0 is exact).
+    ///
+    /// Returns:
+    ///     ProMp: the conditioned ProMP (this one is unchanged).
+    ///
+    /// Raises:
+    ///     ValueError: an unknown column, a phase outside [0, 1], a
+    ///         negative variance, a position that is not finite, or one the
+    ///         distribution cannot take (no spread there to move by).
+    ///
+    /// >>> import numpy as np, primo
+    /// >>> t = np.linspace(0.0, 1.0, 51)
+    /// >>> p = primo.ProMp.fit([(t, t), (t, 3 * t)], kernels=10)
+    /// >>> round(float(p.condition(0.5, {"y0": 1.25}).mean(1.0)[0, 0]), 2)
+    /// 2.5
+    #[pyo3(signature = (z, positions, variance=0.0))]
+    fn condition(&self, z: f64, positions: Bound<'_, PyDict>, variance: f64) -> PyResult<ProMp> {
+        let mut observed = Vec::new();
+        for (name, value) in positions.iter() {
+            let name: String = name.extract()?;
+            let position: f64 = value.extract()?;
+            observed.push(Observation {
+                dof: self.dof_of(&name)?,
+                position: position as f32,
+            });
+        }
+        let mut next = self.clone();
+        next.promp.condition(z, &observed, variance).map_err(core)?;
+        Ok(next)
+    }
+
+    /// Blends this ProMP (activation ``alpha``) with ``other`` (``1 −
+    /// alpha``) at phases: per column, the product of the two positions'
+    /// distributions with each precision weighted by its activation.
+    ///
+    /// Args:
+    ///     other: a ProMP of the same columns.
+    ///     alpha: this one's activation, in [0, 1]: one number, or one per
+    ///         phase.
+    ///     z: phases in [0, 1], shape (m,).
+    ///
+    /// Returns:
+    ///     tuple: ``(mean, variance)``, each (m, columns).
+    ///
+    /// Raises:
+    ///     ValueError: other columns, an activation or phase out of range.
+    ///
+    /// >>> import numpy as np, primo
+    /// >>> t = np.linspace(0.0, 1.0, 51)
+    /// >>> a = primo.ProMp.fit([(t, t), (t, 1.1 * t)], kernels=10)
+    /// >>> b = primo.ProMp.fit([(t, -t), (t, -1.1 * t)], kernels=10)
+    /// >>> mean, var = a.blend(b, [1.0, 0.5, 0.0], [1.0, 1.0, 1.0])
+    /// >>> mean.round(2).ravel().tolist()
+    /// [1.05, 0.0, -1.05]
+    fn blend<'py>(
+        &self,
+        py: Python<'py>,
+        other: &ProMp,
+        alpha: Array<'_>,
+        z: Array<'_>,
+    ) -> PyResult<Bound<'py, PyTuple>> {
+        if other.names != self.names {
+            return Err(invalid(format!(
+                "other: columns {} where this ProMP has {}",
+                other.names.join(","),
+                self.names.join(",")
+            )));
+        }
+        let z = vector("z", &z, true)?;
+        let alpha = vector("alpha", &alpha, true)?;
+        if alpha.len() != 1 && alpha.len() != z.len() {
+            return Err(invalid(format!(
+                "alpha: {} values for {} phases (give one, or one per phase)",
+                alpha.len(),
+                z.len()
+            )));
+        }
+        let (mut mean, mut var) = (Vec::new(), Vec::new());
+        for (i, &zi) in z.iter().enumerate() {
+            let a = alpha.get(i).or(alpha.first()).copied().unwrap_or(1.0);
+            if !(0.0..=1.0).contains(&zi) {
+                return Err(invalid(format!("z: {zi} is not a phase in [0, 1]")));
+            }
+            for d in 0..self.names.len() {
+                let (m, v) = blend(&self.promp, &other.promp, f64::from(a), f64::from(zi), d)
+                    .map_err(core)?;
+                mean.push(m as f32);
+                var.push(v as f32);
+            }
+        }
+        let width = self.names.len();
+        PyTuple::new(
+            py,
+            [
+                out2(py, &mean, width)?.into_any(),
+                out2(py, &var, width)?.into_any(),
+            ],
+        )
+    }
+
+    fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyTuple>> {
+        let py = slf.py();
+        let this = slf.borrow();
+        let values: Vec<f64> = this.promp.values().collect();
+        let rebuild = py.get_type::<ProMp>().getattr("_from_values")?;
+        let args = (this.names.clone(), PyArray1::from_vec(py, values)).into_pyobject(py)?;
+        PyTuple::new(py, [rebuild, args.into_any()])
+    }
+
+    /// Rebuilds a pickled ProMP (names and the core's values).
+    #[staticmethod]
+    fn _from_values(names: Vec<String>, values: Array<'_>) -> PyResult<ProMp> {
+        let values: Vec<f64> = values.as_array().iter().copied().collect();
+        let promp = Core::from_values(&values).map_err(core)?;
+        if promp.dof() != names.len() {
+            return Err(invalid("ProMp: names and values of different sizes"));
+        }
+        Ok(ProMp {
+            names,
+            promp: Box::new(promp),
+        })
+    }
+
+    fn __copy__(&self) -> ProMp {
+        self.clone()
+    }
+
+    fn __deepcopy__(&self, _memo: Bound<'_, PyAny>) -> ProMp {
+        self.clone()
+    }
+}

@@ -1,0 +1,61 @@
+"""primo.ProMp: fit, mean and variance, conditioning, blending, pickling
+and the refusals, in Python's terms."""
+
+import copy
+import pickle
+
+import numpy as np
+import pytest
+
+import primo
+
+T = np.linspace(0.0, 1.0, 101)
+
+
+def demos(heights):
+    s = T * T * (3 - 2 * T)
+    return [(T, np.column_stack([h * s, 0.2 * h * np.sin(np.pi * T)])) for h in heights]
+
+
+def test_mean_and_variance_follow_the_demonstrations():
+    heights = [0.8, 0.9, 1.0, 1.1, 1.2]
+    p = primo.ProMp.fit(demos(heights), names=["x", "y"], kernels=20)
+    assert p.names == ["x", "y"] and p.kernels == 20
+    ends = np.array(heights)
+    assert abs(p.mean([1.0])[0, 0] - ends.mean()) < 1e-3
+    assert abs(p.variance([1.0])[0, 0] - ends.var(ddof=1)) < 0.1 * ends.var(ddof=1)
+
+
+def test_conditioning_passes_the_point_and_moves_the_correlated_column():
+    p = primo.ProMp.fit(demos([0.8, 0.9, 1.0, 1.1, 1.2]), names=["x", "y"], kernels=20)
+    q = p.condition(1.0, {"x": 1.15})
+    assert abs(q.mean([1.0])[0, 0] - 1.15) < 1e-6
+    # y's bump grows with the height: about 0.2 · 1.15 at mid-movement.
+    assert abs(q.mean([0.5])[0, 1] - 0.23) < 5e-3
+    assert q.variance([1.0])[0, 0] < 1e-3 * p.variance([1.0])[0, 0] + p.variance([0.0])[0, 0]
+    # The original is unchanged.
+    assert abs(p.mean([1.0])[0, 0] - 1.0) < 1e-3
+
+
+def test_blend_pickle_and_refusals():
+    a = primo.ProMp.fit(demos([0.5, 0.6, 0.7]), names=["x", "y"], kernels=10)
+    b = primo.ProMp.fit(demos([1.0, 1.5, 2.0]), names=["x", "y"], kernels=10)
+    mean, var = a.blend(b, [1.0, 0.0], [1.0, 1.0])
+    assert np.allclose(mean[0], a.mean(1.0)[0]) and np.allclose(mean[1], b.mean(1.0)[0])
+    again = pickle.loads(pickle.dumps(a.condition(0.5, {"y": 0.13}, variance=1e-4)))
+    assert np.array_equal(again.mean(T), a.condition(0.5, {"y": 0.13}, variance=1e-4).mean(T))
+    assert np.array_equal(copy.copy(a).variance(T), a.variance(T))
+    with pytest.raises(ValueError, match="at least two demonstrations"):
+        primo.ProMp.fit(demos([1.0]))
+    with pytest.raises(ValueError, match="different lengths"):
+        primo.ProMp.fit([(T, T), (T[:50], T[:50])])
+    with pytest.raises(ValueError, match=r"demos\[1\]: columns"):
+        primo.ProMp.fit([(T, np.column_stack([T, T])), (T, T)])
+    with pytest.raises(ValueError, match='no column "w" among x, y'):
+        a.condition(0.5, {"w": 1.0})
+    with pytest.raises(ValueError, match="phase"):
+        a.condition(1.5, {"x": 1.0})
+    with pytest.raises(ValueError, match="kernels=1"):
+        primo.ProMp.fit(demos([1.0, 2.0]), kernels=1)
+    with pytest.raises(ValueError, match="is not a phase"):
+        a.mean([2.0])
