@@ -387,6 +387,8 @@ impl Session {
                 self.phase = Phase::Moving;
                 self.last_state_at = now;
             }
+            // The stream showed the motion first.
+            (Phase::Moving | Phase::Finishing, Some(MoveStatus::MotionStarted)) => {}
             (Phase::Finishing, Some(MoveStatus::Success)) => {
                 self.events.push_back(Event::Finished);
                 self.phase = Phase::Done;
@@ -452,6 +454,11 @@ impl Session {
                 errors: state.errors,
             });
             return None;
+        }
+        if self.phase == Phase::MoveRequested && running {
+            // The stream may show the motion before the channel says so.
+            self.events.push_back(Event::MotionStarted);
+            self.phase = Phase::Moving;
         }
         if self.phase != Phase::Moving || !running {
             return None;
