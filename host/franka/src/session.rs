@@ -116,6 +116,8 @@ enum Phase {
     MoveRequested,
     Moving,
     Finishing,
+    /// The robot aborted the motion: the next state says why.
+    Aborting(Option<MoveStatus>),
     Done,
 }
 
@@ -191,7 +193,7 @@ impl Session {
     pub fn poll_timeout(&self) -> Option<Instant> {
         match self.phase {
             Phase::Done => None,
-            Phase::Moving => Some(self.last_state_at + self.cfg.state_timeout),
+            Phase::Moving | Phase::Aborting(_) => Some(self.last_state_at + self.cfg.state_timeout),
             _ => Some(self.waiting_since + self.cfg.answer_timeout),
         }
     }
@@ -204,8 +206,14 @@ impl Session {
         if now < due {
             return;
         }
+        let last = self.last_state.unwrap_or_default();
         let error = match self.phase {
             Phase::Moving => FrankaError::Silent(now - self.last_state_at),
+            Phase::Aborting(status) => FrankaError::Aborted {
+                status,
+                reflex: last.reflex_reason,
+                errors: last.errors,
+            },
             phase => FrankaError::NoAnswer {
                 what: match phase {
                     Phase::Connecting => "Connect",
@@ -278,6 +286,14 @@ impl Session {
         match self.phase {
             Phase::FirstState => {
                 self.start(now, &state);
+                None
+            }
+            Phase::Aborting(status) => {
+                self.fail(FrankaError::Aborted {
+                    status,
+                    reflex: state.reflex_reason,
+                    errors: state.errors,
+                });
                 None
             }
             Phase::MoveRequested | Phase::Moving | Phase::Finishing => self.answer(&state),
@@ -380,7 +396,6 @@ impl Session {
     }
 
     fn move_status(&mut self, now: Instant, status: u8) {
-        let last = self.last_state.unwrap_or_default();
         match (self.phase, MoveStatus::from_code(status)) {
             (Phase::MoveRequested, Some(MoveStatus::MotionStarted)) => {
                 self.events.push_back(Event::MotionStarted);
@@ -403,12 +418,11 @@ impl Session {
                     | MoveStatus::InvalidArgumentRejected),
                 ),
             ) => self.fail(FrankaError::Refused(s)),
-            (_, Some(s)) if !matches!(s, MoveStatus::Success | MoveStatus::MotionStarted) => self
-                .fail(FrankaError::Aborted {
-                    status: Some(s),
-                    reflex: last.reflex_reason,
-                    errors: last.errors,
-                }),
+            (_, Some(s)) if !matches!(s, MoveStatus::Success | MoveStatus::MotionStarted) => {
+                // The next state carries the reflex's reasons.
+                self.phase = Phase::Aborting(Some(s));
+                self.last_state_at = now;
+            }
             _ => self.fail(FrankaError::Unexpected(format!(
                 "Move response status {status} while {:?}",
                 self.phase
@@ -616,6 +630,8 @@ mod tests {
         );
         let (mut s, _) = moving(now);
         s.handle_tcp(now, &Message::new(Command::Move, 2, vec![8]).encode());
+        assert!(!s.is_done(), "waits for the state with the reasons");
+        s.handle_state(now, &reflex.encode());
         assert!(
             s.finish()
                 .unwrap_err()
