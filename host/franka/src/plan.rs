@@ -241,6 +241,8 @@ pub fn spline(times: &[f64], q: &[[f64; JOINTS]], dt: f64) -> impl Iterator<Item
 
 /// The clamped spline's second derivatives at the knots (Thomas
 /// algorithm on its tridiagonal system).
+// A joint is a column of rows: indexing reads plainer than iterators.
+#[allow(clippy::needless_range_loop)]
 fn second_derivatives(t: &[f64], q: &[[f64; JOINTS]]) -> Vec<[f64; JOINTS]> {
     let n = t.len();
     if n < 2 {

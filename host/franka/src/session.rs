@@ -556,8 +556,8 @@ mod tests {
         .to_vec()
     }
 
-    /// A session up to the motion running, and the next state's id.
-    fn moving(now: Instant) -> (Session, u64) {
+    /// A session the robot accepted.
+    fn connected(now: Instant) -> Session {
         let mut s = Session::new(&path(), 4000, SessionConfig::default(), now);
         reply(
             &mut s,
@@ -565,6 +565,12 @@ mod tests {
             Command::Connect,
             connect_response(ConnectStatus::Success, VERSION),
         );
+        s
+    }
+
+    /// A session up to the motion running, and the next state's id.
+    fn moving(now: Instant) -> (Session, u64) {
+        let mut s = connected(now);
         let mut model = vec![0];
         model.extend_from_slice(b"<robot/>");
         reply(&mut s, now, Command::GetRobotModel, model);
@@ -646,7 +652,7 @@ mod tests {
         let (mut s, id) = moving(now);
         s.handle_state(now, &state(id, robot_mode::MOVE, 1));
         s.handle_state(now, &state(id, robot_mode::MOVE, 1));
-        assert!(matches!(s.poll_transmit(), Some(_)), "asks to stop");
+        assert!(s.poll_transmit().is_some(), "asks to stop");
         assert!(matches!(
             s.finish(),
             Err(FrankaError::Stale { got: 2, last: 2 })
@@ -683,13 +689,7 @@ mod tests {
             Err(FrankaError::Version { robot: 9, ours: 10 })
         ));
 
-        let mut s = Session::new(&path(), 4000, SessionConfig::default(), now);
-        reply(
-            &mut s,
-            now,
-            Command::Connect,
-            connect_response(ConnectStatus::Success, VERSION),
-        );
+        let mut s = connected(now);
         reply(&mut s, now, Command::GetRobotModel, vec![0]);
         s.handle_state(now, &state(1, robot_mode::REFLEX, 0));
         assert!(s.poll_transmit().is_none(), "no Move");

@@ -16,8 +16,8 @@ fn a_rollout_runs_to_its_end() {
     let report = outcome.expect("the roll-out finishes");
     assert_eq!(report.commands as usize, report.planned);
     let end = path.rows().last().expect("a sample");
-    for j in 0..7 {
-        assert!((report.last_q[j] - end[j]).abs() < 1e-4, "{report:?}");
+    for (q, want) in report.last_q.iter().zip(end) {
+        assert!((q - want).abs() < 1e-4, "{report:?}");
     }
     assert_eq!((sim.motions, sim.finished), (1, 1));
 }
