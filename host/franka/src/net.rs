@@ -22,6 +22,7 @@ use std::time::{Duration, Instant};
 use primo_fri::realtime::{self, Realtime};
 use primo_fri::udp::{readable, transient};
 use primo_robot::JointPath;
+use primo_robot::execute::{Executed, ExecutionFailed, Executor};
 
 use crate::error::FrankaError;
 use crate::session::{Event, Report, Session, SessionConfig};
@@ -69,6 +70,32 @@ pub fn play(
     stop: &AtomicBool,
     on_progress: &mut dyn FnMut(Progress),
 ) -> Result<Report, FrankaError> {
+    let (report, outcome) = run(addr, path, cfg, stop, on_progress);
+    outcome.map(|()| report)
+}
+
+/// As [`play`], and what the robot did whether it failed or not (the
+/// positions it went through before a reflex, say).
+pub fn run(
+    addr: SocketAddr,
+    path: &JointPath,
+    cfg: &PlayConfig,
+    stop: &AtomicBool,
+    on_progress: &mut dyn FnMut(Progress),
+) -> (Report, Result<(), FrankaError>) {
+    match connected(addr, path, cfg, stop, on_progress) {
+        Ok(parts) => parts,
+        Err(e) => (Report::default(), Err(e)),
+    }
+}
+
+fn connected(
+    addr: SocketAddr,
+    path: &JointPath,
+    cfg: &PlayConfig,
+    stop: &AtomicBool,
+    on_progress: &mut dyn FnMut(Progress),
+) -> Result<(Report, Result<(), FrankaError>), FrankaError> {
     let mut tcp = TcpStream::connect_timeout(&addr, cfg.connect_timeout)?;
     tcp.set_nodelay(true)?;
     tcp.set_read_timeout(Some(POLL))?;
@@ -129,11 +156,47 @@ pub fn play(
         heard.try_iter().for_each(&mut *on_progress);
         channel.and(joined)
     });
-    served?;
-    session
+    let (report, outcome) = session
         .into_inner()
         .map_err(|_| FrankaError::Thread)?
-        .finish()
+        .into_parts();
+    // A failed thread or socket outranks what the session concluded.
+    Ok((report, served.and(outcome)))
+}
+
+/// A Franka at `addr` as a robot that executes checked paths, for a
+/// learning run's roll-outs: each path is a run of its own (connect,
+/// motion, disconnect); the positions executed are the measured ones
+/// while the motion ran, on the robot's millisecond clock.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FrankaRobot {
+    /// The robot's command channel.
+    pub addr: SocketAddr,
+    /// How it connects and moves.
+    pub cfg: PlayConfig,
+}
+
+impl Executor for FrankaRobot {
+    fn execute(&mut self, path: &JointPath) -> Result<Executed, ExecutionFailed> {
+        let (report, outcome) = run(
+            self.addr,
+            path,
+            &self.cfg,
+            &AtomicBool::new(false),
+            &mut |_| {},
+        );
+        let executed = Executed {
+            times: report.times,
+            positions: report.positions,
+        };
+        match outcome {
+            Ok(()) => Ok(executed),
+            Err(e) => Err(ExecutionFailed {
+                why: Box::new(e),
+                executed,
+            }),
+        }
+    }
 }
 
 fn lock(session: &Mutex<Session>) -> Result<MutexGuard<'_, Session>, FrankaError> {

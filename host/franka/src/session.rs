@@ -106,6 +106,11 @@ pub struct Report {
     /// The lowest `control_command_success_rate` the robot reported while
     /// moving.
     pub min_success_rate: Option<f32>,
+    /// The measured positions while the motion ran: when, s on the
+    /// robot's clock since the first state of the motion...
+    pub times: Vec<f64>,
+    /// ...and where, row-major, seven joints a row.
+    pub positions: Vec<f64>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -141,6 +146,7 @@ pub struct Session {
     last_command: Option<[f64; JOINTS]>,
     sum_sq: [f64; JOINTS],
     tracked: u64,
+    first_moving: Option<u64>,
     report: Report,
     outcome: Option<Result<(), FrankaError>>,
 }
@@ -167,6 +173,7 @@ impl Session {
             last_command: None,
             sum_sq: [0.0; JOINTS],
             tracked: 0,
+            first_moving: None,
             report: Report::default(),
             outcome: None,
         };
@@ -314,11 +321,14 @@ impl Session {
     /// The outcome: the report, or why the run failed (an unfinished
     /// session has not failed yet but did not finish either: interrupted).
     pub fn finish(self) -> Result<Report, FrankaError> {
-        match self.outcome {
-            Some(Ok(())) => Ok(self.report),
-            Some(Err(e)) => Err(e),
-            None => Err(FrankaError::Interrupted),
-        }
+        let (report, outcome) = self.into_parts();
+        outcome.map(|()| report)
+    }
+
+    /// What the run did, failed or not, and its outcome.
+    pub fn into_parts(self) -> (Report, Result<(), FrankaError>) {
+        let outcome = self.outcome.unwrap_or(Err(FrankaError::Interrupted));
+        (self.report, outcome)
     }
 
     fn request(&mut self, command: Command, payload: Vec<u8>) -> u32 {
@@ -444,6 +454,11 @@ impl Session {
             Err(e) => return self.fail(e),
         };
         self.report.planned = plan.setpoints().len();
+        // Room for the motion's states, a second of late ones besides:
+        // nothing grows inside the cycle.
+        let states = plan.setpoints().len() + 1000;
+        self.report.times.reserve(states);
+        self.report.positions.reserve(states * JOINTS);
         self.report.approach = plan.approach_len();
         self.events.push_back(Event::Planned {
             setpoints: plan.setpoints().len(),
@@ -481,6 +496,7 @@ impl Session {
         self.report.min_success_rate =
             Some(self.report.min_success_rate.map_or(rate, |r| r.min(rate)));
         self.track(state);
+        self.record(state);
         let setpoints = self.plan.as_ref().map_or(&[][..], Plan::setpoints);
         let q_c = setpoints.get(self.next).copied()?;
         let finished = self.next + 1 >= setpoints.len();
@@ -500,6 +516,14 @@ impl Session {
             }
             .encode(),
         )
+    }
+
+    /// The state's position, on the robot's millisecond clock.
+    fn record(&mut self, state: &RobotState) {
+        let first = *self.first_moving.get_or_insert(state.message_id);
+        let t = state.message_id.saturating_sub(first) as f64 * crate::plan::DT;
+        self.report.times.push(t);
+        self.report.positions.extend(state.joints());
     }
 
     fn track(&mut self, state: &RobotState) {
@@ -616,6 +640,9 @@ mod tests {
         assert!(s.is_done());
         let report = s.finish().unwrap();
         assert_eq!(report.commands as usize, report.planned);
+        assert_eq!(report.times.len(), report.planned);
+        assert_eq!(report.positions.len(), 7 * report.planned);
+        assert_eq!(report.times[1], 0.001);
     }
 
     #[test]

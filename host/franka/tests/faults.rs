@@ -84,3 +84,41 @@ fn nobody_listening_is_a_network_error() {
     );
     assert!(matches!(outcome, Err(FrankaError::Io(_))), "{outcome:?}");
 }
+
+#[test]
+fn as_an_executor_it_reports_what_ran_before_a_reflex() {
+    use primo_franka::net::FrankaRobot;
+    use primo_robot::execute::Executor;
+    use primo_sim::fci::{FciConfig, SimFci};
+    use std::sync::atomic::{AtomicBool, Ordering};
+
+    let mut cfg = FciConfig::new(0);
+    cfg.realtime = false;
+    cfg.fault = Some(Fault::Reflex {
+        after: 300,
+        flag: 6,
+    });
+    let sim = SimFci::new(cfg).expect("the simulated controller listens");
+    let mut robot = FrankaRobot {
+        addr: sim.local_addr().expect("its address"),
+        cfg: common::client(),
+    };
+    let stop = AtomicBool::new(false);
+    let failed = std::thread::scope(|scope| {
+        scope.spawn(|| sim.run(&stop));
+        let failed = robot.execute(&rollout(HOME, 1.0));
+        stop.store(true, Ordering::Relaxed);
+        failed
+    })
+    .expect_err("a reflex");
+    assert!(
+        failed.to_string().contains("reflex joint_reflex"),
+        "{failed}"
+    );
+    // The robot's clock: 300 ms of motion, whatever states a loaded test
+    // machine made the client pass over.
+    let times = &failed.executed.times;
+    let last = times.last().copied().unwrap_or(0.0);
+    assert!((0.25..=0.31).contains(&last), "last state at {last} s");
+    assert_eq!(failed.executed.positions.len(), 7 * times.len());
+}

@@ -254,8 +254,11 @@ impl SimFci {
         let udp = UdpSocket::bind(SocketAddr::new(self.cfg.addr.ip(), 0)).map_err(io)?;
         udp.set_nonblocking(true).map_err(io)?;
         let answer = connect_response(ConnectStatus::Success, VERSION);
-        tcp.write_all(&Message::new(Command::Connect, connect.header.id, answer).encode())
-            .map_err(io)?;
+        match tcp.write_all(&Message::new(Command::Connect, connect.header.id, answer).encode()) {
+            Ok(()) => {}
+            Err(e) if gone(&e) => return Ok(FciReport::default()),
+            Err(e) => return Err(io(e)),
+        }
         let robot = Arc::new(Mutex::new(Robot {
             state: RobotState {
                 robot_mode: robot_mode::IDLE,
@@ -361,7 +364,12 @@ impl SimFci {
             drop(r);
             let mut w = writer.lock().unwrap_or_else(PoisonError::into_inner);
             for a in answers {
-                w.write_all(&a.encode()).map_err(io)?;
+                match w.write_all(&a.encode()) {
+                    Ok(()) => {}
+                    // The client left: its session ends.
+                    Err(e) if gone(&e) => return Ok(()),
+                    Err(e) => return Err(io(e)),
+                }
             }
         }
         Ok(())
@@ -547,17 +555,18 @@ fn read_message(
                     e.kind(),
                     ErrorKind::WouldBlock | ErrorKind::TimedOut | ErrorKind::Interrupted
                 ) => {}
-            Err(e)
-                if matches!(
-                    e.kind(),
-                    ErrorKind::ConnectionReset | ErrorKind::NotConnected
-                ) =>
-            {
-                return Ok(None);
-            }
+            Err(e) if gone(&e) => return Ok(None),
             Err(e) => return Err(io(e)),
         }
     }
+}
+
+/// A write error that means the client has gone.
+fn gone(e: &std::io::Error) -> bool {
+    matches!(
+        e.kind(),
+        ErrorKind::BrokenPipe | ErrorKind::ConnectionReset | ErrorKind::NotConnected
+    )
 }
 
 fn io(e: std::io::Error) -> Error {
