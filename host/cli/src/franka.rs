@@ -3,7 +3,7 @@
 //! simulated controller.
 
 use std::path::{Path, PathBuf};
-use std::sync::atomic::AtomicBool;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use primo_franka::net::{PlayConfig, Progress, play as fci_play};
 use primo_franka::plan::fr3;
@@ -76,8 +76,12 @@ pub fn play(
     };
     cfg.session.approach_speed = approach_speed;
     let mut said = Ok(());
-    let stop = AtomicBool::new(false);
-    let result = fci_play(addr, &path, &cfg, &stop, &mut |p| {
+    // Ctrl-C asks the robot to stop the motion (the roll-out then fails,
+    // status 1); the FCI would stop it anyway once the stream goes silent.
+    static STOP: AtomicBool = AtomicBool::new(false);
+    ctrlc::set_handler(|| STOP.store(true, Ordering::Relaxed))
+        .map_err(|e| CliError::other(format!("cannot catch Ctrl-C: {e}")))?;
+    let result = fci_play(addr, &path, &cfg, &STOP, &mut |p| {
         if said.is_ok() {
             said = report(&p);
         }
