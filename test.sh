@@ -46,7 +46,8 @@ cargo test --workspace --locked 2>&1 | tee -a "$log"
 # from the peers' environment (tests/peers/setup.sh: about 80 s and 450 MB
 # cold, about 1 s when reused), inside a network namespace with loopback
 # only: franka-sim binds every interface and libfranka's port is fixed
-# (root: unshare -n). Built above; the three tests take about 5 s.
+# (root: unshare -n). Built above; the three tests take about 5 s (40 s
+# on a 2-core machine at a load of 35).
 peers_venv=$(tests/peers/setup.sh)
 unshare -n sh -c 'ip link set lo up &&
   PRIMO_PEERS_VENV="$0" cargo test --offline --locked -p primo-franka --test peers' \

@@ -126,11 +126,13 @@ fn report(p: &Progress) -> Result<(), CliError> {
 
 fn print_report(r: &Report) -> Result<(), CliError> {
     say(&format!(
-        "sent {} of {} setpoints for {} states ({} skipped); lowest command success rate {}",
+        "sent {} of {} setpoints for {} states ({} skipped, {} duplicates); \
+         lowest command success rate {}",
         r.commands,
         r.planned,
         r.states,
         r.skipped,
+        r.duplicates,
         r.min_success_rate
             .map_or_else(|| "-".to_string(), |x| format!("{x:.3}"))
     ))?;

@@ -64,7 +64,7 @@ pub enum FrankaError {
     /// The robot refused or failed to stop.
     #[error("stopping the motion: {0}")]
     Stop(StopMoveStatus),
-    /// A state older than one already seen.
+    /// A state older than the newest already seen.
     #[error("the robot's state {got} came after state {last}: its states must count up")]
     Stale {
         /// Its `message_id`.

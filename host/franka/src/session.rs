@@ -11,9 +11,10 @@
 //!
 //! Everything else ends it with a [`FrankaError`]: a refused motion, a
 //! reflex (the robot's answer or a state in reflex mode or with errors),
-//! a state older than one seen, a stream silent for longer than
-//! [`SessionConfig::state_timeout`], a response later than
-//! [`SessionConfig::answer_timeout`], a closed connection. An error while
+//! a state older than the newest seen (the newest again is ignored), a
+//! stream silent for longer than [`SessionConfig::state_timeout`], a
+//! response later than [`SessionConfig::answer_timeout`], a closed
+//! connection. An error while
 //! the robot moves also asks it to stop the motion.
 //!
 //! The adapter ([`crate::net`]) drives it: [`Session::poll_transmit`] for
@@ -92,6 +93,8 @@ pub struct Report {
     /// States the robot sent that never arrived or came too late to
     /// answer (gaps in their `message_id`s while moving).
     pub skipped: u64,
+    /// States received again with the same `message_id` (ignored).
+    pub duplicates: u64,
     /// Setpoints planned.
     pub planned: usize,
     /// Of those, approaching the start.
@@ -275,7 +278,13 @@ impl Session {
             }
         };
         if let Some(last) = self.last_state.map(|s| s.message_id) {
-            if state.message_id <= last {
+            if state.message_id == last {
+                // The same state again (franka-sim resends one at times):
+                // answered already, nothing new.
+                self.report.duplicates += 1;
+                return None;
+            }
+            if state.message_id < last {
                 self.fail(FrankaError::Stale {
                     got: state.message_id,
                     last,
@@ -449,7 +458,12 @@ impl Session {
                 mode: state.robot_mode,
             });
         }
-        let plan = match Plan::new(&self.path, state.joints(), self.cfg.approach_speed) {
+        // A joint-position motion starts where the robot's desired
+        // position stands (libfranka's motion generators start at q_d;
+        // a start elsewhere is the reflex
+        // joint_position_motion_generator_start_pose_invalid).
+        let from = state.q_d.map(f64::from);
+        let plan = match Plan::new(&self.path, from, self.cfg.approach_speed) {
             Ok(p) => p,
             Err(e) => return self.fail(e),
         };
@@ -571,6 +585,7 @@ mod tests {
         RobotState {
             message_id: id,
             q: HOME.map(|x| x as f32),
+            q_d: HOME.map(|x| x as f32),
             robot_mode: mode,
             motion_generator_mode: mg,
             control_command_success_rate: 1.0,
@@ -677,12 +692,22 @@ mod tests {
     fn stale_states_silence_and_a_closed_channel_are_errors() {
         let now = Instant::now();
         let (mut s, id) = moving(now);
-        s.handle_state(now, &state(id, robot_mode::MOVE, 1));
-        s.handle_state(now, &state(id, robot_mode::MOVE, 1));
+        assert!(
+            s.handle_state(now, &state(id, robot_mode::MOVE, 1))
+                .is_some()
+        );
+        // The same state again is ignored; an older one ends the run.
+        assert!(
+            s.handle_state(now, &state(id, robot_mode::MOVE, 1))
+                .is_none()
+        );
+        assert!(!s.is_done());
+        assert_eq!(s.report().duplicates, 1);
+        s.handle_state(now, &state(id - 1, robot_mode::MOVE, 1));
         assert!(s.poll_transmit().is_some(), "asks to stop");
         assert!(matches!(
             s.finish(),
-            Err(FrankaError::Stale { got: 2, last: 2 })
+            Err(FrankaError::Stale { got: 1, last: 2 })
         ));
 
         let (mut s, id) = moving(now);

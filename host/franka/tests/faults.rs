@@ -93,7 +93,6 @@ fn as_an_executor_it_reports_what_ran_before_a_reflex() {
     use std::sync::atomic::{AtomicBool, Ordering};
 
     let mut cfg = FciConfig::new(0);
-    cfg.realtime = false;
     cfg.fault = Some(Fault::Reflex {
         after: 300,
         flag: 6,

@@ -262,6 +262,7 @@ impl SimFci {
         let robot = Arc::new(Mutex::new(Robot {
             state: RobotState {
                 robot_mode: robot_mode::IDLE,
+                q_d: q.map(|x| x as f32),
                 control_command_success_rate: 1.0,
                 ..RobotState::default()
             },
