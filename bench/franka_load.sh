@@ -23,17 +23,7 @@ cd "$(dirname "$0")/.."
 seconds=${1:-20}
 repeats=${2:-3}
 
-cargo build --release --locked -q --bin primo
-target=$(cargo metadata --format-version 1 --no-deps --locked |
-  sed -n 's/.*"target_directory":"\([^"]*\)".*/\1/p')
-primo=$target/release/primo
-work=$(mktemp -d)
-loaders=()
-cleanup() {
-  for pid in "${loaders[@]}"; do kill "$pid" 2>/dev/null || true; done
-  rm -rf "$work"
-}
-trap cleanup EXIT
+. bench/load_common.sh
 
 # A slow raised-cosine swing of joints 1, 2 and 4 of the FR3 from its
 # start, 10 ms samples, at rest at both ends: within every limit.
@@ -75,22 +65,10 @@ run() {
   echo "$((late + missed)) ${cycles:-0} ${late_sends:-?} ${sched:-normal priority (--no-realtime)}"
 }
 
-load() {
-  for _ in $(seq $((2 * $(nproc)))); do
-    nice -n 19 sh -c 'while :; do :; done' &
-    loaders+=($!)
-  done
-}
-
-unload() {
-  for pid in "${loaders[@]}"; do kill "$pid" 2>/dev/null || true; done
-  loaders=()
-}
-
 rows=()
 busy_shares=()
 for machine in idle busy; do
-  [ "$machine" = busy ] && load
+  [ "$machine" = busy ] && load 19
   modes=(realtime no-realtime)
   [ "$machine" = busy ] && for _ in $(seq 2 "$repeats"); do modes+=(realtime); done
   for mode in "${modes[@]}"; do

@@ -21,17 +21,7 @@ cd "$(dirname "$0")/.."
 seconds=${1:-20}
 repeats=${2:-3}
 
-cargo build --release --locked -q --bin primo
-target=$(cargo metadata --format-version 1 --no-deps --locked |
-  sed -n 's/.*"target_directory":"\([^"]*\)".*/\1/p')
-primo=$target/release/primo
-work=$(mktemp -d)
-loaders=()
-cleanup() {
-  for pid in "${loaders[@]}"; do kill "$pid" 2>/dev/null || true; done
-  rm -rf "$work"
-}
-trap cleanup EXIT
+. bench/load_common.sh
 
 # A slow swing of the first joints, 10 ms samples: within every limit.
 awk -v n=$((seconds * 100)) 'BEGIN {
@@ -69,18 +59,6 @@ run() {
   sched=$(grep -ho 'real-time scheduling (SCHED_FIFO [0-9]*)\|no real-time scheduling ([^;]*' \
     "$work/play.out" "$work/play.err" | head -1 || true)
   echo "$stale $((answered + stale)) $cycles ${late_sends:-?} ${sched:-normal priority (--no-realtime)}"
-}
-
-load() {
-  for _ in $(seq $((2 * $(nproc)))); do
-    (while :; do :; done) &
-    loaders+=($!)
-  done
-}
-
-unload() {
-  for pid in "${loaders[@]}"; do kill "$pid" 2>/dev/null || true; done
-  loaders=()
 }
 
 rows=()
