@@ -65,26 +65,7 @@ run() {
   echo "$((late + missed)) ${cycles:-0} ${late_sends:-?} ${sched:-normal priority (--no-realtime)}"
 }
 
-rows=()
-busy_shares=()
-for machine in idle busy; do
-  [ "$machine" = busy ] && load 19
-  modes=(realtime no-realtime)
-  [ "$machine" = busy ] && for _ in $(seq 2 "$repeats"); do modes+=(realtime); done
-  for mode in "${modes[@]}"; do
-    flags=()
-    [ "$mode" = no-realtime ] && flags=(--no-realtime)
-    read -r late cycles late_sends sched < <(run "${flags[@]}")
-    share=$(awk -v l="$late" -v a="$cycles" 'BEGIN { printf "%.3f", a ? 100 * l / a : 0 }')
-    [ "$machine$mode" = busyrealtime ] && busy_shares+=("$share")
-    row="| $machine | $sched | $cycles | $late | $share % | $late_sends |"
-    echo "$row"
-    rows+=("$row")
-  done
-  unload
-done
-spread=$(printf '%s\n' "${busy_shares[@]}" | sort -n | awk '
-  { v[NR] = $1 } END { printf "%s runs: %.3f to %.3f %%, median %.3f %%", NR, v[1], v[NR], v[int((NR + 1) / 2)] }')
+measure 19
 
 {
   echo "# Franka (FCI) on time under load"
