@@ -21,17 +21,7 @@ cd "$(dirname "$0")/.."
 seconds=${1:-20}
 repeats=${2:-3}
 
-cargo build --release --locked -q --bin primo
-target=$(cargo metadata --format-version 1 --no-deps --locked |
-  sed -n 's/.*"target_directory":"\([^"]*\)".*/\1/p')
-primo=$target/release/primo
-work=$(mktemp -d)
-loaders=()
-cleanup() {
-  for pid in "${loaders[@]}"; do kill "$pid" 2>/dev/null || true; done
-  rm -rf "$work"
-}
-trap cleanup EXIT
+. bench/load_common.sh
 
 # A slow swing of the first joints, 10 ms samples: within every limit.
 awk -v n=$((seconds * 100)) 'BEGIN {
@@ -47,7 +37,7 @@ if ! chrt -f 90 true 2>/dev/null; then
   krc_rt=()
 fi
 
-# One run: prints "late answers cycles krc-late-sends scheduling".
+# One run: prints "late answers krc-late-sends scheduling".
 run() {
   local port=$((40000 + RANDOM % 20000))
   "${krc_rt[@]}" "$primo" robot sim-krc --port "$port" --cycle-ms 2 --once \
@@ -59,8 +49,7 @@ run() {
   local line
   line=$(grep -m1 ' cycles, ' "$work/krc.out")
   # "N cycles, A answered on time, M missed (D lost on purpose), S stale answers, ..."
-  local cycles answered stale
-  cycles=$(sed -n 's/.*: \([0-9]*\) cycles,.*/\1/p' <<<"$line")
+  local answered stale
   answered=$(sed -n 's/.* \([0-9]*\) answered on time.*/\1/p' <<<"$line")
   stale=$(sed -n 's/.* \([0-9]*\) stale answers.*/\1/p' <<<"$line")
   local late_sends
@@ -68,41 +57,10 @@ run() {
   local sched
   sched=$(grep -ho 'real-time scheduling (SCHED_FIFO [0-9]*)\|no real-time scheduling ([^;]*' \
     "$work/play.out" "$work/play.err" | head -1 || true)
-  echo "$stale $((answered + stale)) $cycles ${late_sends:-?} ${sched:-normal priority (--no-realtime)}"
+  echo "$stale $((answered + stale)) ${late_sends:-?} ${sched:-normal priority (--no-realtime)}"
 }
 
-load() {
-  for _ in $(seq $((2 * $(nproc)))); do
-    (while :; do :; done) &
-    loaders+=($!)
-  done
-}
-
-unload() {
-  for pid in "${loaders[@]}"; do kill "$pid" 2>/dev/null || true; done
-  loaders=()
-}
-
-rows=()
-busy_shares=()
-for machine in idle busy; do
-  [ "$machine" = busy ] && load
-  modes=(realtime no-realtime)
-  [ "$machine" = busy ] && for _ in $(seq 2 "$repeats"); do modes+=(realtime); done
-  for mode in "${modes[@]}"; do
-    flags=()
-    [ "$mode" = no-realtime ] && flags=(--no-realtime)
-    read -r late answers cycles late_sends sched < <(run "${flags[@]}")
-    share=$(awk -v l="$late" -v a="$answers" 'BEGIN { printf "%.3f", a ? 100 * l / a : 0 }')
-    [ "$machine$mode" = busyrealtime ] && busy_shares+=("$share")
-    row="| $machine | $sched | $answers | $late | $share % | $late_sends |"
-    echo "$row"
-    rows+=("$row")
-  done
-  unload
-done
-spread=$(printf '%s\n' "${busy_shares[@]}" | sort -n | awk '
-  { v[NR] = $1 } END { printf "%s runs: %.3f to %.3f %%, median %.3f %%", NR, v[1], v[NR], v[int((NR + 1) / 2)] }')
+measure 0
 
 {
   echo "# FRI on time under load"

@@ -8,6 +8,7 @@ mod demo;
 mod dmp;
 mod error;
 mod experiment;
+mod franka;
 mod interrupt;
 mod learn;
 mod memory;

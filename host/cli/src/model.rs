@@ -29,8 +29,13 @@ impl ModelArgs {
     /// The chain: the URDF's from its base to its tip, read and checked,
     /// or the LWR 4's.
     pub fn chain(&self) -> Result<Chain, CliError> {
+        self.chain_or(|| Robot::lwr4().chain())
+    }
+
+    /// The chain: the URDF's, or `builtin`'s without `--model`.
+    pub fn chain_or(&self, builtin: impl FnOnce() -> Chain) -> Result<Chain, CliError> {
         let Some(path) = &self.model else {
-            return Ok(Robot::lwr4().chain());
+            return Ok(builtin());
         };
         let file = path.display().to_string();
         let urdf = Urdf::parse(&file, &read(Some("--model"), path)?)

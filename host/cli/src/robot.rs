@@ -15,6 +15,8 @@ use primo_fri::udp::{Ended, Event, PlayConfig, PlayResult, bind, play};
 use primo_fri::{DEFAULT_PORT, parse_robot};
 use primo_mtsics::{Fixed, quote};
 use primo_robot::JOINT_COLUMNS as JOINT_NAMES;
+use primo_robot::JointPath;
+use primo_robot::chain::Chain;
 use primo_robot::columns::Columns;
 use primo_robot::safety::check_path;
 use primo_sim::krc::{CellHandle, KrcConfig, LATE_SEND, SimKrc};
@@ -47,7 +49,9 @@ pub enum RobotCommand {
         #[command(flatten)]
         model: crate::model::ModelArgs,
         /// `fri:ADDR[:PORT]`: the local UDP address to bind, where the KRC
-        /// sends its packets (default port 49938).
+        /// sends its packets (default port 49938); or
+        /// `franka:ADDR[:PORT]`: a Franka's FCI (default port 1337; the
+        /// model defaults to the built-in FR3).
         #[arg(long)]
         robot: String,
         /// Longest silence from the KRC while streaming before stopping, s.
@@ -126,12 +130,31 @@ pub enum RobotCommand {
         #[arg(long)]
         load_cell: bool,
     },
+    /// Be a Franka controller: the FCI's command channel on
+    /// 127.0.0.1:PORT and its 1 kHz state stream, the arm following the
+    /// joint positions commanded (libfranka's clients drive it too).
+    SimFci(crate::franka::SimFciArgs),
 }
 
 /// Runs a `primo robot` command.
 pub fn run(command: RobotCommand) -> Result<(), CliError> {
     match command {
         RobotCommand::Check(args) => crate::robot_check::run(&args),
+        RobotCommand::Play {
+            trajectory,
+            model,
+            robot,
+            approach_speed,
+            no_realtime,
+            ..
+        } if robot.starts_with("franka:") => crate::franka::play(
+            &trajectory,
+            &model,
+            &robot,
+            in_range("--approach-speed", approach_speed, 1e-3, 1.0)?,
+            !no_realtime,
+        ),
+        RobotCommand::SimFci(args) => crate::franka::sim_fci(&args),
         RobotCommand::Play {
             trajectory,
             model,
@@ -213,7 +236,18 @@ fn seconds(flag: &str, v: f64) -> Result<Duration, CliError> {
 /// Reads a joint trajectory of `model`'s arm and passes it through its
 /// limit checks; FRI streams seven joints.
 fn load_trajectory(path: &Path, model: &ModelArgs) -> Result<FriPath, CliError> {
-    let chain = model.chain()?;
+    let checked = load_joint_path(path, &model.chain()?, "FRI")?;
+    FriPath::try_from(&checked).map_err(|why| {
+        CliError::input(format!(
+            "{}: trajectory rejected, nothing sent to the robot: {why}",
+            path.display()
+        ))
+    })
+}
+
+/// Reads a joint trajectory of `chain` and passes it through its limit
+/// checks; `driver` streams joint angles.
+pub fn load_joint_path(path: &Path, chain: &Chain, driver: &str) -> Result<JointPath, CliError> {
     let file = path.display().to_string();
     let demo = parse_demo(&file, &read(None, path)?)?;
     let rejected = |why: String| {
@@ -221,11 +255,11 @@ fn load_trajectory(path: &Path, model: &ModelArgs) -> Result<FriPath, CliError> 
             "{file}: trajectory rejected, nothing sent to the robot: {why}"
         ))
     };
-    let columns = match Columns::of(&chain, &demo.names) {
+    let columns = match Columns::of(chain, &demo.names) {
         Ok(c @ Columns::Joints(_)) => c,
         Ok(Columns::Pose(_)) => {
             return Err(CliError::input(format!(
-                "{file}: a tool trajectory: FRI streams joint angles; solve it with `primo robot \
+                "{file}: a tool trajectory: {driver} streams joint angles; solve it with `primo robot \
                  check` first or give the joints ({})",
                 chain.names().join(",")
             )));
@@ -234,9 +268,7 @@ fn load_trajectory(path: &Path, model: &ModelArgs) -> Result<FriPath, CliError> 
     };
     let rows: Vec<f64> = demo.positions.iter().map(|v| f64::from(*v)).collect();
     let times = demo.times.iter().map(|t| f64::from(*t)).collect();
-    let checked = check_path(&chain, times, columns.reorder(&rows), None)
-        .map_err(|why| rejected(why.to_string()))?;
-    FriPath::try_from(&checked).map_err(|why| rejected(why.to_string()))
+    check_path(chain, times, columns.reorder(&rows), None).map_err(|why| rejected(why.to_string()))
 }
 
 fn robot_play(

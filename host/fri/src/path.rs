@@ -82,6 +82,29 @@ impl FriPath {
     }
 }
 
+/// Minimum-jerk setpoints every `dt` from `from` (the first) to `to` (the
+/// last), with each joint's peak speed at most `speed` times its limit
+/// (`limits`, rad/s). Its acceleration peaks at 5.77·Δ/T² and its jerk at
+/// 60·Δ/T³ for a move Δ in T; it starts and ends at rest.
+pub fn approach(
+    from: [f64; JOINTS],
+    to: [f64; JOINTS],
+    dt: f64,
+    speed: f64,
+    limits: &[f64; JOINTS],
+) -> impl ExactSizeIterator<Item = [f64; JOINTS]> {
+    // Minimum jerk peaks at 1.875·Δ/T.
+    let duration = (0..JOINTS)
+        .map(|j| 1.875 * (to[j] - from[j]).abs() / (speed * limits[j]))
+        .fold(0.0, f64::max);
+    let steps = (duration / dt).ceil().max(1.0) as usize;
+    (0..steps + 1).map(move |k| {
+        let s = k as f64 / steps as f64;
+        let blend = s * s * s * (10.0 - 15.0 * s + 6.0 * s * s);
+        std::array::from_fn(|j| from[j] + (to[j] - from[j]) * blend)
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

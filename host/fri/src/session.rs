@@ -59,7 +59,7 @@ use std::fmt;
 use primo_robot::JOINTS;
 
 use crate::packet::{Command, Measurement, Quality, State};
-use crate::path::FriPath;
+use crate::path::{FriPath, approach};
 
 /// Shortest and longest FRI cycle the session accepts, s.
 pub const CYCLE_RANGE: [f64; 2] = [0.0005, 0.1];
@@ -441,28 +441,6 @@ impl Session {
             t.rms[j] = (self.sum_sq[j] / t.samples as f64).sqrt();
         }
     }
-}
-
-/// Minimum-jerk setpoints every `dt` from `from` (the first) to `to` (the
-/// last), with each joint's peak speed at most `speed` times its limit
-/// (`limits`, rad/s).
-fn approach(
-    from: [f64; JOINTS],
-    to: [f64; JOINTS],
-    dt: f64,
-    speed: f64,
-    limits: &[f64; JOINTS],
-) -> impl ExactSizeIterator<Item = [f64; JOINTS]> {
-    // Minimum jerk peaks at 1.875·Δ/T.
-    let duration = (0..JOINTS)
-        .map(|j| 1.875 * (to[j] - from[j]).abs() / (speed * limits[j]))
-        .fold(0.0, f64::max);
-    let steps = (duration / dt).ceil().max(1.0) as usize;
-    (0..steps + 1).map(move |k| {
-        let s = k as f64 / steps as f64;
-        let blend = s * s * s * (10.0 - 15.0 * s + 6.0 * s * s);
-        std::array::from_fn(|j| from[j] + (to[j] - from[j]) * blend)
-    })
 }
 
 /// The path linearly interpolated every `dt` from its first sample, ending

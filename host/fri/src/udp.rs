@@ -567,7 +567,7 @@ fn serve(
 /// thread waiting on it wakes (unlike in a blocking read, where the
 /// kernel wakes one).
 #[cfg(target_os = "linux")]
-fn readable(socket: &UdpSocket, wait: Duration) -> std::io::Result<()> {
+pub fn readable(socket: &UdpSocket, wait: Duration) -> std::io::Result<()> {
     use std::os::fd::AsRawFd;
     let mut fd = libc::pollfd {
         fd: socket.as_raw_fd(),
@@ -616,7 +616,7 @@ pub fn transient(e: &std::io::Error) -> bool {
 
 /// Off Linux: a short sleep, then a look (as the simulated KRC polls).
 #[cfg(not(target_os = "linux"))]
-fn readable(_: &UdpSocket, _: Duration) -> std::io::Result<()> {
+pub fn readable(_: &UdpSocket, _: Duration) -> std::io::Result<()> {
     std::thread::sleep(Duration::from_micros(100));
     Ok(())
 }

@@ -11,6 +11,9 @@
 //! - [`krc`]: a simulated KRC, the robot side of FRI, driving the cell,
 //!   with fault injection for the tests: a state machine sans I/O, and on
 //!   UDP.
+//! - [`fci`]: a simulated Franka controller, the robot side of the FCI
+//!   (TCP command channel and 1 kHz UDP state stream), with fault
+//!   injection for the tests.
 //! - [`scale_device`]: the cell's scale speaking MT-SICS, sans I/O, and
 //!   served on a pseudo-terminal.
 //! - [`load_cell`]: the cell's scale as a bare load cell: raw ADC counts
@@ -21,6 +24,7 @@ pub mod bottle;
 pub mod cell;
 mod error;
 pub mod expert;
+pub mod fci;
 pub mod krc;
 pub mod load_cell;
 pub mod scale;

@@ -1,0 +1,130 @@
+//! `primo robot play --robot franka:…` end to end against `primo robot
+//! sim-fci` (both the real binaries, on 127.0.0.1): a roll-out, a reflex
+//! (exit status 1), a trajectory beyond the FCI's rates and a bad address
+//! (exit status 2).
+
+use std::io::{BufRead, BufReader};
+use std::process::{Child, Command, Stdio};
+
+mod common;
+use common::{primo, tmp};
+
+/// A running `primo robot sim-fci`, killed when dropped.
+struct SimFci {
+    child: Child,
+    port: u16,
+}
+
+impl SimFci {
+    fn start(extra: &[&str]) -> SimFci {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_primo"))
+            .args(["robot", "sim-fci", "--port", "0", "--no-realtime"])
+            .args(extra)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("sim-fci starts");
+        let stdout = child.stdout.take().expect("its stdout");
+        let mut line = String::new();
+        BufReader::new(stdout)
+            .read_line(&mut line)
+            .expect("a line from sim-fci");
+        let port = line
+            .trim()
+            .rsplit(':')
+            .next()
+            .and_then(|p| p.parse().ok())
+            .unwrap_or_else(|| panic!("no address in {line:?}"));
+        SimFci { child, port }
+    }
+
+    fn robot(&self) -> String {
+        format!("franka:127.0.0.1:{}", self.port)
+    }
+}
+
+impl Drop for SimFci {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+/// `primo robot play CSV` on the simulated controller: exit status,
+/// stdout, stderr.
+fn play(sim: &SimFci, csv: &str) -> (i32, String, String) {
+    primo(&[
+        "robot",
+        "play",
+        csv,
+        "--robot",
+        &sim.robot(),
+        "--no-realtime",
+    ])
+}
+
+/// A minimum-jerk move of joint 1 by `amplitude` in `seconds` from the
+/// FR3's start, every 10 ms.
+fn trajectory(name: &str, amplitude: f64, seconds: f64) -> String {
+    let home = [0.0, 0.0, 0.0, -1.57, 0.0, 1.57, 0.785];
+    let mut csv = String::from("t,joint1,joint2,joint3,joint4,joint5,joint6,joint7\n");
+    let n = (seconds / 0.01).round() as usize;
+    for k in 0..=n {
+        let s = k as f64 / n as f64;
+        let mut q = home;
+        q[0] += amplitude * s * s * s * (10.0 - 15.0 * s + 6.0 * s * s);
+        let row: Vec<String> = q.iter().map(|x| format!("{x:.6}")).collect();
+        csv.push_str(&format!("{:.3},{}\n", k as f64 * 0.01, row.join(",")));
+    }
+    let path = tmp(name);
+    std::fs::write(&path, csv).expect("the trajectory is written");
+    path.display().to_string()
+}
+
+#[test]
+fn a_rollout_on_the_simulated_fr3_completes() {
+    let sim = SimFci::start(&["--once"]);
+    let csv = trajectory("move.csv", 0.3, 1.0);
+    let (status, out, err) = play(&sim, &csv);
+    assert_eq!(status, 0, "{out}\n{err}");
+    assert!(out.contains("primo robot play: motion finished"), "{out}");
+    assert!(out.ends_with("primo robot play: completed\n"), "{out}");
+}
+
+#[test]
+fn a_reflex_ends_the_rollout_with_status_1() {
+    let sim = SimFci::start(&[
+        "--once",
+        "--reflex-after",
+        "300",
+        "--reflex",
+        "cartesian_reflex",
+    ]);
+    let csv = trajectory("move.csv", 0.3, 1.0);
+    let (status, out, err) = play(&sim, &csv);
+    assert_eq!(status, 1, "{out}\n{err}");
+    assert!(
+        err.contains("the robot stopped the motion (aborted by a reflex): reflex cartesian_reflex"),
+        "{err}"
+    );
+}
+
+#[test]
+fn a_trajectory_beyond_the_fcis_rates_is_refused_with_status_2() {
+    let sim = SimFci::start(&["--once"]);
+    // 0.2 rad in 0.2 s: within the velocity limit, beyond 10 rad/s².
+    let csv = trajectory("fast.csv", 0.2, 0.2);
+    let (status, out, err) = play(&sim, &csv);
+    assert_eq!(status, 2, "{out}\n{err}");
+    assert!(err.contains("joint1 acceleration"), "{err}");
+    assert!(err.contains("nothing moved"), "{err}");
+    assert!(!out.contains("motion started"), "{out}");
+}
+
+#[test]
+fn a_bad_address_is_status_2() {
+    let csv = trajectory("move.csv", 0.3, 1.0);
+    let (status, _, err) = primo(&["robot", "play", &csv, "--robot", "franka:127.0.0.1:http"]);
+    assert_eq!(status, 2, "{err}");
+    assert!(err.contains("expected franka:ADDR[:PORT]"), "{err}");
+}
