@@ -14,6 +14,7 @@ mod common;
 
 use std::fs::File;
 use std::net::TcpStream;
+use std::os::unix::process::CommandExt;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -45,7 +46,9 @@ fn peers(test: &str) -> Option<PathBuf> {
     Some(PathBuf::from(venv))
 }
 
-/// A peer process, killed when dropped; its stderr kept in a file.
+/// A peer process in a process group of its own, the whole group killed
+/// when dropped (`timeout` and the peer it started: killing `timeout`
+/// alone left the peer running); its stderr kept in a file.
 struct Peer {
     child: Child,
     stderr: PathBuf,
@@ -56,6 +59,7 @@ impl Peer {
         let stderr = std::env::temp_dir().join(format!("primo-{name}-{}.log", std::process::id()));
         let file = File::create(&stderr).expect("a log file");
         let child = command
+            .process_group(0)
             .stdout(Stdio::null())
             .stderr(file)
             .spawn()
@@ -89,6 +93,8 @@ impl Peer {
 
 impl Drop for Peer {
     fn drop(&mut self) {
+        let group = format!("-{}", self.child.id());
+        let _ = Command::new("kill").args(["-KILL", "--", &group]).status();
         let _ = self.child.kill();
         let _ = self.child.wait();
         let _ = std::fs::remove_file(&self.stderr);
