@@ -67,6 +67,9 @@ pub enum WireError {
     /// A robot model that is no UTF-8 text.
     #[error("the robot model is not UTF-8 text")]
     ModelNotText,
+    /// A state whose joint positions or velocities are not numbers.
+    #[error("a robot state with joint values that are not numbers (NaN or infinite)")]
+    NotFinite,
 }
 
 /// The commands of the TCP channel (version 10 numbering).
@@ -626,6 +629,12 @@ impl RobotState {
             });
         }
         let f7 = |at: usize| std::array::from_fn(|i| f32_at(b, at + 4 * i));
+        let joints: [[f32; JOINTS]; 4] = [f7(AT_Q), f7(AT_Q_D), f7(AT_DQ), f7(AT_DQ_D)];
+        // The joints are what a command answers: a garbled one must stop
+        // the motion, not be planned from.
+        if !joints.iter().flatten().all(|v| v.is_finite()) {
+            return Err(WireError::NotFinite);
+        }
         let flags = |at: usize| {
             Flags(
                 (0..FLAGS)
