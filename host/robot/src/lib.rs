@@ -24,6 +24,8 @@
 //!   output is a [`envelope::Checked`] trajectory.
 //! - [`safety`]: the one gate every trajectory passes before it moves a
 //!   robot, simulated or real; its only output is a [`JointPath`].
+//! - [`execute`]: the [`execute::Executor`] trait every robot driver
+//!   implements to execute a [`JointPath`] and report what it did.
 //!
 //! Nothing here knows the simulator or a driver: both take their limits
 //! from here.
@@ -33,6 +35,7 @@ pub mod chain;
 pub mod columns;
 pub mod description;
 pub mod envelope;
+pub mod execute;
 pub mod ik;
 pub mod kinematics;
 pub mod limits;
