@@ -1,7 +1,8 @@
 //! The `primo robot` commands: check a trajectory against a robot's limits
 //! (`check`, [`crate::robot_check`]), stream a joint trajectory to a KUKA
-//! LWR4 over FRI (`play`), or be the KRC with the simulated arm and cell
-//! (`sim-krc`).
+//! LWR4 over FRI or execute it through a ROS 2 joint trajectory controller
+//! ([`crate::robot_ros2`]) (`play`), or be the KRC with the simulated arm
+//! and cell (`sim-krc`).
 
 use std::io::BufRead;
 use std::net::SocketAddr;
@@ -15,6 +16,7 @@ use primo_fri::udp::{Ended, Event, PlayConfig, PlayResult, bind, play};
 use primo_fri::{DEFAULT_PORT, parse_robot};
 use primo_mtsics::{Fixed, quote};
 use primo_robot::JOINT_COLUMNS as JOINT_NAMES;
+use primo_robot::JointPath;
 use primo_robot::columns::Columns;
 use primo_robot::safety::check_path;
 use primo_sim::krc::{CellHandle, KrcConfig, LATE_SEND, SimKrc};
@@ -35,27 +37,43 @@ pub enum RobotCommand {
     /// (solved by inverse kinematics). Exit 0 when it passes, 1 when it
     /// does not (the first violation on stdout), 2 for bad input.
     Check(crate::robot_check::CheckArgs),
-    /// Stream a joint trajectory (CSV `t` and the seven joints, radians, as
-    /// `primo dmp run` writes) to a KUKA LWR over FRI after the joint limit
-    /// checks of its model, and report the tracking error.
+    /// Play a joint trajectory (CSV `t` and the joints, as `primo dmp run`
+    /// writes) on a robot after the joint limit checks of its model: stream
+    /// it to a KUKA LWR over FRI and report the tracking error, or execute
+    /// it through a ROS 2 joint trajectory controller and report the joint
+    /// states it went through. Exit 1 when the robot did not complete it.
     Play {
-        /// Trajectory CSV: header `t` then the arm's seven joints by name,
-        /// any order (the LWR 4's `a1..a7`, `A1..A7`, `j1..j7` or
+        /// Trajectory CSV: header `t` then the arm's joints by name, any
+        /// order (the LWR 4's `a1..a7`, `A1..A7`, `j1..j7` or
         /// `joint_1..joint_7`; a URDF's joint names), t in seconds, angles
         /// in rad.
         trajectory: PathBuf,
         #[command(flatten)]
         model: crate::model::ModelArgs,
         /// `fri:ADDR[:PORT]`: the local UDP address to bind, where the KRC
-        /// sends its packets (default port 49938).
+        /// sends its packets (default port 49938); or `ros2:/CONTROLLER`: a
+        /// joint trajectory controller's FollowJointTrajectory action
+        /// (`/CONTROLLER/follow_joint_trajectory`, on `ROS_DOMAIN_ID`), the
+        /// robot's state from `/joint_states`.
         #[arg(long)]
         robot: String,
         /// Longest silence from the KRC while streaming before stopping, s.
         #[arg(long, default_value_t = 0.2)]
         cycle_timeout: f64,
-        /// Longest wait for the KRC's command mode, s.
+        /// Longest wait for the robot, s: the KRC's command mode (FRI), the
+        /// controller's action server (ROS 2).
         #[arg(long, default_value_t = 60.0)]
         start_timeout: f64,
+        /// ROS 2: how far each joint may be from the trajectory's start
+        /// before the goal is sent, rad (or m); the robot is not moved
+        /// there (FRI approaches the start instead).
+        #[arg(long, default_value_t = 0.01)]
+        start_tolerance: f64,
+        /// ROS 2: write the joint states the robot went through to this CSV
+        /// (`t` from the goal's acceptance, then the model's joints), also
+        /// when the roll-out fails.
+        #[arg(long, value_name = "CSV")]
+        record: Option<PathBuf>,
         /// Peak speed of the approach to the trajectory's start, as a
         /// fraction of the joint velocity limits.
         #[arg(long, default_value_t = 0.2)]
@@ -138,11 +156,23 @@ pub fn run(command: RobotCommand) -> Result<(), CliError> {
             robot,
             cycle_timeout,
             start_timeout,
+            start_tolerance,
+            record,
             approach_speed,
             weigh,
             settle,
             no_realtime,
         } => {
+            if robot.starts_with("ros2:") {
+                let controller = crate::robot_ros2::controller(&robot)?;
+                let how = crate::robot_ros2::Ros2Play {
+                    discovery: seconds("--start-timeout", start_timeout)?,
+                    start_tolerance: in_range("--start-tolerance", start_tolerance, 0.0, 1.0)?,
+                    record: record.as_deref(),
+                };
+                let path = load_path(&trajectory, &model)?;
+                return crate::robot_ros2::play(&trajectory, &path, &controller, &how);
+            }
             let cfg = PlayConfig {
                 session: SessionConfig {
                     approach_speed: in_range("--approach-speed", approach_speed, 1e-3, 1.0)?,
@@ -211,22 +241,18 @@ fn seconds(flag: &str, v: f64) -> Result<Duration, CliError> {
 }
 
 /// Reads a joint trajectory of `model`'s arm and passes it through its
-/// limit checks; FRI streams seven joints.
-fn load_trajectory(path: &Path, model: &ModelArgs) -> Result<FriPath, CliError> {
+/// limit checks.
+fn load_path(path: &Path, model: &ModelArgs) -> Result<JointPath, CliError> {
     let chain = model.chain()?;
     let file = path.display().to_string();
     let demo = parse_demo(&file, &read(None, path)?)?;
-    let rejected = |why: String| {
-        CliError::input(format!(
-            "{file}: trajectory rejected, nothing sent to the robot: {why}"
-        ))
-    };
+    let rejected = |why: String| rejected(&file, why);
     let columns = match Columns::of(&chain, &demo.names) {
         Ok(c @ Columns::Joints(_)) => c,
         Ok(Columns::Pose(_)) => {
             return Err(CliError::input(format!(
-                "{file}: a tool trajectory: FRI streams joint angles; solve it with `primo robot \
-                 check` first or give the joints ({})",
+                "{file}: a tool trajectory: the robot takes joint angles; solve it with `primo \
+                 robot check` first or give the joints ({})",
                 chain.names().join(",")
             )));
         }
@@ -234,9 +260,20 @@ fn load_trajectory(path: &Path, model: &ModelArgs) -> Result<FriPath, CliError> 
     };
     let rows: Vec<f64> = demo.positions.iter().map(|v| f64::from(*v)).collect();
     let times = demo.times.iter().map(|t| f64::from(*t)).collect();
-    let checked = check_path(&chain, times, columns.reorder(&rows), None)
-        .map_err(|why| rejected(why.to_string()))?;
-    FriPath::try_from(&checked).map_err(|why| rejected(why.to_string()))
+    check_path(&chain, times, columns.reorder(&rows), None).map_err(|why| rejected(why.to_string()))
+}
+
+fn rejected(file: &str, why: String) -> CliError {
+    CliError::input(format!(
+        "{file}: trajectory rejected, nothing sent to the robot: {why}"
+    ))
+}
+
+/// [`load_path`] for FRI, which streams seven joints.
+fn load_trajectory(path: &Path, model: &ModelArgs) -> Result<FriPath, CliError> {
+    let checked = load_path(path, model)?;
+    FriPath::try_from(&checked)
+        .map_err(|why| rejected(&path.display().to_string(), why.to_string()))
 }
 
 fn robot_play(
@@ -245,7 +282,14 @@ fn robot_play(
     robot: &str,
     cfg: &PlayConfig,
 ) -> Result<(), CliError> {
-    let addr = parse_robot(robot)?;
+    let addr = parse_robot(robot).map_err(|e| {
+        let mut e = CliError::from(e);
+        if !robot.starts_with("fri:") {
+            e.message
+                .push_str("; or ros2:/CONTROLLER, a ROS 2 joint trajectory controller's name");
+        }
+        e
+    })?;
     let path = load_trajectory(trajectory, model)?;
     let socket = bind(addr)?;
     say(&format!(
