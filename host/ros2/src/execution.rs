@@ -64,13 +64,13 @@ pub struct ExecutionConfig {
 }
 
 impl Default for ExecutionConfig {
-    /// 0.01 rad from the start; 5 s for the first state; 0.5 s of silence;
+    /// 0.01 rad from the start; 5 s for the first state; 1 s of silence;
     /// 5 s for the goal's response; 10 s after the end for the result.
     fn default() -> Self {
         ExecutionConfig {
             start_tolerance: 0.01,
             first_state: Duration::from_secs(5),
-            state_silence: Duration::from_millis(500),
+            state_silence: Duration::from_secs(1),
             goal_response: Duration::from_secs(5),
             result_margin: Duration::from_secs(10),
         }
@@ -438,9 +438,17 @@ mod tests {
 
     const ORDER: [usize; 7] = [1, 2, 3, 4, 5, 6, 7];
 
+    /// 0.5 s of silence.
+    fn config() -> ExecutionConfig {
+        ExecutionConfig {
+            state_silence: Duration::from_millis(500),
+            ..ExecutionConfig::default()
+        }
+    }
+
     /// An execution whose goal was sent and accepted at 0.1 s.
     fn running() -> Execution {
-        let mut run = Execution::new(&path(), ExecutionConfig::default());
+        let mut run = Execution::new(&path(), config());
         assert!(matches!(
             run.joint_state(0.0, &state(&ORDER, &[0.1; 7], 1.0)),
             Command::SendGoal(_)
