@@ -74,6 +74,11 @@ pub enum RobotCommand {
         /// when the roll-out fails.
         #[arg(long, value_name = "CSV")]
         record: Option<PathBuf>,
+        /// ROS 2: the local address DDS advertises and multicasts on: the
+        /// interface toward the controller's machine (default 127.0.0.1,
+        /// the controller on this machine).
+        #[arg(long, value_name = "ADDR", default_value = "127.0.0.1")]
+        ros_address: std::net::IpAddr,
         /// Peak speed of the approach to the trajectory's start, as a
         /// fraction of the joint velocity limits.
         #[arg(long, default_value_t = 0.2)]
@@ -158,6 +163,7 @@ pub fn run(command: RobotCommand) -> Result<(), CliError> {
             start_timeout,
             start_tolerance,
             record,
+            ros_address,
             approach_speed,
             weigh,
             settle,
@@ -169,6 +175,7 @@ pub fn run(command: RobotCommand) -> Result<(), CliError> {
                     discovery: seconds("--start-timeout", start_timeout)?,
                     start_tolerance: in_range("--start-tolerance", start_tolerance, 0.0, 1.0)?,
                     record: record.as_deref(),
+                    address: ros_address,
                 };
                 let path = load_path(&trajectory, &model)?;
                 return crate::robot_ros2::play(&trajectory, &path, &controller, &how);

@@ -2,6 +2,7 @@
 //! trajectory as a FollowJointTrajectory goal to a ROS 2 joint trajectory
 //! controller ([`primo_ros2`]).
 
+use std::net::IpAddr;
 use std::path::Path;
 use std::time::Duration;
 
@@ -22,6 +23,8 @@ pub struct Ros2Play<'a> {
     pub start_tolerance: f64,
     /// `--record`: the executed joint series' CSV.
     pub record: Option<&'a Path>,
+    /// `--ros-address`: where DDS advertises and multicasts.
+    pub address: IpAddr,
 }
 
 impl From<Ros2Error> for CliError {
@@ -62,6 +65,7 @@ pub fn play(
             start_tolerance: how.start_tolerance,
             ..ExecutionConfig::default()
         },
+        networks: vec![how.address],
         ..Ros2Config::default()
     };
     say(&format!(
