@@ -66,7 +66,6 @@ pub fn play(
             ..ExecutionConfig::default()
         },
         networks: vec![how.address],
-        ..Ros2Config::default()
     };
     say(&format!(
         "primo robot play: {} samples over {:.3} s passed the limit checks; \
