@@ -57,6 +57,7 @@
 use std::fmt;
 
 use primo_robot::JOINTS;
+use primo_robot::limits::{min_jerk, min_jerk_duration};
 
 use crate::packet::{Command, Measurement, Quality, State};
 use crate::path::FriPath;
@@ -453,14 +454,10 @@ fn approach(
     speed: f64,
     limits: &[f64; JOINTS],
 ) -> impl ExactSizeIterator<Item = [f64; JOINTS]> {
-    // Minimum jerk peaks at 1.875·Δ/T.
-    let duration = (0..JOINTS)
-        .map(|j| 1.875 * (to[j] - from[j]).abs() / (speed * limits[j]))
-        .fold(0.0, f64::max);
+    let duration = min_jerk_duration(&from, &to, speed, limits);
     let steps = (duration / dt).ceil().max(1.0) as usize;
     (0..steps + 1).map(move |k| {
-        let s = k as f64 / steps as f64;
-        let blend = s * s * s * (10.0 - 15.0 * s + 6.0 * s * s);
+        let blend = min_jerk(k as f64 / steps as f64);
         std::array::from_fn(|j| from[j] + (to[j] - from[j]) * blend)
     })
 }

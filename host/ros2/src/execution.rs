@@ -5,7 +5,10 @@
 //!
 //! 1. It waits for a joint state, maps its joints to the path's chain by
 //!    name (never by index) and refuses to start unless every joint is
-//!    within [`ExecutionConfig::start_tolerance`] of the path's start.
+//!    within [`ExecutionConfig::start_tolerance`] of the path's start; or,
+//!    with [`ExecutionConfig::approach_speed`], puts a minimum-jerk
+//!    approach from where the robot is before the path (as FRI does), the
+//!    two checked against the chain's limits as one trajectory.
 //! 2. It asks for the goal to be sent: the path's samples, joints in the
 //!    chain's order, times from its start, stamp zero (start now), the
 //!    controller's own tolerances.
@@ -39,6 +42,8 @@
 
 use primo_robot::JointPath;
 use primo_robot::execute::Executed;
+use primo_robot::limits::{min_jerk, min_jerk_duration};
+use primo_robot::safety::check_path;
 
 use crate::msgs::{
     Feedback, FjtResult, Goal, GoalStatus, JointState, JointTrajectory, JointTrajectoryPoint, Stamp,
@@ -52,6 +57,10 @@ use std::time::Duration;
 pub struct ExecutionConfig {
     /// How far each joint may be from the path's start, rad or m.
     pub start_tolerance: f64,
+    /// A robot further from the start: `None` refuses it; `Some(f)`
+    /// approaches the start first, each joint's peak speed at most `f`
+    /// times its velocity limit.
+    pub approach_speed: Option<f64>,
     /// Longest wait for the first joint state.
     pub first_state: Duration,
     /// Longest silence of the joint states (or one stamp repeated) while
@@ -65,10 +74,12 @@ pub struct ExecutionConfig {
 
 impl Default for ExecutionConfig {
     /// 0.01 rad from the start; 5 s for the first state; 1 s of silence;
-    /// 5 s for the goal's response; 10 s after the end for the result.
+    /// 5 s for the goal's response; 10 s after the end for the result; no
+    /// approach.
     fn default() -> Self {
         ExecutionConfig {
             start_tolerance: 0.01,
+            approach_speed: None,
             first_state: Duration::from_secs(5),
             state_silence: Duration::from_secs(1),
             goal_response: Duration::from_secs(5),
@@ -106,6 +117,8 @@ pub enum Phase {
 pub struct Execution {
     cfg: ExecutionConfig,
     path: JointPath,
+    /// What the goal holds: the path, after an approach if there is one.
+    sent: Option<JointPath>,
     phase: Phase,
     /// Per joint of the chain, its place in the last state's names.
     order: Option<(Vec<String>, Vec<usize>)>,
@@ -131,6 +144,7 @@ impl Execution {
         Execution {
             cfg,
             path: path.clone(),
+            sent: None,
             phase: Phase::WaitingForState,
             order: None,
             executed: Executed::default(),
@@ -142,14 +156,21 @@ impl Execution {
         }
     }
 
-    /// The goal: the path's samples, its chain's joint names.
+    /// What the goal holds (the path, after the approach if one was
+    /// planned).
+    pub fn goal_path(&self) -> &JointPath {
+        self.sent.as_ref().unwrap_or(&self.path)
+    }
+
+    /// The goal: the samples of [`Execution::goal_path`], its chain's
+    /// joint names.
     pub fn goal(&self) -> Goal {
-        let t0 = self.path.times().first().copied().unwrap_or(0.0);
-        let points = self
-            .path
+        let path = self.goal_path();
+        let t0 = path.times().first().copied().unwrap_or(0.0);
+        let points = path
             .times()
             .iter()
-            .zip(self.path.rows())
+            .zip(path.rows())
             .map(|(t, q)| JointTrajectoryPoint {
                 positions: q.to_vec(),
                 time_from_start: Stamp::from_seconds(t - t0),
@@ -158,13 +179,7 @@ impl Execution {
             .collect();
         Goal {
             trajectory: JointTrajectory {
-                joint_names: self
-                    .path
-                    .chain()
-                    .names()
-                    .iter()
-                    .map(|n| n.to_string())
-                    .collect(),
+                joint_names: path.chain().names().iter().map(|n| n.to_string()).collect(),
                 points,
                 ..Default::default()
             },
@@ -278,9 +293,13 @@ impl Execution {
                         _ => Some((j, d)),
                     },
                 );
-                if let Some((j, d)) = worst
-                    && (d > self.cfg.start_tolerance || d.is_nan())
-                {
+                let off = worst.filter(|(_, d)| *d > self.cfg.start_tolerance || d.is_nan());
+                if let (Some(_), Some(speed)) = (off, self.cfg.approach_speed) {
+                    match approach(&self.path, &q, speed) {
+                        Ok(path) => self.sent = Some(path),
+                        Err(why) => return self.end(Err(Ros2Error::Approach { why })),
+                    }
+                } else if let Some((j, _)) = off {
                     let joint = chain
                         .names()
                         .get(j)
@@ -397,9 +416,9 @@ impl Execution {
                     silent: waited(self.last_state),
                 })),
             Phase::Executing(since)
-                if now - since > self.path.duration() + secs(self.cfg.result_margin) =>
+                if now - since > self.goal_path().duration() + secs(self.cfg.result_margin) =>
             {
-                let end = since + self.path.duration();
+                let end = since + self.goal_path().duration();
                 self.end(Err(Ros2Error::NoResult {
                     waited: waited(end),
                 }))
@@ -407,6 +426,35 @@ impl Execution {
             _ => Command::Wait,
         }
     }
+}
+
+/// Time between an approach's samples, s.
+const APPROACH_STEP: f64 = 0.02;
+
+/// `path` after a minimum-jerk approach from `q` at `speed` of the
+/// velocity limits, checked as one trajectory.
+fn approach(path: &JointPath, q: &[f64], speed: f64) -> Result<JointPath, String> {
+    let chain = path.chain();
+    let start = path.start();
+    let limits: Vec<f64> = chain.joints().iter().map(|j| j.limits.velocity).collect();
+    let duration = min_jerk_duration(q, start, speed, &limits);
+    if !duration.is_finite() {
+        return Err(format!("no approach at {speed} of the velocity limits"));
+    }
+    let steps = (duration / APPROACH_STEP).ceil().max(1.0) as usize;
+    let t0 = path.times().first().copied().unwrap_or(0.0);
+    let mut times = Vec::with_capacity(steps + path.times().len());
+    let mut positions = Vec::with_capacity(times.capacity() * chain.dof());
+    // The approach's samples before the start, then the path's, shifted.
+    for k in 0..steps {
+        let s = k as f64 / steps as f64;
+        times.push(duration * s);
+        let blend = min_jerk(s);
+        positions.extend(q.iter().zip(start).map(|(a, b)| a + (b - a) * blend));
+    }
+    times.extend(path.times().iter().map(|t| t - t0 + duration));
+    positions.extend_from_slice(path.positions());
+    check_path(chain, times, positions, None).map_err(|e| e.to_string())
 }
 
 #[cfg(test)]
@@ -522,6 +570,43 @@ mod tests {
             e.to_string(),
             "the robot is not at the trajectory's start: joint `a5` is at 0.0500, the start is \
              0.1000 (0.0500 away, more than the tolerance 0.01): nothing sent to the robot"
+        );
+    }
+
+    #[test]
+    fn an_approach_moves_a_robot_off_the_start_there_within_the_limits() {
+        let cfg = ExecutionConfig {
+            approach_speed: Some(0.2),
+            ..ExecutionConfig::default()
+        };
+        let mut run = Execution::new(&path(), cfg);
+        let Command::SendGoal(goal) = run.joint_state(0.0, &state(&ORDER, &[0.0; 7], 1.0)) else {
+            panic!("{:?}", run.phase())
+        };
+        let points = &goal.trajectory.points;
+        assert_eq!(points[0].positions, vec![0.0; 7]);
+        // 0.1 rad at 20 % of the slowest joint's 1.9199 rad/s (a2):
+        // 1.875 · 0.1 / 0.384 = 0.488 s, then the path's 1 s.
+        let approach = 1.875 * 0.1 / (0.2 * 110f64.to_radians());
+        let end = points.last().unwrap().time_from_start.seconds();
+        assert!((end - approach - 1.0).abs() < 1e-6, "{end}");
+        assert_eq!(points.last().unwrap().positions, vec![0.2; 7]);
+        assert!(points.len() > 3 + 3);
+        assert!((run.goal_path().duration() - end).abs() < 1e-8);
+        // From beyond a limit, none.
+        let mut run = Execution::new(&path(), cfg);
+        let mut q = [0.0; 7];
+        q[0] = 3.0;
+        assert_eq!(run.joint_state(0.0, &state(&ORDER, &q, 1.0)), Command::Wait);
+        let Some(Err(e)) = run.outcome() else {
+            panic!("{:?}", run.phase())
+        };
+        assert!(
+            e.to_string().starts_with(
+                "the approach from where the robot is to the trajectory's start would cross a \
+                 limit: joint a1 at sample 0"
+            ),
+            "{e}"
         );
     }
 

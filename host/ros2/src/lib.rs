@@ -157,6 +157,14 @@ pub enum Ros2Error {
         /// How far it may be.
         tolerance: f64,
     },
+    /// The approach to the start would cross a limit.
+    #[error(
+        "the approach from where the robot is to the trajectory's start would cross a limit: {why}: nothing sent to the robot"
+    )]
+    Approach {
+        /// The limit.
+        why: String,
+    },
     /// The controller rejected the goal.
     #[error("the controller rejected the goal: the robot did not move")]
     Rejected,
