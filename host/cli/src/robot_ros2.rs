@@ -6,11 +6,12 @@ use std::net::IpAddr;
 use std::path::Path;
 use std::time::Duration;
 
+use primo_learn::task::run::executed_csv;
 use primo_robot::JointPath;
-use primo_ros2::dds::{Event, Ros2Config, Run, execute};
+use primo_robot::execute::Executor;
+use primo_ros2::dds::{Event, Ros2Config, Ros2Robot, Run, execute};
 use primo_ros2::execution::ExecutionConfig;
 use primo_ros2::{Controller, Ros2Error, domain_from_env};
-use primo_skill::csv::Csv;
 
 use crate::error::CliError;
 use crate::output::{check_out_file, emit, say};
@@ -45,6 +46,24 @@ impl From<Ros2Error> for CliError {
 /// `--robot ros2:…`: parses it (exit 2 when it is no controller's name).
 pub fn controller(robot: &str) -> Result<Controller, CliError> {
     Ok(Controller::parse(robot)?)
+}
+
+/// The robot behind `robot` (`ros2:/CONTROLLER`) for a learning run: each
+/// roll-out starts where the last one ended, so the robot approaches each
+/// one's start (at 20 % of its velocity limits).
+pub fn executor(robot: &str) -> Result<Box<dyn Executor>, CliError> {
+    let controller = controller(robot)?;
+    let domain = domain_from_env().map_err(|e| CliError::input(e.to_string()))?;
+    let config = Ros2Config {
+        domain,
+        discovery: Duration::from_secs(30),
+        execution: ExecutionConfig {
+            approach_speed: Some(0.2),
+            ..ExecutionConfig::default()
+        },
+        ..Ros2Config::default()
+    };
+    Ok(Box::new(Ros2Robot { controller, config }))
 }
 
 /// Executes `path` through `controller`; exit 1 when the roll-out failed.
@@ -82,7 +101,7 @@ pub fn play(
     said?;
     summary(path, &run)?;
     if let Some(record) = how.record {
-        emit(Some(record), &series(path, &run))?;
+        emit(Some(record), &executed_csv(path, &run.executed))?;
     }
     match run.outcome {
         Ok(()) => say("primo robot play: completed"),
@@ -128,24 +147,4 @@ fn summary(path: &JointPath, run: &Run) -> Result<(), CliError> {
         ))?;
     }
     Ok(())
-}
-
-/// `t` (from the goal's acceptance, s) and the chain's joints, one row a
-/// joint state.
-fn series(path: &JointPath, run: &Run) -> Vec<u8> {
-    let mut csv = Csv::new();
-    csv.text("t");
-    for name in path.chain().names() {
-        csv.text(name);
-    }
-    csv.end_row();
-    let rows = run.executed.rows(path.chain().dof());
-    for (t, q) in run.executed.times.iter().zip(rows) {
-        csv.seconds(*t);
-        for v in q {
-            csv.display(v);
-        }
-        csv.end_row();
-    }
-    csv.into_bytes()
 }

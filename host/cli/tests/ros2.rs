@@ -138,3 +138,78 @@ fn no_controller_exits_1_after_the_start_timeout() {
         "{err}"
     );
 }
+
+/// `primo learn` of the example throw (two joints, its arm's URDF), its
+/// roll-outs executed by the fake controller in `mode` before throw.py
+/// measures them: exit status, stdout, stderr.
+fn learn(peer: &Peer, domain: &str, args: &[&str]) -> (i32, String, String) {
+    let (status, out, err) = primo_env(
+        &[&["learn", "--robot", "ros2:/arm_controller"], args].concat(),
+        &[
+            ("ROS_DOMAIN_ID", domain),
+            ("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST"),
+            ("ROS_DISTRO", "jazzy"),
+        ],
+    );
+    if status > 1 {
+        panic!(
+            "primo learn {args:?}: {status}\n{out}{err}\n{}",
+            peer.stderr()
+        );
+    }
+    (status, out, err)
+}
+
+#[test]
+fn a_learning_run_through_ros2_ends_on_an_abort_and_resumes() {
+    let Some(venv) = peer::venv("primo learn ros2") else {
+        return;
+    };
+    let task = peer::root().join("examples/throw/throw-arm.toml");
+    let out = tmp("learn-ros2");
+    let (task, out_s) = (task.to_str().unwrap(), out.to_str().unwrap());
+    let arm = ["--joints", "elbow,shoulder", "--start", "0.6,-2.0"];
+    let jtc = Peer::start(
+        &venv,
+        35,
+        "fake_jtc.py",
+        &[&["--mode", "abort"], &arm[..]].concat(),
+    );
+    let (status, _, err) = learn(
+        &jtc,
+        "35",
+        &["--task", task, "--out", out_s, "--max-rollouts", "2"],
+    );
+    assert_eq!(status, 1, "{err}");
+    assert!(
+        err.contains(
+            "roll-out 1: the robot did not complete it: the controller stopped the trajectory: \
+             a joint left the path tolerance (PATH_TOLERANCE_VIOLATED)"
+        ),
+        "{err}"
+    );
+    let executed = out.join("trajectories/rollout-0001-executed.csv");
+    let text = std::fs::read_to_string(&executed).unwrap();
+    assert!(text.starts_with("t,shoulder,elbow\n"), "{text}");
+    drop(jtc);
+    // Resuming needs the robot again; with it, the run goes on.
+    let (status, _, err) = primo_env(&["learn", "--resume", out_s], &[("ROS_DOMAIN_ID", "35")]);
+    assert_eq!(status, 2, "{err}");
+    assert!(
+        err.contains("executed by the robot ros2:/arm_controller: give it again"),
+        "{err}"
+    );
+    let jtc = Peer::start(
+        &venv,
+        35,
+        "fake_jtc.py",
+        &[&["--mode", "ok"], &arm[..]].concat(),
+    );
+    let (status, stdout, err) = learn(&jtc, "35", &["--resume", out_s]);
+    assert_eq!(status, 0, "{stdout}{err}\n{}", jtc.stderr());
+    for n in 1..=2 {
+        let executed = out.join(format!("trajectories/rollout-{n:04}-executed.csv"));
+        let rows = std::fs::read_to_string(&executed).unwrap().lines().count();
+        assert!(rows > 3, "roll-out {n}: {rows} rows");
+    }
+}
