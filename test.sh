@@ -49,12 +49,13 @@ cargo test --workspace --locked 2>&1 | tee -a "$log"
 # DDS discovery must stay on this machine: the tests run in a network
 # namespace with loopback alone (`unshare -n` as root, a user namespace
 # otherwise), built outside it and run offline inside, and refuse to run
-# anywhere else; each test has a ROS_DOMAIN_ID of its own. 13 tests (9
-# of primo-ros2, 4 of the CLI) in about 35 s here, 42 to 56 s while other
-# builds load both cores (each starts its rclpy peer in 1 to 3 s; the
-# mute controller's test waits 5 s for joint states); building
-# primo-ros2 and ros2-client's 79 crates adds about 40 s to a cold
-# `cargo build` on 2 cores.
+# anywhere else; each test has a ROS_DOMAIN_ID of its own. 14 tests (9
+# of primo-ros2; 5 of the CLI: robot play, and a learning run that ends on
+# an abort and resumes) in about 38 s here with the environment reused,
+# up to a minute while other builds load both cores (each starts its
+# rclpy peer in 1 to 3 s; the mute controller's test waits 5 s for joint
+# states); building primo-ros2 and ros2-client's 79 crates adds about
+# 40 s to a cold `cargo build` on 2 cores.
 peers=$(tests/peers/setup.sh)
 ros2_tests=(-p primo-ros2 -p primo-cli --test rclpy --test ros2)
 cargo test --locked "${ros2_tests[@]}" --no-run
