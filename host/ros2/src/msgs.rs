@@ -252,3 +252,67 @@ pub enum GoalStatus {
     /// Any other status (the number).
     Other(i8),
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use ros2_client::dds::rustdds::serialization::{
+        RepresentationIdentifier, deserialize_from_cdr_with_rep_id, to_writer_with_rep_id,
+    };
+
+    /// Rolling's feedback (control_msgs 6.x): Jazzy's fields, then two
+    /// more.
+    #[derive(Serialize)]
+    struct RollingFeedback {
+        jazzy: Feedback,
+        index: i32,
+        multi_dof_index: i32,
+    }
+
+    #[test]
+    fn feedback_of_either_layout_decodes() {
+        let jazzy = Feedback {
+            joint_names: vec!["a1".into(), "a2".into()],
+            actual: JointTrajectoryPoint {
+                positions: vec![0.5, -0.25],
+                time_from_start: Stamp::from_seconds(1.5),
+                ..Default::default()
+            },
+            ..Default::default()
+        };
+        let rolling = RollingFeedback {
+            jazzy: jazzy.clone(),
+            index: 7,
+            multi_dof_index: -1,
+        };
+        for bytes in [to_cdr(&jazzy), to_cdr(&rolling)] {
+            let (read, _): (Feedback, usize) =
+                deserialize_from_cdr_with_rep_id(&bytes, RepresentationIdentifier::CDR_LE).unwrap();
+            assert_eq!(read, jazzy);
+        }
+        assert_eq!(to_cdr(&rolling).len(), to_cdr(&jazzy).len() + 8);
+    }
+
+    fn to_cdr(value: &impl Serialize) -> Vec<u8> {
+        let mut bytes = Vec::new();
+        to_writer_with_rep_id(&mut bytes, value, RepresentationIdentifier::CDR_LE).unwrap();
+        bytes
+    }
+
+    #[test]
+    fn stamps_round_to_the_nanosecond() {
+        assert_eq!(
+            Stamp::from_seconds(2.000_000_000_4),
+            Stamp { sec: 2, nanosec: 0 }
+        );
+        assert_eq!(Stamp::from_seconds(-1.0), Stamp::default());
+        assert_eq!(
+            Stamp {
+                sec: 1,
+                nanosec: 500_000_000
+            }
+            .seconds(),
+            1.5
+        );
+    }
+}
