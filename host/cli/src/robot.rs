@@ -69,6 +69,12 @@ pub enum RobotCommand {
         /// there (FRI approaches the start instead).
         #[arg(long, default_value_t = 0.01)]
         start_tolerance: f64,
+        /// ROS 2: a robot further from the trajectory's start than
+        /// --start-tolerance is first moved there (minimum jerk, at most
+        /// --approach-speed of the velocity limits, checked with the
+        /// trajectory) instead of refused.
+        #[arg(long)]
+        approach: bool,
         /// ROS 2: write the joint states the robot went through to this CSV
         /// (`t` from the goal's acceptance, then the model's joints), also
         /// when the roll-out fails.
@@ -163,6 +169,7 @@ pub fn run(command: RobotCommand) -> Result<(), CliError> {
             start_timeout,
             start_tolerance,
             record,
+            approach,
             ros_address,
             approach_speed,
             weigh,
@@ -176,6 +183,9 @@ pub fn run(command: RobotCommand) -> Result<(), CliError> {
                     start_tolerance: in_range("--start-tolerance", start_tolerance, 0.0, 1.0)?,
                     record: record.as_deref(),
                     address: ros_address,
+                    approach: approach
+                        .then(|| in_range("--approach-speed", approach_speed, 1e-3, 1.0))
+                        .transpose()?,
                 };
                 let path = load_path(&trajectory, &model)?;
                 return crate::robot_ros2::play(&trajectory, &path, &controller, &how);

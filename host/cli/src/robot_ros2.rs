@@ -26,6 +26,8 @@ pub struct Ros2Play<'a> {
     pub record: Option<&'a Path>,
     /// `--ros-address`: where DDS advertises and multicasts.
     pub address: IpAddr,
+    /// `--approach`: at this fraction of the velocity limits.
+    pub approach: Option<f64>,
 }
 
 impl From<Ros2Error> for CliError {
@@ -82,6 +84,7 @@ pub fn play(
         discovery: how.discovery,
         execution: ExecutionConfig {
             start_tolerance: how.start_tolerance,
+            approach_speed: how.approach,
             ..ExecutionConfig::default()
         },
         networks: vec![how.address],

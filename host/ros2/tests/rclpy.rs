@@ -205,6 +205,26 @@ fn a_robot_away_from_the_start_gets_no_goal() {
 }
 
 #[test]
+fn a_robot_away_from_the_start_is_brought_there_with_an_approach() {
+    let Some(venv) = peer::venv("ros2 approach") else {
+        return;
+    };
+    let jtc = Peer::start(&venv, 20, "fake_jtc.py", &["--joints", JOINTS]);
+    let controller = Controller::parse("ros2:/arm_controller").unwrap();
+    let mut cfg = config(20);
+    cfg.execution.approach_speed = Some(0.5);
+    let run = execute(&controller, &path(1.0), &cfg, &mut |_| {})
+        .unwrap_or_else(|e| panic!("{e}\n{}", jtc.stderr()));
+    assert_eq!(run.outcome, Ok(()), "{}", jtc.stderr());
+    // From 0 (0.1 rad at half of a2's 1.92 rad/s: about 0.2 s), then the
+    // path to 0.3.
+    let rows: Vec<&[f64]> = run.executed.rows(7).collect();
+    assert!(rows[0].iter().all(|q| q.abs() < 0.05), "{:?}", rows[0]);
+    let last = rows[rows.len() - 1];
+    assert!(last.iter().all(|q| (q - 0.3).abs() < 0.05), "{last:?}");
+}
+
+#[test]
 fn no_controller_is_a_typed_error() {
     if peer::venv("ros2 no controller").is_none() {
         return;
