@@ -49,9 +49,9 @@ cargo test --workspace --locked 2>&1 | tee -a "$log"
 # DDS discovery must stay on this machine: the tests run in a network
 # namespace with loopback alone (`unshare -n` as root, a user namespace
 # otherwise), built outside it and run offline inside, and refuse to run
-# anywhere else; each test has a ROS_DOMAIN_ID of its own. 14 tests (9
+# anywhere else; each test has a ROS_DOMAIN_ID of its own. 15 tests (10
 # of primo-ros2; 5 of the CLI: robot play, and a learning run that ends on
-# an abort and resumes) in about 38 s here with the environment reused,
+# an abort and resumes) in about 40 s here with the environment reused,
 # up to a minute while other builds load both cores (each starts its
 # rclpy peer in 1 to 3 s; the mute controller's test waits 5 s for joint
 # states); building primo-ros2 and ros2-client's 79 crates adds about
