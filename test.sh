@@ -41,18 +41,29 @@ log=$(mktemp)
   ./footprint.sh
 ) 2>&1 | tee "$log"
 cargo test --workspace --locked 2>&1 | tee -a "$log"
-# --- Franka (FCI, issue 29): primo's client against franka-sim, and
-# pylibfranka (Franka's own client) against primo's simulated controller,
-# from the peers' environment (tests/peers/setup.sh: about 80 s and 450 MB
-# cold, about 1 s when reused), inside a network namespace with loopback
-# only: franka-sim binds every interface and libfranka's port is fixed
-# (root: unshare -n). Built above; the three tests take about 5 s (40 s
-# on a 2-core machine at a load of 35).
-peers_venv=$(tests/peers/setup.sh)
-unshare -n sh -c 'ip link set lo up &&
-  PRIMO_PEERS_VENV="$0" cargo test --offline --locked -p primo-franka --test peers' \
-  "$peers_venv" 2>&1 | tee -a "$log"
-# --- end Franka
+# ---- Robots through their independent peers (issue 29) ----------------
+# From the peers' environment tests/peers/setup.sh makes (cold about 80 s
+# and 450 MB, reused after): ROS 2, primo-ros2 and `primo robot play` /
+# `primo learn --robot ros2:/CONTROLLER` against an rclpy
+# FollowJointTrajectory server publishing /joint_states
+# (tests/peers/fake_jtc.py), each test on a ROS_DOMAIN_ID of its own;
+# Franka, primo's FCI client on franka-sim and pylibfranka (Franka's own
+# client) driving primo's simulated controller (tests/peers/plf_drive.py).
+# DDS discovery and franka-sim (it binds every interface) must stay on
+# this machine: the tests run in a network namespace with loopback alone
+# (`unshare -n` as root, a user namespace otherwise), built outside it and
+# run offline inside, and refuse to run anywhere else. 18 tests: about
+# 45 s here with the environment reused, up to a minute and a half while
+# other builds load both cores; primo-ros2 and ros2-client's 79 crates add
+# about 40 s to a cold build on 2 cores.
+peers=$(tests/peers/setup.sh)
+peer_tests=(-p primo-ros2 -p primo-franka -p primo-cli --test rclpy --test ros2 --test peers)
+cargo test --locked "${peer_tests[@]}" --no-run
+as_root=$([ "$(id -u)" = 0 ] || echo -r)
+unshare $as_root -n sh -c 'ip link set lo up && exec "$@"' sh \
+  env PRIMO_PEERS_VENV="$peers" ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST \
+  ROS_DISTRO=jazzy cargo test --offline --locked "${peer_tests[@]}" 2>&1 | tee -a "$log"
+# ---- end of the robots' peers ------------------------------------------
 # The Python package (python/, its own build; the distribution
 # primo-robotics): lints, then the release's Linux artifacts into
 # target/python-dist, built through the package's own build backend

@@ -224,8 +224,11 @@ class Help:
 
     def check(self, where: str, words: list[str], flags: list[str]) -> None:
         """`words`: the arguments after `primo`; `flags`: the flags used."""
-        if words and (words[0].startswith("<") or words[0].endswith(":")):
-            return  # a placeholder (`primo <COMMAND>`), or a line primo printed
+        said = next((w for w in words if not w.isidentifier() or w.endswith(":")), "")
+        if words and (words[0].startswith("<") or said.endswith(":")):
+            # A placeholder (`primo <COMMAND>`), or a line primo printed
+            # (`primo pour: ...`, `primo robot play: ...`).
+            return
         paths = [()]
         for word in words:
             if word.startswith("-"):

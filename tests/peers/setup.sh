@@ -6,12 +6,14 @@
 # simulated FR3 speaking the FCI) with a mesh-free FR3 model, and
 # pylibfranka (Franka's own client). Kept apart from the package's test
 # environment: franka-sim pins numpy 1.26.4, the package's tests 2.2.6.
-# Reused while this directory is unchanged; rebuilt when it changes.
+# Reused while its inputs (this script, control_msgs/, fr3_mjcf.py) are
+# unchanged, rebuilt when they change; the peers' scripts beside them run
+# from here and need no rebuild.
 # Cold: about 80 s and 450 MB. Prints the environment's path.
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 venv=$(realpath -m "${1:-$here/../../target/peers-venv}")
-stamp=$(cd "$here" && find . -type f -print0 | sort -z | xargs -0 sha256sum | sha256sum | cut -c1-16)
+stamp=$(cd "$here" && find setup.sh control_msgs fr3_mjcf.py -type f -print0 | sort -z | xargs -0 sha256sum | sha256sum | cut -c1-16)
 if [ "$(cat "$venv/.primo-peers" 2>/dev/null)" = "$stamp" ]; then
   echo "$venv"
   exit 0

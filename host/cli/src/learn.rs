@@ -11,7 +11,7 @@ use primo_learn::rollouts::{Stop, query_text};
 use primo_learn::run::{Event, Start, logged_kind};
 use primo_learn::task::change::Changes;
 use primo_learn::task::evaluator::Prompt;
-use primo_learn::task::run::{TaskRun, rollout_line};
+use primo_learn::task::run::{Robot, TaskCell, TaskRun, rollout_line};
 use primo_learn::task::{Evaluate, Task};
 
 use crate::error::CliError;
@@ -59,14 +59,27 @@ pub struct LearnArgs {
 
 /// Runs `primo learn`.
 pub fn run(args: &LearnArgs) -> Result<(), CliError> {
-    let instruments = args.cell.instruments()?;
+    // A ROS 2 robot executes a task file's roll-outs; the built-in pour's
+    // real cell is FRI and a scale.
+    let ros2 = args.cell.robot().is_some_and(|r| r.starts_with("ros2:"));
+    let not_the_pour = || {
+        CliError::input(
+            "--robot ros2:/CONTROLLER: executes a task file's roll-outs; the built-in pour's real \
+             cell is --robot fri:ADDR with --scale",
+        )
+    };
+    let instruments = if ros2 { None } else { args.cell.instruments()? };
     let learner = args.learner.spec();
     if args.max_rollouts == Some(0) {
         return Err(CliError::input("--max-rollouts 0: must be at least 1"));
     }
+    let robot;
     let start = match (&args.resume, &args.task) {
         (Some(dir), task) => match logged_kind(dir).map_err(|e| CliError::learning("learn", e))? {
             kind if kind == "pour" => {
+                if ros2 {
+                    return Err(not_the_pour());
+                }
                 if task.is_some() || args.cell.glass_holds_given() {
                     return Err(CliError::input(format!(
                         "--resume {}: the run is the built-in pour, its settings all in its \
@@ -84,7 +97,7 @@ pub fn run(args: &LearnArgs) -> Result<(), CliError> {
                 return execute(start, &learner, "learn");
             }
             _ => {
-                refuse_cell(&args.cell)?;
+                robot = task_robot(&args.cell)?;
                 Start::Resume {
                     dir: dir.clone(),
                     moved: Changes {
@@ -100,6 +113,9 @@ pub fn run(args: &LearnArgs) -> Result<(), CliError> {
                 task.learner.max_rollouts = n;
             }
             if let Some(mut start) = task.pour_start(args.out.clone(), args.force, args.seed) {
+                if ros2 {
+                    return Err(not_the_pour());
+                }
                 if let Start::New { run, .. } = &mut start {
                     run.settings.glass_holds = args
                         .cell
@@ -110,13 +126,14 @@ pub fn run(args: &LearnArgs) -> Result<(), CliError> {
                 }
                 return execute(start, &learner, "learn");
             }
-            refuse_cell(&args.cell)?;
+            robot = task_robot(&args.cell)?;
             Start::New {
                 out: args.out.clone(),
                 force: args.force,
                 run: TaskRun {
                     task,
                     seed: args.seed,
+                    robot: robot.as_ref().map(|(name, _)| name.clone()),
                 },
             }
         }
@@ -126,19 +143,41 @@ pub fn run(args: &LearnArgs) -> Result<(), CliError> {
     finish(
         "learn",
         with_progress(&dir, "learn", |progress| {
-            primo_learn::run::run(start, &learner, Box::new(Terminal), |event| {
-                show(event, progress)
-            })
+            let cell = TaskCell {
+                prompt: Box::new(Terminal),
+                robot,
+            };
+            primo_learn::run::run(start, &learner, cell, |event| show(event, progress))
         }),
     )
+}
+
+/// The robot that executes a task's roll-outs (`--robot ros2:/CONTROLLER`),
+/// if given; the built-in pour's cell is refused.
+fn task_robot(cell: &CellArgs) -> Result<Option<Robot>, CliError> {
+    let Some(robot) = cell.robot().filter(|r| r.starts_with("ros2:")) else {
+        refuse_cell(cell)?;
+        return Ok(None);
+    };
+    if cell.scale_given() || cell.glass_holds_given() {
+        return Err(CliError::input(
+            "--scale/--glass-holds: are the built-in pour's real cell; with a task file, the \
+             task's evaluator measures what the robot did",
+        ));
+    }
+    Ok(Some((
+        robot.to_string(),
+        crate::robot_ros2::executor(robot)?,
+    )))
 }
 
 /// --robot, --scale and --glass-holds are the built-in pour's cell.
 fn refuse_cell(cell: &CellArgs) -> Result<(), CliError> {
     if cell.robot_given() {
         return Err(CliError::input(
-            "--robot/--scale: the task's own evaluator executes its roll-outs; the real cell's \
-             instruments are for the built-in pour (builtin = \"pour\")",
+            "--robot/--scale: the task's own evaluator executes its roll-outs (or a ROS 2 \
+             controller, --robot ros2:/CONTROLLER); the real cell's instruments are for the \
+             built-in pour (builtin = \"pour\")",
         ));
     }
     if cell.glass_holds_given() {

@@ -18,6 +18,7 @@ mod pour;
 mod progress;
 mod robot;
 mod robot_check;
+mod robot_ros2;
 mod rollout;
 mod scale;
 mod terminal;

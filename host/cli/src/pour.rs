@@ -139,7 +139,10 @@ pub struct PourArgs {
 pub struct CellArgs {
     /// Roll out on a real cell: the robot, `fri:ADDR[:PORT]`, the local
     /// UDP address the KRC sends its FRI packets to (default port 49938).
-    #[arg(long, value_name = "fri:ADDR[:PORT]")]
+    /// For `primo learn` with a task file: `ros2:/CONTROLLER`, a ROS 2
+    /// joint trajectory controller that executes each roll-out before the
+    /// task's evaluator measures it.
+    #[arg(long, value_name = "fri:ADDR[:PORT]|ros2:/CONTROLLER")]
     robot: Option<String>,
     /// With --robot: the scale. An MT-SICS scale's serial port;
     /// `postcard:PORT`, primo's scale on a serial port; or
@@ -193,6 +196,16 @@ impl CellArgs {
     /// Whether a real cell is given.
     pub fn robot_given(&self) -> bool {
         self.robot.is_some()
+    }
+
+    /// The robot, as given.
+    pub fn robot(&self) -> Option<&str> {
+        self.robot.as_deref()
+    }
+
+    /// Whether the scale or a setting of it is given.
+    pub fn scale_given(&self) -> bool {
+        self.scale.is_some() || self.baud.is_some() || self.density.is_some() || self.confirm
     }
 
     /// Whether --glass-holds is given.

@@ -1,7 +1,8 @@
 //! The `primo robot` commands: check a trajectory against a robot's limits
 //! (`check`, [`crate::robot_check`]), stream a joint trajectory to a KUKA
-//! LWR4 over FRI (`play`), or be the KRC with the simulated arm and cell
-//! (`sim-krc`).
+//! LWR4 over FRI or execute it through a ROS 2 joint trajectory controller
+//! ([`crate::robot_ros2`]) (`play`), or be the KRC with the simulated arm
+//! and cell (`sim-krc`).
 
 use std::io::BufRead;
 use std::net::SocketAddr;
@@ -37,29 +38,56 @@ pub enum RobotCommand {
     /// (solved by inverse kinematics). Exit 0 when it passes, 1 when it
     /// does not (the first violation on stdout), 2 for bad input.
     Check(crate::robot_check::CheckArgs),
-    /// Stream a joint trajectory (CSV `t` and the seven joints, radians, as
-    /// `primo dmp run` writes) to a KUKA LWR over FRI after the joint limit
-    /// checks of its model, and report the tracking error.
+    /// Play a joint trajectory (CSV `t` and the joints, as `primo dmp run`
+    /// writes) on a robot after the joint limit checks of its model: stream
+    /// it to a KUKA LWR over FRI and report the tracking error, or execute
+    /// it through a ROS 2 joint trajectory controller and report the joint
+    /// states it went through. Exit 1 when the robot did not complete it.
     Play {
-        /// Trajectory CSV: header `t` then the arm's seven joints by name,
-        /// any order (the LWR 4's `a1..a7`, `A1..A7`, `j1..j7` or
+        /// Trajectory CSV: header `t` then the arm's joints by name, any
+        /// order (the LWR 4's `a1..a7`, `A1..A7`, `j1..j7` or
         /// `joint_1..joint_7`; a URDF's joint names), t in seconds, angles
         /// in rad.
         trajectory: PathBuf,
         #[command(flatten)]
         model: crate::model::ModelArgs,
         /// `fri:ADDR[:PORT]`: the local UDP address to bind, where the KRC
-        /// sends its packets (default port 49938); or
-        /// `franka:ADDR[:PORT]`: a Franka's FCI (default port 1337; the
-        /// model defaults to the built-in FR3).
+        /// sends its packets (default port 49938); `franka:ADDR[:PORT]`: a
+        /// Franka's FCI (default port 1337; the model defaults to the
+        /// built-in FR3); or `ros2:/CONTROLLER`: a joint trajectory
+        /// controller's FollowJointTrajectory action
+        /// (`/CONTROLLER/follow_joint_trajectory`, on `ROS_DOMAIN_ID`), the
+        /// robot's state from `/joint_states`.
         #[arg(long)]
         robot: String,
         /// Longest silence from the KRC while streaming before stopping, s.
         #[arg(long, default_value_t = 0.2)]
         cycle_timeout: f64,
-        /// Longest wait for the KRC's command mode, s.
+        /// Longest wait for the robot, s: the KRC's command mode (FRI), the
+        /// controller's action server (ROS 2).
         #[arg(long, default_value_t = 60.0)]
         start_timeout: f64,
+        /// ROS 2: how far each joint may be from the trajectory's start
+        /// before the goal is sent, rad (or m); the robot is not moved
+        /// there (FRI approaches the start instead).
+        #[arg(long, default_value_t = 0.01)]
+        start_tolerance: f64,
+        /// ROS 2: a robot further from the trajectory's start than
+        /// --start-tolerance is first moved there (minimum jerk, at most
+        /// --approach-speed of the velocity limits, checked with the
+        /// trajectory) instead of refused.
+        #[arg(long)]
+        approach: bool,
+        /// ROS 2: write the joint states the robot went through to this CSV
+        /// (`t` from the goal's acceptance, then the model's joints), also
+        /// when the roll-out fails.
+        #[arg(long, value_name = "CSV")]
+        record: Option<PathBuf>,
+        /// ROS 2: the local address DDS advertises and multicasts on: the
+        /// interface toward the controller's machine (default 127.0.0.1,
+        /// the controller on this machine).
+        #[arg(long, value_name = "ADDR", default_value = "127.0.0.1")]
+        ros_address: std::net::IpAddr,
         /// Peak speed of the approach to the trajectory's start, as a
         /// fraction of the joint velocity limits.
         #[arg(long, default_value_t = 0.2)]
@@ -161,11 +189,29 @@ pub fn run(command: RobotCommand) -> Result<(), CliError> {
             robot,
             cycle_timeout,
             start_timeout,
+            start_tolerance,
+            record,
+            approach,
+            ros_address,
             approach_speed,
             weigh,
             settle,
             no_realtime,
         } => {
+            if robot.starts_with("ros2:") {
+                let controller = crate::robot_ros2::controller(&robot)?;
+                let how = crate::robot_ros2::Ros2Play {
+                    discovery: seconds("--start-timeout", start_timeout)?,
+                    start_tolerance: in_range("--start-tolerance", start_tolerance, 0.0, 1.0)?,
+                    record: record.as_deref(),
+                    address: ros_address,
+                    approach: approach
+                        .then(|| in_range("--approach-speed", approach_speed, 1e-3, 1.0))
+                        .transpose()?,
+                };
+                let path = load_joint_path(&trajectory, &model.chain()?, "ROS 2")?;
+                return crate::robot_ros2::play(&trajectory, &path, &controller, &how);
+            }
             let cfg = PlayConfig {
                 session: SessionConfig {
                     approach_speed: in_range("--approach-speed", approach_speed, 1e-3, 1.0)?,
@@ -277,7 +323,16 @@ fn robot_play(
     robot: &str,
     cfg: &PlayConfig,
 ) -> Result<(), CliError> {
-    let addr = parse_robot(robot)?;
+    let addr = parse_robot(robot).map_err(|e| {
+        let mut e = CliError::from(e);
+        if !robot.starts_with("fri:") {
+            e.message.push_str(
+                "; or franka:ADDR[:PORT], a Franka's controller, or ros2:/CONTROLLER, a ROS 2 \
+                 joint trajectory controller's name",
+            );
+        }
+        e
+    })?;
     let path = load_trajectory(trajectory, model)?;
     let socket = bind(addr)?;
     say(&format!(

@@ -735,6 +735,20 @@ fn robot_commands_refuse_bad_input_with_one_line() {
             "--robot `udp:1.2.3.4`: unknown robot driver; expected fri:ADDR[:PORT]",
         ),
         (
+            &["robot", "play", swing, "--robot", "udp:1.2.3.4"],
+            "; or franka:ADDR[:PORT], a Franka's controller, or ros2:/CONTROLLER, a ROS 2 joint \
+             trajectory controller's name",
+        ),
+        (
+            &["robot", "play", swing, "--robot", "ros2:arm_controller"],
+            "--robot `ros2:arm_controller`: the controller's name must be absolute, /NAME; \
+             expected ros2:/CONTROLLER",
+        ),
+        (
+            &["robot", "play", swing, "--robot", "ros2:/arm-controller"],
+            "`ros2:/arm-controller`: not a ROS 2 name",
+        ),
+        (
             &["robot", "play", swing, "--robot", "fri:127.0.0.1:99999"],
             "--robot `fri:127.0.0.1:99999`: port `99999` is not a number in 1..=65535",
         ),

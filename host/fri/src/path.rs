@@ -9,6 +9,7 @@
 //! assert_eq!(fri.start(), [0.1; 7]);
 //! ```
 
+use primo_robot::limits::{min_jerk, min_jerk_duration};
 use primo_robot::{JOINTS, JointPath};
 
 /// A checked joint path for FRI: seven joints.
@@ -93,14 +94,10 @@ pub fn approach(
     speed: f64,
     limits: &[f64; JOINTS],
 ) -> impl ExactSizeIterator<Item = [f64; JOINTS]> {
-    // Minimum jerk peaks at 1.875·Δ/T.
-    let duration = (0..JOINTS)
-        .map(|j| 1.875 * (to[j] - from[j]).abs() / (speed * limits[j]))
-        .fold(0.0, f64::max);
+    let duration = min_jerk_duration(&from, &to, speed, limits);
     let steps = (duration / dt).ceil().max(1.0) as usize;
     (0..steps + 1).map(move |k| {
-        let s = k as f64 / steps as f64;
-        let blend = s * s * s * (10.0 - 15.0 * s + 6.0 * s * s);
+        let blend = min_jerk(k as f64 / steps as f64);
         std::array::from_fn(|j| from[j] + (to[j] - from[j]) * blend)
     })
 }

@@ -279,6 +279,32 @@ fn check<'a>(
     Ok(())
 }
 
+/// How long a minimum-jerk move from `from` to `to` takes with each
+/// joint's peak speed at most `speed` times its velocity limit
+/// (`velocity[j]`), s: minimum jerk peaks at 1.875·Δ/T. The approach to a
+/// trajectory's start (FRI's and ROS 2's) is planned with it and
+/// [`min_jerk`].
+///
+/// ```
+/// use primo_robot::limits::{min_jerk, min_jerk_duration};
+/// let t = min_jerk_duration(&[0.0, 0.0], &[0.5, -1.0], 0.5, &[2.0, 1.0]);
+/// assert_eq!(t, 1.875 * 1.0 / 0.5);
+/// assert_eq!((min_jerk(0.0), min_jerk(0.5), min_jerk(1.0)), (0.0, 0.5, 1.0));
+/// ```
+pub fn min_jerk_duration(from: &[f64], to: &[f64], speed: f64, velocity: &[f64]) -> f64 {
+    from.iter()
+        .zip(to)
+        .zip(velocity)
+        .map(|((a, b), v)| 1.875 * (b - a).abs() / (speed * v))
+        .fold(0.0, f64::max)
+}
+
+/// The minimum-jerk blend at phase `s` in [0, 1]: from 0 to 1, at rest
+/// (no velocity, no acceleration) at both ends.
+pub fn min_jerk(s: f64) -> f64 {
+    s * s * s * (10.0 - 15.0 * s + 6.0 * s * s)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -7,8 +7,14 @@ use std::process::{Command, Stdio};
 
 /// Runs the `primo` binary: exit status, stdout, stderr.
 pub fn primo(args: &[&str]) -> (i32, String, String) {
+    primo_env(args, &[])
+}
+
+/// [`primo`] with these environment variables set.
+pub fn primo_env(args: &[&str], env: &[(&str, &str)]) -> (i32, String, String) {
     let out = Command::new(env!("CARGO_BIN_EXE_primo"))
         .args(args)
+        .envs(env.iter().copied())
         .output()
         .unwrap();
     (

@@ -1,6 +1,15 @@
 //! A task file's run as a kind of run ([`TaskRun`]): the lab's
 //! demonstrations, query, limits and evaluator (a program of its own, or
-//! the operator). The built-in pour task is a pour ([`Task::pour_start`]).
+//! the operator), and, if one is given, the robot that executes each
+//! roll-out before the evaluator measures it ([`TaskCell`]). The built-in
+//! pour task is a pour ([`Task::pour_start`]).
+//!
+//! With a robot, a roll-out's checked joint path goes to its
+//! [`Executor`]; the joint positions it reports are written beside the
+//! trajectory (`rollout-NNNN-executed.csv`), also when it fails. A roll-out
+//! the robot did not complete ends the run ([`Error::RobotStopped`]) with
+//! the log of the roll-outs before it; resuming the run (with the same
+//! robot) makes that roll-out again.
 //!
 //! A roll-out: `θ = G(q̂) + Δθ` planned at the task's step, checked by the
 //! task's limits (a rejected movement never leaves primo: reward 0 for
@@ -14,9 +23,11 @@ use std::path::{Path, PathBuf};
 
 use primo_core::power::PowerConfig;
 use primo_protocol::learner::{LearnerSetup, Setup};
+use primo_robot::JointPath;
 use primo_robot::envelope::Limits;
+use primo_robot::execute::{Executed, Executor};
 use primo_skill::Skill;
-use primo_skill::csv::write_rows;
+use primo_skill::csv::{Csv, write_rows};
 use serde::{Deserialize, Serialize};
 
 use crate::Error;
@@ -48,13 +59,31 @@ pub struct TaskRun {
     pub task: Task,
     /// Seed of exploration.
     pub seed: u64,
+    /// The robot that executes the roll-outs (its address, as given), if
+    /// any: a resumed run needs the same.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub robot: Option<String>,
 }
+
+/// Who and what is at a task's cell: the operator, asked when the task's
+/// evaluator is the operator, and the robot that executes each roll-out,
+/// if one is given (its address, as [`TaskRun::robot`] logs it, and its
+/// driver).
+pub struct TaskCell {
+    /// The operator.
+    pub prompt: Box<dyn Prompt>,
+    /// The robot.
+    pub robot: Option<Robot>,
+}
+
+/// A robot that executes roll-outs: its address, as given, and its driver.
+pub type Robot = (String, Box<dyn Executor>);
 
 impl Kind for TaskRun {
     const NAME: &'static str = "task";
     type Trial = TaskTrial;
     type Built = Built;
-    type Person = Box<dyn Prompt>;
+    type Person = TaskCell;
     type Moved = Changes;
     type Note = std::convert::Infallible;
     type Finished = Finished;
@@ -125,12 +154,38 @@ impl Kind for TaskRun {
             std::path::absolute(at.dir.join(TRAJECTORIES)).map_err(Error::io(at.dir))?;
         create_dir(&trajectories)?;
         let dim = self.task.query_dim();
+        let TaskCell { prompt, robot } = at.person;
+        let robot = match (robot, &self.robot) {
+            (None, None) => None,
+            (Some((given, robot)), Some(logged)) if &given == logged => Some(robot),
+            (Some((given, _)), logged) => {
+                return Err(Error::Invalid(match logged {
+                    Some(logged) => format!(
+                        "this run's roll-outs were executed by the robot {logged}, not {given}"
+                    ),
+                    None => format!(
+                        "this run's roll-outs were not executed by a robot; {given} cannot join                          it (start a new run)"
+                    ),
+                }));
+            }
+            (None, Some(logged)) => {
+                return Err(Error::Invalid(format!(
+                    "this run's roll-outs are executed by the robot {logged}: give it again to                      resume"
+                )));
+            }
+        };
+        if robot.is_some() && !matches!(built.limits, Limits::Robot(_)) {
+            return Err(Error::Invalid(
+                "a robot executes joint paths: the task's [movement] needs its robot (`robot =                  \"lwr4\"` or its URDF file), whose limits every roll-out passes"
+                    .into(),
+            ));
+        }
         let evaluator: Box<dyn Evaluator> = match &self.task.evaluate {
             Evaluate::Command { argv, dir, timeout } => {
                 Box::new(Program::start(argv, dir, *timeout, dim)?)
             }
             Evaluate::Operator => Box::new(Operator::new(
-                at.person,
+                prompt,
                 dim,
                 self.task.learner.method.uses_error(),
             )),
@@ -147,6 +202,7 @@ impl Kind for TaskRun {
             dt: built.dt,
             dir: trajectories,
             evaluator,
+            robot,
         }))
     }
 
@@ -196,6 +252,53 @@ struct Rollouts<'a> {
     dt: f64,
     dir: PathBuf,
     evaluator: Box<dyn Evaluator>,
+    robot: Option<Box<dyn Executor>>,
+}
+
+impl Rollouts<'_> {
+    /// Executes roll-out `rollout`'s `path` on the robot, if there is one,
+    /// and writes what it reported beside the trajectory.
+    fn execute(&mut self, rollout: u32, path: Option<&JointPath>) -> Result<(), Error> {
+        let Some(robot) = &mut self.robot else {
+            return Ok(());
+        };
+        let Some(path) = path else {
+            return Err(Error::Invalid(format!(
+                "roll-out {rollout}: a robot executes joint paths, and this one has none"
+            )));
+        };
+        let done = robot.execute(path);
+        let executed = match &done {
+            Ok(executed) => executed,
+            Err(failed) => &failed.executed,
+        };
+        let file = self.dir.join(format!("rollout-{rollout:04}-executed.csv"));
+        write_file(&file, &executed_csv(path, executed))?;
+        done.map(|_| ()).map_err(|failed| {
+            Error::RobotStopped(format!(
+                "roll-out {rollout}: the robot did not complete it: {failed}"
+            ))
+        })
+    }
+}
+
+/// The joint positions a robot reported executing `path`: `t` and the
+/// path's joints, a row a report.
+pub fn executed_csv(path: &JointPath, executed: &Executed) -> Vec<u8> {
+    let mut csv = Csv::new();
+    csv.text("t");
+    for name in path.chain().names() {
+        csv.text(name);
+    }
+    csv.end_row();
+    for (t, q) in executed.times.iter().zip(executed.rows(path.chain().dof())) {
+        csv.seconds(*t);
+        for v in q {
+            csv.display(v);
+        }
+        csv.end_row();
+    }
+    csv.into_bytes()
 }
 
 impl Execute<TaskTrial> for Rollouts<'_> {
@@ -229,6 +332,7 @@ impl Execute<TaskTrial> for Rollouts<'_> {
         .map_err(Error::io(&self.dir))?;
         let file = self.dir.join(format!("rollout-{rollout:04}.csv"));
         write_file(&file, &csv)?;
+        self.execute(rollout, checked.path())?;
         let answer = self.evaluator.evaluate(rollout, &file)?;
         score(self.task, rollout, answer)
     }
