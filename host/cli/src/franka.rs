@@ -5,10 +5,11 @@
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use primo_franka::net::{PlayConfig, Progress, play as fci_play};
+use primo_franka::net::{FrankaRobot, PlayConfig, Progress, play as fci_play};
 use primo_franka::plan::fr3;
 use primo_franka::session::{Event, Report};
 use primo_franka::{FrankaError, parse_robot};
+use primo_robot::execute::Executor;
 use primo_sim::fci::{Fault, FciConfig, SimFci};
 
 use crate::error::CliError;
@@ -48,6 +49,17 @@ pub struct SimFciArgs {
     /// Run the state stream at normal priority.
     #[arg(long)]
     no_realtime: bool,
+}
+
+/// The Franka at `robot` (`franka:ADDR[:PORT]`) as a learning run's
+/// executor: each checked roll-out streamed as `play` does, approached at
+/// 20 % of the velocity limits from wherever the arm is.
+pub fn executor(robot: &str) -> Result<Box<dyn Executor>, CliError> {
+    let addr = parse_robot(robot)
+        .map_err(|e| CliError::input(format!("--robot `{}`: {}", e.spec, e.why)))?;
+    let mut cfg = PlayConfig::default();
+    cfg.session.approach_speed = 0.2;
+    Ok(Box::new(FrankaRobot { addr, cfg }))
 }
 
 /// Plays `trajectory` on the Franka at `robot`; the built-in FR3 unless

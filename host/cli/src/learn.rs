@@ -59,16 +59,23 @@ pub struct LearnArgs {
 
 /// Runs `primo learn`.
 pub fn run(args: &LearnArgs) -> Result<(), CliError> {
-    // A ROS 2 robot executes a task file's roll-outs; the built-in pour's
-    // real cell is FRI and a scale.
-    let ros2 = args.cell.robot().is_some_and(|r| r.starts_with("ros2:"));
+    // A ROS 2 controller or a Franka executes a task file's roll-outs; the
+    // built-in pour's real cell is FRI and a scale.
+    let executes = args
+        .cell
+        .robot()
+        .is_some_and(|r| r.starts_with("ros2:") || r.starts_with("franka:"));
     let not_the_pour = || {
         CliError::input(
-            "--robot ros2:/CONTROLLER: executes a task file's roll-outs; the built-in pour's real \
-             cell is --robot fri:ADDR with --scale",
+            "--robot ros2:/CONTROLLER or franka:ADDR: executes a task file's roll-outs; the \
+             built-in pour's real cell is --robot fri:ADDR with --scale",
         )
     };
-    let instruments = if ros2 { None } else { args.cell.instruments()? };
+    let instruments = if executes {
+        None
+    } else {
+        args.cell.instruments()?
+    };
     let learner = args.learner.spec();
     if args.max_rollouts == Some(0) {
         return Err(CliError::input("--max-rollouts 0: must be at least 1"));
@@ -77,7 +84,7 @@ pub fn run(args: &LearnArgs) -> Result<(), CliError> {
     let start = match (&args.resume, &args.task) {
         (Some(dir), task) => match logged_kind(dir).map_err(|e| CliError::learning("learn", e))? {
             kind if kind == "pour" => {
-                if ros2 {
+                if executes {
                     return Err(not_the_pour());
                 }
                 if task.is_some() || args.cell.glass_holds_given() {
@@ -113,7 +120,7 @@ pub fn run(args: &LearnArgs) -> Result<(), CliError> {
                 task.learner.max_rollouts = n;
             }
             if let Some(mut start) = task.pour_start(args.out.clone(), args.force, args.seed) {
-                if ros2 {
+                if executes {
                     return Err(not_the_pour());
                 }
                 if let Start::New { run, .. } = &mut start {
@@ -152,10 +159,11 @@ pub fn run(args: &LearnArgs) -> Result<(), CliError> {
     )
 }
 
-/// The robot that executes a task's roll-outs (`--robot ros2:/CONTROLLER`),
-/// if given; the built-in pour's cell is refused.
+/// The robot that executes a task's roll-outs (`--robot ros2:/CONTROLLER`
+/// or `franka:ADDR[:PORT]`), if given; the built-in pour's cell is refused.
 fn task_robot(cell: &CellArgs) -> Result<Option<Robot>, CliError> {
-    let Some(robot) = cell.robot().filter(|r| r.starts_with("ros2:")) else {
+    let executes = |r: &&str| r.starts_with("ros2:") || r.starts_with("franka:");
+    let Some(robot) = cell.robot().filter(executes) else {
         refuse_cell(cell)?;
         return Ok(None);
     };
@@ -165,10 +173,11 @@ fn task_robot(cell: &CellArgs) -> Result<Option<Robot>, CliError> {
              task's evaluator measures what the robot did",
         ));
     }
-    Ok(Some((
-        robot.to_string(),
-        crate::robot_ros2::executor(robot)?,
-    )))
+    let executor = match robot.starts_with("franka:") {
+        true => crate::franka::executor(robot)?,
+        false => crate::robot_ros2::executor(robot)?,
+    };
+    Ok(Some((robot.to_string(), executor)))
 }
 
 /// --robot, --scale and --glass-holds are the built-in pour's cell.
@@ -176,8 +185,8 @@ fn refuse_cell(cell: &CellArgs) -> Result<(), CliError> {
     if cell.robot_given() {
         return Err(CliError::input(
             "--robot/--scale: the task's own evaluator executes its roll-outs (or a ROS 2 \
-             controller, --robot ros2:/CONTROLLER); the real cell's instruments are for the \
-             built-in pour (builtin = \"pour\")",
+             controller, --robot ros2:/CONTROLLER, or a Franka, --robot franka:ADDR); the real \
+             cell's instruments are for the built-in pour (builtin = \"pour\")",
         ));
     }
     if cell.glass_holds_given() {

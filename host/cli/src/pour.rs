@@ -140,9 +140,13 @@ pub struct CellArgs {
     /// Roll out on a real cell: the robot, `fri:ADDR[:PORT]`, the local
     /// UDP address the KRC sends its FRI packets to (default port 49938).
     /// For `primo learn` with a task file: `ros2:/CONTROLLER`, a ROS 2
-    /// joint trajectory controller that executes each roll-out before the
-    /// task's evaluator measures it.
-    #[arg(long, value_name = "fri:ADDR[:PORT]|ros2:/CONTROLLER")]
+    /// joint trajectory controller, or `franka:ADDR[:PORT]`, a Franka's
+    /// FCI, that executes each roll-out before the task's evaluator
+    /// measures it.
+    #[arg(
+        long,
+        value_name = "fri:ADDR[:PORT]|ros2:/CONTROLLER|franka:ADDR[:PORT]"
+    )]
     robot: Option<String>,
     /// With --robot: the scale. An MT-SICS scale's serial port;
     /// `postcard:PORT`, primo's scale on a serial port; or

@@ -128,3 +128,33 @@ fn a_bad_address_is_status_2() {
     assert_eq!(status, 2, "{err}");
     assert!(err.contains("expected franka:ADDR[:PORT]"), "{err}");
 }
+
+/// `primo learn --task examples/fr3/reach.toml --robot franka:…`: each
+/// learned roll-out of a task over the FR3's joints (its limits from the
+/// FR3's URDF) is executed on the simulated controller before the task's
+/// evaluator measures it; the executed joint series are kept beside the
+/// planned ones.
+#[test]
+fn a_learning_run_executes_its_rollouts_on_the_simulated_fr3() {
+    let task =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/fr3/reach.toml");
+    let sim = SimFci::start(&[]);
+    let out = tmp("learn-fr3");
+    let (code, stdout, err) = primo(&[
+        "learn",
+        "--task",
+        task.to_str().unwrap(),
+        "--robot",
+        &sim.robot(),
+        "--out",
+        out.to_str().unwrap(),
+        "--force",
+    ]);
+    assert_eq!(code, 0, "{stdout}{err}");
+    assert!(stdout.contains("reached the precision"), "{stdout}");
+    let executed = out.join("trajectories/rollout-0001-executed.csv");
+    let text = std::fs::read_to_string(&executed).unwrap();
+    assert!(text.starts_with("t,joint1,joint2"), "{text}");
+    // One row a millisecond of a 2 s movement.
+    assert!(text.lines().count() > 1500, "{} rows", text.lines().count());
+}
