@@ -44,7 +44,7 @@ mod obstacle;
 mod phase_stop;
 
 pub use joint_limits::JointLimits;
-pub use obstacle::{Obstacles, Sphere};
+pub use obstacle::{DEFAULT_GAIN, DEFAULT_MAX_ACCELERATION, DEFAULT_POWER, Obstacles, Sphere};
 pub use phase_stop::PhaseStop;
 
 use crate::Error;
