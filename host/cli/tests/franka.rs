@@ -17,8 +17,19 @@ struct SimFci {
 
 impl SimFci {
     fn start(extra: &[&str]) -> SimFci {
+        SimFci::start_at(0, extra)
+    }
+
+    /// On `port` (0: any free one).
+    fn start_at(port: u16, extra: &[&str]) -> SimFci {
         let mut child = Command::new(env!("CARGO_BIN_EXE_primo"))
-            .args(["robot", "sim-fci", "--port", "0", "--no-realtime"])
+            .args([
+                "robot",
+                "sim-fci",
+                "--port",
+                &port.to_string(),
+                "--no-realtime",
+            ])
             .args(extra)
             .stdout(Stdio::piped())
             .stderr(Stdio::null())
@@ -157,4 +168,42 @@ fn a_learning_run_executes_its_rollouts_on_the_simulated_fr3() {
     assert!(text.starts_with("t,joint1,joint2"), "{text}");
     // One row a millisecond of a 2 s movement.
     assert!(text.lines().count() > 1500, "{} rows", text.lines().count());
+}
+
+/// A reflex mid-roll-out ends a learning run with exit status 1, what the
+/// robot did before it kept, the run log intact; resumed with the robot
+/// (its faults cleared), the run makes the roll-out again and ends.
+#[test]
+fn a_reflex_ends_a_learning_run_with_status_1_and_resume_goes_on() {
+    let task =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/fr3/reach.toml");
+    let out = tmp("learn-fr3-reflex");
+    let out_s = out.to_str().unwrap();
+    let faulty = SimFci::start(&["--reflex-after", "500", "--reflex", "joint_reflex"]);
+    let (code, _, err) = primo(&[
+        "learn",
+        "--task",
+        task.to_str().unwrap(),
+        "--robot",
+        &faulty.robot(),
+        "--out",
+        out_s,
+        "--force",
+    ]);
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        err.contains("roll-out 1") && err.contains("joint_reflex"),
+        "{err}"
+    );
+    let executed =
+        std::fs::read_to_string(out.join("trajectories/rollout-0001-executed.csv")).unwrap();
+    let rows = executed.lines().count();
+    assert!((300..1500).contains(&rows), "{rows} rows before the reflex");
+    // The same robot (its address is in the run's log), its fault cleared.
+    let port = faulty.port;
+    drop(faulty);
+    let sim = SimFci::start_at(port, &[]);
+    let (code, stdout, err) = primo(&["learn", "--resume", out_s, "--robot", &sim.robot()]);
+    assert_eq!(code, 0, "{stdout}{err}");
+    assert!(stdout.contains("reached the precision"), "{stdout}");
 }
