@@ -59,8 +59,11 @@ cargo test --workspace --locked 2>&1 | tee -a "$log"
 peers=$(tests/peers/setup.sh)
 peer_tests=(-p primo-ros2 -p primo-franka -p primo-cli --test rclpy --test ros2 --test peers)
 cargo test --locked "${peer_tests[@]}" --no-run
+# A private /dev/shm too (a mount namespace with its own tmpfs): Fast DDS
+# leaves its shared-memory files there, and they go with the namespace.
 as_root=$([ "$(id -u)" = 0 ] || echo -r)
-unshare $as_root -n sh -c 'ip link set lo up && exec "$@"' sh \
+unshare $as_root -n -m sh -c 'mount -t tmpfs tmpfs /dev/shm && ip link set lo up &&
+  exec "$@"' sh \
   env PRIMO_PEERS_VENV="$peers" ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST \
   ROS_DISTRO=jazzy cargo test --offline --locked "${peer_tests[@]}" 2>&1 | tee -a "$log"
 # ---- end of the robots' peers ------------------------------------------
