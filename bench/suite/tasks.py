@@ -199,16 +199,6 @@ def _reacher_space(env: Any) -> tuple[np.ndarray, np.ndarray]:
     return np.full(2, -0.2), np.full(2, 0.2)
 
 
-def _reacher_reset(env: Any, context: Any, seed: Any) -> np.ndarray:
-    env.reset(seed=seed)  # Reacher ignores options: set the target's slide joints
-    u = env.unwrapped
-    qpos, qvel = u.data.qpos.copy(), u.data.qvel.copy()
-    qpos[2:4] = context
-    qvel[2:] = 0
-    u.set_state(qpos, qvel)
-    return u._get_obs()
-
-
 def _reacher_demo(env: Any, context: Any) -> tuple[np.ndarray, np.ndarray]:
     x, y = context
     c = (x * x + y * y - L1 * L1 - L2 * L2) / (2 * L1 * L2)
@@ -234,7 +224,7 @@ def _reacher_box(env: Any, movement: Any, query: Callable) -> primo.gym.BlackBox
         tracking="pd",
         kp=2.0,
         kd=0.1,
-        reset=_reacher_reset,
+        reset=primo.gym.qpos_reset(slice(2, 4)),  # the target's slide joints
         success=_reacher_success,
         error=lambda env, obs, info: -obs[8:10],
         hold=10,

@@ -17,23 +17,12 @@ L1, L2 = 0.1, 0.11  # Reacher-v5's link and fingertip offset (reacher.xml)
 STEPS = 40  # of Reacher's 50; the rest holds the goal
 
 
-def reacher_reset(env, context, seed):
-    """Reacher-v5 ignores reset options: the target's slide joints are set."""
-    env.reset(seed=seed)
-    u = env.unwrapped
-    qpos, qvel = u.data.qpos.copy(), u.data.qvel.copy()
-    qpos[2:4] = context
-    qvel[2:] = 0
-    u.set_state(qpos, qvel)
-    return u._get_obs()
-
-
 def reacher_box(movement, **settings):
     task = dict(
         tracking="pd",
         kp=2.0,
         kd=0.1,
-        reset=reacher_reset,
+        reset=primo.gym.qpos_reset(slice(2, 4)),  # the target's slide joints
         success=lambda env, obs, info: bool(np.linalg.norm(obs[8:10]) < 0.01),
         error=lambda env, obs, info: -obs[8:10],  # target − fingertip, the query's units
     )

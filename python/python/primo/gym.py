@@ -42,7 +42,7 @@ except ImportError as e:  # pragma: no cover - the [gym] extra is missing
 
 from primo._primo import Dmp, Generalizer, GoldenSection, Illinois, Power, Secant
 
-__all__ = ["BlackBox", "Episode", "metaworld_reset"]
+__all__ = ["BlackBox", "Episode", "metaworld_reset", "qpos_reset"]
 
 TRACKING = ("pd", "velocity", "position", "delta")
 
@@ -429,6 +429,43 @@ class BlackBox:
                     raise ValueError(f"error: {type(learner).__name__} needs one error value, got {e}")
                 learner.tell(float(e[0]))
         return episodes
+
+
+def qpos_reset(joints: Union[slice, Sequence[int]]) -> Callable[[Any, Any, Optional[int]], np.ndarray]:
+    """A reset hook for a Gymnasium MuJoCo environment that ignores reset
+    options (Reacher-v5's target, for one): it resets with the seed, then
+    writes the context into the positions ``joints`` of ``data.qpos`` and
+    zeroes their velocities, and returns the observation. The joints are
+    slide or hinge joints, whose velocity has the index of their position
+    (no free or ball joint before them). Pass it as ``BlackBox(...,
+    reset=primo.gym.qpos_reset(...))``.
+
+    Args:
+        joints: the indices in ``qpos`` the context sets, a slice or a
+            sequence of ints, one per context value.
+
+    Returns:
+        callable: ``reset(env, context, seed)``, the observation after the
+        context is set.
+
+    >>> import gymnasium, primo.gym
+    >>> env = gymnasium.make("Reacher-v5")
+    >>> reset = primo.gym.qpos_reset(slice(2, 4))  # the target's x, y
+    >>> obs = reset(env, [0.1, -0.05], 0)
+    >>> [round(float(v), 3) for v in env.unwrapped.data.qpos[2:4]]
+    [0.1, -0.05]
+    """
+
+    def reset(env: Any, context: Any, seed: Optional[int]) -> np.ndarray:
+        env.reset(seed=seed)
+        u = env.unwrapped
+        qpos, qvel = u.data.qpos.copy(), u.data.qvel.copy()
+        qpos[joints] = context
+        qvel[joints] = 0
+        u.set_state(qpos, qvel)
+        return u._get_obs()
+
+    return reset
 
 
 def metaworld_reset(env: Any, context: Sequence[float], seed: Optional[int] = None) -> np.ndarray:
