@@ -11,7 +11,8 @@ centre as a point obstacle, the only kind it has. Both run at 2 ms for
 surface, negative inside), the largest deviation from each library's own
 unperturbed run, and the distance from the goal at the end.
 
-Run by bench/compare_coupling.sh; prints a Markdown table.
+Run by `bench/compare_python.sh bench/compare_coupling.py`; prints a Markdown
+table.
 """
 
 import numpy as np

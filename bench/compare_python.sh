@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
-# Times primo's Python DMP (fit, run, argument conversion) against
-# movement_primitives and pydmps in one process (python/bench/bench.py),
-# in a throw-away virtual environment: the peers from PyPI, primo built
-# from ./python (about 2 minutes cold). Not part of ./test.sh.
-#   bench/compare_python.sh
+# primo's Python package against movement_primitives and pydmps in one
+# process, in a throw-away virtual environment: the peers from PyPI, primo
+# built from ./python (about 2 minutes cold). Not part of ./test.sh.
+#   bench/compare_python.sh                           # DMP speed: fit, run, argument conversion (python/bench/bench.py)
+#   bench/compare_python.sh bench/compare_coupling.py # obstacle avoidance on the same scenes
 set -euo pipefail
 cd "$(dirname "$0")/.."
+script=${1:-python/bench/bench.py}
 
 venv=$(mktemp -d)
 trap 'rm -rf "$venv"' EXIT
@@ -15,4 +16,4 @@ python3 -m venv "$venv"
 "$venv/bin/pip" install --quiet --disable-pip-version-check \
   movement_primitives==0.9.1 pytransform3d pydmps==0.2 numpy
 CARGO_TARGET_DIR="$PWD/target/python" "$venv/bin/pip" install --quiet ./python
-"$venv/bin/python" python/bench/bench.py
+"$venv/bin/python" "$script"
