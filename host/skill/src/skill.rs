@@ -20,7 +20,7 @@
 //! in its place among the DoFs, and as its three goals the goal's rotation
 //! vector from that mean (rad, world frame): `Δθ` there turns the goal. A
 //! plan writes the four columns back, unit-norm.
-use primo_core::dmp::FitOptions;
+use primo_core::dmp::{FinalVelocity, FitOptions};
 use primo_core::generalize::{Generalizer, Method};
 use primo_core::orientation::{from_coordinates, nearest_coordinates};
 use primo_core::quaternion::Quaternion;
@@ -77,6 +77,9 @@ pub struct Skill {
     /// Per example, global scaling's demonstrated `g − y0` (none: per
     /// DoF), generalized as the starts are.
     references: Vec<Vec<f32>>,
+    /// Per example, the velocity at the goal (none: at rest), generalized
+    /// as the starts are.
+    velocities: Vec<Vec<f32>>,
     /// Per example and orientation, the start's tangent vector.
     start_orientations: Vec<Vec<[f32; 3]>>,
     groups: Vec<Group>,
@@ -121,7 +124,12 @@ impl Skill {
         kernels: usize,
         method: Method,
     ) -> Result<Skill, Error> {
-        let files = Skill::fit_demos(examples, kernels, AmplitudeScaling::PerDof)?;
+        let files = Skill::fit_demos(
+            examples,
+            kernels,
+            AmplitudeScaling::PerDof,
+            FinalVelocity::AtRest,
+        )?;
         let examples: Vec<(&[f32], &DmpFile)> = examples
             .iter()
             .zip(&files)
@@ -136,13 +144,19 @@ impl Skill {
     /// the ends), their forcing terms scaled by `scaling` and their
     /// orientations charted, all alike (decided on the first: interpolating
     /// weights only makes sense when every example scales and charts them
-    /// alike). Every demonstration has the
+    /// alike), each ending at rest or at its demonstrated velocity
+    /// (`final_velocity`). Every demonstration has the
     /// first one's columns, by name and in order.
     pub fn fit_demos(
         examples: &[(&[f32], &Demo)],
         kernels: usize,
         scaling: AmplitudeScaling,
+        final_velocity: FinalVelocity,
     ) -> Result<Vec<DmpFile>, Error> {
+        let options = FitOptions {
+            final_velocity,
+            ..FitOptions::LEARNING
+        };
         let (_, first) = examples.first().ok_or_else(|| {
             Error::Demonstrations("a skill needs at least one demonstration".into())
         })?;
@@ -159,7 +173,7 @@ impl Skill {
                 kernels,
                 (scaling, scaled),
                 axes.as_deref(),
-                &FitOptions::LEARNING,
+                &options,
             )
             .map_err(|e| Error::Demonstrations(e.to_string()))?;
             // Every orientation charted as the first demonstration's.
@@ -203,18 +217,25 @@ impl Skill {
             }
             let dmp = &file.dmp;
             let global = |d: &HostDmp| d.reference().is_some();
-            if (dmp.dof(), dmp.kernels(), dmp.shape(), global(dmp))
-                != (
-                    template.dof(),
-                    template.kernels(),
-                    template.shape(),
-                    global(template),
-                )
-            {
+            let moving = |d: &HostDmp| !d.goal_velocity().is_empty();
+            if (
+                dmp.dof(),
+                dmp.kernels(),
+                dmp.shape(),
+                global(dmp),
+                moving(dmp),
+            ) != (
+                template.dof(),
+                template.kernels(),
+                template.shape(),
+                global(template),
+                moving(template),
+            ) {
                 return Err(Error::Demonstrations(format!(
                     "demonstration {}: its DMP has {} DoF and {} kernels, demonstration 1's {} \
                      and {}, and both must have the same gains, kernel layout (width and \
-                     margin: fit them with one fixed margin) and amplitude scaling",
+                     margin: fit them with one fixed margin), amplitude scaling and final \
+                     velocity (at rest or demonstrated)",
                     i + 1,
                     dmp.dof(),
                     dmp.kernels(),
@@ -305,6 +326,11 @@ impl Skill {
                 .iter()
                 .filter_map(|(_, f)| f.dmp.reference().map(<[f32]>::to_vec))
                 .collect(),
+            velocities: examples
+                .iter()
+                .map(|(_, f)| f.dmp.goal_velocity().to_vec())
+                .filter(|v| !v.is_empty())
+                .collect(),
             start_orientations,
             groups,
             template: template.clone(),
@@ -390,15 +416,7 @@ impl Skill {
         self.generalizer
             .coefficients(query, &mut c)
             .map_err(|e| Error::Movement(e.to_string()))?;
-        let mut start: Vec<f32> = (0..self.dof())
-            .map(|d| {
-                self.starts
-                    .iter()
-                    .zip(c)
-                    .map(|(start, c)| c * start.get(d).copied().unwrap_or(0.0))
-                    .sum()
-            })
-            .collect();
+        let mut start = combine(&self.starts, &c, self.dof());
         let goal_at = self.dof() * self.kernels();
         let mut orientations = Vec::new();
         for (j, g) in self.groups.iter().enumerate() {
@@ -425,15 +443,15 @@ impl Skill {
         let mut dmp = HostDmp::from_shape(&t.shape(), t.dof(), t.kernels(), &start, &theta)
             .map_err(|e| Error::Movement(format!("movement for q = {query:?}: {e}")))?;
         if !self.references.is_empty() {
-            let reference: Vec<f32> = (0..self.dof())
-                .map(|d| {
-                    (self.references.iter().zip(c))
-                        .map(|(r, c)| c * r.get(d).copied().unwrap_or(0.0))
-                        .sum()
-                })
-                .collect();
+            let reference = combine(&self.references, &c, self.dof());
             dmp.set_reference(Some(&reference)).map_err(|e| {
                 Error::Movement(format!("movement for q = {query:?}: global scaling: {e}"))
+            })?;
+        }
+        if !self.velocities.is_empty() {
+            let velocity = combine(&self.velocities, &c, self.dof());
+            dmp.set_goal_velocity(&velocity).map_err(|e| {
+                Error::Movement(format!("movement for q = {query:?}: goal velocity: {e}"))
             })?;
         }
         Ok(DmpFile {
@@ -534,6 +552,18 @@ pub const MAX_DURATION: f32 = 600.0;
 /// The most samples a skill plans for one movement (600 s at 1 ms
 /// steps, with room): each is a row of every column.
 pub const MAX_SAMPLES: usize = 1_000_000;
+
+/// `Σ_i c_i·rows_i`, `n` values: a value the examples give per example,
+/// generalized with the skill's coefficients.
+fn combine(rows: &[Vec<f32>], c: &[f32], n: usize) -> Vec<f32> {
+    (0..n)
+        .map(|d| {
+            (rows.iter().zip(c))
+                .map(|(row, c)| c * row.get(d).copied().unwrap_or(0.0))
+                .sum()
+        })
+        .collect()
+}
 
 /// Checks a movement of `tau` seconds sampled every `dt` seconds against
 /// [`MAX_DURATION`] and [`MAX_SAMPLES`].

@@ -232,6 +232,16 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
         &self.goal_velocity
     }
 
+    /// Sets the velocity at the goal at `τ`, one value per DoF per second
+    /// (empty: at rest), as [`FinalVelocity::Demonstrated`](super::FinalVelocity::Demonstrated)
+    /// fits it: a DMP rebuilt by [`Dmp::from_shape`] (a generalized one)
+    /// takes its examples' this way. On error the DMP is unchanged.
+    pub fn set_goal_velocity(&mut self, velocity: &[f32]) -> Result<(), Error> {
+        check_goal_velocity(velocity, self.dof())?;
+        self.goal_velocity = velocity.iter().copied().collect();
+        Ok(())
+    }
+
     /// The kernel weights of DoF `d`.
     pub fn weights(&self, d: usize) -> &[f32] {
         self.weights.get(d).map_or(&[], |w| w.as_slice())

@@ -73,7 +73,7 @@ impl Task {
             .zip(&demos)
             .map(|(t, (_, d))| (&t.query[..], d))
             .collect();
-        let fitted = Skill::fit_demos(&examples, self.kernels, self.scaling)?;
+        let fitted = Skill::fit_demos(&examples, self.kernels, self.scaling, self.final_velocity)?;
         let files: Vec<(&[f32], &DmpFile)> = (examples.iter().zip(&fitted))
             .map(|((q, _), f)| (*q, f))
             .collect();
@@ -186,25 +186,30 @@ mod tests {
         Task::load(&task).unwrap()
     }
 
-    /// A task over two reaches in `x, y, z` (to 0.6 and 0.8 m in `x`),
-    /// with a ball halfway and just off the path, in a directory of its own.
-    fn reach_past_a_ball(obstacles: &str) -> Task {
+    /// Minimum jerk from 0 to 1 over `t` in [0, 1].
+    fn min_jerk(t: f64) -> f64 {
+        t * t * t * (10.0 - 15.0 * t + 6.0 * t * t)
+    }
+
+    /// A task over two reaches in `x, y, z` (to 0.6 and 0.8 m in `x`,
+    /// along `profile` over one second), with `movement` as its
+    /// `[movement]` keys, in a directory of its own.
+    fn reaches(movement: &str, profile: fn(f64) -> f64) -> Task {
         let dir = std::env::temp_dir()
-            .join(format!("primo-task-obstacles-{}", std::process::id()))
-            .join(obstacles.len().to_string());
+            .join(format!("primo-task-reaches-{}", std::process::id()))
+            .join(format!("{}-{}", movement.len(), profile(0.5)));
         std::fs::create_dir_all(&dir).unwrap();
         for (name, reach) in [("near", 0.6), ("far", 0.8)] {
             let mut out = String::from("t,x,y,z\n");
             for i in 0..=100 {
                 let t = f64::from(i) / 100.0;
-                let s = t * t * t * (10.0 - 15.0 * t + 6.0 * t * t);
-                out.push_str(&format!("{t},{},0.1,0.2\n", reach * s));
+                out.push_str(&format!("{t},{},0.1,0.2\n", reach * profile(t)));
             }
             std::fs::write(dir.join(format!("{name}.csv")), out).unwrap();
         }
         let text = format!(
             "version = 1\n\n[[demo]]\nfile = \"near.csv\"\nquery = [0.6]\n\n[[demo]]\n\
-             file = \"far.csv\"\nquery = [0.8]\n\n[movement]\n{obstacles}\n\n\
+             file = \"far.csv\"\nquery = [0.8]\n\n[movement]\n{movement}\n\n\
              [movement.limits]\nx = {{ min = -1.0, max = 1.0, max_speed = 10.0 }}\ny = {{ min = -1.0, max = 1.0, max_speed = 10.0 }}\nz = {{ min = -1.0, max = 1.0, max_speed = 10.0 }}\n\n[goal]\ndesired = [0.7]\nlow = [0.5]\nhigh = [0.9]\nprecision = 0.01\n\n\
              [learner]\nmethod = \"golden\"\n\n[evaluate]\ncommand = [\"true\"]\n"
         );
@@ -214,7 +219,7 @@ mod tests {
 
     #[test]
     fn a_tasks_obstacles_steer_every_planned_movement() {
-        let built = reach_past_a_ball("obstacles = [[0.35, 0.11, 0.2, 0.05]]")
+        let built = reaches("obstacles = [[0.35, 0.11, 0.2, 0.05]]", min_jerk)
             .build()
             .unwrap();
         let plan = built.skill.plan(&[0.7], &[], 0.002).unwrap();
@@ -232,7 +237,7 @@ mod tests {
             "{end:?}"
         );
         // Without them, the path goes through the ball.
-        let plain = reach_past_a_ball("").build().unwrap();
+        let plain = reaches("", min_jerk).build().unwrap();
         let through = plain.skill.plan(&[0.7], &[], 0.002).unwrap();
         assert!(
             through
@@ -241,14 +246,40 @@ mod tests {
                 .any(|p| (p[0] - 0.35).abs() < 0.01 && (p[1] - 0.11).abs() < 0.05)
         );
         // Columns the demonstrations lack are refused when the skill is built.
-        let wrong = reach_past_a_ball(
+        let wrong = reaches(
             "obstacles = [[0.35, 0.11, 0.2, 0.05]]\nobstacle_columns = [\"x\", \"y\", \"w\"]",
+            min_jerk,
         );
         let e = wrong.build().unwrap_err().to_string();
         assert!(
             e.contains("obstacles: no position column `w` among x,y,z"),
             "{e}"
         );
+    }
+
+    #[test]
+    fn a_tasks_demonstrated_final_velocity_is_generalized_with_the_movement() {
+        // Reaches cut at the fastest point of their swing: each ends moving
+        // at 1.875/2 of its reach per second.
+        let swing = |t: f64| min_jerk(t / 2.0);
+        let moving = reaches("final_velocity = \"demonstrated\"", swing)
+            .build()
+            .unwrap();
+        let dmp = moving.skill.movement(&[0.7], &[]).unwrap().dmp;
+        let expected = 0.7 * 1.875 / 2.0;
+        assert!(
+            (f64::from(dmp.goal_velocity()[0]) - expected).abs() < 0.02,
+            "{:?}",
+            dmp.goal_velocity()
+        );
+        let plan = moving.skill.plan(&[0.7], &[], 0.001).unwrap();
+        let n = plan.t.len();
+        let v = (plan.rows[3 * (n - 1)] - plan.rows[3 * (n - 2)]) / (plan.t[n - 1] - plan.t[n - 2]);
+        assert!((v - expected).abs() < 0.02, "{v} m/s");
+        // At rest (the default), the DMP carries no velocity to change.
+        let resting = reaches("", swing).build().unwrap();
+        let dmp = resting.skill.movement(&[0.7], &[]).unwrap().dmp;
+        assert!(dmp.goal_velocity().is_empty());
     }
 
     #[test]

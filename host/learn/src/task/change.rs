@@ -64,6 +64,10 @@ impl Task {
             ("[[demo]]", a.demos == b.demos),
             ("[movement] kernels", a.kernels == b.kernels),
             ("[movement] scaling", a.scaling == b.scaling),
+            (
+                "[movement] final_velocity",
+                a.final_velocity == b.final_velocity,
+            ),
             ("[movement] generalization", a.regression == b.regression),
             ("[movement] obstacles", a.obstacles == b.obstacles),
             ("[movement] dt", a.dt == b.dt),

@@ -5,6 +5,7 @@ use std::collections::BTreeMap;
 use std::ops::Range;
 use std::path::Path;
 
+use primo_core::dmp::FinalVelocity;
 use primo_core::generalize::Method as Regression;
 use primo_mtsics::path::{Wanted, check};
 use primo_robot::urdf::MAX_DISTANCE;
@@ -179,6 +180,27 @@ impl Task {
                 )
             })?,
         };
+        let final_velocity = match m.and_then(|m| m.final_velocity.as_ref()) {
+            None => FinalVelocity::AtRest,
+            Some(v) if pour => {
+                return Err(p.at(
+                    v.span(),
+                    "[movement] final_velocity",
+                    "the built-in pour ends its movements at rest: remove the key",
+                ));
+            }
+            Some(v) => match v.get_ref().as_str() {
+                "rest" => FinalVelocity::AtRest,
+                "demonstrated" => FinalVelocity::Demonstrated,
+                other => {
+                    return Err(p.at(
+                        v.span(),
+                        "[movement] final_velocity",
+                        format!("`{other}`: must be `rest` or `demonstrated`"),
+                    ));
+                }
+            },
+        };
         let dt = m
             .and_then(|m| m.dt.as_ref())
             .map(|v| positive(&p, v, "[movement] dt"))
@@ -192,6 +214,7 @@ impl Task {
             demos,
             kernels,
             scaling,
+            final_velocity,
             regression,
             obstacles,
             dt,
@@ -909,6 +932,24 @@ command = ["python3", "throw.py"]
     fn refused(text: &str) -> String {
         let e = parse(text).unwrap_err().to_string();
         e.replace(&lab().display().to_string(), "/lab")
+    }
+
+    #[test]
+    fn a_final_velocity_is_at_rest_or_demonstrated() {
+        let with = |value: &str| {
+            THROW.replace(
+                "[movement.limits]",
+                &format!("[movement]\nfinal_velocity = {value}\n\n[movement.limits]"),
+            )
+        };
+        assert_eq!(parse(THROW).unwrap().final_velocity, FinalVelocity::AtRest);
+        let task = parse(&with("\"demonstrated\"")).unwrap();
+        assert_eq!(task.final_velocity, FinalVelocity::Demonstrated);
+        assert_eq!(
+            refused(&with("\"fast\"")),
+            "/lab/throw.toml:12: [movement] final_velocity: `fast`: must be `rest` or \
+             `demonstrated`"
+        );
     }
 
     #[test]

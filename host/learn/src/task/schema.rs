@@ -37,6 +37,7 @@ pub(super) struct DemoKeys {
 pub(super) struct MovementKeys {
     pub(super) kernels: Option<Spanned<usize>>,
     pub(super) scaling: Option<Spanned<String>>,
+    pub(super) final_velocity: Option<Spanned<String>>,
     pub(super) generalization: Option<Spanned<String>>,
     pub(super) dt: Option<Spanned<f64>>,
     pub(super) robot: Option<Spanned<String>>,

@@ -346,6 +346,10 @@ pub struct Task {
     /// written before it existed: per DoF, as they then did).
     #[serde(default)]
     pub scaling: primo_skill::dmpfile::AmplitudeScaling,
+    /// The velocity the DMPs end with: at rest, or as demonstrated (absent
+    /// from run logs written before it existed: at rest).
+    #[serde(default)]
+    pub final_velocity: primo_core::dmp::FinalVelocity,
     /// The generalization.
     pub regression: Regression,
     /// Spheres every roll-out steers round (absent from run logs written
