@@ -2,6 +2,8 @@
 //! columns, if any) or rhythmic: the DMP file of `primo dmp`
 //! (`primo_skill::dmpfile`), so a Python DMP and a file are one thing.
 
+use std::collections::BTreeMap;
+
 use numpy::{PyArray1, PyUntypedArrayMethods};
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
@@ -11,6 +13,7 @@ use primo_core::dmp::{
     DEFAULT_OVERLAP, FinalVelocity, FitOptions, MAX_ALPHA, MIN_ALPHA, Margin, max_margin,
 };
 use primo_skill::MAX_KERNELS;
+use primo_skill::coupled::DEFAULT_LIMIT_GAIN;
 use primo_skill::csv::Demo;
 use primo_skill::dmpfile::{
     self, AmplitudeScaling, Change, DmpFile, Fitted, MAX_ROWS, RhythmicFile,
@@ -562,7 +565,8 @@ impl Dmp {
     #[allow(clippy::too_many_arguments)] // the keyword arguments of `primo dmp run`
     #[pyo3(signature = (dt=0.001, tau=None, start=None, goal=None, velocities=false,
                         duration=None, frequency=None, amplitude=None, anchor=None,
-                        goal_velocity=None, via=None, obstacles=None, obstacle_columns=None))]
+                        goal_velocity=None, via=None, obstacles=None, obstacle_columns=None,
+                        limits=None, limit_margin=None, limit_gain=DEFAULT_LIMIT_GAIN as f64))]
     /// Runs the DMP at a fixed step, from start to goal (discrete) or for a
     /// duration (rhythmic), with the GIL released.
     ///
@@ -591,6 +595,13 @@ impl Dmp {
     ///         at most 3τ.
     ///     obstacle_columns: the three position columns of ``x, y, z``
     ///         (default ``["x", "y", "z"]``).
+    ///     limits: limits to keep away from, ``{column: (low, high)}``
+    ///         (discrete; ``-inf``, ``inf``: none that side): within
+    ///         ``limit_margin`` of one the run is pushed back, and goes on
+    ///         past τ until it reaches its goal, at most 3τ.
+    ///     limit_margin: how near a limit the push starts, in the column's
+    ///         units (needed with ``limits``; the goal must lie outside it).
+    ///     limit_gain: the push at half the margin, units/s².
     ///
     /// Returns:
     ///     tuple: ``(times, positions)``, shapes (m,) and (m, columns), m the
@@ -627,12 +638,27 @@ impl Dmp {
         via: Option<Vec<(f64, String, f64)>>,
         obstacles: Option<Array<'_>>,
         obstacle_columns: Option<Vec<String>>,
+        limits: Option<BTreeMap<String, (f64, f64)>>,
+        limit_margin: Option<f64>,
+        limit_gain: f64,
     ) -> PyResult<Bound<'py, PyTuple>> {
         let dt = positive("dt", Some(dt))?.unwrap_or(0.001);
         let names = self.names_ref();
         let width = names.len();
-        let shaped = goal_velocity.is_some() || via.is_some() || obstacles.is_some();
-        let shape = shaping(names, goal_velocity, via, obstacles, obstacle_columns)?;
+        let shaped =
+            goal_velocity.is_some() || via.is_some() || obstacles.is_some() || limits.is_some();
+        if limits.is_none() && limit_margin.is_some() {
+            return Err(invalid("limit_margin: given without limits"));
+        }
+        let limits = limits.map(|l| (l, limit_margin, limit_gain));
+        let shape = shaping(
+            names,
+            goal_velocity,
+            via,
+            obstacles,
+            obstacle_columns,
+            limits,
+        )?;
         match &self.fitted {
             Fitted::Discrete(d) if !shape.is_plain() => {
                 if duration.is_some()
@@ -643,7 +669,7 @@ impl Dmp {
                 {
                     return Err(invalid(
                         "duration, frequency, amplitude, anchor, velocities: not with \
-                         goal_velocity, via or obstacles",
+                         goal_velocity, via, obstacles or limits",
                     ));
                 }
                 let tau = positive("tau", tau)?;
@@ -652,7 +678,7 @@ impl Dmp {
                 let duration = tau.unwrap_or(d.dmp.tau());
                 check_rows(
                     dt,
-                    if shape.avoid.is_some() {
+                    if !shape.coupled.is_none() {
                         3.0 * duration
                     } else {
                         duration
@@ -715,8 +741,8 @@ impl Dmp {
             Fitted::Rhythmic(r) => {
                 if tau.is_some() || start.is_some() || goal.is_some() || velocities || shaped {
                     return Err(invalid(
-                        "tau, start, goal, velocities, goal_velocity, via, obstacles: for a \
-                         discrete DMP only",
+                        "tau, start, goal, velocities, goal_velocity, via, obstacles, limits: \
+                         for a discrete DMP only",
                     ));
                 }
                 let duration = match duration {

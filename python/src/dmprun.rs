@@ -7,6 +7,7 @@ use numpy::PyArray1;
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
 
+use primo_core::coupling::PhaseStop;
 use primo_core::dmp::Run;
 use primo_skill::HOST_MAX_DOF;
 use primo_skill::dmpfile::{DmpFile, Prepared};
@@ -113,6 +114,12 @@ impl DmpRun {
     /// this step, `τ²ÿ = K(g − y) − ατẏ + f + τ²·coupling`, where
     /// obstacle-avoidance or joint-limit terms enter.
     ///
+    /// Phase stopping (Ijspeert et al. 2013): with `phase_stop` (the gain
+    /// `k` ≥ 0, per squared unit) and `measured`, the robot's position per
+    /// column, the movement's clock advances by `dt/(1 + k‖measured −
+    /// commanded‖²)` instead of `dt`, so the command waits while the robot
+    /// lags it; `time` is the movement's clock.
+    ///
     /// Returns: the position after the step, per column (float64).
     /// Raises: `ValueError` for a `dt` that is not positive and finite, a
     /// wrong length, a non-finite value, a position beyond ±1e6, or
@@ -126,7 +133,13 @@ impl DmpRun {
     /// >>> bool(abs(x[0] - 0.5) < 0.01)
     /// True
     /// >>> _ = run.step(0.01, coupling=[2.0])
-    #[pyo3(signature = (dt, position=None, velocity=None, coupling=None))]
+    /// >>> before = run.time
+    /// >>> _ = run.step(0.01, measured=[0.0], phase_stop=100.0)  # the robot lags
+    /// >>> bool(run.time - before < 0.01)
+    /// True
+    #[allow(clippy::too_many_arguments)] // keyword arguments
+    #[pyo3(signature = (dt, position=None, velocity=None, coupling=None, measured=None,
+                        phase_stop=None))]
     fn step<'py>(
         &mut self,
         py: Python<'py>,
@@ -134,15 +147,29 @@ impl DmpRun {
         position: Option<Array<'_>>,
         velocity: Option<Array<'_>>,
         coupling: Option<Array<'_>>,
+        measured: Option<Array<'_>>,
+        phase_stop: Option<f64>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let dt = positive("dt", Some(dt))?.unwrap_or(0.001);
-        if position.is_some() || velocity.is_some() || coupling.is_some() {
-            self.plain("position, velocity, coupling")?;
+        let mut dt = positive("dt", Some(dt))?.unwrap_or(0.001);
+        if position.is_some() || velocity.is_some() || coupling.is_some() || measured.is_some() {
+            self.plain("position, velocity, coupling, measured")?;
         }
         let names = &self.file.names;
         let position = per_column("position", position, names)?;
         let velocity = per_column("velocity", velocity, names)?;
         let coupling = per_column("coupling", coupling, names)?;
+        let measured = per_column("measured", measured, names)?;
+        match (phase_stop, measured) {
+            (Some(k), Some(measured)) => {
+                let stop = PhaseStop::new(k as f32)
+                    .map_err(|e| invalid(format!("phase_stop: {k}: {e}")))?;
+                dt = stop
+                    .step(dt, self.run.position(), &measured)
+                    .map_err(core)?;
+            }
+            (None, None) => {}
+            _ => return Err(invalid("phase_stop and measured: give both or neither")),
+        }
         self.advance(
             dt,
             position.as_deref(),

@@ -1,15 +1,20 @@
-//! `Dmp.run`'s shaping keywords (goal velocity, via-points, obstacles) as
-//! the skill's [`Shaping`], each checked with its name.
+//! `Dmp.run`'s shaping keywords (goal velocity, via-points, obstacles,
+//! joint limits) as the skill's [`Shaping`], each checked with its name.
+
+use std::collections::BTreeMap;
 
 use pyo3::prelude::*;
 
 use primo_core::coupling::Sphere;
-use primo_skill::coupled::{Avoidance, MAX_OBSTACLES};
+use primo_skill::coupled::{Avoidance, Coupled, MAX_OBSTACLES, Repulsion};
 use primo_skill::shaping::{Shaping, Via};
 
 use crate::arrays::{Array, matrix};
 use crate::dmp::per_column;
 use crate::errors::invalid;
+
+/// `Dmp.run`'s `limits`, `limit_margin` and `limit_gain`.
+pub type LimitKeywords = (BTreeMap<String, (f64, f64)>, Option<f64>, f64);
 
 /// The shaping from `Dmp.run`'s keywords for a DMP with columns `names`.
 pub fn shaping(
@@ -18,6 +23,7 @@ pub fn shaping(
     via: Option<Vec<(f64, String, f64)>>,
     obstacles: Option<Array<'_>>,
     obstacle_columns: Option<Vec<String>>,
+    limits: Option<LimitKeywords>,
 ) -> PyResult<Shaping> {
     let goal_velocity = per_column("goal_velocity", goal_velocity, names)?;
     let mut vias = Vec::new();
@@ -72,6 +78,42 @@ pub fn shaping(
     Ok(Shaping {
         goal_velocity,
         vias,
-        avoid,
+        coupled: Coupled {
+            avoid,
+            repel: limits.map(repulsion).transpose()?,
+        },
+    })
+}
+
+/// `limits`, `limit_margin` and `limit_gain`.
+fn repulsion((limits, margin, gain): LimitKeywords) -> PyResult<Repulsion> {
+    let Some(margin) = margin else {
+        return Err(invalid(
+            "limits: needs limit_margin, how near a limit the push starts",
+        ));
+    };
+    if !(margin.is_finite() && margin > 0.0) {
+        return Err(invalid(format!(
+            "limit_margin: {margin} must be a positive number"
+        )));
+    }
+    if !(gain.is_finite() && gain > 0.0) {
+        return Err(invalid(format!(
+            "limit_gain: {gain} must be a positive number"
+        )));
+    }
+    let mut columns = Vec::with_capacity(limits.len());
+    for (column, (low, high)) in limits {
+        if low.is_nan() || high.is_nan() || low >= high {
+            return Err(invalid(format!(
+                "limits[{column:?}]: ({low}, {high}) needs low < high (-inf, inf: none)"
+            )));
+        }
+        columns.push((column, low as f32, high as f32));
+    }
+    Ok(Repulsion {
+        limits: columns,
+        margin: margin as f32,
+        gain: gain as f32,
     })
 }

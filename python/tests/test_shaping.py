@@ -1,5 +1,6 @@
 """Dmp.fit(final_velocity=) and Dmp.run's shaping: a velocity at the goal,
-via-points and obstacles, as the command line does them."""
+via-points, obstacles and joint limits, as the command line does them; and
+DmpRun.step's phase stopping."""
 
 import math
 import pickle
@@ -40,7 +41,7 @@ def test_via_points_and_obstacles_match_the_command_line_rules():
         dmp.run(via=[(0.5, "w", 0.3)])
     with pytest.raises(ValueError, match="within the movement"):
         dmp.run(via=[(1.5, "y", 0.3)])
-    with pytest.raises(ValueError, match="not with goal_velocity, via or obstacles"):
+    with pytest.raises(ValueError, match="not with goal_velocity, via, obstacles or limits"):
         dmp.run(via=[(0.5, "y", 0.3)], velocities=True)
     # A reach in x, y, z past a ball.
     s = t**3 * (10 - 15 * t + 6 * t * t)
@@ -58,3 +59,53 @@ def test_via_points_and_obstacles_match_the_command_line_rules():
         reach.run(obstacle_columns=["x", "y", "z"])
     with pytest.raises(ValueError, match="final_velocity"):
         primo.Dmp.fit(t, y, final_velocity="fast")
+
+
+def overshoot():
+    """A joint that overshoots to 1.09 on its way to 0.8, and another."""
+    t = np.linspace(0.0, 1.0, 201)
+    a1 = 0.8 * t * t * (3 - 2 * t) + np.sin(np.pi * t) ** 2 * t
+    return primo.Dmp.fit(t, np.column_stack([a1, -0.5 * t]), names=["a1", "a2"])
+
+
+def test_joint_limits_hold_an_overshoot_back():
+    dmp = overshoot()
+    _, free = dmp.run(dt=0.002)
+    assert free[:, 0].max() > 1.0
+    _, held = dmp.run(dt=0.002, limits={"a1": (-1.0, 0.95)}, limit_margin=0.1)
+    assert held[:, 0].max() < 0.95
+    assert np.allclose(held[-1], [0.8, -0.5], atol=1e-3)
+    _, above = dmp.run(dt=0.002, limits={"a1": (-math.inf, 0.95)}, limit_margin=0.1)
+    assert np.array_equal(above, held)
+    with pytest.raises(ValueError, match="within the margin of a joint limit"):
+        dmp.run(limits={"a1": (-1.0, 0.85)}, limit_margin=0.1)
+    with pytest.raises(ValueError, match="no position column `a3`"):
+        dmp.run(limits={"a3": (-1.0, 1.0)}, limit_margin=0.1)
+    with pytest.raises(ValueError, match="needs limit_margin"):
+        dmp.run(limits={"a1": (-1.0, 0.95)})
+    with pytest.raises(ValueError, match="needs low < high"):
+        dmp.run(limits={"a1": (1.0, -1.0)}, limit_margin=0.1)
+    with pytest.raises(ValueError, match="limit_margin: given without limits"):
+        dmp.run(limit_margin=0.1)
+
+
+def test_phase_stopping_waits_for_a_held_robot():
+    t = np.linspace(0.0, 1.0, 101)
+    s = t**3 * (10 - 15 * t + 6 * t * t)
+    dmp = primo.Dmp.fit(t, 0.6 * s, names=["x"])
+    free, held = dmp.stepper(), dmp.stepper()
+    for _ in range(1000):
+        free.step(0.002)
+        held.step(0.002, measured=[0.0], phase_stop=1e4)  # the robot does not move
+    assert abs(free.position[0] - 0.6) < 1e-3
+    assert held.position[0] < 0.1 and held.time < 1.0
+    # A robot that follows exactly changes nothing.
+    follow, plain = dmp.stepper(), dmp.stepper()
+    for _ in range(100):
+        x = plain.step(0.002)
+        follow.step(0.002, measured=follow.position, phase_stop=1e4)
+    assert np.array_equal(follow.position, x)
+    with pytest.raises(ValueError, match="give both or neither"):
+        plain.step(0.002, phase_stop=1.0)
+    with pytest.raises(ValueError, match="phase_stop: -1"):
+        plain.step(0.002, measured=[0.0], phase_stop=-1.0)

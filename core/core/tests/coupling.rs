@@ -203,6 +203,36 @@ fn joint_limits_hold_an_overshoot_back() {
     assert!((held.last().unwrap() - 0.8).abs() < 1e-3);
     let wide = JointLimits::<1>::new(&[-2.0], &[2.0], 0.1, 50.0, 1e4, &[0.0], &[0.8]).unwrap();
     assert_eq!(peak(&[&wide]), free);
+    // An infinite limit is none.
+    let open = JointLimits::<1>::new(
+        &[f32::NEG_INFINITY],
+        &[f32::INFINITY],
+        0.1,
+        50.0,
+        1e4,
+        &[0.0],
+        &[0.8],
+    )
+    .unwrap();
+    assert_eq!(peak(&[&open]), free);
+    let above = JointLimits::<1>::new(
+        &[f32::NEG_INFINITY],
+        &[0.95],
+        0.1,
+        50.0,
+        1e4,
+        &[0.0],
+        &[0.8],
+    )
+    .unwrap();
+    assert_eq!(peak(&[&above]), held);
+    assert_eq!(
+        JointLimits::<1>::new(&[-1.0], &[0.85], 0.1, 50.0, 1e4, &[0.0], &[0.8]),
+        Err(Error::OutOfRange(
+            "the movement's goal is within the margin of a joint limit, where the push would \
+             hold it off its goal: give a smaller margin"
+        ))
+    );
     assert_eq!(
         JointLimits::<1>::new(&[-1.0], &[0.7], 0.1, 50.0, 1e4, &[0.0], &[0.8]),
         Err(Error::OutOfRange(

@@ -5,7 +5,9 @@ use std::path::{Path, PathBuf};
 use primo_core::coupling::Sphere;
 use primo_core::dmp::{FinalVelocity, FitOptions, Margin, max_margin};
 use primo_skill::MAX_KERNELS;
-use primo_skill::coupled::{Avoidance, MAX_OBSTACLES, OVERTIME};
+use primo_skill::coupled::{
+    Avoidance, Coupled, DEFAULT_LIMIT_GAIN, MAX_OBSTACLES, OVERTIME, Repulsion,
+};
 use primo_skill::csv::{parse_demo, write_rows};
 use primo_skill::dmpfile::{
     self, AmplitudeScaling, Change, DmpFile, Fitted, MAX_ROWS, RhythmicFile,
@@ -132,6 +134,27 @@ pub enum DmpCommand {
             requires = "obstacles"
         )]
         obstacle_columns: String,
+        /// A column's limits "COLUMN,LOW,HIGH" (`-inf`, `inf`: none that
+        /// side), to keep away from: within --limit-margin of a limit the
+        /// run is pushed back; repeat for more columns. The run then goes
+        /// on past τ until it reaches its goal (at most 3τ in all).
+        #[arg(long = "limit", value_name = "COLUMN,LOW,HIGH", allow_hyphen_values = true,
+              requires = "limit_margin",
+              conflicts_with_all = ["duration", "frequency", "amplitude", "anchor", "changes"])]
+        limits: Vec<String>,
+        /// How near a limit the push starts, in the column's units (at most
+        /// half of any limited range; the goal must lie outside it).
+        #[arg(
+            long,
+            value_name = "M",
+            allow_hyphen_values = true,
+            requires = "limits"
+        )]
+        limit_margin: Option<f32>,
+        /// The push at half the margin, units/s².
+        #[arg(long, value_name = "G", default_value_t = DEFAULT_LIMIT_GAIN,
+              allow_hyphen_values = true, requires = "limits")]
+        limit_gain: f32,
         /// Output CSV file (stdout when absent).
         #[arg(long)]
         out: Option<PathBuf>,
@@ -172,6 +195,9 @@ pub fn run(command: DmpCommand) -> Result<(), CliError> {
             vias,
             obstacles,
             obstacle_columns,
+            limits,
+            limit_margin,
+            limit_gain,
             out,
         } => {
             let file = dmp.display().to_string();
@@ -204,7 +230,10 @@ pub fn run(command: DmpCommand) -> Result<(), CliError> {
                             .iter()
                             .map(|v| parse_via(v))
                             .collect::<Result<_, _>>()?,
-                        avoid: avoidance(&obstacles, &obstacle_columns)?,
+                        coupled: Coupled {
+                            avoid: avoidance(&obstacles, &obstacle_columns)?,
+                            repel: repulsion(&limits, limit_margin, limit_gain)?,
+                        },
                     };
                     let ends = (start.as_deref(), goal.as_deref());
                     run_discrete(&file, &dmp, dt, tau, ends, &shape)?
@@ -366,6 +395,50 @@ fn avoidance(obstacles: &[String], columns: &str) -> Result<Option<Avoidance>, C
     Ok(Some(Avoidance { spheres, columns }))
 }
 
+/// `--limit COLUMN,LOW,HIGH`s with their margin and gain.
+fn repulsion(
+    limits: &[String],
+    margin: Option<f32>,
+    gain: f32,
+) -> Result<Option<Repulsion>, CliError> {
+    let Some(margin) = margin else {
+        return Ok(None);
+    };
+    if !(margin.is_finite() && margin > 0.0) {
+        return Err(CliError::input(format!(
+            "--limit-margin {margin}: must be a positive number"
+        )));
+    }
+    if !(gain.is_finite() && gain > 0.0) {
+        return Err(CliError::input(format!(
+            "--limit-gain {gain}: must be a positive number"
+        )));
+    }
+    let mut parsed: Vec<(String, f32, f32)> = Vec::new();
+    for text in limits {
+        let bad = |why: &str| CliError::input(format!("--limit {text}: {why}"));
+        let parts: Vec<&str> = text.split(',').map(str::trim).collect();
+        let [column, low, high] = parts[..] else {
+            return Err(bad("expected COLUMN,LOW,HIGH"));
+        };
+        let (Ok(low), Ok(high)) = (low.parse::<f32>(), high.parse::<f32>()) else {
+            return Err(bad("LOW and HIGH must be numbers (-inf, inf: none)"));
+        };
+        if column.is_empty() || low.is_nan() || high.is_nan() || low >= high {
+            return Err(bad("expected a column and LOW < HIGH"));
+        }
+        if parsed.iter().any(|(c, ..)| c == column) {
+            return Err(bad("the column's limits are given twice"));
+        }
+        parsed.push((column.to_string(), low, high));
+    }
+    Ok(Some(Repulsion {
+        limits: parsed,
+        margin,
+        gain,
+    }))
+}
+
 /// `--via T,COLUMN,VALUE`.
 fn parse_via(text: &str) -> Result<Via, CliError> {
     let bad = || {
@@ -415,9 +488,13 @@ fn run_discrete(
         .map(|text| parse_vector("--goal", text, &dmp.names))
         .transpose()?;
     let duration = tau.unwrap_or(dmp.dmp.tau());
-    match shape.avoid {
-        None => check_rows(dt, duration, "tau")?,
-        Some(_) => check_rows(dt, duration * (1.0 + OVERTIME), "tau (3τ with obstacles)")?,
+    match shape.coupled.is_none() {
+        true => check_rows(dt, duration, "tau")?,
+        false => check_rows(
+            dt,
+            duration * (1.0 + OVERTIME),
+            "tau (3τ with obstacles or limits)",
+        )?,
     }
     let movement = |e| CliError::input(format!("{file}: {e}"));
     let prepared = dmp

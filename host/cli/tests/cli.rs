@@ -814,6 +814,85 @@ fn dmp_run_steers_round_an_obstacle_and_refuses_what_it_cannot() {
     }
 }
 
+/// `dmp run --limit`: a joint that overshoots to 1.09 on its way to 0.8
+/// stays under a limit at 0.95 and ends at its goal; a limit the goal lies
+/// within the margin of, an unknown column and malformed limits each get a
+/// one-line error and status 2.
+#[test]
+fn dmp_run_keeps_away_from_joint_limits() {
+    let demo = tmp("overshoot.csv");
+    let mut text = String::from("t,a1,a2\n");
+    for i in 0..=200 {
+        let t = f64::from(i) / 200.0;
+        let a1 = 0.8 * t * t * (3.0 - 2.0 * t) + (std::f64::consts::PI * t).sin().powi(2) * t;
+        text.push_str(&format!("{t},{a1},{}\n", -0.5 * t));
+    }
+    std::fs::write(&demo, text).unwrap();
+    let (json, _) = fit_to(&demo, &[], "overshoot.json");
+    let json = json.to_str().unwrap();
+    let run = |extra: &[&str]| {
+        let mut args = vec!["dmp", "run", json, "--dt", "0.002"];
+        args.extend(extra);
+        primo(&args)
+    };
+    let rows = |csv: &str| -> Vec<Vec<f64>> {
+        csv.lines()
+            .skip(1)
+            .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+            .collect()
+    };
+    let top = |rows: &[Vec<f64>]| rows.iter().map(|r| r[1]).fold(f64::MIN, f64::max);
+    let (code, free, err) = run(&[]);
+    assert_eq!(code, 0, "{err}");
+    assert!(top(&rows(&free)) > 1.0);
+    let (code, held, err) = run(&["--limit", "a1,-1,0.95", "--limit-margin", "0.1"]);
+    assert_eq!(code, 0, "{err}");
+    let held = rows(&held);
+    assert!(top(&held) < 0.95, "beyond the limit: {}", top(&held));
+    let last = held.last().unwrap();
+    assert!(
+        (last[1] - 0.8).abs() < 1e-3 && (last[2] + 0.5).abs() < 1e-3,
+        "{last:?}"
+    );
+    // One-sided: the same.
+    let (code, above, err) = run(&["--limit", "a1,-inf,0.95", "--limit-margin", "0.1"]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(rows(&above), held);
+    for (args, says) in [
+        (
+            &["--limit", "a1,-1,0.85", "--limit-margin", "0.1"][..],
+            "joint limits: out of range: the movement's goal is within the margin of a joint \
+             limit",
+        ),
+        (
+            &["--limit", "a3,-1,1", "--limit-margin", "0.1"],
+            "joint limits: no position column `a3` among a1,a2",
+        ),
+        (
+            &["--limit", "a1,1,-1", "--limit-margin", "0.1"],
+            "--limit a1,1,-1: expected a column and LOW < HIGH",
+        ),
+        (
+            &["--limit", "a1,-1", "--limit-margin", "0.1"],
+            "--limit a1,-1: expected COLUMN,LOW,HIGH",
+        ),
+        (
+            &["--limit", "a1,-1,0.95", "--limit-margin", "-0.1"],
+            "--limit-margin -0.1: must be a positive number",
+        ),
+    ] {
+        let (code, out, err) = run(args);
+        assert_eq!((code, out.as_str()), (2, ""), "{args:?}: {err}");
+        assert!(
+            err.contains(says) && err.lines().count() == 1,
+            "{args:?}: {err}"
+        );
+    }
+    let (code, _, err) = run(&["--limit", "a1,-1,0.95"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("--limit-margin"), "{err}");
+}
+
 /// A throw fitted with `--final-velocity demonstrated` keeps its end's
 /// speed (version 6 file, `goal_velocity`), `--goal-velocity` sets a new
 /// one, reached at the goal at τ; `--via` passes a column through a value

@@ -1,11 +1,12 @@
 //! A DMP file's run shaped at execution time, by column name: a velocity
 //! at the goal (a hit, a throw), via-points passed at given times
-//! ([`primo_core::dmp::Dmp::through`]), without refitting, and obstacles
-//! steered round ([`crate::coupled`]).
+//! ([`primo_core::dmp::Dmp::through`]), without refitting, and coupling
+//! terms: obstacles steered round, limits kept away from
+//! ([`crate::coupled`]).
 
 use primo_core::dmp::{MAX_VIA_POINTS, ViaPoint};
 
-use crate::coupled::Avoidance;
+use crate::coupled::Coupled;
 use crate::dmpfile::{DmpFile, Prepared};
 use crate::{Error, HOST_MAX_DOF};
 
@@ -27,21 +28,21 @@ pub struct Shaping {
     pub goal_velocity: Option<Vec<f32>>,
     /// Via-points to pass.
     pub vias: Vec<Via>,
-    /// Obstacles to steer round.
-    pub avoid: Option<Avoidance>,
+    /// Obstacles to steer round, limits to keep away from.
+    pub coupled: Coupled,
 }
 
 impl Shaping {
     /// Whether it changes nothing.
     pub fn is_plain(&self) -> bool {
-        self.goal_velocity.is_none() && self.vias.is_empty() && self.avoid.is_none()
+        self.goal_velocity.is_none() && self.vias.is_empty() && self.coupled.is_none()
     }
 }
 
 impl DmpFile {
     /// The run of `prepared` at steps of `dt` shaped by `shaping`: its
     /// rows (time, one value per column), from 0 to `τ`, or until it
-    /// reaches its goal when it steers round obstacles.
+    /// reaches its goal when it has coupling terms.
     pub fn run_shaped(
         &self,
         mut prepared: Prepared,
@@ -59,9 +60,10 @@ impl DmpFile {
                 &bent
             }
         };
-        match &shaping.avoid {
-            None => Ok(file.run_prepared(&prepared, dt)?.collect()),
-            Some(avoid) => file.run_avoiding(&prepared, dt, avoid),
+        if shaping.coupled.is_none() {
+            Ok(file.run_prepared(&prepared, dt)?.collect())
+        } else {
+            file.run_coupled(&prepared, dt, &shaping.coupled)
         }
     }
 

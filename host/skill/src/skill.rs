@@ -27,7 +27,7 @@ use primo_core::quaternion::Quaternion;
 use primo_core::tangent::Tangent;
 use primo_robot::{Gate, JointPath};
 
-use crate::coupled::{Avoidance, OVERTIME};
+use crate::coupled::{Avoidance, Coupled, OVERTIME, Repulsion};
 use crate::csv::Demo;
 use crate::dmpfile::{AmplitudeScaling, DmpFile, FORMAT, Orientation, VERSION, orientation_groups};
 use crate::{Error, HOST_MAX_DOF, HostDmp, MAX_KERNELS};
@@ -83,9 +83,9 @@ pub struct Skill {
     /// Per example and orientation, the start's tangent vector.
     start_orientations: Vec<Vec<[f32; 3]>>,
     groups: Vec<Group>,
-    /// Obstacles every planned movement steers round (none: planned as
-    /// the DMP runs).
-    avoid: Option<Avoidance>,
+    /// Obstacles every planned movement steers round, limits it keeps away
+    /// from (none: planned as the DMP runs).
+    coupled: Coupled,
 }
 
 /// An orientation among the columns.
@@ -335,7 +335,7 @@ impl Skill {
             groups,
             template: template.clone(),
             generalizer,
-            avoid: None,
+            coupled: Coupled::default(),
         })
     }
 
@@ -464,34 +464,52 @@ impl Skill {
     }
 
     /// This skill with every planned movement steered round `avoid`'s
-    /// obstacles ([`DmpFile::run_avoiding`]); its columns must be
+    /// obstacles ([`DmpFile::run_coupled`]); its columns must be
     /// position columns of the skill's.
     pub fn with_obstacles(mut self, avoid: Avoidance) -> Result<Self, Error> {
-        if let Some(name) = avoid
-            .columns
-            .iter()
-            .find(|c| !self.names.contains(c) || self.groups.iter().any(|g| g.columns.contains(c)))
-        {
-            return Err(Error::Movement(format!(
-                "obstacles: no position column `{name}` among {}",
-                self.names.join(",")
-            )));
-        }
-        self.avoid = Some(avoid);
+        self.position_columns("obstacles", avoid.columns.iter())?;
+        self.coupled.avoid = Some(avoid);
         Ok(self)
     }
 
+    /// This skill with every planned movement pushed back from `repel`'s
+    /// limits ([`DmpFile::run_coupled`]); its columns must be position
+    /// columns of the skill's.
+    pub fn with_repulsion(mut self, repel: Repulsion) -> Result<Self, Error> {
+        self.position_columns("joint limits", repel.limits.iter().map(|(c, ..)| c))?;
+        self.coupled.repel = Some(repel);
+        Ok(self)
+    }
+
+    /// Refuses a name among `columns` that is no position column of the
+    /// skill's, saying what named it.
+    fn position_columns<'a>(
+        &self,
+        what: &str,
+        mut columns: impl Iterator<Item = &'a String>,
+    ) -> Result<(), Error> {
+        match columns
+            .find(|c| !self.names.contains(c) || self.groups.iter().any(|g| g.columns.contains(c)))
+        {
+            Some(name) => Err(Error::Movement(format!(
+                "{what}: no position column `{name}` among {}",
+                self.names.join(",")
+            ))),
+            None => Ok(()),
+        }
+    }
+
     /// The movement sampled every `dt` seconds from 0 to τ, one value per
-    /// column (round the skill's obstacles, if any, until it reaches its
-    /// goal: at most 3τ); a movement beyond [`check_duration`]'s bounds
+    /// column (with the skill's coupling terms, if any, until it reaches
+    /// its goal: at most 3τ); a movement beyond [`check_duration`]'s bounds
     /// is refused before anything is allocated.
     pub fn plan(&self, query: &[f32], delta: &[f32], dt: f64) -> Result<Plan, Error> {
         let file = self.movement(query, delta)?;
         check_duration(file.dmp.tau(), dt)?;
-        if let Some(avoid) = &self.avoid {
+        if !self.coupled.is_none() {
             check_duration(file.dmp.tau() * (1.0 + OVERTIME), dt)?;
             let prepared = file.prepare(None, None, None)?;
-            let rows = file.run_avoiding(&prepared, dt as f32, avoid)?;
+            let rows = file.run_coupled(&prepared, dt as f32, &self.coupled)?;
             let dof = self.names.len();
             let mut plan = Plan {
                 names: self.names.clone(),

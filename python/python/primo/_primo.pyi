@@ -260,6 +260,9 @@ class Dmp:
         via: Optional[Sequence[tuple[float, str, float]]] = None,
         obstacles: Optional[ArrayLike] = None,
         obstacle_columns: Optional[Sequence[str]] = None,
+        limits: Optional[Mapping[str, tuple[float, float]]] = None,
+        limit_margin: Optional[float] = None,
+        limit_gain: float = 50.0,
     ) -> tuple[Array, Array]:
         """Runs the DMP at a fixed step, from start to goal (discrete) or for a
         duration (rhythmic), with the GIL released.
@@ -289,6 +292,13 @@ class Dmp:
                 at most 3τ.
             obstacle_columns: the three position columns of ``x, y, z``
                 (default ``["x", "y", "z"]``).
+            limits: limits to keep away from, ``{column: (low, high)}``
+                (discrete; ``-inf``, ``inf``: none that side): within
+                ``limit_margin`` of one the run is pushed back, and goes on
+                past τ until it reaches its goal, at most 3τ.
+            limit_margin: how near a limit the push starts, in the column's
+                units (needed with ``limits``; the goal must lie outside it).
+            limit_gain: the push at half the margin, units/s².
 
         Returns:
             tuple: ``(times, positions)``, shapes (m,) and (m, columns), m the
@@ -386,6 +396,8 @@ class DmpRun:
         position: Optional[ArrayLike] = None,
         velocity: Optional[ArrayLike] = None,
         coupling: Optional[ArrayLike] = None,
+        measured: Optional[ArrayLike] = None,
+        phase_stop: Optional[float] = None,
     ) -> Array:
         """Advances by `dt` seconds and returns the position, per column.
 
@@ -397,6 +409,12 @@ class DmpRun:
         `coupling`: an acceleration per column (units per s²) added over
         this step, `τ²ÿ = K(g − y) − ατẏ + f + τ²·coupling`, where
         obstacle-avoidance or joint-limit terms enter.
+
+        Phase stopping (Ijspeert et al. 2013): with `phase_stop` (the gain
+        `k` ≥ 0, per squared unit) and `measured`, the robot's position per
+        column, the movement's clock advances by `dt/(1 + k‖measured −
+        commanded‖²)` instead of `dt`, so the command waits while the robot
+        lags it; `time` is the movement's clock.
 
         Returns: the position after the step, per column (float64).
         Raises: `ValueError` for a `dt` that is not positive and finite, a
@@ -411,6 +429,10 @@ class DmpRun:
         >>> bool(abs(x[0] - 0.5) < 0.01)
         True
         >>> _ = run.step(0.01, coupling=[2.0])
+        >>> before = run.time
+        >>> _ = run.step(0.01, measured=[0.0], phase_stop=100.0)  # the robot lags
+        >>> bool(run.time - before < 0.01)
+        True
         """
     @property
     def position(self) -> Array:

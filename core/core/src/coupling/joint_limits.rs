@@ -5,6 +5,8 @@
 //! half the margin, growing without bound towards the limit (held to
 //! `max_acceleration`). A smooth, local term: a movement that keeps
 //! `margin` away from its limits runs as it would without it, bit for bit.
+//! An infinite limit is none: a DoF may be limited on one side, or not
+//! at all.
 
 use super::Coupling;
 use crate::{Error, check_len};
@@ -21,11 +23,12 @@ pub struct JointLimits<const D: usize> {
 }
 
 impl<const D: usize> JointLimits<D> {
-    /// Limits `low[i] < high[i]` for each DoF, the `margin` (> 0, at most
-    /// half of every DoF's range) within which the term pushes, the push
-    /// `gain` at half the margin (units/s², > 0) and the largest push
-    /// (> `gain`). Refused too: a `start` or `goal` (one value per DoF)
-    /// outside its limits.
+    /// Limits `low[i] < high[i]` for each DoF (`−∞`, `+∞`: none), the
+    /// `margin` (> 0, at most half of every DoF's range) within which the
+    /// term pushes, the push `gain` at half the margin (units/s², > 0) and
+    /// the largest push (> `gain`). Refused too: a `start` outside its
+    /// limits, and a `goal` (one value per DoF) outside them or within the
+    /// margin, where the push would hold the movement off it.
     pub fn new(
         low: &[f32],
         high: &[f32],
@@ -61,7 +64,7 @@ impl<const D: usize> JointLimits<D> {
             max_acceleration,
         };
         for (i, (&lo, &hi)) in low.iter().zip(high).enumerate() {
-            if !(lo.is_finite() && hi.is_finite()) {
+            if lo.is_nan() || hi.is_nan() {
                 return Err(Error::NotFinite("joint limits"));
             }
             if !(lo < hi) {
@@ -83,6 +86,15 @@ impl<const D: usize> JointLimits<D> {
             if !inside(goal.get(i)) {
                 return Err(Error::OutOfRange(
                     "the movement's goal is outside its joint limits",
+                ));
+            }
+            if goal
+                .get(i)
+                .is_some_and(|g| g - lo < margin || hi - g < margin)
+            {
+                return Err(Error::OutOfRange(
+                    "the movement's goal is within the margin of a joint limit, where the push \
+                     would hold it off its goal: give a smaller margin",
                 ));
             }
             if let (Some(l), Some(h)) = (limits.low.get_mut(i), limits.high.get_mut(i)) {
