@@ -5,13 +5,14 @@
 use primo_mtsics::path::read_text;
 use primo_robot::envelope::{ColumnLimit, Limits};
 use primo_skill::Skill;
+use primo_skill::coupled::Repulsion;
 use primo_skill::csv::{Demo, check_rotation_vectors, parse_demo};
 use primo_skill::dmpfile::{DmpFile, orientation_groups};
 use primo_skill::skill::same_columns;
 
 use crate::Error;
 
-use super::spec::{Built, LimitsSpec, Task};
+use super::spec::{Built, LimitPush, LimitsSpec, Task};
 
 impl Task {
     /// Reads the demonstrations, checks that their columns match by name
@@ -81,6 +82,15 @@ impl Task {
         if let Some(o) = &self.obstacles {
             skill = skill.with_obstacles(o.avoidance())?;
         }
+        if let Some(push) = &self.limit_push {
+            let repel = repulsion(&limits, skill.names(), push).map_err(|why| {
+                Error::Invalid(format!(
+                    "{}: [movement] limit_margin: {why}",
+                    self.file.display()
+                ))
+            })?;
+            skill = skill.with_repulsion(repel)?;
+        }
         Ok(Built {
             skill,
             fitted,
@@ -129,6 +139,58 @@ impl Task {
     fn limits_place(&self) -> String {
         format!("the limits in {}", self.file.display())
     }
+}
+
+/// `push` against the limits of the columns `names`: the robot's joints'
+/// (the columns are its joints) or each column's and the workspace box's.
+fn repulsion(limits: &Limits, names: &[String], push: &LimitPush) -> Result<Repulsion, String> {
+    let mut bounds: Vec<(String, f32, f32)> = Vec::new();
+    match limits {
+        Limits::Robot(robot) => {
+            for name in names {
+                let Some(joint) = robot
+                    .chain
+                    .index(name)
+                    .and_then(|i| robot.chain.joints().get(i))
+                else {
+                    return Err(format!(
+                        "`{name}` is no joint of {}: the push keeps joint trajectories from \
+                         the joints' limits, not a tool's pose",
+                        robot.chain.robot
+                    ));
+                };
+                let l = &joint.limits;
+                bounds.push((name.clone(), l.lower as f32, l.upper as f32));
+            }
+        }
+        Limits::Envelope(e) => {
+            let mut push = |name: &str, min: f64, max: f64| match bounds
+                .iter_mut()
+                .find(|(n, ..)| n == name)
+            {
+                Some((_, lo, hi)) => (*lo, *hi) = (lo.max(min as f32), hi.min(max as f32)),
+                None => bounds.push((name.to_string(), min as f32, max as f32)),
+            };
+            // Orientation columns have infinite limits: none.
+            for c in e
+                .columns
+                .iter()
+                .filter(|c| c.min.is_finite() || c.max.is_finite())
+            {
+                push(&c.name, c.min, c.max);
+            }
+            if let Some(w) = &e.workspace {
+                for (i, name) in w.columns.iter().enumerate() {
+                    push(name, w.min[i], w.max[i]);
+                }
+            }
+        }
+    }
+    Ok(Repulsion {
+        limits: bounds,
+        margin: push.margin as f32,
+        gain: push.gain as f32,
+    })
 }
 
 /// The median time step of a recording, s.
@@ -280,6 +342,58 @@ mod tests {
         let resting = reaches("", swing).build().unwrap();
         let dmp = resting.skill.movement(&[0.7], &[]).unwrap().dmp;
         assert!(dmp.goal_velocity().is_empty());
+    }
+
+    #[test]
+    fn a_tasks_limit_margin_keeps_an_extrapolated_overshoot_within_the_limits() {
+        // Reaches that overshoot: the far one peaks at 0.995 under its
+        // limit of 1; extrapolated to 0.9, at 1.12 beyond it.
+        let overshoot =
+            |t: f64| t * t * (3.0 - 2.0 * t) + (std::f64::consts::PI * t).sin().powi(2) * t;
+        let plan = |built: &Built| {
+            let plan = built.skill.plan(&[0.9], &[], 0.002).unwrap();
+            let top = plan
+                .rows
+                .iter()
+                .step_by(3)
+                .copied()
+                .fold(f64::MIN, f64::max);
+            let checked = built.limits.check(&plan.names, plan.t.clone(), &plan.rows);
+            (top, plan.rows[plan.rows.len() - 3], checked.is_ok())
+        };
+        let free = reaches("", overshoot).build().unwrap();
+        let (top, _, passes) = plan(&free);
+        assert!(top > 1.0 && !passes, "{top}");
+        let held = reaches("limit_margin = 0.05", overshoot).build().unwrap();
+        let (top, end, passes) = plan(&held);
+        assert!(top < 1.0 && passes, "{top}");
+        assert!((end - 0.9).abs() < 1e-3, "{end}");
+        // On a robot, the joints' limits; a tool pose has none to keep from.
+        let fr3 = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/fr3");
+        let dir = std::env::temp_dir().join(format!("primo-task-fr3-push-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        for f in ["near.csv", "far.csv"] {
+            std::fs::copy(fr3.join(f), dir.join(f)).unwrap();
+        }
+        let text = std::fs::read_to_string(fr3.join("reach.toml"))
+            .unwrap()
+            .replace(
+                "robot = \"../../host/franka/src/fr3.urdf\"",
+                &format!(
+                    "robot = \"{}\"\nlimit_margin = 0.05",
+                    fr3.join("../../host/franka/src/fr3.urdf").display()
+                ),
+            );
+        std::fs::write(dir.join("reach.toml"), text).unwrap();
+        let built = Task::load(&dir.join("reach.toml"))
+            .unwrap()
+            .build()
+            .unwrap();
+        let plan = built.skill.plan(&[0.4], &[], built.dt).unwrap();
+        built
+            .limits
+            .check(&plan.names, plan.t.clone(), &plan.rows)
+            .unwrap();
     }
 
     #[test]

@@ -70,6 +70,10 @@ impl Task {
             ),
             ("[movement] generalization", a.regression == b.regression),
             ("[movement] obstacles", a.obstacles == b.obstacles),
+            (
+                "[movement] limit_margin and limit_gain",
+                a.limit_push == b.limit_push,
+            ),
             ("[movement] dt", a.dt == b.dt),
             ("[movement] robot and limits", a.limits == b.limits),
             ("[goal] desired", a.goal.desired == b.goal.desired),

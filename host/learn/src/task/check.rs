@@ -9,7 +9,7 @@ use primo_core::dmp::FinalVelocity;
 use primo_core::generalize::Method as Regression;
 use primo_mtsics::path::{Wanted, check};
 use primo_robot::urdf::MAX_DISTANCE;
-use primo_skill::coupled::MAX_OBSTACLES;
+use primo_skill::coupled::{DEFAULT_LIMIT_GAIN, MAX_OBSTACLES};
 use primo_skill::dmpfile::AmplitudeScaling;
 use primo_skill::skill::MAX_EXAMPLES;
 use primo_skill::{MAX_KERNELS, MAX_QUERY};
@@ -23,8 +23,8 @@ use crate::rollouts::MAX_ROLLOUTS;
 
 use super::schema::{EvaluateKeys, File, GoalKeys, LearnerKeys, MovementKeys, ToolKeys};
 use super::spec::{
-    ColumnRange, DEFAULT_TIMEOUT, Evaluate, Goal, LearnerSettings, LimitsSpec, MAX_TIMEOUT,
-    Obstacles, PourTask, RewardRule, RobotModel, RobotSpec, Task, TaskDemo, VERSION,
+    ColumnRange, DEFAULT_TIMEOUT, Evaluate, Goal, LearnerSettings, LimitPush, LimitsSpec,
+    MAX_TIMEOUT, Obstacles, PourTask, RewardRule, RobotModel, RobotSpec, Task, TaskDemo, VERSION,
 };
 
 /// Messages that name a place in the task file.
@@ -206,6 +206,7 @@ impl Task {
             .map(|v| positive(&p, v, "[movement] dt"))
             .transpose()?;
         let obstacles = m.map(|m| obstacles(&p, m, pour)).transpose()?.flatten();
+        let limit_push = m.map(|m| limit_push(&p, m, pour)).transpose()?.flatten();
         let limits = limits(&p, movement, &dir, pour)?;
         let learner = learner(&p, &raw.learner, dim, &demos, pour)?;
         let goal = goal(&p, &raw.goal, dim, learner.method)?;
@@ -217,6 +218,7 @@ impl Task {
             final_velocity,
             regression,
             obstacles,
+            limit_push,
             dt,
             limits,
             goal,
@@ -224,6 +226,35 @@ impl Task {
             evaluate,
         })
     }
+}
+
+/// `[movement] limit_margin` (positive) and `limit_gain` (positive,
+/// default [`DEFAULT_LIMIT_GAIN`], only with a margin).
+fn limit_push(p: &Place, m: &MovementKeys, pour: bool) -> Result<Option<LimitPush>, Error> {
+    let Some(margin) = &m.limit_margin else {
+        if let Some(g) = &m.limit_gain {
+            return Err(p.at(
+                g.span(),
+                "[movement] limit_gain",
+                "given without limit_margin",
+            ));
+        }
+        return Ok(None);
+    };
+    if pour {
+        return Err(p.at(
+            margin.span(),
+            "[movement] limit_margin",
+            "the built-in pour keeps to its cell's own checks: remove the key",
+        ));
+    }
+    Ok(Some(LimitPush {
+        margin: positive(p, margin, "[movement] limit_margin")?,
+        gain: (m.limit_gain.as_ref())
+            .map(|g| positive(p, g, "[movement] limit_gain"))
+            .transpose()?
+            .unwrap_or(f64::from(DEFAULT_LIMIT_GAIN)),
+    }))
 }
 
 /// `[movement] obstacles` (spheres `[x, y, z, radius]`, at most
@@ -950,6 +981,39 @@ command = ["python3", "throw.py"]
             "/lab/throw.toml:12: [movement] final_velocity: `fast`: must be `rest` or \
              `demonstrated`"
         );
+    }
+
+    #[test]
+    fn a_limit_push_takes_a_positive_margin_and_gain() {
+        let with = |keys: &str| {
+            THROW.replace(
+                "[movement.limits]",
+                &format!("[movement]\n{keys}\n\n[movement.limits]"),
+            )
+        };
+        assert_eq!(parse(THROW).unwrap().limit_push, None);
+        let push = parse(&with("limit_margin = 0.1"))
+            .unwrap()
+            .limit_push
+            .unwrap();
+        assert_eq!((push.margin, push.gain), (0.1, 50.0));
+        let push = parse(&with("limit_margin = 0.1\nlimit_gain = 20"))
+            .unwrap()
+            .limit_push
+            .unwrap();
+        assert_eq!(push.gain, 20.0);
+        for (keys, says) in [
+            (
+                "limit_margin = -0.1",
+                "/lab/throw.toml:12: [movement] limit_margin: -0.1: must be a positive number",
+            ),
+            (
+                "limit_gain = 20",
+                "/lab/throw.toml:12: [movement] limit_gain: given without limit_margin",
+            ),
+        ] {
+            assert_eq!(refused(&with(keys)), says);
+        }
     }
 
     #[test]

@@ -50,6 +50,8 @@ pub(super) struct MovementKeys {
     pub(super) workspace: Option<Spanned<Workspace>>,
     pub(super) obstacles: Option<Spanned<Vec<[f64; 4]>>>,
     pub(super) obstacle_columns: Option<Spanned<Vec<String>>>,
+    pub(super) limit_margin: Option<Spanned<f64>>,
+    pub(super) limit_gain: Option<Spanned<f64>>,
 }
 
 /// A tool frame, as a URDF's `<origin>`.

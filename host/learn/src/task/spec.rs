@@ -262,6 +262,16 @@ impl Obstacles {
     }
 }
 
+/// `[movement] limit_margin` and `limit_gain`: every roll-out pushed back
+/// from the task's limits within the margin.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct LimitPush {
+    /// How near a limit the push starts, in the column's units.
+    pub margin: f64,
+    /// The push at half the margin, units/s².
+    pub gain: f64,
+}
+
 /// The query to reach.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Goal {
@@ -356,6 +366,10 @@ pub struct Task {
     /// before they existed: none).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub obstacles: Option<Obstacles>,
+    /// The push back from the limits every roll-out gets (absent from run
+    /// logs written before it existed: none).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub limit_push: Option<LimitPush>,
     /// The trajectory's time step, s (`None`: the first demonstration's
     /// median step).
     pub dt: Option<f64>,
