@@ -4,7 +4,7 @@
 // Items only, no allocation, no std.
 
 use primo_core::dmp::{Dmp, FitOptions};
-use primo_core::generalize::{Generalizer, Method};
+use primo_core::generalize::{Generalizer, Method, PROMP_RIDGE};
 use primo_core::golden::{ErrorLearner, GoldenSection, SearchConfig};
 use primo_core::illinois::Illinois;
 use primo_core::orientation::OrientationDmp;
@@ -100,13 +100,14 @@ pub fn digest() -> u64 {
 /// the learners. Its own function for the same reason as [`dmps`].
 #[inline(never)]
 fn learners(mut h: Digest, thetas: &[[f32; THETA]; 2]) -> u64 {
-    // Generalization between the two, LWR and GPR.
+    // Generalization between the two: LWR, GPR and the ProMP's.
     for method in [
         Method::Lwr { bandwidth: None },
         Method::Gpr {
             length_scale: None,
             noise: 0.0,
         },
+        Method::ProMp { ridge: PROMP_RIDGE },
     ] {
         let mut g = Generalizer::<2, 1, THETA>::new(1, THETA, method);
         for (q, theta) in [0.3f32, 1.0].iter().zip(thetas) {

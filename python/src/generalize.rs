@@ -1,6 +1,6 @@
 //! `Generalizer`: DMPs at task queries, `G(q)` → a DMP for a new query
-//! (`primo_skill::Skill::from_files`: LWR or GPR over the parameter
-//! vectors, the start generalized with the same coefficients; orientation
+//! (`primo_skill::Skill::from_files`: LWR, GPR or a ProMP's conditioning
+//! over the parameter vectors, the start generalized with the same coefficients; orientation
 //! groups in the tangent space at their goals' mean, as the skill layer
 //! and `primo learn` generalize them).
 
@@ -9,7 +9,7 @@ use pyo3::exceptions::PyOSError;
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
 
-use primo_core::generalize::Method;
+use primo_core::generalize::{Method, PROMP_RIDGE};
 use primo_learn::task::Task;
 use primo_skill::Skill;
 use primo_skill::dmpfile::{DmpFile, Fitted};
@@ -23,7 +23,10 @@ use crate::errors::{invalid, skill};
 /// Examples are ``(query, dmp)`` pairs (a query is a float or 1 to 4 values);
 /// a regression on the DMPs' parameter vectors gives the DMP for a new query,
 /// the start generalized with the same coefficients. With two examples both
-/// methods give the straight line through them. Every example is a discrete
+/// methods give the straight line through them; ``"promp"`` conditions a
+/// ProMP over the parameters (Paraschos et al. 2013: the examples'
+/// parameters and queries as one Gaussian) on the query, a global linear
+/// model. Every example is a discrete
 /// DMP with the first one's columns, in order. Orientation groups
 /// (``<p>qw, <p>qx, <p>qy, <p>qz``) are generalized as ``primo learn`` does:
 /// goals and starts as rotation vectors at the mean of the examples' goals,
@@ -34,11 +37,14 @@ use crate::errors::{invalid, skill};
 /// Args:
 ///     examples: a sequence of ``(query, dmp)``: query a float or 1 to 4
 ///         values, the same count in every example; dmp a discrete ``Dmp``.
-///     method: ``"lwr"`` (locally weighted regression) or ``"gpr"``
-///         (Gaussian process regression).
+///     method: ``"lwr"`` (locally weighted regression), ``"gpr"``
+///         (Gaussian process regression) or ``"promp"`` (a ProMP
+///         conditioned on the query).
 ///     bandwidth: LWR's kernel bandwidth, or GPR's length scale, in query
 ///         units (positive; default from the examples' spacing).
 ///     noise: GPR's noise variance (>= 0; 0 interpolates the examples).
+///     ridge: the ProMP's ridge on the query covariance, relative to its
+///         mean variance (>= 0; default 1e-6).
 ///
 /// Raises:
 ///     ValueError: no example, a rhythmic DMP, columns that differ from the
@@ -60,11 +66,17 @@ pub struct Generalizer {
     method: String,
     bandwidth: Option<f64>,
     noise: f64,
+    ridge: Option<f64>,
 }
 
-/// The regression `method` ("lwr" or "gpr") with its bandwidth (LWR) or
-/// length scale (GPR) and noise (GPR).
-fn method(name: &str, bandwidth: Option<f64>, noise: f64) -> PyResult<Method> {
+/// The regression `method` ("lwr", "gpr" or "promp") with its bandwidth
+/// (LWR) or length scale (GPR), noise (GPR) and ridge (ProMP).
+fn method(name: &str, bandwidth: Option<f64>, noise: f64, ridge: Option<f64>) -> PyResult<Method> {
+    if ridge.is_some() && name != "promp" {
+        return Err(invalid(format!(
+            "ridge: for method \"promp\", not \"{name}\""
+        )));
+    }
     let bandwidth = match bandwidth {
         Some(b) if !(b.is_finite() && b > 0.0 && (b as f32) > 0.0) => {
             return Err(invalid(format!(
@@ -84,8 +96,13 @@ fn method(name: &str, bandwidth: Option<f64>, noise: f64) -> PyResult<Method> {
             length_scale: bandwidth,
             noise: noise as f32,
         }),
+        "promp" => match ridge {
+            None => Ok(Method::ProMp { ridge: PROMP_RIDGE }),
+            Some(r) if r.is_finite() && r >= 0.0 => Ok(Method::ProMp { ridge: r as f32 }),
+            Some(r) => Err(invalid(format!("ridge: {r} must be a finite number >= 0"))),
+        },
         other => Err(invalid(format!(
-            "method: `{other}`, expected \"lwr\" or \"gpr\""
+            "method: `{other}`, expected \"lwr\", \"gpr\" or \"promp\""
         ))),
     }
 }
@@ -117,14 +134,15 @@ fn columns(file: &DmpFile) -> String {
 #[pymethods]
 impl Generalizer {
     #[new]
-    #[pyo3(signature = (examples, method="lwr", bandwidth=None, noise=0.0))]
+    #[pyo3(signature = (examples, method="lwr", bandwidth=None, noise=0.0, ridge=None))]
     fn new(
         examples: Vec<(Array<'_>, Dmp)>,
         method: &str,
         bandwidth: Option<f64>,
         noise: f64,
+        ridge: Option<f64>,
     ) -> PyResult<Generalizer> {
-        let regression = self::method(method, bandwidth, noise)?;
+        let regression = self::method(method, bandwidth, noise, ridge)?;
         let mut kept: Vec<(Vec<f32>, Dmp)> = Vec::new();
         let mut files: Vec<&DmpFile> = Vec::new();
         for (i, (q, dmp)) in examples.iter().enumerate() {
@@ -162,6 +180,7 @@ impl Generalizer {
             method: method.to_string(),
             bandwidth,
             noise,
+            ridge,
         })
     }
 
@@ -195,12 +214,13 @@ impl Generalizer {
     fn from_task(py: Python<'_>, path: std::path::PathBuf) -> PyResult<Generalizer> {
         let task = Task::load(&path).map_err(task_error)?;
         let built = py.detach(|| task.build()).map_err(task_error)?;
-        let (method, bandwidth, noise) = match task.regression {
-            Method::Lwr { bandwidth } => ("lwr", bandwidth, 0.0),
+        let (method, bandwidth, noise, ridge) = match task.regression {
+            Method::Lwr { bandwidth } => ("lwr", bandwidth, 0.0, None),
             Method::Gpr {
                 length_scale,
                 noise,
-            } => ("gpr", length_scale, noise),
+            } => ("gpr", length_scale, noise, None),
+            Method::ProMp { ridge } => ("promp", None, 0.0, Some(f64::from(ridge))),
         };
         let examples = (task.demos.iter().zip(built.fitted))
             .map(|(d, file)| (d.query.clone(), Dmp::from_file(file)))
@@ -211,6 +231,7 @@ impl Generalizer {
             method: method.to_string(),
             bandwidth: bandwidth.map(f64::from),
             noise: f64::from(noise),
+            ridge,
         })
     }
 
@@ -296,7 +317,13 @@ impl Generalizer {
         let py = slf.py();
         let this = slf.borrow();
         let examples: Vec<(Vec<f32>, Dmp)> = this.examples.clone();
-        let args = (examples, this.method.clone(), this.bandwidth, this.noise);
+        let args = (
+            examples,
+            this.method.clone(),
+            this.bandwidth,
+            this.noise,
+            this.ridge,
+        );
         (py.get_type::<Generalizer>(), args).into_pyobject(py)
     }
 }

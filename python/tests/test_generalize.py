@@ -16,7 +16,7 @@ def demo(height):
     return t, np.column_stack([0.6 * s, 0.1 + height * np.sin(np.pi * s) ** 2])
 
 
-@pytest.mark.parametrize("method", ["lwr", "gpr"])
+@pytest.mark.parametrize("method", ["lwr", "gpr", "promp"])
 def test_two_examples_give_the_line_through_them(method):
     low, high = primo.Dmp.fit(*demo(0.1), names=["x", "z"]), primo.Dmp.fit(*demo(0.3), names=["x", "z"])
     g = primo.Generalizer([(0.1, low), (0.3, high)], method=method)
@@ -47,6 +47,30 @@ def test_vector_queries_and_errors():
         primo.Generalizer([])
 
 
+def test_a_promp_is_one_linear_model_over_all_examples():
+    # Three heights along the query, the middle one off the line through
+    # the outer two: LWR and GPR pass through it, the ProMP's conditional
+    # mean is the least-squares line through all three.
+    qs, heights = [0.0, 0.5, 1.0], [0.1, 0.3, 0.2]
+    dmps = [primo.Dmp.fit(*demo(h), names=["x", "z"]) for h in heights]
+    promp = primo.Generalizer(list(zip(qs, dmps)), method="promp")
+    thetas = np.array([d.params for d in dmps])
+    slope = np.polyfit(qs, thetas, 1)
+    for q in (-0.5, 0.25, 0.5, 2.0):
+        np.testing.assert_allclose(promp.params(q), slope[0] * q + slope[1], rtol=1e-3, atol=1e-3)
+    gpr = primo.Generalizer(list(zip(qs, dmps)), method="gpr")
+    np.testing.assert_allclose(gpr.params(0.5), dmps[1].params, rtol=1e-3, atol=1e-3)
+    copy = pickle.loads(pickle.dumps(promp))
+    np.testing.assert_array_equal(copy.params(0.3), promp.params(0.3))
+    # Two examples on a two-value query: the ridge keeps it defined.
+    two = primo.Generalizer([([0.0, 0.0], dmps[0]), ([1.0, 1.0], dmps[2])], method="promp")
+    np.testing.assert_allclose(two.params([0.5, 0.5]), (dmps[0].params + dmps[2].params) / 2, rtol=1e-3, atol=1e-3)
+    with pytest.raises(ValueError, match="ridge: for method"):
+        primo.Generalizer(list(zip(qs, dmps)), method="lwr", ridge=0.1)
+    with pytest.raises(ValueError, match="ridge: -1"):
+        primo.Generalizer(list(zip(qs, dmps)), method="promp", ridge=-1.0)
+
+
 POSE = ["x", "y", "z", "qw", "qx", "qy", "qz"]
 
 
@@ -75,7 +99,7 @@ def same_rows(a, b, atol):
     np.testing.assert_allclose(a[:, 3:], sign * b[:, 3:], atol=atol)
 
 
-@pytest.mark.parametrize("method", ["lwr", "gpr"])
+@pytest.mark.parametrize("method", ["lwr", "gpr", "promp"])
 def test_orientations_are_generalized_in_the_tangent_space(method):
     # Goal yaws 170° and 190°: the blend must pass through 180°, not turn
     # the long way round through 0°.

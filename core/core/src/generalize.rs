@@ -11,6 +11,12 @@
 //!   kernel and an explicit linear mean (Rasmussen & Williams §2.7), so
 //!   predictions far from the examples follow their linear trend instead of
 //!   falling to zero.
+//! - [`Method::ProMp`]: a probabilistic movement primitive's conditioning on
+//!   a context (Paraschos et al. 2013, §2.3) over the DMP parameters: the
+//!   examples' `(θ_i, q_i)` as one Gaussian, whose mean given `q` is
+//!   `θ̄ + Σ_θq (Σ_qq + λI)⁻¹ (q − q̄)`, a global linear model of `θ` in `q`
+//!   that the ridge `λ` keeps defined with fewer examples than query
+//!   dimensions.
 //!
 //! With two examples along one query dimension both reduce to the straight
 //! line through them: linear interpolation and extrapolation, as the paper
@@ -69,7 +75,19 @@ pub enum Method {
         /// noise-free interpolation (a 1e−6 jitter is always added).
         noise: f32,
     },
+    /// A ProMP's Gaussian over `(θ, q)` conditioned on the query.
+    ProMp {
+        /// Ridge on the query covariance, relative to its mean variance
+        /// (the queries scaled per dimension by their spacing); ≥ 0.
+        ridge: f32,
+    },
 }
+
+/// [`Method::ProMp`]'s ridge when none is chosen: small enough that two or
+/// more examples along each query dimension are interpolated exactly (to
+/// `f32`), large enough to keep a query covariance of fewer examples than
+/// dimensions invertible.
+pub const PROMP_RIDGE: f32 = 1e-6;
 
 /// Jitter added to the GP covariance diagonal for a stable factorization.
 const GPR_JITTER: f32 = 1e-6;
@@ -101,7 +119,9 @@ pub struct Generalizer<const E: usize, const Q: usize, const P: usize> {
     chol_k: [[f32; E]; E],
     /// GPR: `K⁻¹ Hᵀ`, `count × basis`.
     k_inv_h: [[f32; E]; E],
-    /// GPR: Cholesky factor of `H K⁻¹ Hᵀ`.
+    /// GPR: Cholesky factor of `H K⁻¹ Hᵀ`. ProMP: of the scaled queries'
+    /// scatter `Σ_i d_i d_iᵀ + λI`, `d_i = (q_i − q̄)/scale` (`q_dim` ×
+    /// `q_dim`).
     chol_r: [[f32; E]; E],
     built: bool,
 }
@@ -211,6 +231,12 @@ impl<const E: usize, const Q: usize, const P: usize> Generalizer<E, Q, P> {
                 }
                 (length_scale, 2.0)
             }
+            Method::ProMp { ridge } => {
+                if !(ridge >= 0.0 && ridge.is_finite()) {
+                    return Err(Error::OutOfRange("ProMP ridge must be finite and >= 0"));
+                }
+                (None, 1.0)
+            }
         };
         for j in 0..self.q_dim {
             let (lo, hi) = self
@@ -240,8 +266,10 @@ impl<const E: usize, const Q: usize, const P: usize> Generalizer<E, Q, P> {
             }
         }
         self.basis = if n > self.q_dim { self.q_dim + 1 } else { 1 };
-        if let Method::Gpr { noise, .. } = self.method {
-            self.build_gpr(noise)?;
+        match self.method {
+            Method::Gpr { noise, .. } => self.build_gpr(noise)?,
+            Method::ProMp { ridge } => self.build_promp(ridge)?,
+            Method::Lwr { .. } => {}
         }
         self.built = true;
         Ok(())
@@ -335,6 +363,76 @@ impl<const E: usize, const Q: usize, const P: usize> Generalizer<E, Q, P> {
         Ok(())
     }
 
+    /// The examples' scaled query deviations `d_i = (q_i − q̄)/scale`.
+    fn deviations(&self) -> [[f32; Q]; E] {
+        core::array::from_fn(|i| match self.queries.get(i) {
+            Some(q) if i < self.count => {
+                core::array::from_fn(
+                    |j| match (q.get(j), self.centre.get(j), self.scale.get(j)) {
+                        (Some(v), Some(c), Some(s)) if j < self.q_dim => (v - c) / s,
+                        _ => 0.0,
+                    },
+                )
+            }
+            _ => [0.0; Q],
+        })
+    }
+
+    /// Factorizes the ProMP's regularized query scatter.
+    fn build_promp(&mut self, ridge: f32) -> Result<(), Error> {
+        let d = self.deviations();
+        let mut r = [[0.0f32; E]; E];
+        for (a, row) in r.iter_mut().enumerate().take(self.q_dim) {
+            for (b, v) in row.iter_mut().enumerate().take(self.q_dim) {
+                *v = d
+                    .iter()
+                    .take(self.count)
+                    .map(|di| di.get(a).copied().unwrap_or(0.0) * di.get(b).copied().unwrap_or(0.0))
+                    .sum();
+            }
+        }
+        let trace: f32 = (0..self.q_dim)
+            .map(|j| r.get(j).and_then(|row| row.get(j)).copied().unwrap_or(0.0))
+            .sum();
+        // Relative to the mean variance; absolute where the queries do not
+        // spread at all (one example, or all alike).
+        let mean = if trace > 0.0 {
+            trace / self.q_dim as f32
+        } else {
+            1.0
+        };
+        for j in 0..self.q_dim {
+            if let Some(v) = r.get_mut(j).and_then(|row| row.get_mut(j)) {
+                *v += (ridge * mean).max(f32::MIN_POSITIVE);
+            }
+        }
+        linalg::cholesky(
+            &mut r,
+            self.q_dim,
+            "ProMP query covariance (examples on a lower-dimensional set? give a ridge)",
+        )?;
+        self.chol_r = r;
+        Ok(())
+    }
+
+    /// `c_i = 1/n + d_iᵀ (Σ d d ᵀ + λI)⁻¹ (q − q̄)/scale`: the conditional
+    /// mean `θ̄ + Σ_θq Σ_qq⁻¹ (q − q̄)` as weights on the examples.
+    fn promp(&self, query: &[f32], out: &mut [f32; E]) {
+        let n = self.count;
+        let mut u = [0.0f32; E];
+        for (j, uj) in u.iter_mut().enumerate().take(self.q_dim) {
+            if let (Some(q), Some(c), Some(s)) =
+                (query.get(j), self.centre.get(j), self.scale.get(j))
+            {
+                *uj = (q - c) / s;
+            }
+        }
+        linalg::cholesky_solve(&self.chol_r, self.q_dim, &mut u);
+        for (c, di) in out.iter_mut().zip(self.deviations()).take(n) {
+            *c = 1.0 / n as f32 + di.iter().zip(&u).map(|(a, b)| a * b).sum::<f32>();
+        }
+    }
+
     /// The weights `c_i(q)` with `G(q) = Σ c_i θ_i`, written to
     /// `out[..len()]`.
     pub fn coefficients(&self, query: &[f32], out: &mut [f32; E]) -> Result<(), Error> {
@@ -347,6 +445,7 @@ impl<const E: usize, const Q: usize, const P: usize> Generalizer<E, Q, P> {
         match self.method {
             Method::Lwr { .. } => self.lwr(query, out)?,
             Method::Gpr { .. } => self.gpr(query, out)?,
+            Method::ProMp { .. } => self.promp(query, out),
         }
         check_finite(out, "generalization coefficients")
     }
@@ -465,13 +564,14 @@ impl<const E: usize, const Q: usize, const P: usize> Generalizer<E, Q, P> {
 mod tests {
     use super::*;
 
-    fn methods() -> [Method; 2] {
+    fn methods() -> [Method; 3] {
         [
             Method::Lwr { bandwidth: None },
             Method::Gpr {
                 length_scale: None,
                 noise: 0.0,
             },
+            Method::ProMp { ridge: PROMP_RIDGE },
         ]
     }
 
@@ -535,8 +635,9 @@ mod tests {
 
     #[test]
     fn recovers_a_smooth_function() {
-        // sin on [0, π] from 9 examples; check between them.
-        for m in methods() {
+        // sin on [0, π] from 9 examples; check between them. (The ProMP's
+        // model is global and linear: not for this.)
+        for m in methods().into_iter().take(2) {
             let mut g = Generalizer::<9, 1, 1>::new(1, 1, m);
             for i in 0..9 {
                 let q = i as f32 * core::f32::consts::PI / 8.0;
@@ -557,6 +658,52 @@ mod tests {
             };
             assert!(worst < tol, "{m:?}: worst error {worst}");
         }
+    }
+
+    /// The ProMP's mean is the Gaussian conditional `θ̄ + Σ_θq Σ_qq⁻¹ (q −
+    /// q̄)` of the examples' sample covariance, computed here directly on a
+    /// 1-D query; with fewer examples than query dimensions the ridge keeps
+    /// it defined, and it reproduces the examples' mean at their mean query.
+    #[test]
+    fn promp_is_the_gaussian_conditional_of_the_examples() {
+        let qs = [0.1f32, 0.4, 0.5, 0.9];
+        let theta = [[1.0f32, -3.0], [2.5, 0.0], [2.0, 1.0], [4.0, 2.0]];
+        let mut g = Generalizer::<4, 1, 2>::new(1, 2, Method::ProMp { ridge: 0.0 });
+        for (q, t) in qs.iter().zip(&theta) {
+            g.add_example(&[*q], t).unwrap();
+        }
+        g.build().unwrap();
+        let n = qs.len() as f32;
+        let q_mean = qs.iter().sum::<f32>() / n;
+        let s_qq: f32 = qs.iter().map(|q| (q - q_mean) * (q - q_mean)).sum();
+        for q in [-1.0f32, 0.3, 0.475, 2.0] {
+            let mut out = [0.0; 2];
+            g.generalize(&[q], &mut out).unwrap();
+            for (d, o) in out.iter().enumerate() {
+                let t_mean = theta.iter().map(|t| t[d]).sum::<f32>() / n;
+                let s_tq: f32 = (qs.iter().zip(&theta))
+                    .map(|(qi, t)| (t[d] - t_mean) * (qi - q_mean))
+                    .sum();
+                let expect = t_mean + s_tq / s_qq * (q - q_mean);
+                assert!((o - expect).abs() < 1e-4, "q={q} dof {d}: {o} vs {expect}");
+            }
+        }
+        // Two examples on a 2-D query: only the ridge makes it solvable.
+        let mut g = Generalizer::<4, 2, 1>::new(2, 1, Method::ProMp { ridge: PROMP_RIDGE });
+        g.add_example(&[0.0, 0.0], &[1.0]).unwrap();
+        g.add_example(&[1.0, 1.0], &[3.0]).unwrap();
+        g.build().unwrap();
+        let mut out = [0.0];
+        g.generalize(&[0.5, 0.5], &mut out).unwrap();
+        assert!((out[0] - 2.0).abs() < 1e-4, "{out:?}");
+        g.generalize(&[1.0, 1.0], &mut out).unwrap();
+        assert!((out[0] - 3.0).abs() < 1e-3, "{out:?}");
+        let mut bad = Generalizer::<4, 1, 1>::new(1, 1, Method::ProMp { ridge: -1.0 });
+        bad.add_example(&[0.0], &[1.0]).unwrap();
+        assert_eq!(
+            bad.build(),
+            Err(Error::OutOfRange("ProMP ridge must be finite and >= 0"))
+        );
     }
 
     #[test]

@@ -107,6 +107,7 @@ fn setup() -> impl Strategy<Value = Setup> {
             length_scale,
             noise
         }),
+        float().prop_map(|ridge| Method::ProMp { ridge }),
     ];
     (
         learner,

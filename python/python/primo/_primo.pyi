@@ -626,7 +626,10 @@ class Generalizer:
     Examples are ``(query, dmp)`` pairs (a query is a float or 1 to 4 values);
     a regression on the DMPs' parameter vectors gives the DMP for a new query,
     the start generalized with the same coefficients. With two examples both
-    methods give the straight line through them. Every example is a discrete
+    methods give the straight line through them; ``"promp"`` conditions a
+    ProMP over the parameters (Paraschos et al. 2013: the examples'
+    parameters and queries as one Gaussian) on the query, a global linear
+    model. Every example is a discrete
     DMP with the first one's columns, in order. Orientation groups
     (``<p>qw, <p>qx, <p>qy, <p>qz``) are generalized as ``primo learn`` does:
     goals and starts as rotation vectors at the mean of the examples' goals,
@@ -637,11 +640,14 @@ class Generalizer:
     Args:
         examples: a sequence of ``(query, dmp)``: query a float or 1 to 4
             values, the same count in every example; dmp a discrete ``Dmp``.
-        method: ``"lwr"`` (locally weighted regression) or ``"gpr"``
-            (Gaussian process regression).
+        method: ``"lwr"`` (locally weighted regression), ``"gpr"``
+            (Gaussian process regression) or ``"promp"`` (a ProMP
+            conditioned on the query).
         bandwidth: LWR's kernel bandwidth, or GPR's length scale, in query
             units (positive; default from the examples' spacing).
         noise: GPR's noise variance (>= 0; 0 interpolates the examples).
+        ridge: the ProMP's ridge on the query covariance, relative to its
+            mean variance (>= 0; default 1e-6).
 
     Raises:
         ValueError: no example, a rhythmic DMP, columns that differ from the
@@ -660,9 +666,10 @@ class Generalizer:
     def __init__(
         self,
         examples: Sequence[tuple[Union[float, ArrayLike], Dmp]],
-        method: Literal["lwr", "gpr"] = "lwr",
+        method: Literal["lwr", "gpr", "promp"] = "lwr",
         bandwidth: Optional[float] = None,
         noise: float = 0.0,
+        ridge: Optional[float] = None,
     ) -> None: ...
     @staticmethod
     def from_task(path: Path) -> Generalizer:

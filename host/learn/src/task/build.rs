@@ -320,6 +320,22 @@ mod tests {
     }
 
     #[test]
+    fn a_promp_generalizes_a_tasks_demonstrations() {
+        let built = reaches("generalization = \"promp\"", min_jerk)
+            .build()
+            .unwrap();
+        assert!(matches!(
+            built.skill.regression(),
+            primo_core::generalize::Method::ProMp { .. }
+        ));
+        for q in [0.5, 0.7, 0.9] {
+            let plan = built.skill.plan(&[q], &[], 0.002).unwrap();
+            let end = plan.rows[plan.rows.len() - 3];
+            assert!((end - f64::from(q)).abs() < 1e-3, "q = {q}: {end}");
+        }
+    }
+
+    #[test]
     fn a_tasks_demonstrated_final_velocity_is_generalized_with_the_movement() {
         // Reaches cut at the fastest point of their swing: each ends moving
         // at 1.875/2 of its reach per second.

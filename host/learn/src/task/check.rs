@@ -6,7 +6,7 @@ use std::ops::Range;
 use std::path::Path;
 
 use primo_core::dmp::FinalVelocity;
-use primo_core::generalize::Method as Regression;
+use primo_core::generalize::{Method as Regression, PROMP_RIDGE};
 use primo_mtsics::path::{Wanted, check};
 use primo_robot::urdf::MAX_DISTANCE;
 use primo_skill::coupled::{DEFAULT_LIMIT_GAIN, MAX_OBSTACLES};
@@ -154,11 +154,12 @@ impl Task {
                     length_scale: None,
                     noise: 0.0,
                 },
+                "promp" => Regression::ProMp { ridge: PROMP_RIDGE },
                 other => {
                     return Err(p.at(
                         g.span(),
                         "[movement] generalization",
-                        format!("`{other}`: must be `lwr` or `gpr`"),
+                        format!("`{other}`: must be `lwr`, `gpr` or `promp`"),
                     ));
                 }
             },
@@ -963,6 +964,23 @@ command = ["python3", "throw.py"]
     fn refused(text: &str) -> String {
         let e = parse(text).unwrap_err().to_string();
         e.replace(&lab().display().to_string(), "/lab")
+    }
+
+    #[test]
+    fn the_generalization_is_lwr_gpr_or_promp() {
+        let with = |value: &str| {
+            THROW.replace(
+                "[movement.limits]",
+                &format!("[movement]\ngeneralization = {value}\n\n[movement.limits]"),
+            )
+        };
+        let task = parse(&with("\"promp\"")).unwrap();
+        assert_eq!(task.regression, Regression::ProMp { ridge: PROMP_RIDGE });
+        assert_eq!(
+            refused(&with("\"knn\"")),
+            "/lab/throw.toml:12: [movement] generalization: `knn`: must be `lwr`, `gpr` or \
+             `promp`"
+        );
     }
 
     #[test]
