@@ -966,14 +966,17 @@ command = ["python3", "throw.py"]
         e.replace(&lab().display().to_string(), "/lab")
     }
 
+    /// The example task with `keys` in a `[movement]` table.
+    fn with_movement(keys: &str) -> String {
+        THROW.replace(
+            "[movement.limits]",
+            &format!("[movement]\n{keys}\n\n[movement.limits]"),
+        )
+    }
+
     #[test]
     fn the_generalization_is_lwr_gpr_or_promp() {
-        let with = |value: &str| {
-            THROW.replace(
-                "[movement.limits]",
-                &format!("[movement]\ngeneralization = {value}\n\n[movement.limits]"),
-            )
-        };
+        let with = |value: &str| with_movement(&format!("generalization = {value}"));
         let task = parse(&with("\"promp\"")).unwrap();
         assert_eq!(task.regression, Regression::ProMp { ridge: PROMP_RIDGE });
         assert_eq!(
@@ -985,12 +988,7 @@ command = ["python3", "throw.py"]
 
     #[test]
     fn a_final_velocity_is_at_rest_or_demonstrated() {
-        let with = |value: &str| {
-            THROW.replace(
-                "[movement.limits]",
-                &format!("[movement]\nfinal_velocity = {value}\n\n[movement.limits]"),
-            )
-        };
+        let with = |value: &str| with_movement(&format!("final_velocity = {value}"));
         assert_eq!(parse(THROW).unwrap().final_velocity, FinalVelocity::AtRest);
         let task = parse(&with("\"demonstrated\"")).unwrap();
         assert_eq!(task.final_velocity, FinalVelocity::Demonstrated);
@@ -1003,12 +1001,7 @@ command = ["python3", "throw.py"]
 
     #[test]
     fn a_limit_push_takes_a_positive_margin_and_gain() {
-        let with = |keys: &str| {
-            THROW.replace(
-                "[movement.limits]",
-                &format!("[movement]\n{keys}\n\n[movement.limits]"),
-            )
-        };
+        let with = with_movement;
         assert_eq!(parse(THROW).unwrap().limit_push, None);
         let push = parse(&with("limit_margin = 0.1"))
             .unwrap()
@@ -1036,12 +1029,7 @@ command = ["python3", "throw.py"]
 
     #[test]
     fn obstacles_are_spheres_in_three_columns() {
-        let with = |keys: &str| {
-            THROW.replace(
-                "[movement.limits]",
-                &format!("[movement]\n{keys}\n\n[movement.limits]"),
-            )
-        };
+        let with = with_movement;
         let task = parse(&with("obstacles = [[0.5, 0.5, 0.5, 0.1]]")).unwrap();
         let o = task.obstacles.unwrap();
         assert_eq!(o.spheres, vec![[0.5, 0.5, 0.5, 0.1]]);
