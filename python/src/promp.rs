@@ -1,23 +1,17 @@
 //! `ProMp`: a probabilistic movement primitive from several
-//! demonstrations (the core's [`primo_core::promp`]), by column name. It
-//! pickles as its names and the core's values.
+//! demonstrations (the core's [`primo_core::promp`]), by column name: the
+//! file of `primo promp` ([`primo_skill::prompfile`]), so a Python ProMP
+//! and a file are one thing. It pickles as that file's JSON.
 
-use numpy::PyArray1;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 
-use primo_core::promp::{Observation, ProMp as CoreProMp, blend};
+use primo_core::promp::{Observation, blend};
+use primo_skill::prompfile::{HostProMp as Core, MAX_COLUMNS, MAX_KERNELS, PrompFile};
 
 use crate::arrays::{Array, out2, vector};
 use crate::dmp::demo;
-use crate::errors::{core, invalid};
-
-/// The most DoFs (columns) a ProMP takes here.
-const MAX_COLUMNS: usize = 8;
-/// The most kernels per DoF a ProMP takes here.
-const MAX_KERNELS: usize = 40;
-
-type Core = CoreProMp<MAX_COLUMNS, MAX_KERNELS>;
+use crate::errors::{core, invalid, skill};
 
 /// A probabilistic movement primitive (Paraschos et al. 2013): a Gaussian
 /// over the weights of normalized Gaussian kernels on the phase (each
@@ -38,18 +32,21 @@ type Core = CoreProMp<MAX_COLUMNS, MAX_KERNELS>;
 #[pyclass(module = "primo._primo")]
 #[derive(Clone)]
 pub struct ProMp {
-    names: Vec<String>,
-    promp: Box<Core>,
+    file: PrompFile,
 }
 
 impl ProMp {
     fn dof_of(&self, name: &str) -> PyResult<usize> {
-        self.names.iter().position(|n| n == name).ok_or_else(|| {
-            invalid(format!(
-                "no column {name:?} among {}",
-                self.names.join(", ")
-            ))
-        })
+        self.file
+            .names
+            .iter()
+            .position(|n| n == name)
+            .ok_or_else(|| {
+                invalid(format!(
+                    "no column {name:?} among {}",
+                    self.file.names.join(", ")
+                ))
+            })
     }
 
     /// `f(phase, dof)` for each phase in `z` and each column: (len(z), columns).
@@ -65,10 +62,10 @@ impl ProMp {
         }
         let values: Vec<f32> = z
             .iter()
-            .flat_map(|&z| (0..self.names.len()).map(move |d| (z, d)))
-            .map(|(z, d)| f(&self.promp, f64::from(z), d) as f32)
+            .flat_map(|&z| (0..self.file.names.len()).map(move |d| (z, d)))
+            .map(|(z, d)| f(&self.file.promp, f64::from(z), d) as f32)
             .collect();
-        out2(py, &values, self.names.len())
+        out2(py, &values, self.file.names.len())
     }
 }
 
@@ -149,27 +146,29 @@ impl ProMp {
         let fitted =
             py.detach(|| Core::fit(&refs, names.len(), kernels as usize, ridge).map(Box::new));
         Ok(ProMp {
-            names,
-            promp: fitted.map_err(core)?,
+            file: PrompFile {
+                names,
+                promp: fitted.map_err(core)?,
+            },
         })
     }
 
     /// The columns' names.
     #[getter]
     fn names(&self) -> Vec<String> {
-        self.names.clone()
+        self.file.names.clone()
     }
 
     /// Kernels per column.
     #[getter]
     fn kernels(&self) -> usize {
-        self.promp.kernels()
+        self.file.promp.kernels()
     }
 
     /// The demonstrations' mean duration, s (phase 1).
     #[getter]
     fn duration(&self) -> f64 {
-        self.promp.duration()
+        self.file.promp.duration()
     }
 
     /// The mean position at each phase.
@@ -254,7 +253,10 @@ impl ProMp {
             });
         }
         let mut next = self.clone();
-        next.promp.condition(z, &observed, variance).map_err(core)?;
+        next.file
+            .promp
+            .condition(z, &observed, variance)
+            .map_err(core)?;
         Ok(next)
     }
 
@@ -288,11 +290,11 @@ impl ProMp {
         alpha: Array<'_>,
         z: Array<'_>,
     ) -> PyResult<Bound<'py, PyTuple>> {
-        if other.names != self.names {
+        if other.file.names != self.file.names {
             return Err(invalid(format!(
                 "other: columns {} where this ProMP has {}",
-                other.names.join(","),
-                self.names.join(",")
+                other.file.names.join(","),
+                self.file.names.join(",")
             )));
         }
         let z = vector("z", &z, true)?;
@@ -310,14 +312,20 @@ impl ProMp {
             if !(0.0..=1.0).contains(&zi) {
                 return Err(invalid(format!("z: {zi} is not a phase in [0, 1]")));
             }
-            for d in 0..self.names.len() {
-                let (m, v) = blend(&self.promp, &other.promp, f64::from(a), f64::from(zi), d)
-                    .map_err(core)?;
+            for d in 0..self.file.names.len() {
+                let (m, v) = blend(
+                    &self.file.promp,
+                    &other.file.promp,
+                    f64::from(a),
+                    f64::from(zi),
+                    d,
+                )
+                .map_err(core)?;
                 mean.push(m as f32);
                 var.push(v as f32);
             }
         }
-        let width = self.names.len();
+        let width = self.file.names.len();
         PyTuple::new(
             py,
             [
@@ -327,27 +335,45 @@ impl ProMp {
         )
     }
 
-    fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyTuple>> {
-        let py = slf.py();
-        let this = slf.borrow();
-        let values: Vec<f64> = this.promp.values().collect();
-        let rebuild = py.get_type::<ProMp>().getattr("_from_values")?;
-        let args = (this.names.clone(), PyArray1::from_vec(py, values)).into_pyobject(py)?;
-        PyTuple::new(py, [rebuild, args.into_any()])
+    /// The ProMP file's JSON, as ``primo promp fit`` writes it.
+    ///
+    /// >>> import numpy as np, json, primo
+    /// >>> t = np.linspace(0.0, 1.0, 51)
+    /// >>> p = primo.ProMp.fit([(t, t), (t, 2 * t)], names=["x"], kernels=10)
+    /// >>> json.loads(p.to_json())["names"]
+    /// ['x']
+    fn to_json(&self) -> PyResult<String> {
+        self.file
+            .to_json()
+            .map_err(|e| invalid(format!("cannot serialize the ProMP: {e}")))
     }
 
-    /// Rebuilds a pickled ProMP (names and the core's values).
+    /// The ProMP of a ProMP file's JSON (``primo promp fit``'s, or
+    /// ``to_json``'s): ``primo promp run`` runs the same.
+    ///
+    /// Args:
+    ///     text: the JSON.
+    ///
+    /// Raises:
+    ///     ValueError: not a ProMP file, or one whose numbers are not a
+    ///         ProMP's.
+    ///
+    /// >>> import numpy as np, primo
+    /// >>> t = np.linspace(0.0, 1.0, 51)
+    /// >>> p = primo.ProMp.fit([(t, t), (t, 2 * t)], kernels=10)
+    /// >>> primo.ProMp.from_json(p.to_json()).mean([1.0]).tolist() == p.mean([1.0]).tolist()
+    /// True
     #[staticmethod]
-    fn _from_values(names: Vec<String>, values: Array<'_>) -> PyResult<ProMp> {
-        let values: Vec<f64> = values.as_array().iter().copied().collect();
-        let promp = Core::from_values(&values).map_err(core)?;
-        if promp.dof() != names.len() {
-            return Err(invalid("ProMp: names and values of different sizes"));
-        }
-        Ok(ProMp {
-            names,
-            promp: Box::new(promp),
-        })
+    fn from_json(text: &str) -> PyResult<ProMp> {
+        let file = PrompFile::parse("the ProMP's JSON", text).map_err(skill)?;
+        Ok(ProMp { file })
+    }
+
+    fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyTuple>> {
+        let py = slf.py();
+        let from_json = py.get_type::<ProMp>().getattr("from_json")?;
+        let json = slf.borrow().to_json()?;
+        PyTuple::new(py, [from_json, PyTuple::new(py, [json])?.into_any()])
     }
 
     fn __copy__(&self) -> ProMp {

@@ -1,5 +1,5 @@
-"""primo.ProMp: fit, mean and variance, conditioning, blending, pickling
-and the refusals, in Python's terms."""
+"""primo.ProMp: fit, mean and variance, conditioning, blending, pickling,
+the file `primo promp run` reads, and the refusals, in Python's terms."""
 
 import copy
 import pickle
@@ -59,3 +59,22 @@ def test_blend_pickle_and_refusals():
         primo.ProMp.fit(demos([1.0, 2.0]), kernels=1)
     with pytest.raises(ValueError, match="is not a phase"):
         a.mean([2.0])
+
+
+def test_a_promp_is_the_file_primo_promp_runs(run_primo, tmp_path):
+    p = primo.ProMp.fit(demos([0.8, 0.9, 1.0, 1.1, 1.2]), names=["x", "y"], kernels=15)
+    path = tmp_path / "p.json"
+    path.write_text(p.to_json())
+    z = np.linspace(0.0, 1.0, 11)
+    rows = np.loadtxt(run_primo("promp", "run", str(path), "--dt", str(p.duration / 10)).splitlines(), delimiter=",", skiprows=1)
+    np.testing.assert_allclose(rows[:, 1:], p.mean(z), atol=1e-5)
+    conditioned = p.condition(1.0, {"x": 1.2})
+    rows = np.loadtxt(
+        run_primo("promp", "run", str(path), "--dt", str(p.duration / 10), "--via", f"{p.duration},x,1.2").splitlines(),
+        delimiter=",",
+        skiprows=1,
+    )
+    np.testing.assert_allclose(rows[:, 1:], conditioned.mean(z), atol=1e-4)
+    assert primo.ProMp.from_json(p.to_json()).mean(z).tolist() == p.mean(z).tolist()
+    with pytest.raises(ValueError, match="not a ProMP file"):
+        primo.ProMp.from_json('{"format": "primo-dmp", "version": 1, "names": [], "values": []}')

@@ -440,7 +440,7 @@ fn repulsion(
 }
 
 /// `--via T,COLUMN,VALUE`.
-fn parse_via(text: &str) -> Result<Via, CliError> {
+pub(crate) fn parse_via(text: &str) -> Result<Via, CliError> {
     let bad = || {
         CliError::input(format!(
             "--via {text}: expected T,COLUMN,VALUE (seconds, a column's name, a number)"

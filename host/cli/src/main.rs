@@ -16,6 +16,7 @@ mod model;
 mod output;
 mod pour;
 mod progress;
+mod promp;
 mod robot;
 mod robot_check;
 mod robot_ros2;
@@ -41,6 +42,10 @@ enum Command {
     /// Dynamic Movement Primitives: fit to a demonstration, run.
     #[command(subcommand)]
     Dmp(dmp::DmpCommand),
+    /// Probabilistic movement primitives: fit to several demonstrations,
+    /// run the mean conditioned on via-points.
+    #[command(subcommand)]
+    Promp(promp::PrompCommand),
     /// Demonstrations: synthesize them on the simulated cell.
     #[command(subcommand)]
     Demo(demo::DemoCommand),
@@ -78,6 +83,7 @@ fn main() {
     };
     let result = match cli.command {
         Command::Dmp(command) => dmp::run(command),
+        Command::Promp(command) => promp::run(command),
         Command::Demo(command) => demo::run(command),
         Command::Pour(args) => pour::run(&args),
         Command::Learn(args) => learn::run(&args),

@@ -969,3 +969,104 @@ fn dmp_run_reaches_a_goal_velocity_and_passes_via_points() {
         );
     }
 }
+
+/// `primo promp fit` over three reaches to different heights, `primo promp
+/// run` of its mean (between them, with its spread) and conditioned on a
+/// new goal; a single demonstration, an orientation, a via-point outside
+/// the movement or of an unknown column, and a corrupt file each get a
+/// one-line error and status 2.
+#[test]
+fn promp_fits_demonstrations_and_runs_its_conditioned_mean() {
+    let mut demos = Vec::new();
+    for (i, h) in [0.9, 1.0, 1.1].iter().enumerate() {
+        let demo = tmp(&format!("promp-{i}.csv"));
+        let mut text = String::from("t,x,y\n");
+        for k in 0..=100 {
+            let t = f64::from(k) / 100.0;
+            let s = t * t * (3.0 - 2.0 * t);
+            text.push_str(&format!("{t},{},{}\n", h * s, 0.5 * h * s));
+        }
+        std::fs::write(&demo, text).unwrap();
+        demos.push(demo);
+    }
+    let file = tmp("reach.promp.json");
+    let mut args = vec![
+        "promp",
+        "fit",
+        "--kernels",
+        "15",
+        "--out",
+        file.to_str().unwrap(),
+    ];
+    for d in &demos {
+        args.extend(["--demo", d.to_str().unwrap()]);
+    }
+    let (code, _, err) = primo(&args);
+    assert_eq!(code, 0, "{err}");
+    let rows = |csv: &str| -> Vec<Vec<f64>> {
+        csv.lines()
+            .skip(1)
+            .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+            .collect()
+    };
+    let file = file.to_str().unwrap();
+    let (code, csv, err) = primo(&["promp", "run", file, "--dt", "0.01", "--std"]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(csv.lines().next(), Some("t,x,y,x_std,y_std"));
+    let mean = rows(&csv);
+    let end = mean.last().unwrap();
+    assert!(
+        (end[0] - 1.0).abs() < 1e-6 && (end[1] - 1.0).abs() < 1e-3,
+        "{end:?}"
+    );
+    // The demonstrations' ends spread by 0.1 in x: about that much.
+    assert!(end[3] > 0.05 && end[3] < 0.15, "{end:?}");
+    // A new goal for x: y follows its correlation (half of x).
+    let (code, csv, err) = primo(&["promp", "run", file, "--dt", "0.01", "--via", "1,x,1.05"]);
+    assert_eq!(code, 0, "{err}");
+    let end = rows(&csv).last().unwrap().clone();
+    assert!(
+        (end[1] - 1.05).abs() < 1e-4 && (end[2] - 0.525).abs() < 1e-2,
+        "{end:?}"
+    );
+    let bad_file = tmp("bad.promp.json");
+    std::fs::write(
+        &bad_file,
+        "{\"format\": \"primo-promp\", \"version\": 1, \"names\": [\"x\"], \"values\": [1, 2]}",
+    )
+    .unwrap();
+    let quat = tmp("promp-quat.csv");
+    std::fs::write(&quat, "t,qw,qx,qy,qz\n0,1,0,0,0\n0.5,1,0,0,0\n1,1,0,0,0\n").unwrap();
+    let one = ["promp", "fit", "--demo", demos[0].to_str().unwrap()];
+    let quats = [
+        "promp",
+        "fit",
+        "--demo",
+        quat.to_str().unwrap(),
+        "--demo",
+        quat.to_str().unwrap(),
+    ];
+    for (args, says) in [
+        (&one[..], "a ProMP needs at least two demonstrations"),
+        (&quats[..], "qw,qx,qy,qz is an orientation"),
+        (
+            &["promp", "run", file, "--via", "2,x,1"][..],
+            "--via 2,x,1: 2 s is outside the movement",
+        ),
+        (
+            &["promp", "run", file, "--via", "0.5,w,1"],
+            "no column `w` among x,y",
+        ),
+        (
+            &["promp", "run", bad_file.to_str().unwrap()],
+            "not the values of a ProMP",
+        ),
+    ] {
+        let (code, out, err) = primo(args);
+        assert_eq!((code, out.as_str()), (2, ""), "{args:?}: {err}");
+        assert!(
+            err.contains(says) && err.lines().count() == 1,
+            "{args:?}: {err}"
+        );
+    }
+}

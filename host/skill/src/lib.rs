@@ -1,9 +1,10 @@
 //! primo's skills: demonstrations fitted as DMPs, generalized over a task
 //! query, planned, and checked by the safety gate.
 //!
-//! - [`coupled`]: a DMP's run steered round obstacles.
+//! - [`coupled`]: a DMP's run with coupling terms: obstacles, joint limits.
 //! - [`csv`]: demonstration and trajectory CSV files (`t,<DoF names>`).
 //! - [`dmpfile`]: the versioned JSON format of a fitted DMP.
+//! - [`prompfile`]: a ProMP by column name, and its JSON file.
 //! - [`stamps`]: sample times taken relative to the first sample.
 //! - [`shaping`]: a run's velocity at the goal and via-points, by column.
 //! - [`skill`]: demonstrations → DMPs → generalization → checked plans.
@@ -13,6 +14,7 @@ pub mod coupled;
 pub mod csv;
 pub mod dmpfile;
 mod error;
+pub mod prompfile;
 pub mod shaping;
 pub mod skill;
 pub mod stamps;

@@ -619,6 +619,33 @@ class ProMp:
         >>> mean.round(2).ravel().tolist()
         [1.05, 0.0, -1.05]
         """
+    def to_json(self) -> str:
+        """The ProMP file's JSON, as ``primo promp fit`` writes it.
+
+        >>> import numpy as np, json, primo
+        >>> t = np.linspace(0.0, 1.0, 51)
+        >>> p = primo.ProMp.fit([(t, t), (t, 2 * t)], names=["x"], kernels=10)
+        >>> json.loads(p.to_json())["names"]
+        ['x']
+        """
+    @staticmethod
+    def from_json(text: str) -> ProMp:
+        """The ProMP of a ProMP file's JSON (``primo promp fit``'s, or
+        ``to_json``'s): ``primo promp run`` runs the same.
+
+        Args:
+            text: the JSON.
+
+        Raises:
+            ValueError: not a ProMP file, or one whose numbers are not a
+                ProMP's.
+
+        >>> import numpy as np, primo
+        >>> t = np.linspace(0.0, 1.0, 51)
+        >>> p = primo.ProMp.fit([(t, t), (t, 2 * t)], kernels=10)
+        >>> primo.ProMp.from_json(p.to_json()).mean([1.0]).tolist() == p.mean([1.0]).tolist()
+        True
+        """
 
 class Generalizer:
     """``G(q)``: a DMP for any task query, generalized from examples.
