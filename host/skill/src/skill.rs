@@ -30,6 +30,7 @@ use primo_robot::{Gate, JointPath};
 use crate::coupled::{Avoidance, Coupled, OVERTIME, Repulsion};
 use crate::csv::Demo;
 use crate::dmpfile::{AmplitudeScaling, DmpFile, FORMAT, Orientation, VERSION, orientation_groups};
+use crate::shaping::Via;
 use crate::{Error, HOST_MAX_DOF, HostDmp, MAX_KERNELS};
 
 /// Most examples a skill generalizes over.
@@ -86,6 +87,8 @@ pub struct Skill {
     /// Obstacles every planned movement steers round, limits it keeps away
     /// from (none: planned as the DMP runs).
     coupled: Coupled,
+    /// Via-points every planned movement passes (none: as generalized).
+    vias: Vec<Via>,
 }
 
 /// An orientation among the columns.
@@ -336,6 +339,7 @@ impl Skill {
             template: template.clone(),
             generalizer,
             coupled: Coupled::default(),
+            vias: Vec::new(),
         })
     }
 
@@ -481,6 +485,15 @@ impl Skill {
         Ok(self)
     }
 
+    /// This skill with every planned movement bent through `vias`
+    /// ([`DmpFile::through`]: the least change of its weights, without a
+    /// refit); their columns must be position columns of the skill's.
+    pub fn with_vias(mut self, vias: Vec<Via>) -> Result<Self, Error> {
+        self.position_columns("via-points", vias.iter().map(|v| &v.column))?;
+        self.vias = vias;
+        Ok(self)
+    }
+
     /// Refuses a name among `columns` that is no position column of the
     /// skill's, saying what named it.
     fn position_columns<'a>(
@@ -500,12 +513,17 @@ impl Skill {
     }
 
     /// The movement sampled every `dt` seconds from 0 to τ, one value per
-    /// column (with the skill's coupling terms, if any, until it reaches
-    /// its goal: at most 3τ); a movement beyond [`check_duration`]'s bounds
+    /// column (through the skill's via-points, with its coupling terms, if
+    /// any, until it reaches its goal: at most 3τ); a movement beyond
+    /// [`check_duration`]'s bounds
     /// is refused before anything is allocated.
     pub fn plan(&self, query: &[f32], delta: &[f32], dt: f64) -> Result<Plan, Error> {
-        let file = self.movement(query, delta)?;
+        let mut file = self.movement(query, delta)?;
         check_duration(file.dmp.tau(), dt)?;
+        if !self.vias.is_empty() {
+            let prepared = file.prepare(None, None, None)?;
+            file = file.through(&prepared, dt as f32, &self.vias)?;
+        }
         if !self.coupled.is_none() {
             check_duration(file.dmp.tau() * (1.0 + OVERTIME), dt)?;
             let prepared = file.prepare(None, None, None)?;

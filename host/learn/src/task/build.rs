@@ -8,6 +8,7 @@ use primo_skill::Skill;
 use primo_skill::coupled::Repulsion;
 use primo_skill::csv::{Demo, check_rotation_vectors, parse_demo};
 use primo_skill::dmpfile::{DmpFile, orientation_groups};
+use primo_skill::shaping::Via;
 use primo_skill::skill::same_columns;
 
 use crate::Error;
@@ -81,6 +82,16 @@ impl Task {
         let mut skill = Skill::from_files(&files, self.regression)?;
         if let Some(o) = &self.obstacles {
             skill = skill.with_obstacles(o.avoidance())?;
+        }
+        if !self.vias.is_empty() {
+            let vias = (self.vias.iter())
+                .map(|(time, column, value)| Via {
+                    time: *time as f32,
+                    column: column.clone(),
+                    value: *value as f32,
+                })
+                .collect();
+            skill = skill.with_vias(vias)?;
         }
         if let Some(push) = &self.limit_push {
             let repel = repulsion(&limits, skill.names(), push).map_err(|why| {
@@ -317,6 +328,34 @@ mod tests {
             e.contains("obstacles: no position column `w` among x,y,z"),
             "{e}"
         );
+    }
+
+    #[test]
+    fn a_tasks_via_points_bend_every_planned_movement() {
+        let built = reaches("via = [[0.5, \"y\", 0.15], [0.25, \"x\", 0.02]]", min_jerk)
+            .build()
+            .unwrap();
+        for q in [0.6, 0.7, 0.9] {
+            let plan = built.skill.plan(&[q], &[], 0.001).unwrap();
+            let at = |t: f64| plan.t.iter().position(|s| (s - t).abs() < 1e-6).unwrap();
+            assert!((plan.rows[3 * at(0.5) + 1] - 0.15).abs() < 1e-4, "q = {q}");
+            assert!((plan.rows[3 * at(0.25)] - 0.02).abs() < 1e-4, "q = {q}");
+            let end = &plan.rows[plan.rows.len() - 3..];
+            assert!((end[0] - f64::from(q)).abs() < 1e-3 && (end[1] - 0.1).abs() < 1e-3, "{end:?}");
+        }
+        let e = reaches("via = [[0.5, \"w\", 0.3]]", min_jerk)
+            .build()
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("via-points: no position column `w` among x,y,z"),
+            "{e}"
+        );
+        let late = reaches("via = [[1.5, \"y\", 0.3]]", min_jerk)
+            .build()
+            .unwrap();
+        let e = late.skill.plan(&[0.7], &[], 0.001).unwrap_err().to_string();
+        assert!(e.contains("within the movement"), "{e}");
     }
 
     #[test]

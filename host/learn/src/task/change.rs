@@ -74,6 +74,7 @@ impl Task {
                 "[movement] limit_margin and limit_gain",
                 a.limit_push == b.limit_push,
             ),
+            ("[movement] via", a.vias == b.vias),
             ("[movement] dt", a.dt == b.dt),
             ("[movement] robot and limits", a.limits == b.limits),
             ("[goal] desired", a.goal.desired == b.goal.desired),

@@ -5,7 +5,7 @@ use std::collections::BTreeMap;
 use std::ops::Range;
 use std::path::Path;
 
-use primo_core::dmp::FinalVelocity;
+use primo_core::dmp::{FinalVelocity, MAX_VIA_POINTS};
 use primo_core::generalize::{Method as Regression, PROMP_RIDGE};
 use primo_mtsics::path::{Wanted, check};
 use primo_robot::urdf::MAX_DISTANCE;
@@ -208,6 +208,10 @@ impl Task {
             .transpose()?;
         let obstacles = m.map(|m| obstacles(&p, m, pour)).transpose()?.flatten();
         let limit_push = m.map(|m| limit_push(&p, m, pour)).transpose()?.flatten();
+        let vias = m
+            .map(|m| vias(&p, m, pour))
+            .transpose()?
+            .unwrap_or_default();
         let limits = limits(&p, movement, &dir, pour)?;
         let learner = learner(&p, &raw.learner, dim, &demos, pour)?;
         let goal = goal(&p, &raw.goal, dim, learner.method)?;
@@ -220,6 +224,7 @@ impl Task {
             regression,
             obstacles,
             limit_push,
+            vias,
             dt,
             limits,
             goal,
@@ -227,6 +232,37 @@ impl Task {
             evaluate,
         })
     }
+}
+
+/// `[movement] via`: at most [`MAX_VIA_POINTS`] `[seconds, "column",
+/// value]`, the time positive and both finite (whether the column is a
+/// position column, and the time within the movement, the skill checks).
+fn vias(p: &Place, m: &MovementKeys, pour: bool) -> Result<Vec<(f64, String, f64)>, Error> {
+    let Some(vias) = &m.via else {
+        return Ok(Vec::new());
+    };
+    let at = |why: String| p.at(vias.span(), "[movement] via", why);
+    if pour {
+        return Err(at(
+            "the built-in pour plans its own movements: remove the key".into(),
+        ));
+    }
+    if vias.get_ref().len() > MAX_VIA_POINTS {
+        return Err(at(format!(
+            "{} via-points, at most {MAX_VIA_POINTS}",
+            vias.get_ref().len()
+        )));
+    }
+    for (i, (t, column, v)) in vias.get_ref().iter().enumerate() {
+        if !(t.is_finite() && *t > 0.0 && v.is_finite()) {
+            return Err(at(format!(
+                "via-point {} [{t}, \"{column}\", {v}]: needs a time > 0 s and a value, both \
+                 finite",
+                i + 1
+            )));
+        }
+    }
+    Ok(vias.get_ref().clone())
 }
 
 /// `[movement] limit_margin` (positive) and `limit_gain` (positive,
@@ -984,6 +1020,19 @@ command = ["python3", "throw.py"]
             "/lab/throw.toml:12: [movement] generalization: `knn`: must be `lwr`, `gpr` or \
              `promp`"
         );
+    }
+
+    #[test]
+    fn via_points_are_times_columns_and_values() {
+        let task = parse(&with_movement("via = [[0.2, \"shoulder\", -1.5]]")).unwrap();
+        assert_eq!(task.vias, vec![(0.2, "shoulder".to_string(), -1.5)]);
+        assert_eq!(
+            refused(&with_movement("via = [[0, \"shoulder\", -1.5]]")),
+            "/lab/throw.toml:12: [movement] via: via-point 1 [0, \"shoulder\", -1.5]: needs a \
+             time > 0 s and a value, both finite"
+        );
+        let e = refused(&with_movement("via = [[0.2, -1.5]]"));
+        assert!(e.starts_with("/lab/throw.toml:12:"), "{e}");
     }
 
     #[test]

@@ -52,6 +52,7 @@ pub(super) struct MovementKeys {
     pub(super) obstacle_columns: Option<Spanned<Vec<String>>>,
     pub(super) limit_margin: Option<Spanned<f64>>,
     pub(super) limit_gain: Option<Spanned<f64>>,
+    pub(super) via: Option<Spanned<Vec<(f64, String, f64)>>>,
 }
 
 /// A tool frame, as a URDF's `<origin>`.

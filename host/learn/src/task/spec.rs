@@ -370,6 +370,10 @@ pub struct Task {
     /// logs written before it existed: none).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub limit_push: Option<LimitPush>,
+    /// Via-points every roll-out passes, `(seconds, column, value)`
+    /// (absent from run logs written before they existed: none).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub vias: Vec<(f64, String, f64)>,
     /// The trajectory's time step, s (`None`: the first demonstration's
     /// median step).
     pub dt: Option<f64>,
