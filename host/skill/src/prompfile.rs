@@ -45,11 +45,11 @@ struct Stored {
 }
 
 impl PrompFile {
-    /// Fits a ProMP to `demos` (two or more, each with the first one's
-    /// columns by name and in order, each its own duration as phase 0 to
-    /// 1) with `kernels` per column and the covariance's `ridge`.
-    /// Orientation columns are refused: a ProMP takes each column as a
-    /// number, which a quaternion's components are not.
+    /// Fits a ProMP to `demos` with `kernels` per column and the
+    /// covariance's `ridge`: two or more demonstrations, each with the
+    /// first one's columns by name and in order, each's duration its phase
+    /// from 0 to 1. Orientation columns are refused: a ProMP takes each
+    /// column as a number, which a quaternion's components are not.
     pub fn fit(demos: &[(&str, &Demo)], kernels: usize, ridge: f64) -> Result<Self, Error> {
         let bad = |why: String| Error::Demonstrations(why);
         let Some((first_name, first)) = demos.first() else {
