@@ -26,7 +26,8 @@ proptest! {
 
     /// Up to four via-points, anywhere from 10 % to 90 % of the movement
     /// (on the 1 ms grid) and up to 10 cm off the path, are passed within
-    /// 10 µm; start, goal and τ stay, and the run still settles on its goal.
+    /// 10 µm; start, goal and τ stay, the run is where it was at τ, and it
+    /// still settles on its goal.
     #[test]
     fn a_run_passes_its_via_points_and_keeps_its_ends(
         points in prop::collection::vec((100u32..900, 0usize..3, -0.1f32..0.1), 1..=4),
@@ -56,6 +57,13 @@ proptest! {
             prop_assert!((at.time - v.time).abs() < 1e-6);
             prop_assert!((at.position[v.dof] - v.position).abs() < 1e-5,
                 "{v:?}: at {}", at.position[v.dof]);
+        }
+        // At τ, every DoF is where the plain run is (near its goal).
+        let (end, plain_end) = (run.last().unwrap(), plain.last().unwrap());
+        prop_assert!((end.time - exec.tau).abs() < 1e-6);
+        for d in 0..3 {
+            prop_assert!((end.position[d] - plain_end.position[d]).abs() < 1e-5,
+                "DoF {}: {} at τ, plain {}", d, end.position[d], plain_end.position[d]);
         }
         // Settled (2τ), it is at its goal.
         let mut r = bent.start(&exec).unwrap();

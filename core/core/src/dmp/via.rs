@@ -10,6 +10,9 @@
 //! that puts them on the via-points is `Δw = Jᵀ (J Jᵀ)⁻¹ (y* − y₀)`. The
 //! rest of the movement changes as little as that allows: most near the
 //! via-points' times, nothing before the first kernel that reaches them.
+//! Each DoF with a via-point also keeps its position at `τ` (a row of `J`
+//! more): without that, the bend's tail left the run up to millimetres
+//! short of its goal at `τ`, settling there only later.
 
 use super::model::{Dmp, Execution};
 use super::options::{MAX_ABS_POSITION, MAX_ABS_WEIGHT};
@@ -19,6 +22,9 @@ use crate::linalg::{cholesky, cholesky_solve};
 
 /// The most via-points one call takes.
 pub const MAX_VIA_POINTS: usize = 8;
+
+/// Rows of `J`: the via-points and the end of each DoF they bend.
+const ROWS: usize = 2 * MAX_VIA_POINTS;
 
 /// How far one weight is moved to measure its effect: the effect is
 /// linear, so any size gives it; a large one keeps `f32` rounding small
@@ -41,8 +47,9 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
     /// stepped at `dt` from 0, passes every via-point (between two steps,
     /// the straight line between them does): up to [`MAX_VIA_POINTS`],
     /// each on one DoF, at a time strictly inside the movement. Its start,
-    /// goal and `τ` are unchanged, and so is the run before the first
-    /// kernel that reaches a via-point's time.
+    /// goal and `τ` are unchanged, and so are the run before the first
+    /// kernel that reaches a via-point's time, the position at `τ` and
+    /// every DoF without a via-point.
     ///
     /// Refused: a via-point's DoF beyond the DMP's, a time outside the
     /// movement, a position beyond ±[`MAX_ABS_POSITION`], two that ask one
@@ -90,27 +97,61 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
                 "tau / dt must be below 1e7 steps for via-points",
             ));
         }
-        let m = points.len();
-        if m == 0 {
+        if points.is_empty() {
             return Ok(self.clone());
         }
-        let base = self.positions_at(exec, dt, points)?;
-        // J, column by column: the via-points' positions per unit of one weight.
-        let mut jacobian = [[[0.0f32; MAX_VIA_POINTS]; K]; D];
+        // The via-points, then each bent DoF's position at τ, kept.
+        let mut rows = [ViaPoint {
+            time: exec.tau,
+            dof: 0,
+            position: 0.0,
+        }; ROWS];
+        let mut m = 0;
+        for (i, p) in points.iter().enumerate() {
+            if let Some(row) = rows.get_mut(i) {
+                *row = *p;
+                m += 1;
+            }
+        }
+        let vias = m;
+        let mut bent = [false; D];
+        for p in points {
+            if let Some(b) = bent.get_mut(p.dof)
+                && !*b
+            {
+                *b = true;
+                if let Some(row) = rows.get_mut(m) {
+                    row.dof = p.dof;
+                    m += 1;
+                }
+            }
+        }
+        let ends = self.positions_at(exec, dt, rows.get(vias..m).unwrap_or(&[]))?;
+        for (row, end) in rows.iter_mut().skip(vias).take(m - vias).zip(ends) {
+            row.position = end;
+        }
+        let rows = rows.get(..m).unwrap_or(&[]);
+        let base = self.positions_at(exec, dt, rows)?;
+        // J, column by column: the rows' positions per unit of one weight
+        // (zero off the bent DoFs: a DoF's run has its own weights only).
+        let mut jacobian = [[[0.0f32; ROWS]; K]; D];
         for (d, row) in jacobian.iter_mut().enumerate().take(self.dof()) {
+            if !bent.get(d).copied().unwrap_or(false) {
+                continue;
+            }
             for (k, column) in row.iter_mut().enumerate().take(self.kernels()) {
                 let mut probe = self.clone();
                 if let Some(w) = probe.weight_mut(d, k) {
                     *w += PROBE;
                 }
-                let moved = probe.positions_at(exec, dt, points)?;
+                let moved = probe.positions_at(exec, dt, rows)?;
                 for ((j, y), y0) in column.iter_mut().zip(moved).zip(base) {
                     *j = (y - y0) / PROBE;
                 }
             }
         }
         // J Jᵀ, in f64: its entries are sums of many small products.
-        let mut gram = [[0.0f64; MAX_VIA_POINTS]; MAX_VIA_POINTS];
+        let mut gram = [[0.0f64; ROWS]; ROWS];
         for column in jacobian.iter().flatten() {
             for (row, &a) in gram.iter_mut().zip(column.iter()) {
                 for (g, &b) in row.iter_mut().zip(column.iter()) {
@@ -118,15 +159,15 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
                 }
             }
         }
-        let diagonal: [f64; MAX_VIA_POINTS] = core::array::from_fn(|i| {
+        let diagonal: [f64; ROWS] = core::array::from_fn(|i| {
             gram.get(i)
                 .and_then(|row| row.get(i))
                 .copied()
                 .unwrap_or(0.0)
         });
         let contradictory = "no weight change passes these via-points: two ask one DoF for two \
-             places at once, or a DoF cannot move there (its amplitude is 0, or the time is \
-             before its kernels reach)";
+             places at once (or one is too close to τ, where the DoF keeps its end), or a DoF \
+             cannot move there (its amplitude is 0, or the time is before its kernels reach)";
         cholesky(&mut gram, m, contradictory)?;
         // Rows that rounding alone keeps apart (the same DoF and time twice)
         // leave a pivot that is rounding: as singular as they are.
@@ -139,9 +180,9 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
         let mut out = self.clone();
         // Two rounds: the second takes up what rounding left of the first.
         for _ in 0..2 {
-            let now = out.positions_at(exec, dt, points)?;
-            let mut residual = [0.0f64; MAX_VIA_POINTS];
-            for ((r, p), y) in residual.iter_mut().zip(points).zip(now) {
+            let now = out.positions_at(exec, dt, rows)?;
+            let mut residual = [0.0f64; ROWS];
+            for ((r, p), y) in residual.iter_mut().zip(rows).zip(now) {
                 *r = f64::from(p.position) - f64::from(y);
             }
             cholesky_solve(&gram, m, &mut residual);
@@ -167,16 +208,16 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
         Ok(out)
     }
 
-    /// The positions of `exec`'s run stepped at `dt` at each via-point's
-    /// time and DoF, linear between the steps around it.
+    /// The positions of `exec`'s run stepped at `dt` at each row's time
+    /// and DoF, linear between the steps around it.
     fn positions_at(
         &self,
         exec: &Execution<D>,
         dt: f32,
         points: &[ViaPoint],
-    ) -> Result<[f32; MAX_VIA_POINTS], Error> {
+    ) -> Result<[f32; ROWS], Error> {
         let last = points.iter().fold(0.0f32, |t, p| t.max(p.time));
-        let mut out = [0.0; MAX_VIA_POINTS];
+        let mut out = [0.0; ROWS];
         let mut run = self.start(exec)?;
         let mut before = run.position().get(..self.dof()).map(|p| {
             let mut a = [0.0f32; D];

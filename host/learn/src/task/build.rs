@@ -332,16 +332,19 @@ mod tests {
 
     #[test]
     fn a_tasks_via_points_bend_every_planned_movement() {
-        let built = reaches("via = [[0.5, \"y\", 0.15], [0.25, \"x\", 0.02]]", min_jerk)
+        let built = reaches("via = [[0.5, \"y\", 0.3], [0.25, \"x\", 0.02]]", min_jerk)
             .build()
             .unwrap();
         for q in [0.6, 0.7, 0.9] {
             let plan = built.skill.plan(&[q], &[], 0.001).unwrap();
             let at = |t: f64| plan.t.iter().position(|s| (s - t).abs() < 1e-6).unwrap();
-            assert!((plan.rows[3 * at(0.5) + 1] - 0.15).abs() < 1e-4, "q = {q}");
+            assert!((plan.rows[3 * at(0.5) + 1] - 0.3).abs() < 1e-4, "q = {q}");
             assert!((plan.rows[3 * at(0.25)] - 0.02).abs() < 1e-4, "q = {q}");
             let end = &plan.rows[plan.rows.len() - 3..];
-            assert!((end[0] - f64::from(q)).abs() < 1e-3 && (end[1] - 0.1).abs() < 1e-3, "{end:?}");
+            assert!(
+                (end[0] - f64::from(q)).abs() < 1e-3 && (end[1] - 0.1).abs() < 1e-3,
+                "{end:?}"
+            );
         }
         let e = reaches("via = [[0.5, \"w\", 0.3]]", min_jerk)
             .build()
