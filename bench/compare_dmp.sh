@@ -3,7 +3,7 @@
 # and replay time); writes bench/results/dmp_accuracy.md. Needs PyPI, takes
 # about 8 minutes, and is not part of ./test.sh.
 #   bench/compare_dmp.sh [--quick]   (--quick: fewer rates, 1 timing run, no file)
-#   bench/compare_dmp.sh --timing    (the replay time alone, printed, no file)
+#   bench/compare_dmp.sh --timing [--runs N]   (the replay time alone, printed, no file)
 #   bench/compare_dmp.sh --kernel-width   (the diagnostic bench/kernel_width.py)
 #   bench/compare_dmp.sh --turns   (long turns, goal changes, via-points:
 #                                   bench/compare_turns.py, about 5 minutes)
