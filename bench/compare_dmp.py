@@ -26,6 +26,7 @@ it its best accuracy:
 import json
 import os
 import re
+import resource
 import shutil
 import statistics
 import subprocess
@@ -257,13 +258,18 @@ np.savetxt(sys.argv[3], np.column_stack([T, Y]), delimiter=",", fmt="%.9g",
 """
 
 
-def walls(cmd, n=5):
-    """Whole-process wall times of n runs, s."""
+def walls(cmd, n=5, cpu=None):
+    """Whole-process wall times of n runs, s; each run's CPU time (user +
+    sys, s) appended to `cpu` when given."""
     times = []
     for _ in range(n):
+        r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
         t0 = time.perf_counter()
         subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
         times.append(time.perf_counter() - t0)
+        r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+        if cpu is not None:
+            cpu.append(r1.ru_utime - r0.ru_utime + r1.ru_stime - r0.ru_stime)
     return times
 
 
@@ -293,10 +299,10 @@ def timing(primo, quick, runs=5):
         for step in ("euler-cython", "rk4-cython"):
             cmds["mp " + step] = [sys.executable, script, npz, step, csv]
         for name in cmds:
-            out[name + " runs"] = []
+            out[name + " runs"], out[name + " cpu"] = [], []
         for _ in range(n):
             for name, cmd in cmds.items():
-                out[name + " runs"] += walls(cmd, 1)
+                out[name + " runs"] += walls(cmd, 1, out[name + " cpu"])
                 out[name.split()[0] + "_rows"] = sum(1 for _ in open(csv)) - 1
         for name in cmds:
             out[name] = statistics.median(out[name + " runs"])
@@ -447,7 +453,11 @@ def replay_report(tm):
         f"({mp_fast[3:]}), whole process against whole process; the target was "
         f"≥ 30×: {'met' if ratio >= 30 else 'NOT met'}. Round by round (the runs go in turn, "
         f"primo, then movement_primitives): {spread(rounds, 1, '.0f')}×, median "
-        f"{statistics.median(rounds):.0f}×. In process (the loop "
+        f"{statistics.median(rounds):.0f}×. CPU time (user + sys), which the other "
+        f"processes on a shared machine disturb less than wall time: primo "
+        f"{statistics.median(tm['primo cpu']) * 1e3:.1f} ms, movement_primitives "
+        f"{statistics.median(tm[mp_fast + ' cpu']) * 1e3:.0f} ms (medians), "
+        f"{statistics.median(tm[mp_fast + ' cpu']) / statistics.median(tm['primo cpu']):.0f}×. In process (the loop "
         f"and savetxt, no start-up or import) movement_primitives takes "
         f"{(tm['mp_loop'] + tm['mp_savetxt']) * 1e3:.0f} ms, "
         f"{(tm['mp_loop'] + tm['mp_savetxt']) / tm['primo']:.0f}× primo's whole process.",
