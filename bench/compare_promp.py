@@ -37,7 +37,8 @@ of the demonstrations away from their mean there (x up, y down), exactly
 `condition_position` conditions every dimension at once; so both do here.
 Compared: the mean and the variance on 201 phases, as max differences, and
 each against the demonstrations' own mean and variance (n − 1) at their
-samples.
+samples; and, where the two fits share kernels and estimator, the weights'
+mean and covariance themselves (primo's read from its pickled values).
 """
 
 import numpy as np
@@ -99,9 +100,25 @@ def mp_curves(p):
     return p.mean_trajectory(Z.copy()), p.var_trajectory(Z.copy())
 
 
+def primo_values(p):
+    """primo's pickled values (`ProMp::values`): [dof, kernels, duration,
+    noise, weight mean (column by column), weight covariance (row-major)]."""
+    return np.asarray(p.__reduce__()[1][1])
+
+
 def primo_noise(p):
-    """primo's observation noise (the fourth of its pickled values)."""
-    return float(p.__reduce__()[1][1][3])
+    """primo's observation noise."""
+    return float(primo_values(p)[3])
+
+
+def weight_gap(ours, theirs):
+    """Max differences of the weights' mean and covariance, primo against a
+    movement_primitives ProMP (the same order: column, then kernel)."""
+    v = primo_values(ours)
+    n = int(v[0] * v[1])
+    mean, cov = v[4:4 + n], v[4 + n:].reshape(n, n)
+    return (np.abs(mean - theirs.weight_mean).max(), np.abs(cov - theirs.weight_cov).max(),
+            np.abs(cov).max())
 
 
 def main():
@@ -125,8 +142,9 @@ def main():
         noise = primo_noise(ours)
         cond = ours.condition(VIA_PHASE, {"x": via[0], "y": via[1]})
         curves = {"primo": (ours.mean(Z), ours.variance(Z), cond.mean(Z), cond.variance(Z))}
+        conditioned = {}
         for name, p in fits.items():
-            c = p.condition_position(via, t=VIA_PHASE)
+            conditioned[name] = c = p.condition_position(via, t=VIA_PHASE)
             curves[name] = (*mp_curves(p), *mp_curves(c))
 
         print(f"### {k} kernels per column\n")
@@ -154,6 +172,14 @@ def main():
             print(f"| {name} | {np.abs(pm - m).max():.2e} | {np.abs(pv - v).max():.2e} | "
                   f"{np.abs(pv - noise - v).max():.2e} | {np.abs(cm - m2).max():.2e} | "
                   f"{np.abs(cv - v2).max():.2e} | {np.abs(cv - noise - v2).max():.2e} |")
+        same = "mp sample cov, primo's width"
+        print(f"\nThe weights themselves, primo against \"{same}\" (max |difference|; "
+              "the covariance's largest entry for scale):\n")
+        print("| | weight mean | weight covariance | covariance's largest entry |")
+        print("|---|---:|---:|---:|")
+        for when, a, b in (("before", ours, fits[same]), ("after", cond, conditioned[same])):
+            m, c, big = weight_gap(a, b)
+            print(f"| {when} conditioning | {m:.2e} | {c:.2e} | {big:.2e} |")
         print("\nAt the via-point (phase 0.6) after conditioning:\n")
         print("| fit | mean − via, x (m) | mean − via, y (m) | variance x (m²) | variance y (m²) | "
               "mean moved at phase 1, x (m) |")
