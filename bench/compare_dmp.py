@@ -2,7 +2,8 @@
 """Compare primo's DMP with movement_primitives' DMP: reproduction accuracy
 and replay time. Run through bench/compare_dmp.sh, which makes the venv.
 
-Usage: compare_dmp.py PRIMO_BINARY [--quick]
+Usage: compare_dmp.py PRIMO_BINARY [--quick] [--timing [--runs N]]
+(--timing: only the replay time, printed, no file; N rounds, default 5)
 
 Every demonstration is a closed-form movement, so each replay is compared
 with the exact movement at the replay's own times, not with the samples.
@@ -25,6 +26,7 @@ it its best accuracy:
 import json
 import os
 import re
+import resource
 import shutil
 import statistics
 import subprocess
@@ -184,13 +186,25 @@ def errors(t, y, truth, tau):
     return float(np.sqrt(np.mean(e**2))), float(np.max(np.abs(e)))
 
 
-def primo_replay(primo, demo, k, tmp):
-    dmp, run = os.path.join(tmp, "dmp.json"), os.path.join(tmp, "run.csv")
+def primo_fit(primo, demo, k, tmp):
+    """`primo dmp fit` with K kernels (its other settings default): the DMP's path."""
+    dmp = os.path.join(tmp, "dmp.json")
     subprocess.run([primo, "dmp", "fit", "--demo", demo, "--kernels", str(k),
                     "--out", dmp], check=True)
-    subprocess.run([primo, "dmp", "run", dmp, "--dt", str(DT), "--out", run], check=True)
+    return dmp
+
+
+def primo_run(primo, dmp, tmp, *args):
+    """`primo dmp run` at DT with extra arguments (`--goal`, `--via` …): (t, y)."""
+    run = os.path.join(tmp, "run.csv")
+    subprocess.run([primo, "dmp", "run", dmp, "--dt", str(DT), "--out", run, *args],
+                   check=True)
     data = np.loadtxt(run, delimiter=",", skiprows=1, ndmin=2)
     return data[:, 0], data[:, 1:]
+
+
+def primo_replay(primo, demo, k, tmp):
+    return primo_run(primo, primo_fit(primo, demo, k, tmp), tmp)
 
 
 def mp_fit(demo, k, tau):
@@ -244,17 +258,27 @@ np.savetxt(sys.argv[3], np.column_stack([T, Y]), delimiter=",", fmt="%.9g",
 """
 
 
-def median_wall(cmd, n=5):
+def walls(cmd, n=5, cpu=None):
+    """Whole-process wall times of n runs, s; each run's CPU time (user +
+    sys, s) appended to `cpu` when given."""
     times = []
     for _ in range(n):
+        r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
         t0 = time.perf_counter()
         subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
         times.append(time.perf_counter() - t0)
-    return statistics.median(times)
+        r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+        if cpu is not None:
+            cpu.append(r1.ru_utime - r0.ru_utime + r1.ru_stime - r0.ru_stime)
+    return times
 
 
-def timing(primo, quick):
-    n = 1 if quick else 5
+def median_wall(cmd, n=5):
+    return statistics.median(walls(cmd, n))
+
+
+def timing(primo, quick, runs=5):
+    n = 1 if quick else runs
     out = {}
     with tempfile.TemporaryDirectory() as tmp:
         # The pour played 10 times in a row, at 100 Hz: 60 s, 7 DoF.
@@ -269,14 +293,22 @@ def timing(primo, quick):
         with open(script, "w") as f:
             f.write(MP_RUN)
         csv = os.path.join(tmp, "run60.csv")
-        out["primo"] = median_wall([primo, "dmp", "run", dmp_json, "--dt", "0.001", "--out", csv], n)
-        out["primo_rows"] = sum(1 for _ in open(csv)) - 1
+        # In turn, primo then each of movement_primitives' steps, n rounds:
+        # a change of the machine's load hits both alike.
+        cmds = {"primo": [primo, "dmp", "run", dmp_json, "--dt", "0.001", "--out", csv]}
+        for step in ("euler-cython", "rk4-cython"):
+            cmds["mp " + step] = [sys.executable, script, npz, step, csv]
+        for name in cmds:
+            out[name + " runs"], out[name + " cpu"] = [], []
+        for _ in range(n):
+            for name, cmd in cmds.items():
+                out[name + " runs"] += walls(cmd, 1, out[name + " cpu"])
+                out[name.split()[0] + "_rows"] = sum(1 for _ in open(csv)) - 1
+        for name in cmds:
+            out[name] = statistics.median(out[name + " runs"])
         out["primo_devnull"] = median_wall(
             [primo, "dmp", "run", dmp_json, "--dt", "0.001", "--out", "/dev/null"], n)
         out["primo_startup"] = median_wall([primo, "--version"], n)
-        for step in ("euler-cython", "rk4-cython"):
-            out["mp " + step] = median_wall([sys.executable, script, npz, step, csv], n)
-        out["mp_rows"] = sum(1 for _ in open(csv)) - 1
         out["python_import"] = median_wall(
             [sys.executable, "-c", "import movement_primitives.dmp"], n)
         # In-process parts of the fastest movement_primitives run.
@@ -327,7 +359,6 @@ def profile(cmd, tmp):
 
 def report(rows, cartesian, tm, primo):
     version = subprocess.run([primo, "--version"], capture_output=True, text=True).stdout.strip()
-    mp_fast = min(("mp euler-cython", "mp rk4-cython"), key=lambda s: tm[s])
     lines = [
         "# primo vs movement_primitives: DMP reproduction accuracy and replay time",
         "",
@@ -382,24 +413,37 @@ def report(rows, cartesian, tm, primo):
             f"| {r['case']} | {r['rate']} Hz | {r['k']} | {pp[0]:.2e} | {pa[0]:.2e} | "
             f"{pa[1]:.2e} | {mp[0]:.2e} | {ma[0]:.2e} | {ma[1]:.2e} | "
             f"{mp[0] / pp[0]:.2g} | {ma[0] / pa[0]:.2g} |")
+    return "\n".join(lines + replay_report(tm))
+
+
+def spread(times, scale, fmt):
+    return f"{format(min(times) * scale, fmt)}–{format(max(times) * scale, fmt)}"
+
+
+def replay_report(tm):
+    """The replay-time section of the report (Markdown lines)."""
+    mp_fast = min(("mp euler-cython", "mp rk4-cython"), key=lambda s: tm[s])
     ratio = tm[mp_fast] / tm["primo"]
-    lines += [
+    rounds = [m / p for m, p in zip(tm[mp_fast + " runs"], tm["primo runs"])]
+    lines = [
         "",
         "## Replay time: 60 s, 7 DoF, 30 kernels, dt = 1 ms, to a CSV file",
         "",
-        f"Whole-process wall time, median of 5 runs. primo writes "
+        f"Whole-process wall time, median (min–max) of {len(tm['primo runs'])} runs, in turn. primo writes "
         f"{tm['primo_rows']} rows, movement_primitives {tm['mp_rows']} "
         "(`open_loop`, then `np.savetxt` with 9 digits; the process loads the "
         "fitted weights from an .npz, as primo loads its JSON).",
         "",
         "| what | time |",
         "|---|---:|",
-        f"| primo `dmp run --out file.csv` | {tm['primo'] * 1e3:.1f} ms |",
+        f"| primo `dmp run --out file.csv` | {tm['primo'] * 1e3:.1f} ms "
+        f"({spread(tm['primo runs'], 1e3, '.1f')}) |",
         f"| primo `dmp run --out /dev/null` | {tm['primo_devnull'] * 1e3:.1f} ms |",
         f"| primo `--version` (process start-up) | {tm['primo_startup'] * 1e3:.1f} ms |",
         f"| movement_primitives, `open_loop` 'euler-cython' (int_dt = dt) | "
-        f"{tm['mp euler-cython'] * 1e3:.0f} ms |",
-        f"| movement_primitives, `open_loop` 'rk4-cython' | {tm['mp rk4-cython'] * 1e3:.0f} ms |",
+        f"{tm['mp euler-cython'] * 1e3:.0f} ms ({spread(tm['mp euler-cython runs'], 1e3, '.0f')}) |",
+        f"| movement_primitives, `open_loop` 'rk4-cython' | {tm['mp rk4-cython'] * 1e3:.0f} ms "
+        f"({spread(tm['mp rk4-cython runs'], 1e3, '.0f')}) |",
         f"| of which: Python start-up + `import movement_primitives.dmp` | "
         f"{tm['python_import'] * 1e3:.0f} ms |",
         f"| of which: `open_loop` 'euler-cython' alone (in process) | {tm['mp_loop'] * 1e3:.0f} ms |",
@@ -407,7 +451,13 @@ def report(rows, cartesian, tm, primo):
         "",
         f"primo is **{ratio:.0f}×** faster than movement_primitives' fastest "
         f"({mp_fast[3:]}), whole process against whole process; the target was "
-        f"≥ 30×: {'met' if ratio >= 30 else 'NOT met'}. In process (the loop "
+        f"≥ 30×: {'met' if ratio >= 30 else 'NOT met'}. Round by round (the runs go in turn, "
+        f"primo, then movement_primitives): {spread(rounds, 1, '.0f')}×, median "
+        f"{statistics.median(rounds):.0f}×. CPU time (user + sys), which the other "
+        f"processes on a shared machine disturb less than wall time: primo "
+        f"{statistics.median(tm['primo cpu']) * 1e3:.1f} ms, movement_primitives "
+        f"{statistics.median(tm[mp_fast + ' cpu']) * 1e3:.0f} ms (medians), "
+        f"{statistics.median(tm[mp_fast + ' cpu']) / statistics.median(tm['primo cpu']):.0f}×. In process (the loop "
         f"and savetxt, no start-up or import) movement_primitives takes "
         f"{(tm['mp_loop'] + tm['mp_savetxt']) * 1e3:.0f} ms, "
         f"{(tm['mp_loop'] + tm['mp_savetxt']) / tm['primo']:.0f}× primo's whole process.",
@@ -426,12 +476,18 @@ def report(rows, cartesian, tm, primo):
             "```",
             "",
         ]
-    return "\n".join(lines)
+    return lines
 
 
 def main():
     primo = os.path.abspath(sys.argv[1])
     quick = "--quick" in sys.argv
+    if "--timing" in sys.argv:  # the replay time alone, printed
+        runs = int(sys.argv[sys.argv.index("--runs") + 1]) if "--runs" in sys.argv else 5
+        tm = timing(primo, quick, runs)
+        print(json.dumps({k: v for k, v in tm.items() if k != "profile"}, indent=1))
+        print("\n".join(replay_report(tm)))
+        return
     rows = accuracy(primo, quick)
     cartesian = cartesian_accuracy(primo, quick)
     tm = timing(primo, quick)

@@ -4,6 +4,7 @@
 # built from ./python (about 2 minutes cold). Not part of ./test.sh.
 #   bench/compare_python.sh                           # DMP speed: fit, run, argument conversion (python/bench/bench.py)
 #   bench/compare_python.sh bench/compare_coupling.py # obstacle avoidance on the same scenes
+#   bench/compare_python.sh bench/compare_promp.py    # ProMPs: mean and variance before and after conditioning
 set -euo pipefail
 cd "$(dirname "$0")/.."
 script=${1:-python/bench/bench.py}

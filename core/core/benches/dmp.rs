@@ -1,8 +1,10 @@
-//! DMP costs: one integration step (7 DoF × 30 kernels, 2 × 10, an
+//! DMP costs: one integration step (7 DoF × 30 kernels, the same with one
+//! obstacle's coupling term on its first three DoFs, 2 × 10, an
 //! orientation DMP of 30 kernels) and fits
 //! to 1 s at 1 kHz and to 10 s at 1 kHz. Targets: ≤ 150 ns for the 7×30
 //! and the orientation step, ≤ 5 ms for the 10 s fit.
 use criterion::{Criterion, criterion_group, criterion_main};
+use primo_core::coupling::{Coupling, Obstacles, Sphere};
 use primo_core::dmp::{Dmp, FitOptions};
 use primo_core::orientation::OrientationDmp;
 use primo_core::quaternion::Quaternion;
@@ -25,10 +27,27 @@ fn demo(dof: usize, seconds: usize) -> (Vec<f32>, Vec<f32>) {
     (t, y)
 }
 
-fn step<const D: usize, const K: usize>(c: &mut Criterion, name: &str) {
+/// One step of a `D`×`K` DMP; with `ball`, stepped with one obstacle's
+/// coupling term (Park et al.'s potential) on DoFs 0–2 as x, y, z, a
+/// 5 cm ball 5 cm beside the middle of their straight start–goal line
+/// (the M4F probe, firmware/src/bin/footprint.rs, counts the same term on
+/// its own reach).
+fn step<const D: usize, const K: usize>(c: &mut Criterion, name: &str, ball: bool) {
     let (t, y) = demo(D, 1);
     let dmp = Dmp::<D, K>::fit(&t, &y, D, K, &FitOptions::default()).unwrap();
     let exec = dmp.execution();
+    let mid = |d: usize| 0.5 * (exec.start[d] + exec.goal[d]);
+    let obstacles = ball.then(|| {
+        let sphere = Sphere {
+            center: [mid(0) + 0.05, mid(1) - 0.05, mid(2)],
+            radius: 0.05,
+        };
+        Obstacles::<1>::new([0, 1, 2], &[sphere], &exec.start, &exec.goal).unwrap()
+    });
+    let terms: &[&dyn Coupling] = match &obstacles {
+        Some(o) => &[o],
+        None => &[],
+    };
     let mut run = dmp.start(&exec).unwrap();
     let mut n = 0u32;
     c.bench_function(name, |b| {
@@ -40,7 +59,12 @@ fn step<const D: usize, const K: usize>(c: &mut Criterion, name: &str) {
                 n = 0;
                 run = dmp.start(&exec).unwrap();
             }
-            run.step(black_box(&dmp), black_box(0.001)).unwrap();
+            if ball {
+                run.step_with(black_box(&dmp), black_box(0.001), terms)
+            } else {
+                run.step(black_box(&dmp), black_box(0.001))
+            }
+            .unwrap();
             black_box(run.position()[0]);
         })
     });
@@ -76,8 +100,9 @@ fn orientation_step(c: &mut Criterion) {
 
 fn benches(c: &mut Criterion) {
     orientation_step(c);
-    step::<7, 30>(c, "dmp step 7x30");
-    step::<2, 10>(c, "dmp step 2x10");
+    step::<7, 30>(c, "dmp step 7x30", false);
+    step::<7, 30>(c, "dmp step 7x30 with one obstacle", true);
+    step::<2, 10>(c, "dmp step 2x10", false);
     for seconds in [1, 10] {
         let (t, y) = demo(7, seconds);
         let name = format!("dmp fit 7x30, {seconds} s at 1 kHz");
