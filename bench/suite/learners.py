@@ -52,34 +52,15 @@ def error_learning(problem, context, budget, seed):
 
 
 def goal_learning(problem, context, budget, seed):
-    """primo's Secant on a change of the generalized movement's goals, not
-    its query: the goals of the first DoFs, one per error value (the
-    error's length comes from the first roll-out, the generalized
-    movement), within ± twice the movement's largest amplitude among
-    them. The query is held at the context's."""
+    """primo's Secant on a change of the generalized movement's goals
+    instead of its query (``BlackBox.learn(..., goals=True)``): the goals
+    of the first DoFs, one per error value (the query's length), each
+    within ± twice the movement's largest amplitude among them."""
     box = problem.box
-    theta = box.initial(context)
-    first = box.episode(theta, context, seed)
-    if first.success or first.rejected or first.error is None:
-        return [first]
-    dmp = box.dmp(box.query(context))
-    m = len(first.error)
-    goals = box.query_dim + dmp.dof * dmp.kernels + np.arange(m)
+    dmp, m = box.dmp(box.query(context)), box.query_dim
     bound = 2.0 * float(np.max(np.abs(dmp.goal - dmp.start)[:m]))
     learner = primo.Secant(np.full(m, -bound), np.full(m, bound), np.zeros(m), max_rollouts=budget)
-    learner.ask()  # the first roll-out's: no change
-    learner.tell(first.error)
-    episodes = [first]
-    while len(episodes) < budget and (z := learner.ask()) is not None:
-        theta[goals] = z
-        episodes.append(box.episode(theta, context, seed))
-        if episodes[-1].success:
-            break
-        if episodes[-1].rejected:
-            learner.tell_infeasible()
-        else:
-            learner.tell(episodes[-1].error)
-    return episodes
+    return box.learn(learner, context, budget, seed=seed, goals=True)
 
 
 def _power(query_gain: float) -> Callable:
