@@ -72,17 +72,17 @@ class Task:
     demos: int
     columns: tuple[str, ...]
 
-    def generalizer(self, env: Any) -> primo.Generalizer:
+    def generalizer(self, env: Any, regression: str = "lwr") -> primo.Generalizer:
         examples = []
         for context in self.contexts(env, self.demos, DEMO_SEED):
             t, y = self.demo(env, context)
             dmp = primo.Dmp.fit(t, y, names=list(self.columns), kernels=KERNELS, margin=1)
             examples.append((self.query(context), unscaled(dmp)))
-        return primo.Generalizer(examples)
+        return primo.Generalizer(examples, method=regression)
 
-    def problem(self, env: Any) -> Problem:
+    def problem(self, env: Any, regression: str = "lwr") -> Problem:
         low, high = self.space(env)
-        box = self.box(env, self.generalizer(env), self.query)
+        box = self.box(env, self.generalizer(env, regression), self.query)
         return Problem(box, self.tolerance, self.query(low), self.query(high))
 
 
