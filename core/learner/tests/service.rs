@@ -407,6 +407,45 @@ fn secant_config(n: usize) -> SecantConfig<MAX_QUERY> {
     }
 }
 
+/// Starts the movement of the roll-out in flight: the examples' 2 DoFs,
+/// from 0.
+fn start_movement(s: &mut Service) {
+    let start = DmpStart {
+        shape: examples().0.shape(),
+        kernels: 6,
+        start: HVec::from_slice(&[0.0, 0.0]).unwrap(),
+        dt: 0.01,
+    };
+    assert_eq!(s.respond(&Request::DmpStart(start)), Reply::Ok);
+}
+
+/// Tells the service and the secant learner used directly the same error.
+fn tell_both(s: &mut Service, direct: &mut Secant<MAX_QUERY>, error: HVec<f32, MAX_QUERY>) {
+    let outcome = Outcome {
+        error: error.clone(),
+        reward: 0.0,
+    };
+    assert_eq!(s.respond(&Request::Tell(outcome)), Reply::Ok);
+    direct.tell(&error).unwrap();
+}
+
+/// The service's search converged after `n` roll-outs, at most 12, with
+/// the best roll-out of the learner used directly.
+fn assert_converged_as(s: &mut Service, direct: &Secant<MAX_QUERY>, n: u32) {
+    assert_eq!(
+        s.respond(&Request::Ask),
+        Reply::Finished(SearchStatus::Converged)
+    );
+    let Reply::Status(st) = s.respond(&Request::Status) else {
+        panic!()
+    };
+    assert_eq!((st.search, st.rollouts), (SearchStatus::Converged, n));
+    let best = direct.best().unwrap();
+    assert_eq!(st.best_query.as_deref(), Some(best.query));
+    assert_eq!(st.best, Some(best.size));
+    assert!(n <= 12, "{n} roll-outs");
+}
+
 #[test]
 fn secant_through_the_service_is_the_learner_itself() {
     let mut s = Service::new();
@@ -429,34 +468,12 @@ fn secant_through_the_service_is_the_learner_itself() {
         };
         assert_eq!((r.number, r.query.as_slice(), r.delta_len), (n, q, 0));
         // The movement generalizes to the 3-D query.
-        let start = DmpStart {
-            shape: examples().0.shape(),
-            kernels: 6,
-            start: HVec::from_slice(&[0.0, 0.0]).unwrap(),
-            dt: 0.01,
-        };
-        assert_eq!(s.respond(&Request::DmpStart(start)), Reply::Ok);
+        start_movement(&mut s);
         let error = cell(q);
-        let outcome = Outcome {
-            error: error.clone(),
-            reward: 0.0,
-        };
-        assert_eq!(s.respond(&Request::Tell(outcome)), Reply::Ok);
-        direct.tell(&error).unwrap();
+        tell_both(&mut s, &mut direct, error);
         n += 1;
     }
-    assert_eq!(
-        s.respond(&Request::Ask),
-        Reply::Finished(SearchStatus::Converged)
-    );
-    let Reply::Status(st) = s.respond(&Request::Status) else {
-        panic!()
-    };
-    assert_eq!((st.search, st.rollouts), (SearchStatus::Converged, n));
-    let best = direct.best().unwrap();
-    assert_eq!(st.best_query.as_deref(), Some(best.query));
-    assert_eq!(st.best, Some(best.size));
-    assert!(n <= 12, "{n} roll-outs");
+    assert_converged_as(&mut s, &direct, n);
 }
 
 #[test]
@@ -523,13 +540,7 @@ fn secant_on_the_goals_changes_only_the_goals_as_the_learner_itself() {
         expected[12..14].copy_from_slice(change);
         assert_eq!(fetch(&mut s, 15), expected, "roll-out {n}");
         // The movement G(q̂) + Δθ ends at the changed goals.
-        let start = DmpStart {
-            shape: examples().0.shape(),
-            kernels: 6,
-            start: HVec::from_slice(&[0.0, 0.0]).unwrap(),
-            dt: 0.01,
-        };
-        assert_eq!(s.respond(&Request::DmpStart(start)), Reply::Ok);
+        start_movement(&mut s);
         let end = loop {
             match s.respond(&Request::DmpNext) {
                 Reply::Setpoint {
@@ -555,24 +566,10 @@ fn secant_on_the_goals_changes_only_the_goals_as_the_learner_itself() {
             );
         }
         let error = cell(change);
-        let outcome = Outcome {
-            error: error.clone(),
-            reward: 0.0,
-        };
-        assert_eq!(s.respond(&Request::Tell(outcome)), Reply::Ok);
-        direct.tell(&error).unwrap();
+        tell_both(&mut s, &mut direct, error);
         n += 1;
     }
-    assert_eq!(
-        s.respond(&Request::Ask),
-        Reply::Finished(SearchStatus::Converged)
-    );
-    let Reply::Status(st) = s.respond(&Request::Status) else {
-        panic!()
-    };
-    let best = direct.best().unwrap();
-    assert_eq!(st.best_query.as_deref(), Some(best.query));
-    assert!(n <= 12, "{n} roll-outs");
+    assert_converged_as(&mut s, &direct, n);
     // Goals beyond θ do not fit.
     let beyond = LearnerSetup::SecantGoals {
         config: secant_config(2),
