@@ -55,11 +55,13 @@ def goal_learning(problem, context, budget, seed):
     """primo's Secant on a change of the generalized movement's goals
     instead of its query (``BlackBox.learn(..., goals=True)``): the goals
     of the first DoFs, one per error value (the query's length), each
-    within ± twice the movement's largest amplitude among them."""
+    within the robot's limits of its DoF."""
     box = problem.box
     dmp, m = box.dmp(box.query(context)), box.query_dim
-    bound = 2.0 * float(np.max(np.abs(dmp.goal - dmp.start)[:m]))
-    learner = primo.Secant(np.full(m, -bound), np.full(m, bound), np.zeros(m), max_rollouts=budget)
+    goal = np.asarray(dmp.goal)[:m]
+    low, high = (np.asarray(v)[:m] - goal for v in problem.limits)
+    # A generalized goal beyond a limit: its change may still be 0.
+    learner = primo.Secant(np.minimum(low, 0), np.maximum(high, 0), np.zeros(m), max_rollouts=budget)
     return box.learn(learner, context, budget, seed=seed, goals=True)
 
 

@@ -44,13 +44,15 @@ def unscaled(dmp: primo.Dmp) -> primo.Dmp:
 @dataclass
 class Problem:
     """What a method learns on: the episodes' ``box``, the success
-    radius ``tolerance`` (m or rad, which scales rewards) and the
-    query's bounds ``low``, ``high`` (the box contexts are drawn from)."""
+    radius ``tolerance`` (m or rad, which scales rewards), the query's
+    bounds ``low``, ``high`` (the box contexts are drawn from) and the
+    robot's ``limits`` (low, high) of the DMP's DoFs (m or rad)."""
 
     box: primo.gym.BlackBox
     tolerance: float
     low: np.ndarray
     high: np.ndarray
+    limits: tuple[np.ndarray, np.ndarray]
 
 
 @dataclass
@@ -59,7 +61,8 @@ class Task:
     seed)``, ``space(env) -> (low, high)`` of the contexts,
     ``query(context)``, ``demo(env, context) -> (t, y)``, ``box(env,
     generalizer, query)``, ``tolerance`` (the success radius), ``demos``
-    (how many) and the DMPs' ``columns``."""
+    (how many), the DMPs' ``columns`` and ``limits(env) -> (low, high)``
+    of their DoFs."""
 
     name: str
     make: Callable[[], Any]
@@ -71,6 +74,7 @@ class Task:
     tolerance: float
     demos: int
     columns: tuple[str, ...]
+    limits: Callable[[Any], tuple[np.ndarray, np.ndarray]]
 
     def generalizer(self, env: Any, regression: str = "lwr") -> primo.Generalizer:
         examples = []
@@ -83,7 +87,7 @@ class Task:
     def problem(self, env: Any, regression: str = "lwr") -> Problem:
         low, high = self.space(env)
         box = self.box(env, self.generalizer(env, regression), self.query)
-        return Problem(box, self.tolerance, self.query(low), self.query(high))
+        return Problem(box, self.tolerance, self.query(low), self.query(high), self.limits(env))
 
 
 # Metaworld: the context is the task's rand_vec, the DMP moves the hand
@@ -103,6 +107,12 @@ def _metaworld_env(name: str) -> Callable[[], Any]:
 
 def _metaworld_space(env: Any) -> tuple[np.ndarray, np.ndarray]:
     return env._random_reset_space.low, env._random_reset_space.high
+
+
+def _metaworld_limits(env: Any) -> tuple[np.ndarray, np.ndarray]:
+    """The hand's box (Metaworld clips its mocap into it), then the
+    gripper's command, -1 to 1."""
+    return np.r_[env.mocap_low, -1.0], np.r_[env.mocap_high, 1.0]
 
 
 def _metaworld_contexts(env: Any, n: int, seed: int) -> list:
@@ -199,6 +209,11 @@ def _reacher_space(env: Any) -> tuple[np.ndarray, np.ndarray]:
     return np.full(2, -0.2), np.full(2, 0.2)
 
 
+def _reacher_limits(env: Any) -> tuple[np.ndarray, np.ndarray]:
+    """joint1's range (reacher.xml); joint0 has none: one turn."""
+    return np.array([-np.pi, -3.0]), np.array([np.pi, 3.0])
+
+
 def _reacher_demo(env: Any, context: Any) -> tuple[np.ndarray, np.ndarray]:
     x, y = context
     c = (x * x + y * y - L1 * L1 - L2 * L2) / (2 * L1 * L2)
@@ -234,18 +249,19 @@ def _reacher_box(env: Any, movement: Any, query: Callable) -> primo.gym.BlackBox
 TASKS = {
     "reach-v3": Task(
         "reach-v3", _metaworld_env("reach-v3"), _metaworld_contexts, _metaworld_space, lambda v: v[3:6],
-        _scripted("reach-v3", False), _metaworld_box(_reach_error), 0.05, 3, ("x", "y", "z"),
+        _scripted("reach-v3", False), _metaworld_box(_reach_error), 0.05, 3, ("x", "y", "z"), _metaworld_limits,
     ),
     "push-v3": Task(
         "push-v3", _metaworld_env("push-v3"), _metaworld_contexts, _metaworld_space, lambda v: np.r_[v[0:2], v[3:5]],
-        _scripted("push-v3", True), _metaworld_box(_push_error), 0.05, 4, ("x", "y", "z", "grip"),
+        _scripted("push-v3", True), _metaworld_box(_push_error), 0.05, 4, ("x", "y", "z", "grip"), _metaworld_limits,
     ),
     "button-press-v3": Task(
         "button-press-v3", _metaworld_env("button-press-v3"), _metaworld_contexts, _metaworld_space, lambda v: v[0:2],
         _scripted("button-press-v3", False), _metaworld_box(_button_error), 0.02, 2, ("x", "y", "z"),
+        _metaworld_limits,
     ),
     "Reacher-v5": Task(
         "Reacher-v5", _reacher_make, _reacher_contexts, _reacher_space, np.asarray,
-        _reacher_demo, _reacher_box, 0.01, 4, ("joint0", "joint1"),
+        _reacher_demo, _reacher_box, 0.01, 4, ("joint0", "joint1"), _reacher_limits,
     ),
 }
