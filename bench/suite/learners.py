@@ -53,16 +53,15 @@ def error_learning(problem, context, budget, seed):
 
 def goal_learning(problem, context, budget, seed):
     """primo's Secant on a change of the generalized movement's goals
-    instead of its query (``BlackBox.learn(..., goals=True)``): the goals
-    of the first DoFs, one per error value (the query's length), each
-    within the robot's limits of its DoF."""
-    box = problem.box
-    dmp, m = box.dmp(box.query(context)), box.query_dim
-    goal = np.asarray(dmp.goal)[:m]
-    low, high = (np.asarray(v)[:m] - goal for v in problem.limits)
+    instead of its query (``BlackBox.learn(..., goals=...)``): the goals
+    of the DoFs the task pairs with the error's values (the first ones
+    but on push-v3), each within the robot's limits of its DoF."""
+    box, dofs = problem.box, list(problem.goal_dofs)
+    goal = np.asarray(box.dmp(box.query(context)).goal)[dofs]
+    low, high = (np.asarray(v)[dofs] - goal for v in problem.limits)
     # A generalized goal beyond a limit: its change may still be 0.
-    learner = primo.Secant(np.minimum(low, 0), np.maximum(high, 0), np.zeros(m), max_rollouts=budget)
-    return box.learn(learner, context, budget, seed=seed, goals=True)
+    learner = primo.Secant(np.minimum(low, 0), np.maximum(high, 0), np.zeros(len(dofs)), max_rollouts=budget)
+    return box.learn(learner, context, budget, seed=seed, goals=dofs)
 
 
 def _power(query_gain: float) -> Callable:

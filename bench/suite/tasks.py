@@ -14,7 +14,7 @@ from __future__ import annotations
 import json
 import warnings
 from dataclasses import dataclass
-from typing import Any, Callable
+from typing import Any, Callable, Optional
 
 import numpy as np
 
@@ -46,13 +46,15 @@ class Problem:
     """What a method learns on: the episodes' ``box``, the success
     radius ``tolerance`` (m or rad, which scales rewards), the query's
     bounds ``low``, ``high`` (the box contexts are drawn from) and the
-    robot's ``limits`` (low, high) of the DMP's DoFs (m or rad)."""
+    robot's ``limits`` (low, high) of the DMP's DoFs (m or rad) and the
+    DoFs whose goals the error's values measure, ``goal_dofs``."""
 
     box: primo.gym.BlackBox
     tolerance: float
     low: np.ndarray
     high: np.ndarray
     limits: tuple[np.ndarray, np.ndarray]
+    goal_dofs: tuple[int, ...]
 
 
 @dataclass
@@ -61,8 +63,9 @@ class Task:
     seed)``, ``space(env) -> (low, high)`` of the contexts,
     ``query(context)``, ``demo(env, context) -> (t, y)``, ``box(env,
     generalizer, query)``, ``tolerance`` (the success radius), ``demos``
-    (how many), the DMPs' ``columns`` and ``limits(env) -> (low, high)``
-    of their DoFs."""
+    (how many), the DMPs' ``columns``, ``limits(env) -> (low, high)``
+    of their DoFs and ``goal_dofs``, the DoF whose goal each error value
+    measures (None: the first ones)."""
 
     name: str
     make: Callable[[], Any]
@@ -75,6 +78,7 @@ class Task:
     demos: int
     columns: tuple[str, ...]
     limits: Callable[[Any], tuple[np.ndarray, np.ndarray]]
+    goal_dofs: Optional[tuple[int, ...]] = None
 
     def generalizer(self, env: Any, regression: str = "lwr") -> primo.Generalizer:
         examples = []
@@ -87,7 +91,8 @@ class Task:
     def problem(self, env: Any, regression: str = "lwr") -> Problem:
         low, high = self.space(env)
         box = self.box(env, self.generalizer(env, regression), self.query)
-        return Problem(box, self.tolerance, self.query(low), self.query(high), self.limits(env))
+        dofs = self.goal_dofs or tuple(range(box.query_dim))
+        return Problem(box, self.tolerance, self.query(low), self.query(high), self.limits(env), dofs)
 
 
 # Metaworld: the context is the task's rand_vec, the DMP moves the hand
@@ -254,6 +259,8 @@ TASKS = {
     "push-v3": Task(
         "push-v3", _metaworld_env("push-v3"), _metaworld_contexts, _metaworld_space, lambda v: np.r_[v[0:2], v[3:5]],
         _scripted("push-v3", True), _metaworld_box(_push_error), 0.05, 4, ("x", "y", "z", "grip"), _metaworld_limits,
+        # the puck's miss (the error's last two values) is the hand's x and y goals' to fix
+        (2, 3, 0, 1),
     ),
     "button-press-v3": Task(
         "button-press-v3", _metaworld_env("button-press-v3"), _metaworld_contexts, _metaworld_space, lambda v: v[0:2],

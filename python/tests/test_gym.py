@@ -128,6 +128,12 @@ def test_secant_learns_the_goals_where_no_query_reaches(generalizer):
     assert plain.learn(learner, DEMOS[1], budget=30, seed=0, goals=True)[-1].success
     with pytest.raises(ValueError, match="goals: 3 values for a movement of 2 DoFs"):
         plain.learn(primo.Secant(low=[-1] * 3, high=[1] * 3, desired=[0] * 3), DEMOS[1], goals=True)
+    # The DoFs listed, one per value: joint1's goal alone, told the y error.
+    single = reacher_box(fit(DEMOS[0]), error=lambda env, obs, info: -obs[9:10])
+    one = single.learn(primo.GoldenSection(low=-1, high=1, desired=0.5), DEMOS[1], budget=1, goals=[1])
+    assert np.allclose(single.dmp(one[0].theta).goal - fit(DEMOS[0]).goal, [0.0, 0.5])
+    with pytest.raises(ValueError, match=r"goals: DoFs \[2\]"):
+        single.learn(primo.GoldenSection(low=-1, high=1, desired=0.5), DEMOS[1], goals=[2])
 
 
 def test_theta_forms_agree(generalizer):

@@ -363,7 +363,7 @@ class BlackBox:
         reward: Optional[Callable[[Episode], float]] = None,
         seed: Optional[int] = None,
         until_success: bool = True,
-        goals: bool = False,
+        goals: Union[bool, Sequence[int]] = False,
     ) -> list[Episode]:
         """Lets a learner of primo's run episodes at ``context`` until it
         is done, ``budget`` episodes are spent or, with
@@ -377,9 +377,11 @@ class BlackBox:
         ``seed``: every episode's reset seed.
 
         ``goals``: an error learner's values change the movement's goals
-        instead of asking a query: the goals of the first DoFs, one per
-        value (the generalized movement's, at the query of ``context``,
-        or the DMP's; the first ask, zeros, is that movement itself).
+        instead of asking a query: with True the goals of the first DoFs,
+        one per value, or of the DoFs listed, value ``i`` the goal of DoF
+        ``goals[i]`` (the generalized movement's, at the query of
+        ``context``, or the DMP's; the first ask, zeros, is that movement
+        itself).
         Where few demonstrations generalize poorly beyond themselves, no
         query reaches an outcome that a goal can (a movement ends at its
         goal); the learner learns how the outcome moves with the goals.
@@ -401,7 +403,7 @@ class BlackBox:
                     "reward=lambda e: np.exp(-10 * np.linalg.norm(e.error))"
                 )
         elif isinstance(learner, (GoldenSection, Illinois, Secant)):
-            if self._error is None or (self.generalizer is None and not goals):
+            if self._error is None or (self.generalizer is None and goals is False):
                 raise ValueError(
                     f"learner: {type(learner).__name__} learns a Generalizer's query from the error "
                     "(or, with goals=True, a movement's goals); this BlackBox needs a Generalizer "
@@ -414,8 +416,8 @@ class BlackBox:
             theta = learner.ask()
             if theta is None:  # an error learner that is done
                 break
-            if goals and not isinstance(learner, Power):
-                theta = self._goal_change(theta, context)
+            if goals is not False and not isinstance(learner, Power):
+                theta = self._goal_change(theta, context, None if goals is True else goals)
             episode = self.episode(theta, context, seed)
             episodes.append(episode)
             if until_success and episode.success:
@@ -442,16 +444,19 @@ class BlackBox:
                 learner.tell(float(e[0]))
         return episodes
 
-    def _goal_change(self, change: Any, context: Any) -> np.ndarray:
-        """The parameters of the movement with the goals of its first
-        DoFs changed by ``change`` (``learn(..., goals=True)``)."""
+    def _goal_change(self, change: Any, context: Any, dofs: Optional[Sequence[int]]) -> np.ndarray:
+        """The parameters of the movement with the goals of ``dofs`` (the
+        first DoFs if None) changed by ``change`` (``learn(..., goals=...)``)."""
         change = np.atleast_1d(np.asarray(change, dtype=np.float64))
         dmp = self._dmp
         if len(change) > dmp.dof:
             raise ValueError(f"goals: {len(change)} values for a movement of {dmp.dof} DoFs")
+        dofs = np.arange(len(change)) if dofs is None else np.asarray(dofs, dtype=int)
+        if dofs.shape != change.shape or np.any((dofs < 0) | (dofs >= dmp.dof)) or len(set(dofs)) < len(dofs):
+            raise ValueError(f"goals: DoFs {dofs.tolist()} for {len(change)} values of a movement of {dmp.dof} DoFs")
         theta = self.initial(context)
         first = len(theta) - self.size + dmp.dof * dmp.kernels  # θ: weights, goals, τ
-        theta[first : first + len(change)] += change
+        theta[first + dofs] += change
         return theta
 
 
