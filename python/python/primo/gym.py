@@ -451,12 +451,12 @@ class BlackBox:
         dmp = self._dmp
         if len(change) > dmp.dof:
             raise ValueError(f"goals: {len(change)} values for a movement of {dmp.dof} DoFs")
-        dofs = np.arange(len(change)) if dofs is None else np.asarray(dofs, dtype=int)
-        if dofs.shape != change.shape or np.any((dofs < 0) | (dofs >= dmp.dof)) or len(set(dofs)) < len(dofs):
-            raise ValueError(f"goals: DoFs {dofs.tolist()} for {len(change)} values of a movement of {dmp.dof} DoFs")
+        index = np.arange(len(change)) if dofs is None else np.asarray(dofs, dtype=int)
+        if index.shape != change.shape or np.any((index < 0) | (index >= dmp.dof)) or len(set(index)) < len(index):
+            raise ValueError(f"goals: DoFs {index.tolist()} for {len(change)} values of a movement of {dmp.dof} DoFs")
         theta = self.initial(context)
         first = len(theta) - self.size + dmp.dof * dmp.kernels  # θ: weights, goals, τ
-        theta[first + dofs] += change
+        theta[first + index] += change
         return theta
 
 
