@@ -51,6 +51,19 @@ def error_learning(problem, context, budget, seed):
     return problem.box.learn(learner, context, budget, seed=seed)
 
 
+def goal_learning(problem, context, budget, seed):
+    """primo's Secant on a change of the generalized movement's goals
+    instead of its query (``BlackBox.learn(..., goals=...)``): the goals
+    of the DoFs the task pairs with the error's values (the first ones
+    but on push-v3), each within the robot's limits of its DoF."""
+    box, dofs = problem.box, list(problem.goal_dofs)
+    goal = np.asarray(box.dmp(box.query(context)).goal)[dofs]
+    low, high = (np.asarray(v)[dofs] - goal for v in problem.limits)
+    # A generalized goal beyond a limit: its change may still be 0.
+    learner = primo.Secant(np.minimum(low, 0), np.maximum(high, 0), np.zeros(len(dofs)), max_rollouts=budget)
+    return box.learn(learner, context, budget, seed=seed, goals=dofs)
+
+
 def _power(query_gain: float) -> Callable:
     def run(problem, context, budget, seed):
         box = problem.box
@@ -133,6 +146,7 @@ def pibb(problem, context, budget, seed, samples=10, eliteness=10.0):
 METHODS = {
     "generalized": generalized,
     "error-learning": error_learning,
+    "goal-learning": goal_learning,
     "power": _power(0.0),
     "power-el": _power(0.5),
     "cma": _cma(None),

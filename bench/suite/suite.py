@@ -28,21 +28,21 @@ from tasks import HELD_OUT_SEED, TASKS
 COLUMNS = ["task", "context", "seed", "method", "success", "rollouts", "rollouts_to_success",
            "rejected", "final_return", "best_return", "final_error", "seconds"]
 
-_cache: dict = {}  # per process: task name -> (problem, held-out contexts)
+_cache: dict = {}  # per process: (task name, regression) -> (problem, held-out contexts)
 
 
-def _setup(name: str, contexts: int):
-    if name not in _cache:
+def _setup(name: str, contexts: int, regression: str):
+    if (name, regression) not in _cache:
         warnings.filterwarnings("ignore")  # Metaworld's and pycma's import chatter
         task = TASKS[name]
         env = task.make()
-        _cache[name] = (task.problem(env), task.contexts(env, contexts, HELD_OUT_SEED))
-    return _cache[name]
+        _cache[name, regression] = (task.problem(env, regression), task.contexts(env, contexts, HELD_OUT_SEED))
+    return _cache[name, regression]
 
 
 def run_one(job):
-    name, contexts, index, seed, method, budget = job
-    problem, held_out = _setup(name, contexts)
+    name, contexts, index, seed, method, budget, regression = job
+    problem, held_out = _setup(name, contexts, regression)
     start = time.perf_counter()
     episodes = METHODS[method](problem, held_out[index], budget, seed)
     first = next((k for k, e in enumerate(episodes, 1) if e.success), None)
@@ -128,6 +128,8 @@ def main(argv=None):
     parser.add_argument("--first-seed", type=int, default=1, help="seeds run from this one on")
     parser.add_argument("--budget", type=int, default=50, help="roll-outs per learner and context")
     parser.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
+    parser.add_argument("--regression", choices=["lwr", "gpr"], default="lwr",
+                        help="the Generalizer's regression: primo's default LWR or GPR with a linear mean")
     parser.add_argument("--out", help="default bench/results/suite, with --smoke target/bench-smoke")
     parser.add_argument("--smoke", action="store_true",
                         help="reach-v3 and Reacher-v5, one context, 3 roll-outs per method")
@@ -137,7 +139,7 @@ def main(argv=None):
     args.out = args.out or ("target/bench-smoke" if args.smoke else "bench/results/suite")
     command = "bench/suite/run.sh " + " ".join(sys.argv[1:] if argv is None else argv)
     seeds = list(range(args.first_seed, args.first_seed + args.seeds))
-    jobs = [(t, args.contexts, i, s, m, args.budget)
+    jobs = [(t, args.contexts, i, s, m, args.budget, args.regression)
             for t in args.tasks for i in range(args.contexts) for s in seeds for m in args.methods]
     start = time.time()
     with multiprocessing.Pool(args.jobs) as pool:

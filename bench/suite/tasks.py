@@ -14,7 +14,7 @@ from __future__ import annotations
 import json
 import warnings
 from dataclasses import dataclass
-from typing import Any, Callable
+from typing import Any, Callable, Optional
 
 import numpy as np
 
@@ -44,13 +44,17 @@ def unscaled(dmp: primo.Dmp) -> primo.Dmp:
 @dataclass
 class Problem:
     """What a method learns on: the episodes' ``box``, the success
-    radius ``tolerance`` (m or rad, which scales rewards) and the
-    query's bounds ``low``, ``high`` (the box contexts are drawn from)."""
+    radius ``tolerance`` (m or rad, which scales rewards), the query's
+    bounds ``low``, ``high`` (the box contexts are drawn from) and the
+    robot's ``limits`` (low, high) of the DMP's DoFs (m or rad) and the
+    DoFs whose goals the error's values measure, ``goal_dofs``."""
 
     box: primo.gym.BlackBox
     tolerance: float
     low: np.ndarray
     high: np.ndarray
+    limits: tuple[np.ndarray, np.ndarray]
+    goal_dofs: tuple[int, ...]
 
 
 @dataclass
@@ -59,7 +63,9 @@ class Task:
     seed)``, ``space(env) -> (low, high)`` of the contexts,
     ``query(context)``, ``demo(env, context) -> (t, y)``, ``box(env,
     generalizer, query)``, ``tolerance`` (the success radius), ``demos``
-    (how many) and the DMPs' ``columns``."""
+    (how many), the DMPs' ``columns``, ``limits(env) -> (low, high)``
+    of their DoFs and ``goal_dofs``, the DoF whose goal each error value
+    measures (None: the first ones)."""
 
     name: str
     make: Callable[[], Any]
@@ -71,19 +77,22 @@ class Task:
     tolerance: float
     demos: int
     columns: tuple[str, ...]
+    limits: Callable[[Any], tuple[np.ndarray, np.ndarray]]
+    goal_dofs: Optional[tuple[int, ...]] = None
 
-    def generalizer(self, env: Any) -> primo.Generalizer:
+    def generalizer(self, env: Any, regression: str = "lwr") -> primo.Generalizer:
         examples = []
         for context in self.contexts(env, self.demos, DEMO_SEED):
             t, y = self.demo(env, context)
             dmp = primo.Dmp.fit(t, y, names=list(self.columns), kernels=KERNELS, margin=1)
             examples.append((self.query(context), unscaled(dmp)))
-        return primo.Generalizer(examples)
+        return primo.Generalizer(examples, method=regression)
 
-    def problem(self, env: Any) -> Problem:
+    def problem(self, env: Any, regression: str = "lwr") -> Problem:
         low, high = self.space(env)
-        box = self.box(env, self.generalizer(env), self.query)
-        return Problem(box, self.tolerance, self.query(low), self.query(high))
+        box = self.box(env, self.generalizer(env, regression), self.query)
+        dofs = self.goal_dofs or tuple(range(box.query_dim))
+        return Problem(box, self.tolerance, self.query(low), self.query(high), self.limits(env), dofs)
 
 
 # Metaworld: the context is the task's rand_vec, the DMP moves the hand
@@ -103,6 +112,12 @@ def _metaworld_env(name: str) -> Callable[[], Any]:
 
 def _metaworld_space(env: Any) -> tuple[np.ndarray, np.ndarray]:
     return env._random_reset_space.low, env._random_reset_space.high
+
+
+def _metaworld_limits(env: Any) -> tuple[np.ndarray, np.ndarray]:
+    """The hand's box (Metaworld clips its mocap into it), then the
+    gripper's command, -1 to 1."""
+    return np.r_[env.mocap_low, -1.0], np.r_[env.mocap_high, 1.0]
 
 
 def _metaworld_contexts(env: Any, n: int, seed: int) -> list:
@@ -199,6 +214,11 @@ def _reacher_space(env: Any) -> tuple[np.ndarray, np.ndarray]:
     return np.full(2, -0.2), np.full(2, 0.2)
 
 
+def _reacher_limits(env: Any) -> tuple[np.ndarray, np.ndarray]:
+    """joint1's range (reacher.xml); joint0 has none: one turn."""
+    return np.array([-np.pi, -3.0]), np.array([np.pi, 3.0])
+
+
 def _reacher_demo(env: Any, context: Any) -> tuple[np.ndarray, np.ndarray]:
     x, y = context
     c = (x * x + y * y - L1 * L1 - L2 * L2) / (2 * L1 * L2)
@@ -234,18 +254,21 @@ def _reacher_box(env: Any, movement: Any, query: Callable) -> primo.gym.BlackBox
 TASKS = {
     "reach-v3": Task(
         "reach-v3", _metaworld_env("reach-v3"), _metaworld_contexts, _metaworld_space, lambda v: v[3:6],
-        _scripted("reach-v3", False), _metaworld_box(_reach_error), 0.05, 3, ("x", "y", "z"),
+        _scripted("reach-v3", False), _metaworld_box(_reach_error), 0.05, 3, ("x", "y", "z"), _metaworld_limits,
     ),
     "push-v3": Task(
         "push-v3", _metaworld_env("push-v3"), _metaworld_contexts, _metaworld_space, lambda v: np.r_[v[0:2], v[3:5]],
-        _scripted("push-v3", True), _metaworld_box(_push_error), 0.05, 4, ("x", "y", "z", "grip"),
+        _scripted("push-v3", True), _metaworld_box(_push_error), 0.05, 4, ("x", "y", "z", "grip"), _metaworld_limits,
+        # the puck's miss (the error's last two values) is the hand's x and y goals' to fix
+        (2, 3, 0, 1),
     ),
     "button-press-v3": Task(
         "button-press-v3", _metaworld_env("button-press-v3"), _metaworld_contexts, _metaworld_space, lambda v: v[0:2],
         _scripted("button-press-v3", False), _metaworld_box(_button_error), 0.02, 2, ("x", "y", "z"),
+        _metaworld_limits,
     ),
     "Reacher-v5": Task(
         "Reacher-v5", _reacher_make, _reacher_contexts, _reacher_space, np.asarray,
-        _reacher_demo, _reacher_box, 0.01, 4, ("joint0", "joint1"),
+        _reacher_demo, _reacher_box, 0.01, 4, ("joint0", "joint1"), _reacher_limits,
     ),
 }

@@ -101,6 +101,41 @@ def test_power_learns_query_and_shape_together(generalizer):
     assert all(e.theta.shape == (d + n,) for e in episodes)
 
 
+def at_rest(env, obs, info):
+    """The fingertip within 1 cm of the target, the joints under 0.5 rad/s."""
+    return bool(np.linalg.norm(obs[8:10]) < 0.01 and np.abs(obs[6:8]).max() < 0.5)
+
+
+def test_secant_learns_the_goals_where_no_query_reaches(generalizer):
+    # Beyond the demonstrations' square the generalized movement misses
+    # and no query nearby comes to rest on the target; the goals (joint
+    # angles) move the fingertip anywhere in reach.
+    box = reacher_box(generalizer, success=at_rest)
+    context = np.array([-0.02, -0.19])
+    q = box.query(context)
+    by_query = box.learn(primo.Secant(low=q - 0.1, high=q + 0.1, desired=q), context, budget=30, seed=0)
+    assert not by_query[-1].success
+    learner = primo.Secant(low=[-np.pi] * 2, high=[np.pi] * 2, desired=[0.0, 0.0], max_rollouts=30)
+    episodes = box.learn(learner, context, budget=30, seed=0, goals=True)
+    assert episodes[-1].success, [np.linalg.norm(e.error) for e in episodes]
+    first = box.dmp(episodes[0].theta).params
+    assert np.allclose(first, box.dmp(box.query(context)).params)  # the generalized movement
+    changed = box.dmp(episodes[-1].theta).params != first
+    assert changed.sum() == 2 and changed[-3:-1].all()  # its two goals, not its weights or τ
+    # A plain DMP's goals too; more values than DoFs are refused.
+    plain = reacher_box(fit(DEMOS[0]), success=at_rest)
+    learner = primo.Secant(low=[-np.pi] * 2, high=[np.pi] * 2, desired=[0.0, 0.0], max_rollouts=30)
+    assert plain.learn(learner, DEMOS[1], budget=30, seed=0, goals=True)[-1].success
+    with pytest.raises(ValueError, match="goals: 3 values for a movement of 2 DoFs"):
+        plain.learn(primo.Secant(low=[-1] * 3, high=[1] * 3, desired=[0] * 3), DEMOS[1], goals=True)
+    # The DoFs listed, one per value: joint1's goal alone, told the y error.
+    single = reacher_box(fit(DEMOS[0]), error=lambda env, obs, info: -obs[9:10])
+    one = single.learn(primo.GoldenSection(low=-1, high=1, desired=0.5), DEMOS[1], budget=1, goals=[1])
+    assert np.allclose(single.dmp(one[0].theta).goal - fit(DEMOS[0]).goal, [0.0, 0.5])
+    with pytest.raises(ValueError, match=r"goals: DoFs \[2\]"):
+        single.learn(primo.GoldenSection(low=-1, high=1, desired=0.5), DEMOS[1], goals=[2])
+
+
 def test_theta_forms_agree(generalizer):
     box = reacher_box(generalizer)
     context = np.array([0.0, 0.15])

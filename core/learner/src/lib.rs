@@ -12,7 +12,8 @@
 //!
 //! A [`Service`] holds the training examples, one learner (golden section
 //! or Illinois on a 1-D query; secant error learning or PoWER on a query of
-//! `query_dim` = 1..=[`MAX_QUERY`] values) and the movement being streamed,
+//! `query_dim` = 1..=[`MAX_QUERY`] values; secant error learning on up to
+//! [`MAX_QUERY`] of the movement's goals) and the movement being streamed,
 //! in fixed buffers; the coprocessor's, [`Coprocessor`], is sized for the
 //! paper's arm: [`THETA`] = 7 DoF × 30 kernels + 7 goals + τ.
 //! [`Service::respond`] answers one [`Request`]; [`Service::handle`] does
@@ -116,8 +117,47 @@ enum Learner {
     Idle,
     Golden(GoldenSection),
     Illinois(Illinois),
-    Secant(Secant<MAX_QUERY>),
+    /// On the query, or on the goals ([`LearnerSetup::SecantGoals`]).
+    Secant(Secant<MAX_QUERY>, Option<Goals>),
     Power,
+}
+
+/// Secant error learning on the goals: the query held, and where in `θ`
+/// the changed goals begin.
+#[derive(Debug, Clone)]
+struct Goals {
+    query: Query,
+    first: usize,
+}
+
+/// A roll-out's `Δθ`: PoWER's, or the secant learner's changes of the
+/// goals at `first` within zeros (`len` values in all).
+#[derive(Debug, Clone, Copy)]
+enum Delta<'a> {
+    Values(&'a [f32]),
+    Goals {
+        len: usize,
+        first: usize,
+        change: &'a [f32],
+    },
+}
+
+impl Delta<'_> {
+    fn len(&self) -> usize {
+        match self {
+            Delta::Values(v) => v.len(),
+            Delta::Goals { len, .. } => *len,
+        }
+    }
+
+    /// Value `i`, 0 beyond the end.
+    fn get(&self, i: usize) -> f32 {
+        let value = match self {
+            Delta::Values(v) => v.get(i),
+            Delta::Goals { first, change, .. } => i.checked_sub(*first).and_then(|j| change.get(j)),
+        };
+        value.copied().unwrap_or(0.0)
+    }
 }
 
 /// The movement being streamed, if any; `repr(u8)` as for [`Learner`].
@@ -331,7 +371,21 @@ impl<const P: usize, const E: usize, const K: usize> Service<P, E, K> {
             }
             LearnerSetup::Secant(cfg) => {
                 check_len("secant query", query_dim, cfg.dim())?;
-                Learner::Secant(Secant::new(cfg.clone())?)
+                Learner::Secant(Secant::new(cfg.clone())?, None)
+            }
+            LearnerSetup::SecantGoals {
+                config,
+                query,
+                first_goal,
+            } => {
+                check_len("secant goals' query", query_dim, query.len())?;
+                let first = usize::from(*first_goal);
+                check_capacity("changed goals' end in θ", first + config.dim(), theta_len)?;
+                let goals = Goals {
+                    query: query.clone(),
+                    first,
+                };
+                Learner::Secant(Secant::new(config.clone())?, Some(goals))
             }
             LearnerSetup::Power { config, query } => {
                 check_len("PoWER start query", query_dim, query.len())?;
@@ -428,7 +482,7 @@ impl<const P: usize, const E: usize, const K: usize> Service<P, E, K> {
             Learner::Idle => return bad_state("ask before configure"),
             Learner::Golden(l) => (l.status(), true, 0),
             Learner::Illinois(l) => (l.status(), true, 0),
-            Learner::Secant(l) => (l.status(), true, 0),
+            Learner::Secant(l, _) => (l.status(), true, 0),
             Learner::Power => (
                 SearchStatus::Running,
                 self.power.next_is_mean(),
@@ -452,43 +506,56 @@ impl<const P: usize, const E: usize, const K: usize> Service<P, E, K> {
         Reply::Rollout(rollout)
     }
 
-    /// The query and `Δθ` (empty for the error learners) of the roll-out
-    /// to execute: PoWER draws it at the first call after a tell, and every
-    /// call until the next tell gives the same. `None` once the search has
-    /// finished.
-    fn next_rollout(&mut self) -> Option<(Query, &[f32])> {
-        let none: &[f32] = &[];
+    /// The query and `Δθ` (empty for the error learners on the query) of
+    /// the roll-out to execute: PoWER draws it at the first call after a
+    /// tell, and every call until the next tell gives the same. `None` once
+    /// the search has finished.
+    fn next_rollout(&mut self) -> Option<(Query, Delta<'_>)> {
+        let none = Delta::Values(&[]);
         match &self.learner {
             Learner::Idle => None,
             Learner::Golden(l) => l.ask().map(|q| (query_of(&[q]), none)),
             Learner::Illinois(l) => l.ask().map(|q| (query_of(&[q]), none)),
-            Learner::Secant(l) => l.ask().map(|q| (query_of(q), none)),
+            Learner::Secant(l, None) => l.ask().map(|q| (query_of(q), none)),
+            Learner::Secant(l, Some(goals)) => l.ask().map(|change| {
+                let delta = Delta::Goals {
+                    len: self.intake.theta_len,
+                    first: goals.first,
+                    change,
+                };
+                (goals.query.clone(), delta)
+            }),
             Learner::Power => {
                 let (query, delta) = self.power.ask().split_at_checked(self.query_dim)?;
-                Some((query_of(query), delta))
+                Some((query_of(query), Delta::Values(delta)))
             }
         }
     }
 
-    /// `Δθ` of the roll-out in flight (PoWER only).
-    fn delta(&mut self) -> Option<&[f32]> {
+    /// `Δθ` of the roll-out in flight (PoWER's, or the changed goals').
+    fn delta(&mut self) -> Option<Delta<'_>> {
         match self.learner {
-            Learner::Power if self.in_flight => self.next_rollout().map(|(_, delta)| delta),
+            Learner::Power | Learner::Secant(_, Some(_)) if self.in_flight => {
+                self.next_rollout().map(|(_, delta)| delta)
+            }
             _ => None,
         }
     }
 
     fn fetch(&mut self, offset: usize) -> Reply {
         let Some(delta) = self.delta() else {
-            return bad_state("fetch without a PoWER roll-out in flight");
+            return bad_state("fetch without a roll-out with Δθ in flight");
         };
-        let Some(rest) = delta.get(offset..) else {
+        if offset > delta.len() {
             return Reply::Error(Fault::new(
                 FaultKind::Invalid,
                 format_args!("offset {offset} beyond Δθ of {}", delta.len()),
             ));
-        };
-        let values = rest.iter().take(CHUNK).copied().collect();
+        }
+        let values = (offset..delta.len())
+            .take(CHUNK)
+            .map(|i| delta.get(i))
+            .collect();
         Reply::Chunk {
             offset: offset as u16,
             values,
@@ -503,7 +570,7 @@ impl<const P: usize, const E: usize, const K: usize> Service<P, E, K> {
             Learner::Idle => return bad_state("tell before configure"),
             Learner::Golden(l) => scalar(&outcome.error).and_then(|e| l.tell(e)).map(drop),
             Learner::Illinois(l) => scalar(&outcome.error).and_then(|e| l.tell(e)).map(drop),
-            Learner::Secant(l) => l.tell(&outcome.error).map(drop),
+            Learner::Secant(l, _) => l.tell(&outcome.error).map(drop),
             // No error (nothing measured): nothing to correct the query by.
             Learner::Power if self.power.query_gain() != 0.0 && !outcome.error.is_empty() => {
                 check_len("PoWER error", self.query_dim, outcome.error.len())
@@ -529,7 +596,7 @@ impl<const P: usize, const E: usize, const K: usize> Service<P, E, K> {
             Learner::Idle => return bad_state("infeasible before configure"),
             Learner::Golden(l) => l.tell_infeasible().map(drop),
             Learner::Illinois(l) => l.tell_infeasible().map(drop),
-            Learner::Secant(l) => l.tell_infeasible().map(drop),
+            Learner::Secant(l, _) => l.tell_infeasible().map(drop),
             Learner::Power => {
                 return bad_state("PoWER is told an infeasible roll-out's reward (Tell)");
             }
@@ -555,7 +622,7 @@ impl<const P: usize, const E: usize, const K: usize> Service<P, E, K> {
             Learner::Idle => return bad_state("status before configure"),
             Learner::Golden(l) => search(l),
             Learner::Illinois(l) => search(l),
-            Learner::Secant(l) => Status {
+            Learner::Secant(l, _) => Status {
                 rollouts: l.rollouts(),
                 updates: 0,
                 search: l.status(),
@@ -594,7 +661,10 @@ impl<const P: usize, const E: usize, const K: usize> Service<P, E, K> {
         let theta = theta.get_mut(..self.intake.theta_len).unwrap_or(&mut []);
         self.examples.generalize(&query, theta)?;
         if let Some((_, delta)) = self.next_rollout() {
-            theta.iter_mut().zip(delta).for_each(|(t, d)| *t += d);
+            let len = delta.len();
+            for (i, t) in theta.iter_mut().enumerate().take(len) {
+                *t += delta.get(i);
+            }
         }
         let dmp = Dmp::from_shape(
             &start.shape,

@@ -407,6 +407,45 @@ fn secant_config(n: usize) -> SecantConfig<MAX_QUERY> {
     }
 }
 
+/// Starts the movement of the roll-out in flight: the examples' 2 DoFs,
+/// from 0.
+fn start_movement(s: &mut Service) {
+    let start = DmpStart {
+        shape: examples().0.shape(),
+        kernels: 6,
+        start: HVec::from_slice(&[0.0, 0.0]).unwrap(),
+        dt: 0.01,
+    };
+    assert_eq!(s.respond(&Request::DmpStart(start)), Reply::Ok);
+}
+
+/// Tells the service and the secant learner used directly the same error.
+fn tell_both(s: &mut Service, direct: &mut Secant<MAX_QUERY>, error: HVec<f32, MAX_QUERY>) {
+    let outcome = Outcome {
+        error: error.clone(),
+        reward: 0.0,
+    };
+    assert_eq!(s.respond(&Request::Tell(outcome)), Reply::Ok);
+    direct.tell(&error).unwrap();
+}
+
+/// The service's search converged after `n` roll-outs, at most 12, with
+/// the best roll-out of the learner used directly.
+fn assert_converged_as(s: &mut Service, direct: &Secant<MAX_QUERY>, n: u32) {
+    assert_eq!(
+        s.respond(&Request::Ask),
+        Reply::Finished(SearchStatus::Converged)
+    );
+    let Reply::Status(st) = s.respond(&Request::Status) else {
+        panic!()
+    };
+    assert_eq!((st.search, st.rollouts), (SearchStatus::Converged, n));
+    let best = direct.best().unwrap();
+    assert_eq!(st.best_query.as_deref(), Some(best.query));
+    assert_eq!(st.best, Some(best.size));
+    assert!(n <= 12, "{n} roll-outs");
+}
+
 #[test]
 fn secant_through_the_service_is_the_learner_itself() {
     let mut s = Service::new();
@@ -429,34 +468,12 @@ fn secant_through_the_service_is_the_learner_itself() {
         };
         assert_eq!((r.number, r.query.as_slice(), r.delta_len), (n, q, 0));
         // The movement generalizes to the 3-D query.
-        let start = DmpStart {
-            shape: examples().0.shape(),
-            kernels: 6,
-            start: HVec::from_slice(&[0.0, 0.0]).unwrap(),
-            dt: 0.01,
-        };
-        assert_eq!(s.respond(&Request::DmpStart(start)), Reply::Ok);
+        start_movement(&mut s);
         let error = cell(q);
-        let outcome = Outcome {
-            error: error.clone(),
-            reward: 0.0,
-        };
-        assert_eq!(s.respond(&Request::Tell(outcome)), Reply::Ok);
-        direct.tell(&error).unwrap();
+        tell_both(&mut s, &mut direct, error);
         n += 1;
     }
-    assert_eq!(
-        s.respond(&Request::Ask),
-        Reply::Finished(SearchStatus::Converged)
-    );
-    let Reply::Status(st) = s.respond(&Request::Status) else {
-        panic!()
-    };
-    assert_eq!((st.search, st.rollouts), (SearchStatus::Converged, n));
-    let best = direct.best().unwrap();
-    assert_eq!(st.best_query.as_deref(), Some(best.query));
-    assert_eq!(st.best, Some(best.size));
-    assert!(n <= 12, "{n} roll-outs");
+    assert_converged_as(&mut s, &direct, n);
 }
 
 #[test]
@@ -494,6 +511,76 @@ fn power_over_a_two_dimensional_query_gives_the_same_bits() {
     };
     let best = direct.best().unwrap();
     assert_eq!(st.best_query.as_deref(), Some(&best.params[..2]));
+}
+
+#[test]
+fn secant_on_the_goals_changes_only_the_goals_as_the_learner_itself() {
+    let mut s = Service::new();
+    let query = q1(0.6);
+    // θ: 2 DoFs × 6 kernels, then the 2 goals (at 12), then τ.
+    let learner = LearnerSetup::SecantGoals {
+        config: secant_config(2),
+        query: query.clone(),
+        first_goal: 12,
+    };
+    configure(&mut s, learner);
+    let mut direct = Secant::<MAX_QUERY>::new(secant_config(2)).unwrap();
+    // The outcome moves with the goals through a map A ≠ I.
+    let cell = |g: &[f32]| {
+        let m = [0.8 * g[0] + 0.3 * g[1], -0.2 * g[0] + 1.4 * g[1]];
+        HVec::<f32, MAX_QUERY>::from_iter([0.7 - m[0], 0.9 - m[1]])
+    };
+    let mut n = 0;
+    while let Some(change) = direct.ask() {
+        let Reply::Rollout(r) = s.respond(&Request::Ask) else {
+            panic!()
+        };
+        assert_eq!((r.number, &r.query, r.delta_len), (n, &query, 15));
+        let mut expected = vec![0.0f32; 15];
+        expected[12..14].copy_from_slice(change);
+        assert_eq!(fetch(&mut s, 15), expected, "roll-out {n}");
+        // The movement G(q̂) + Δθ ends at the changed goals.
+        start_movement(&mut s);
+        let end = loop {
+            match s.respond(&Request::DmpNext) {
+                Reply::Setpoint {
+                    position,
+                    done: true,
+                    ..
+                } => break position,
+                Reply::Setpoint { .. } => {}
+                other => panic!("{other:?}"),
+            }
+        };
+        let mut generalized = Generalizer::<8, MAX_QUERY, 15>::new(1, 15, LWR);
+        for (q, theta) in examples().1 {
+            generalized.add_example(&[q], &theta).unwrap();
+        }
+        generalized.build().unwrap();
+        let mut theta = [0.0f32; 15];
+        generalized.generalize(&query, &mut theta).unwrap();
+        for (i, e) in end.iter().enumerate() {
+            assert!(
+                (e - (theta[12 + i] + change[i])).abs() < 0.05,
+                "{end:?} {theta:?}"
+            );
+        }
+        let error = cell(change);
+        tell_both(&mut s, &mut direct, error);
+        n += 1;
+    }
+    assert_converged_as(&mut s, &direct, n);
+    // Goals beyond θ do not fit.
+    let beyond = LearnerSetup::SecantGoals {
+        config: secant_config(2),
+        query,
+        first_goal: 14,
+    };
+    let r = s.respond(&Request::Configure(bare(beyond, 1, 15)));
+    assert!(
+        matches!(r, Reply::Error(ref f) if f.kind == FaultKind::Capacity),
+        "{r:?}"
+    );
 }
 
 #[test]

@@ -121,6 +121,20 @@ pub enum LearnerSetup {
         /// The starting query `q̂`.
         query: Query,
     },
+    /// Secant error learning on a change of the generalized movement's
+    /// goals instead of its query: `q̂` stays `query`, and the learner's
+    /// values are `Δθ[first_goal..]`, one goal per error value (the rest
+    /// of `Δθ` is 0). Few examples generalize poorly beyond themselves:
+    /// where no query takes the movement to the outcome, its goals can.
+    SecantGoals {
+        /// Its settings: its values are the changes of the goals.
+        config: SecantConfig<MAX_QUERY>,
+        /// The query the movement is generalized at (`query_dim` values).
+        query: Query,
+        /// The first changed goal's index in `θ` (after the weights: DoFs
+        /// × kernels).
+        first_goal: u16,
+    },
 }
 
 /// A roll-out's measured outcome: error learners use the error, PoWER the
@@ -226,7 +240,8 @@ pub struct Status {
     pub updates: u32,
     /// The error learners' state (PoWER is always running).
     pub search: SearchStatus,
-    /// The best roll-out's query, if any was told.
+    /// The best roll-out's query, if any was told ([`LearnerSetup::SecantGoals`]:
+    /// its change of the goals).
     pub best_query: Option<Query>,
     /// Its error (golden section, Illinois), its error's size `max_i |ε_i|`
     /// (secant) or its reward (PoWER).

@@ -77,5 +77,6 @@ pub mod scale;
 /// the learning coprocessor no longer reads the scale's (every message
 /// keeps its version-5 bytes); 7: an error learner is told of a roll-out
 /// that could not be made (`Request::Infeasible`, the search's
-/// `Infeasible` status).
-pub const VERSION: u16 = 7;
+/// `Infeasible` status); 8: error learning on the movement's goals
+/// (`LearnerSetup::SecantGoals`).
+pub const VERSION: u16 = 8;

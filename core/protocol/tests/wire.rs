@@ -100,6 +100,13 @@ fn setup() -> impl Strategy<Value = Setup> {
         secant_config().prop_map(LearnerSetup::Secant),
         (power_config(), floats::<MAX_QUERY>())
             .prop_map(|(config, query)| LearnerSetup::Power { config, query }),
+        (secant_config(), floats::<MAX_QUERY>(), any::<u16>()).prop_map(
+            |(config, query, first_goal)| LearnerSetup::SecantGoals {
+                config,
+                query,
+                first_goal
+            }
+        ),
     ];
     let regression = prop_oneof![
         prop::option::of(float()).prop_map(|bandwidth| Method::Lwr { bandwidth }),

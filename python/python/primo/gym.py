@@ -363,6 +363,7 @@ class BlackBox:
         reward: Optional[Callable[[Episode], float]] = None,
         seed: Optional[int] = None,
         until_success: bool = True,
+        goals: Union[bool, Sequence[int]] = False,
     ) -> list[Episode]:
         """Lets a learner of primo's run episodes at ``context`` until it
         is done, ``budget`` episodes are spent or, with
@@ -374,6 +375,16 @@ class BlackBox:
         ``dmp`` takes and is told ``reward(episode)`` (needed: a reward
         >= 0, larger is better) and the error, when there is one.
         ``seed``: every episode's reset seed.
+
+        ``goals``: an error learner's values change the movement's goals
+        instead of asking a query: with True the goals of the first DoFs,
+        one per value, or of the DoFs listed, value ``i`` the goal of DoF
+        ``goals[i]`` (the generalized movement's, at the query of
+        ``context``, or the DMP's; the first ask, zeros, is that movement
+        itself).
+        Where few demonstrations generalize poorly beyond themselves, no
+        query reaches an outcome that a goal can (a movement ends at its
+        goal); the learner learns how the outcome moves with the goals.
 
         >>> import gymnasium, numpy as np, primo, primo.gym
         >>> dmp = primo.Dmp.fit(np.linspace(0, 0.4, 21), np.zeros((21, 2)), kernels=5)
@@ -392,10 +403,11 @@ class BlackBox:
                     "reward=lambda e: np.exp(-10 * np.linalg.norm(e.error))"
                 )
         elif isinstance(learner, (GoldenSection, Illinois, Secant)):
-            if self.generalizer is None or self._error is None:
+            if self._error is None or (self.generalizer is None and goals is False):
                 raise ValueError(
-                    f"learner: {type(learner).__name__} learns a Generalizer's query from the error; "
-                    "this BlackBox needs a Generalizer movement and error=..."
+                    f"learner: {type(learner).__name__} learns a Generalizer's query from the error "
+                    "(or, with goals=True, a movement's goals); this BlackBox needs a Generalizer "
+                    "movement (or goals=True) and error=..."
                 )
         else:
             raise TypeError(f"learner: {type(learner).__name__}, expected GoldenSection, Illinois, Secant or Power")
@@ -404,6 +416,8 @@ class BlackBox:
             theta = learner.ask()
             if theta is None:  # an error learner that is done
                 break
+            if goals is not False and not isinstance(learner, Power):
+                theta = self._goal_change(theta, context, None if goals is True else goals)
             episode = self.episode(theta, context, seed)
             episodes.append(episode)
             if until_success and episode.success:
@@ -429,6 +443,21 @@ class BlackBox:
                     raise ValueError(f"error: {type(learner).__name__} needs one error value, got {e}")
                 learner.tell(float(e[0]))
         return episodes
+
+    def _goal_change(self, change: Any, context: Any, dofs: Optional[Sequence[int]]) -> np.ndarray:
+        """The parameters of the movement with the goals of ``dofs`` (the
+        first DoFs if None) changed by ``change`` (``learn(..., goals=...)``)."""
+        change = np.atleast_1d(np.asarray(change, dtype=np.float64))
+        dmp = self._dmp
+        if len(change) > dmp.dof:
+            raise ValueError(f"goals: {len(change)} values for a movement of {dmp.dof} DoFs")
+        index = np.arange(len(change)) if dofs is None else np.asarray(dofs, dtype=int)
+        if index.shape != change.shape or np.any((index < 0) | (index >= dmp.dof)) or len(set(index)) < len(index):
+            raise ValueError(f"goals: DoFs {index.tolist()} for {len(change)} values of a movement of {dmp.dof} DoFs")
+        theta = self.initial(context)
+        first = len(theta) - self.size + dmp.dof * dmp.kernels  # θ: weights, goals, τ
+        theta[first + index] += change
+        return theta
 
 
 def qpos_reset(joints: Union[slice, Sequence[int]]) -> Callable[[Any, Any, Optional[int]], np.ndarray]:
