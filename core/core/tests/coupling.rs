@@ -196,45 +196,31 @@ fn joint_limits_hold_an_overshoot_back() {
     let free = peak(&[]);
     let top = free.iter().copied().fold(f32::MIN, f32::max);
     assert!(top > 1.0, "the demonstration overshoots: {top}");
-    let limits = JointLimits::<1>::new(&[-1.0], &[0.95], 0.1, 50.0, 1e4, &[0.0], &[0.8]).unwrap();
+    // The reach from 0 to 0.8, margin 0.1, gain 50, between these limits.
+    let between = |low: f32, high: f32| {
+        JointLimits::<1>::new(&[low], &[high], 0.1, 50.0, 1e4, &[0.0], &[0.8])
+    };
+    let limits = between(-1.0, 0.95).unwrap();
     let held = peak(&[&limits]);
     let top = held.iter().copied().fold(f32::MIN, f32::max);
     assert!(top < 0.95, "beyond the limit: {top}");
     assert!((held.last().unwrap() - 0.8).abs() < 1e-3);
-    let wide = JointLimits::<1>::new(&[-2.0], &[2.0], 0.1, 50.0, 1e4, &[0.0], &[0.8]).unwrap();
+    let wide = between(-2.0, 2.0).unwrap();
     assert_eq!(peak(&[&wide]), free);
     // An infinite limit is none.
-    let open = JointLimits::<1>::new(
-        &[f32::NEG_INFINITY],
-        &[f32::INFINITY],
-        0.1,
-        50.0,
-        1e4,
-        &[0.0],
-        &[0.8],
-    )
-    .unwrap();
+    let open = between(f32::NEG_INFINITY, f32::INFINITY).unwrap();
     assert_eq!(peak(&[&open]), free);
-    let above = JointLimits::<1>::new(
-        &[f32::NEG_INFINITY],
-        &[0.95],
-        0.1,
-        50.0,
-        1e4,
-        &[0.0],
-        &[0.8],
-    )
-    .unwrap();
+    let above = between(f32::NEG_INFINITY, 0.95).unwrap();
     assert_eq!(peak(&[&above]), held);
     assert_eq!(
-        JointLimits::<1>::new(&[-1.0], &[0.85], 0.1, 50.0, 1e4, &[0.0], &[0.8]),
+        between(-1.0, 0.85),
         Err(Error::OutOfRange(
             "the movement's goal is within the margin of a joint limit, where the push would \
              hold it off its goal: give a smaller margin"
         ))
     );
     assert_eq!(
-        JointLimits::<1>::new(&[-1.0], &[0.7], 0.1, 50.0, 1e4, &[0.0], &[0.8]),
+        between(-1.0, 0.7),
         Err(Error::OutOfRange(
             "the movement's goal is outside its joint limits"
         ))

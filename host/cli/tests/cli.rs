@@ -117,6 +117,14 @@ fn a_recording_stamped_in_unix_time_fits_as_from_0() {
     assert_eq!(fit(-2.5), from_zero, "before 0");
 }
 
+/// A trajectory CSV's rows, its header skipped.
+fn csv_rows(csv: &str) -> Vec<Vec<f64>> {
+    csv.lines()
+        .skip(1)
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect()
+}
+
 /// `primo dmp fit --demo DEMO ARGS --out NAME` (in the test's directory):
 /// the file written and its JSON.
 fn fit_to(demo: &Path, args: &[&str], name: &str) -> (std::path::PathBuf, serde_json::Value) {
@@ -540,18 +548,12 @@ fn a_screw_of_540_degrees_fits_replays_and_keeps_its_start_under_a_new_goal() {
         .as_array()
         .expect("charted about its axis");
     assert_eq!(axis.len(), 3);
-    let rows_of = |out: &str| -> Vec<Vec<f64>> {
-        out.lines()
-            .skip(1)
-            .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
-            .collect()
-    };
     // The replay: within 0.1° of the recording all along (a turn beyond
     // 270° charted as the rotation vector replayed such wobbling screws
     // degrees off: see core/core/tests/orientation.rs).
     let (code, out, err) = primo(&["dmp", "run", json.to_str().unwrap(), "--dt", "0.002"]);
     assert_eq!(code, 0, "{err}");
-    let replay = rows_of(&out);
+    let replay = csv_rows(&out);
     let worst = replay
         .iter()
         .map(|v| degrees_apart(&v[4..8], screw(v[0])))
@@ -574,7 +576,7 @@ fn a_screw_of_540_degrees_fits_replays_and_keeps_its_start_under_a_new_goal() {
         "3",
     ]);
     assert_eq!(code, 0, "{err}");
-    let run = rows_of(&out);
+    let run = csv_rows(&out);
     let first = &run[0];
     assert!(
         degrees_apart(&first[4..8], screw(0.0)) < 0.01,
@@ -759,11 +761,7 @@ fn dmp_run_steers_round_an_obstacle_and_refuses_what_it_cannot() {
     };
     let (code, csv, err) = run(&["--obstacle", "0.3,0.11,0.2,0.05"]);
     assert_eq!(code, 0, "{err}");
-    let rows: Vec<Vec<f64>> = csv
-        .lines()
-        .skip(1)
-        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
-        .collect();
+    let rows = csv_rows(&csv);
     let clearance = rows
         .iter()
         .map(|r| {
@@ -835,19 +833,13 @@ fn dmp_run_keeps_away_from_joint_limits() {
         args.extend(extra);
         primo(&args)
     };
-    let rows = |csv: &str| -> Vec<Vec<f64>> {
-        csv.lines()
-            .skip(1)
-            .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
-            .collect()
-    };
     let top = |rows: &[Vec<f64>]| rows.iter().map(|r| r[1]).fold(f64::MIN, f64::max);
     let (code, free, err) = run(&[]);
     assert_eq!(code, 0, "{err}");
-    assert!(top(&rows(&free)) > 1.0);
+    assert!(top(&csv_rows(&free)) > 1.0);
     let (code, held, err) = run(&["--limit", "a1,-1,0.95", "--limit-margin", "0.1"]);
     assert_eq!(code, 0, "{err}");
-    let held = rows(&held);
+    let held = csv_rows(&held);
     assert!(top(&held) < 0.95, "beyond the limit: {}", top(&held));
     let last = held.last().unwrap();
     assert!(
@@ -857,7 +849,7 @@ fn dmp_run_keeps_away_from_joint_limits() {
     // One-sided: the same.
     let (code, above, err) = run(&["--limit", "a1,-inf,0.95", "--limit-margin", "0.1"]);
     assert_eq!(code, 0, "{err}");
-    assert_eq!(rows(&above), held);
+    assert_eq!(csv_rows(&above), held);
     for (args, says) in [
         (
             &["--limit", "a1,-1,0.85", "--limit-margin", "0.1"][..],
@@ -918,10 +910,7 @@ fn dmp_run_reaches_a_goal_velocity_and_passes_via_points() {
         args.extend(extra);
         let (code, csv, err) = primo(&args);
         assert_eq!(code, 0, "{extra:?}: {err}");
-        csv.lines()
-            .skip(1)
-            .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
-            .collect()
+        csv_rows(&csv)
     };
     for (flag, speed) in [(None, v), (Some("1.5,0"), 1.5)] {
         let run = rows(&flag.map_or(vec![], |f| vec!["--goal-velocity", f]));
@@ -1003,17 +992,11 @@ fn promp_fits_demonstrations_and_runs_its_conditioned_mean() {
     }
     let (code, _, err) = primo(&args);
     assert_eq!(code, 0, "{err}");
-    let rows = |csv: &str| -> Vec<Vec<f64>> {
-        csv.lines()
-            .skip(1)
-            .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
-            .collect()
-    };
     let file = file.to_str().unwrap();
     let (code, csv, err) = primo(&["promp", "run", file, "--dt", "0.01", "--std"]);
     assert_eq!(code, 0, "{err}");
     assert_eq!(csv.lines().next(), Some("t,x,y,x_std,y_std"));
-    let mean = rows(&csv);
+    let mean = csv_rows(&csv);
     let end = mean.last().unwrap();
     assert!(
         (end[0] - 1.0).abs() < 1e-6 && (end[1] - 1.0).abs() < 1e-3,
@@ -1024,7 +1007,7 @@ fn promp_fits_demonstrations_and_runs_its_conditioned_mean() {
     // A new goal for x: y follows its correlation (half of x).
     let (code, csv, err) = primo(&["promp", "run", file, "--dt", "0.01", "--via", "1,x,1.05"]);
     assert_eq!(code, 0, "{err}");
-    let end = rows(&csv).last().unwrap().clone();
+    let end = csv_rows(&csv).last().unwrap().clone();
     assert!(
         (end[1] - 1.05).abs() < 1e-4 && (end[2] - 0.525).abs() < 1e-2,
         "{end:?}"
