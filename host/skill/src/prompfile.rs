@@ -49,20 +49,14 @@ impl PrompFile {
     /// covariance's `ridge`: two or more demonstrations, each with the
     /// first one's columns by name and in order, each's duration its phase
     /// from 0 to 1. Orientation columns are refused: a ProMP takes each
-    /// column as a number, which a quaternion's components are not.
+    /// column as a number, which a quaternion's components are not. The
+    /// core's fit refuses kernels beyond [`MAX_KERNELS`], a bad ridge and
+    /// fewer than two demonstrations.
     pub fn fit(demos: &[(&str, &Demo)], kernels: usize, ridge: f64) -> Result<Self, Error> {
         let bad = |why: String| Error::Demonstrations(why);
         let Some((first_name, first)) = demos.first() else {
             return Err(bad("a ProMP needs at least two demonstrations".into()));
         };
-        if !(2..=MAX_KERNELS).contains(&kernels) {
-            return Err(bad(format!(
-                "{kernels} kernels: a ProMP takes 2 to {MAX_KERNELS} per column"
-            )));
-        }
-        if !(ridge.is_finite() && ridge >= 0.0) {
-            return Err(bad(format!("ridge {ridge}: must be a finite number >= 0")));
-        }
         if first.names.len() > MAX_COLUMNS {
             return Err(bad(format!(
                 "{first_name}: {} columns, a ProMP takes at most {MAX_COLUMNS}",
