@@ -106,14 +106,12 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
             dof: 0,
             position: 0.0,
         }; ROWS];
-        let mut m = 0;
-        for (i, p) in points.iter().enumerate() {
-            if let Some(row) = rows.get_mut(i) {
-                *row = *p;
-                m += 1;
-            }
+        // At most MAX_VIA_POINTS (checked above): every one has its row.
+        for (row, p) in rows.iter_mut().zip(points) {
+            *row = *p;
         }
-        let vias = m;
+        let vias = points.len();
+        let mut m = vias;
         let mut bent = [false; D];
         for p in points {
             if let Some(b) = bent.get_mut(p.dof)
