@@ -5,6 +5,7 @@
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 
+use primo_core::coupling::PhaseStop;
 use primo_franka::net::{FrankaRobot, PlayConfig, Progress, play as fci_play};
 use primo_franka::plan::fr3;
 use primo_franka::session::{Event, Report};
@@ -43,6 +44,15 @@ pub struct SimFciArgs {
     /// motion.
     #[arg(long, value_name = "MS", conflicts_with_all = ["reflex_after", "silent_after"])]
     hangup_after: Option<u64>,
+    /// Fault: the arm held still after this many milliseconds of every
+    /// motion, as by a person or a contact (it reports where it stopped
+    /// while the commands go on), for --hold-for.
+    #[arg(long, value_name = "MS", requires = "hold_for",
+          conflicts_with_all = ["reflex_after", "silent_after", "hangup_after"])]
+    hold_after: Option<u64>,
+    /// How long the arm is held, ms.
+    #[arg(long, value_name = "MS", requires = "hold_after")]
+    hold_for: Option<u64>,
     /// Exit when the first client leaves.
     #[arg(long)]
     once: bool,
@@ -62,14 +72,31 @@ pub fn executor(robot: &str) -> Result<Box<dyn Executor>, CliError> {
     Ok(Box::new(FrankaRobot { addr, cfg }))
 }
 
+/// How `play` streams, its flags checked.
+pub struct Streaming {
+    /// `--approach-speed`.
+    pub approach_speed: f64,
+    /// `--phase-stop`.
+    pub phase_stop: Option<PhaseStop>,
+    /// Not `--no-realtime`.
+    pub realtime: bool,
+}
+
+/// `--phase-stop K`: a positive gain.
+pub fn phase_stop_gain(k: f64) -> Result<PhaseStop, CliError> {
+    PhaseStop::new(k as f32)
+        .ok()
+        .filter(|_| k > 0.0)
+        .ok_or_else(|| CliError::input(format!("--phase-stop: {k}: must be a positive number")))
+}
+
 /// Plays `trajectory` on the Franka at `robot`; the built-in FR3 unless
 /// `--model` names another description.
 pub fn play(
     trajectory: &Path,
     model: &ModelArgs,
     robot: &str,
-    approach_speed: f64,
-    realtime: bool,
+    how: &Streaming,
 ) -> Result<(), CliError> {
     let addr = parse_robot(robot)
         .map_err(|e| CliError::input(format!("--robot `{}`: {}", e.spec, e.why)))?;
@@ -83,10 +110,11 @@ pub fn play(
         chain.robot
     ))?;
     let mut cfg = PlayConfig {
-        realtime,
+        realtime: how.realtime,
         ..PlayConfig::default()
     };
-    cfg.session.approach_speed = approach_speed;
+    cfg.session.approach_speed = how.approach_speed;
+    cfg.session.phase_stop = how.phase_stop;
     let mut said = Ok(());
     // Ctrl-C asks the robot to stop the motion (the roll-out then fails,
     // status 1); the FCI would stop it anyway once the stream goes silent.
@@ -148,6 +176,13 @@ fn print_report(r: &Report) -> Result<(), CliError> {
         r.min_success_rate
             .map_or_else(|| "-".to_string(), |x| format!("{x:.3}"))
     ))?;
+    if let Some(rate) = r.slowest_rate {
+        say(&format!(
+            "phase stopping: the slowest {:.3} of the planned speed, {:.3} s longer than planned",
+            rate,
+            r.commands.saturating_sub(r.planned as u64) as f64 * primo_franka::plan::DT
+        ))?;
+    }
     say("joint  max error [deg]  rms error [deg]  (measured - commanded a cycle before)")?;
     for j in 0..r.max_error.len() {
         say(&format!(
@@ -183,7 +218,10 @@ pub fn sim_fci(args: &SimFciArgs) -> Result<(), CliError> {
         }
         (_, Some(after), _) => Some(Fault::Silent { after }),
         (_, _, Some(after)) => Some(Fault::Hangup { after }),
-        _ => None,
+        _ => args
+            .hold_after
+            .zip(args.hold_for)
+            .map(|(after, cycles)| Fault::Hold { after, cycles }),
     };
     cfg.once = args.once;
     cfg.realtime = !args.no_realtime;

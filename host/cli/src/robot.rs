@@ -100,6 +100,12 @@ pub enum RobotCommand {
         /// (weighing again), s.
         #[arg(long, default_value_t = 0.3)]
         settle: f64,
+        /// Franka: phase stopping (Ijspeert et al. 2013) with gain K, per
+        /// rad²: while the arm lags its command by e rad, the trajectory
+        /// runs at 1/(1 + K·|e|²) of its speed (K = 10000: half speed at
+        /// 10 mrad), every setpoint still within the limits.
+        #[arg(long, value_name = "K")]
+        phase_stop: Option<f64>,
         /// Run the FRI loop at normal priority: no real-time scheduling or
         /// locked memory (to compare; a busy machine makes answers late).
         #[arg(long)]
@@ -173,14 +179,18 @@ pub fn run(command: RobotCommand) -> Result<(), CliError> {
             model,
             robot,
             approach_speed,
+            phase_stop,
             no_realtime,
             ..
         } if robot.starts_with("franka:") => crate::franka::play(
             &trajectory,
             &model,
             &robot,
-            in_range("--approach-speed", approach_speed, 1e-3, 1.0)?,
-            !no_realtime,
+            &crate::franka::Streaming {
+                approach_speed: in_range("--approach-speed", approach_speed, 1e-3, 1.0)?,
+                phase_stop: phase_stop.map(crate::franka::phase_stop_gain).transpose()?,
+                realtime: !no_realtime,
+            },
         ),
         RobotCommand::SimFci(args) => crate::franka::sim_fci(&args),
         RobotCommand::Play {
@@ -196,8 +206,15 @@ pub fn run(command: RobotCommand) -> Result<(), CliError> {
             approach_speed,
             weigh,
             settle,
+            phase_stop,
             no_realtime,
         } => {
+            if phase_stop.is_some() {
+                return Err(CliError::input(format!(
+                    "--phase-stop: {robot}: phase stopping streams a Franka's setpoints \
+                     (--robot franka:ADDR); FRI and ROS 2 play the trajectory as planned"
+                )));
+            }
             if robot.starts_with("ros2:") {
                 let controller = crate::robot_ros2::controller(&robot)?;
                 let how = crate::robot_ros2::Ros2Play {

@@ -210,3 +210,122 @@ fn a_reflex_ends_a_learning_run_with_status_1_and_resume_goes_on() {
     assert_eq!(code, 0, "{stdout}{err}");
     assert!(stdout.contains("reached the precision"), "{stdout}");
 }
+
+/// The FR3's maximum tracking error of joint 1 in `play`'s report, deg.
+fn joint1_error(out: &str) -> f64 {
+    out.lines()
+        .find_map(|l| l.trim().strip_prefix("j1"))
+        .and_then(|l| l.split_whitespace().next())
+        .and_then(|v| v.parse().ok())
+        .unwrap_or_else(|| panic!("no j1 row in {out}"))
+}
+
+/// An arm held still for 0.6 s mid-move: played as planned, the command
+/// runs away from it (the simulated arm then jumps to it); with phase
+/// stopping the command waits, every setpoint within the FCI's rates.
+#[test]
+fn phase_stopping_waits_for_a_held_arm() {
+    let held = ["--once", "--hold-after", "300", "--hold-for", "600"];
+    let csv = trajectory("held.csv", 0.6, 1.5);
+    let sim = SimFci::start(&held);
+    let (status, plain, err) = play(&sim, &csv);
+    assert_eq!(status, 0, "{plain}\n{err}");
+    let sim = SimFci::start(&held);
+    let (status, out, err) = primo(&[
+        "robot",
+        "play",
+        &csv,
+        "--robot",
+        &sim.robot(),
+        "--no-realtime",
+        "--phase-stop",
+        "10000",
+    ]);
+    assert_eq!(status, 0, "{out}\n{err}");
+    assert!(out.contains("phase stopping: the slowest 0.0"), "{out}");
+    let (ran_away, waited) = (joint1_error(&plain), joint1_error(&out));
+    assert!(ran_away > 10.0, "{plain}");
+    assert!(waited < 0.25 * ran_away, "{waited} deg against {ran_away}");
+}
+
+#[test]
+fn phase_stopping_needs_a_positive_gain_and_a_franka() {
+    let csv = trajectory("move.csv", 0.3, 1.0);
+    for (robot, k, why) in [
+        (
+            "franka:127.0.0.1",
+            "0",
+            "--phase-stop: 0: must be a positive number",
+        ),
+        (
+            "franka:127.0.0.1",
+            "nan",
+            "--phase-stop: NaN: must be a positive number",
+        ),
+        (
+            "fri:127.0.0.1",
+            "1000",
+            "phase stopping streams a Franka's setpoints",
+        ),
+    ] {
+        let (status, _, err) = primo(&["robot", "play", &csv, "--robot", robot, "--phase-stop", k]);
+        assert_eq!(status, 2, "{err}");
+        assert!(err.contains(why), "{err}");
+    }
+}
+
+/// `[movement] phase_stop` in a task file: the Franka that executes the
+/// roll-outs waits for its held arm; without a robot the key is refused
+/// before anything runs.
+#[test]
+fn a_tasks_phase_stop_waits_for_a_held_arm() {
+    let examples = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/fr3");
+    let dir = tmp("phase-stop-task");
+    std::fs::create_dir_all(&dir).unwrap();
+    for f in ["near.csv", "far.csv", "ended.py"] {
+        std::fs::copy(examples.join(f), dir.join(f)).unwrap();
+    }
+    let text = std::fs::read_to_string(examples.join("reach.toml")).unwrap();
+    let urdf = examples.join("../../host/franka/src/fr3.urdf");
+    let text = text.replace(
+        "robot = \"../../host/franka/src/fr3.urdf\"",
+        &format!(
+            "robot = {:?}\nphase_stop = 10000",
+            urdf.display().to_string()
+        ),
+    );
+    let task = dir.join("reach.toml");
+    std::fs::write(&task, text).unwrap();
+    let out = dir.join("run");
+    let learn = |robot: Option<&str>| {
+        let mut args = vec!["learn", "--task", task.to_str().unwrap()];
+        args.extend(["--out", out.to_str().unwrap(), "--force"]);
+        args.extend(robot.iter().flat_map(|r| ["--robot", r]));
+        primo(&args)
+    };
+    let (code, _, err) = learn(None);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("[movement] phase_stop") && err.contains("no robot"),
+        "{err}"
+    );
+    let sim = SimFci::start(&["--hold-after", "500", "--hold-for", "500"]);
+    let (code, stdout, err) = learn(Some(&sim.robot()));
+    assert_eq!(code, 0, "{stdout}{err}");
+    let executed =
+        std::fs::read_to_string(out.join("trajectories/rollout-0001-executed.csv")).unwrap();
+    let planned = std::fs::read_to_string(out.join("trajectories/rollout-0001.csv")).unwrap();
+    let seconds: f64 = planned
+        .lines()
+        .last()
+        .and_then(|l| l.split(',').next())
+        .and_then(|t| t.parse().ok())
+        .unwrap();
+    // A millisecond a row: the movement ran longer than planned by most
+    // of the half second the arm was held.
+    let rows = executed.lines().count() as f64;
+    assert!(
+        rows > seconds * 1000.0 + 250.0,
+        "{rows} rows for {seconds} s"
+    );
+}

@@ -19,6 +19,12 @@ pub enum FrankaError {
     /// A setpoint beyond the robot's limits: nothing was sent.
     #[error("trajectory refused before the motion: {0}")]
     Limit(Exceeded),
+    /// Phase stopping could not slow or resume the motion within the
+    /// limits: the motion was stopped there.
+    #[error(
+        "phase stopping could not keep the motion within the limits: {0}; the motion was stopped"
+    )]
+    Retimed(Exceeded),
     /// The robot cannot be reached or the network failed.
     #[error("network: {0}")]
     Io(#[from] std::io::Error),

@@ -7,6 +7,8 @@
 //! - [`plan`]: what is streamed, a checked [`primo_robot::JointPath`] as
 //!   millisecond setpoints within the description's limits and the FCI's
 //!   rate limits; the built-in FR3 description.
+//! - [`retime`]: phase stopping, the plan played at a rate that waits
+//!   for a robot lagging its command, every setpoint checked as it goes.
 //! - [`session`]: the client, sans I/O: connect, model, motion, one
 //!   command per state, finish; the robot's errors and reflexes as typed
 //!   errors ([`FrankaError`]).
@@ -27,6 +29,7 @@
 mod error;
 pub mod net;
 pub mod plan;
+pub mod retime;
 pub mod session;
 pub mod wire;
 

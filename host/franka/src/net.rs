@@ -19,6 +19,7 @@ use std::sync::mpsc::sync_channel;
 use std::sync::{Mutex, MutexGuard};
 use std::time::{Duration, Instant};
 
+use primo_core::coupling::PhaseStop;
 use primo_fri::realtime::{self, Realtime};
 use primo_fri::udp::{readable, transient};
 use primo_robot::JointPath;
@@ -196,6 +197,11 @@ impl Executor for FrankaRobot {
                 executed,
             }),
         }
+    }
+
+    fn phase_stop(&mut self, gain: PhaseStop) -> bool {
+        self.cfg.session.phase_stop = Some(gain);
+        true
     }
 }
 

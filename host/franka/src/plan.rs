@@ -152,7 +152,6 @@ impl Plan {
     /// Every setpoint within the chain's joint limits and the FCI's rates,
     /// from rest to rest.
     fn check(&self, chain: &Chain) -> Result<(), FrankaError> {
-        let joints = chain.joints();
         let first = self.setpoints.first().copied().unwrap_or_default();
         let last = self.setpoints.last().copied().unwrap_or_default();
         // At rest before and after: the held position three times.
@@ -161,45 +160,58 @@ impl Plan {
             .chain(self.setpoints.iter().copied())
             .chain([last; 3])
             .collect();
-        let exceeded = |k: usize, j: usize, quantity, value: f64, limit: f64| {
-            let setpoint = k
-                .saturating_sub(3)
-                .min(self.setpoints.len().saturating_sub(1));
-            Err(FrankaError::Limit(Exceeded {
-                setpoint,
-                time: (setpoint as f64 - (self.approach as f64 - 1.0)) * DT,
-                joint: joints
-                    .get(j)
-                    .map_or_else(|| format!("joint {}", j + 1), |x| x.name.clone()),
-                quantity,
-                value,
-                limit,
-            }))
-        };
         for (k, w) in padded.windows(4).enumerate() {
-            for (j, joint) in joints.iter().enumerate().take(JOINTS) {
-                let l = joint.limits;
-                let q = w[3][j];
-                if q < l.lower || q > l.upper {
-                    let bound = if q < l.lower { l.lower } else { l.upper };
-                    return exceeded(k + 3, j, Quantity::Position, q, bound);
-                }
-                let v = [w[1][j] - w[0][j], w[2][j] - w[1][j], w[3][j] - w[2][j]].map(|d| d / DT);
-                let a = [v[1] - v[0], v[2] - v[1]].map(|d| d / DT);
-                let jerk = (a[1] - a[0]) / DT;
-                if v[2].abs() > l.velocity {
-                    return exceeded(k + 3, j, Quantity::Velocity, v[2], l.velocity);
-                }
-                if a[1].abs() > ACCELERATION {
-                    return exceeded(k + 3, j, Quantity::Acceleration, a[1], ACCELERATION);
-                }
-                if jerk.abs() > JERK {
-                    return exceeded(k + 3, j, Quantity::Jerk, jerk, JERK);
-                }
+            if let [a, b, c, d] = w {
+                let setpoint = k.min(self.setpoints.len().saturating_sub(1));
+                let time = (setpoint as f64 - (self.approach as f64 - 1.0)) * DT;
+                check_step(chain, [*a, *b, *c], d, setpoint, time).map_err(FrankaError::Limit)?;
             }
         }
         Ok(())
     }
+}
+
+/// The setpoint `next`, sent after `before` (the three sent last, oldest
+/// first), within the chain's joint limits and the FCI's rates by finite
+/// differences; `setpoint` and `time` name it in the error.
+pub(crate) fn check_step(
+    chain: &Chain,
+    before: [[f64; JOINTS]; 3],
+    next: &[f64; JOINTS],
+    setpoint: usize,
+    time: f64,
+) -> Result<(), Exceeded> {
+    let [p0, p1, p2] = before;
+    for (j, joint) in chain.joints().iter().enumerate().take(JOINTS) {
+        let l = joint.limits;
+        let q = next[j];
+        let v = [p1[j] - p0[j], p2[j] - p1[j], q - p2[j]].map(|d| d / DT);
+        let a = [v[1] - v[0], v[2] - v[1]].map(|d| d / DT);
+        let jerk = (a[1] - a[0]) / DT;
+        let beyond = if q < l.lower || q > l.upper {
+            let bound = if q < l.lower { l.lower } else { l.upper };
+            Some((Quantity::Position, q, bound))
+        } else if v[2].abs() > l.velocity {
+            Some((Quantity::Velocity, v[2], l.velocity))
+        } else if a[1].abs() > ACCELERATION {
+            Some((Quantity::Acceleration, a[1], ACCELERATION))
+        } else if jerk.abs() > JERK {
+            Some((Quantity::Jerk, jerk, JERK))
+        } else {
+            None
+        };
+        if let Some((quantity, value, limit)) = beyond {
+            return Err(Exceeded {
+                setpoint,
+                time,
+                joint: joint.name.clone(),
+                quantity,
+                value,
+                limit,
+            });
+        }
+    }
+    Ok(())
 }
 
 /// The samples `q` at `times` through a cubic spline of each joint that

@@ -24,10 +24,12 @@
 use std::collections::VecDeque;
 use std::time::{Duration, Instant};
 
+use primo_core::coupling::PhaseStop;
 use primo_robot::{JOINTS, JointPath};
 
 use crate::error::FrankaError;
 use crate::plan::Plan;
+use crate::retime::Retimer;
 use crate::wire::{
     COMMAND_SIZE, Command, ConnectStatus, Message, MoveRequest, MoveStatus, RobotCommand,
     RobotState, StopMoveStatus, VERSION, motion_generator_mode, parse_connect_response, robot_mode,
@@ -44,6 +46,9 @@ pub struct SessionConfig {
     pub answer_timeout: Duration,
     /// Longest silence of the state stream while the robot moves.
     pub state_timeout: Duration,
+    /// Phase stopping: the plan waits for a robot that lags its command
+    /// ([`crate::retime`]); `None` streams it as planned.
+    pub phase_stop: Option<PhaseStop>,
 }
 
 impl Default for SessionConfig {
@@ -52,6 +57,7 @@ impl Default for SessionConfig {
             approach_speed: 0.2,
             answer_timeout: Duration::from_secs(5),
             state_timeout: Duration::from_millis(100),
+            phase_stop: None,
         }
     }
 }
@@ -109,6 +115,9 @@ pub struct Report {
     /// The lowest `control_command_success_rate` the robot reported while
     /// moving.
     pub min_success_rate: Option<f32>,
+    /// With phase stopping, the slowest the plan ran, setpoints a cycle
+    /// (1: as planned).
+    pub slowest_rate: Option<f64>,
     /// The measured positions while the motion ran: when, s on the
     /// robot's clock since the first state of the motion...
     pub times: Vec<f64>,
@@ -142,6 +151,7 @@ pub struct Session {
     out: VecDeque<Vec<u8>>,
     events: VecDeque<Event>,
     plan: Option<Plan>,
+    retimer: Option<Retimer>,
     next: usize,
     last_state: Option<RobotState>,
     waiting_since: Instant,
@@ -169,6 +179,7 @@ impl Session {
             out: VecDeque::new(),
             events: VecDeque::new(),
             plan: None,
+            retimer: None,
             next: 0,
             last_state: None,
             waiting_since: now,
@@ -478,6 +489,7 @@ impl Session {
             setpoints: plan.setpoints().len(),
             approach: plan.approach_len(),
         });
+        self.retimer = self.cfg.phase_stop.map(|k| Retimer::new(&plan, k));
         self.plan = Some(plan);
         self.move_id = self.request(Command::Move, MoveRequest::default().encode());
         self.phase = Phase::MoveRequested;
@@ -511,9 +523,25 @@ impl Session {
             Some(self.report.min_success_rate.map_or(rate, |r| r.min(rate)));
         self.track(state);
         self.record(state);
-        let setpoints = self.plan.as_ref().map_or(&[][..], Plan::setpoints);
-        let q_c = setpoints.get(self.next).copied()?;
-        let finished = self.next + 1 >= setpoints.len();
+        let plan = self.plan.as_ref()?;
+        let (q_c, finished) = match &mut self.retimer {
+            Some(r) => {
+                let next = r.next(plan, self.path.chain(), state.joints());
+                self.report.slowest_rate = Some(r.slowest());
+                match next {
+                    Ok(next) => next,
+                    Err(e) => {
+                        self.fail(e);
+                        return None;
+                    }
+                }
+            }
+            None => {
+                let setpoints = plan.setpoints();
+                let q_c = setpoints.get(self.next).copied()?;
+                (q_c, self.next + 1 >= setpoints.len())
+            }
+        };
         self.next += 1;
         self.last_command = Some(q_c);
         self.report.commands += 1;

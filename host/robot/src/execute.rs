@@ -28,6 +28,8 @@
 use std::error::Error;
 use std::fmt;
 
+use primo_core::coupling::PhaseStop;
+
 use crate::JointPath;
 
 /// The joint positions a robot reported while it executed a path.
@@ -73,4 +75,14 @@ pub trait Executor {
     /// joints) and reports what the robot did; blocks until the robot has
     /// finished or the execution failed.
     fn execute(&mut self, path: &JointPath) -> Result<Executed, ExecutionFailed>;
+
+    /// Slows every path while the robot lags its command (phase stopping
+    /// with `gain`), if this driver can: only one that streams each
+    /// setpoint and reads where the robot is can wait for it. Returns
+    /// whether it will; a driver that hands the whole path to the robot's
+    /// controller (ROS 2) cannot.
+    fn phase_stop(&mut self, gain: PhaseStop) -> bool {
+        let _ = gain;
+        false
+    }
 }

@@ -65,6 +65,15 @@ pub enum Fault {
         /// Motion cycles before it.
         after: u64,
     },
+    /// The arm held still (a person, a contact) for `cycles` motion
+    /// cycles after `after`: it reports where it stopped while the
+    /// commands go on, then follows them again.
+    Hold {
+        /// Motion cycles before it.
+        after: u64,
+        /// Motion cycles it lasts.
+        cycles: u64,
+    },
 }
 
 /// The simulated controller's settings.
@@ -147,6 +156,7 @@ struct Robot {
     awaiting: Option<u64>,
     silent: bool,
     hangup: bool,
+    held: bool,
     report: FciReport,
 }
 
@@ -274,6 +284,7 @@ impl SimFci {
             awaiting: None,
             silent: false,
             hangup: false,
+            held: false,
             report: FciReport::default(),
         }));
         let writer = Mutex::new(tcp.try_clone().map_err(io)?);
@@ -499,6 +510,10 @@ impl SimFci {
                 r.hangup = true;
                 None
             }
+            Fault::Hold { after, cycles } => {
+                r.held = r.motion_cycles > after && r.motion_cycles <= after.saturating_add(cycles);
+                None
+            }
             _ => None,
         }
     }
@@ -516,8 +531,12 @@ impl Robot {
             }
             _ => self.report.late += 1,
         }
-        self.q = std::array::from_fn(|j| c.q_c[j].clamp(self.lower[j], self.upper[j]));
-        self.state.q_d = self.q.map(|x| x as f32);
+        let q_d: [f64; JOINTS] =
+            std::array::from_fn(|j| c.q_c[j].clamp(self.lower[j], self.upper[j]));
+        if !self.held {
+            self.q = q_d;
+        }
+        self.state.q_d = q_d.map(|x| x as f32);
         if c.motion_generation_finished {
             self.motion = None;
             self.end_motion();
@@ -529,6 +548,7 @@ impl Robot {
 
     fn end_motion(&mut self) {
         self.awaiting = None;
+        self.held = false;
         self.state.robot_mode = robot_mode::IDLE;
         self.state.motion_generator_mode = motion_generator_mode::IDLE;
     }

@@ -208,6 +208,7 @@ impl Task {
             .transpose()?;
         let obstacles = m.map(|m| obstacles(&p, m, pour)).transpose()?.flatten();
         let limit_push = m.map(|m| limit_push(&p, m, pour)).transpose()?.flatten();
+        let phase_stop = m.map(|m| phase_stop(&p, m, pour)).transpose()?.flatten();
         let vias = m
             .map(|m| vias(&p, m, pour))
             .transpose()?
@@ -225,6 +226,7 @@ impl Task {
             obstacles,
             limit_push,
             vias,
+            phase_stop,
             dt,
             limits,
             goal,
@@ -292,6 +294,30 @@ fn limit_push(p: &Place, m: &MovementKeys, pour: bool) -> Result<Option<LimitPus
             .transpose()?
             .unwrap_or(f64::from(DEFAULT_LIMIT_GAIN)),
     }))
+}
+
+/// `[movement] phase_stop`: a positive gain; the built-in pour's cell
+/// streams as planned.
+fn phase_stop(p: &Place, m: &MovementKeys, pour: bool) -> Result<Option<f64>, Error> {
+    let Some(k) = &m.phase_stop else {
+        return Ok(None);
+    };
+    if pour {
+        return Err(p.at(
+            k.span(),
+            "[movement] phase_stop",
+            "the built-in pour streams its cell's checked path as planned: remove the key",
+        ));
+    }
+    let gain = positive(p, k, "[movement] phase_stop")?;
+    if !(gain as f32).is_finite() {
+        return Err(p.at(
+            k.span(),
+            "[movement] phase_stop",
+            format!("{gain:e}: too large"),
+        ));
+    }
+    Ok(Some(gain))
 }
 
 /// `[movement] obstacles` (spheres `[x, y, z, radius]`, at most
@@ -1046,6 +1072,22 @@ command = ["python3", "throw.py"]
             "/lab/throw.toml:12: [movement] final_velocity: `fast`: must be `rest` or \
              `demonstrated`"
         );
+    }
+
+    #[test]
+    fn a_phase_stop_is_a_positive_gain() {
+        assert_eq!(parse(THROW).unwrap().phase_stop, None);
+        let task = parse(&with_movement("phase_stop = 1e4")).unwrap();
+        assert_eq!(task.phase_stop, Some(1e4));
+        for (value, says) in [
+            ("0", "0: must be a positive number"),
+            ("1e300", "1e300: too large"),
+        ] {
+            assert_eq!(
+                refused(&with_movement(&format!("phase_stop = {value}"))),
+                format!("/lab/throw.toml:12: [movement] phase_stop: {says}")
+            );
+        }
     }
 
     #[test]

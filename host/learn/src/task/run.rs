@@ -21,6 +21,7 @@
 
 use std::path::{Path, PathBuf};
 
+use primo_core::coupling::PhaseStop;
 use primo_core::power::PowerConfig;
 use primo_protocol::learner::{LearnerSetup, Setup};
 use primo_robot::JointPath;
@@ -155,7 +156,7 @@ impl Kind for TaskRun {
         create_dir(&trajectories)?;
         let dim = self.task.query_dim();
         let TaskCell { prompt, robot } = at.person;
-        let robot = match (robot, &self.robot) {
+        let mut robot = match (robot, &self.robot) {
             (None, None) => None,
             (Some((given, robot)), Some(logged)) if &given == logged => Some(robot),
             (Some((given, _)), logged) => {
@@ -174,6 +175,9 @@ impl Kind for TaskRun {
                 )));
             }
         };
+        if let Some(gain) = self.task.phase_stop {
+            phase_stop(robot.as_mut(), self.robot.as_deref(), gain)?;
+        }
         if robot.is_some() && !matches!(built.limits, Limits::Robot(_)) {
             return Err(Error::Invalid(
                 "a robot executes joint paths: the task's [movement] needs its robot (`robot =                  \"lwr4\"` or its URDF file), whose limits every roll-out passes"
@@ -242,6 +246,34 @@ pub fn task_setup(task: &Task, skill: &Skill, seed: u64) -> Result<Setup, Error>
         }
     };
     setup(skill, learner, seed)
+}
+
+/// `[movement] phase_stop` for the robot `name` that executes the
+/// roll-outs: refused without one, or with one whose driver cannot wait
+/// for it.
+fn phase_stop(
+    robot: Option<&mut Box<dyn Executor>>,
+    name: Option<&str>,
+    gain: f64,
+) -> Result<(), Error> {
+    let why = match (robot, name) {
+        (Some(robot), Some(name)) => {
+            let gain = PhaseStop::new(gain as f32)
+                .map_err(|e| Error::Invalid(format!("[movement] phase_stop {gain}: {e}")))?;
+            if robot.phase_stop(gain) {
+                return Ok(());
+            }
+            format!(
+                "the robot {name} executes each whole trajectory on its own controller, which \
+                 cannot wait for it; phase stopping needs a driver that streams every setpoint \
+                 (a Franka)"
+            )
+        }
+        _ => "slows the robot that executes the roll-outs while it lags its command, and no \
+              robot executes them"
+            .to_string(),
+    };
+    Err(Error::Invalid(format!("[movement] phase_stop: {why}")))
 }
 
 /// One roll-out of `task`: plan, check, write, evaluate, score.

@@ -53,6 +53,7 @@ pub(super) struct MovementKeys {
     pub(super) limit_margin: Option<Spanned<f64>>,
     pub(super) limit_gain: Option<Spanned<f64>>,
     pub(super) via: Option<Spanned<Vec<(f64, String, f64)>>>,
+    pub(super) phase_stop: Option<Spanned<f64>>,
 }
 
 /// A tool frame, as a URDF's `<origin>`.

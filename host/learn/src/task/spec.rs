@@ -374,6 +374,11 @@ pub struct Task {
     /// (absent from run logs written before they existed: none).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub vias: Vec<(f64, String, f64)>,
+    /// Phase stopping's gain, per squared joint unit: the robot that
+    /// executes the roll-outs slows each while it lags its command (absent
+    /// from run logs written before it existed: none).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub phase_stop: Option<f64>,
     /// The trajectory's time step, s (`None`: the first demonstration's
     /// median step).
     pub dt: Option<f64>,
