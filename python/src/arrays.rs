@@ -123,3 +123,31 @@ pub fn out2<'py>(
     let rows = values.len().checked_div(cols).unwrap_or(0);
     PyArray1::from_iter(py, values.iter().map(|v| f64::from(*v))).reshape([rows, cols])
 }
+
+/// An optional finite number of seconds above 0 (`what` names it).
+pub(crate) fn positive(what: &str, v: Option<f64>) -> PyResult<Option<f32>> {
+    match v {
+        Some(x) if !(x.is_finite() && x > 0.0 && (x as f32) > 0.0) => Err(invalid(format!(
+            "{what}: {x} must be a positive, finite number"
+        ))),
+        v => Ok(v.map(|x| x as f32)),
+    }
+}
+
+/// An optional array of one value per column (`what` names it).
+pub(crate) fn per_column(
+    what: &str,
+    a: Option<Array<'_>>,
+    names: &[String],
+) -> PyResult<Option<Vec<f32>>> {
+    let Some(a) = a else { return Ok(None) };
+    let v = vector(what, &a, false)?;
+    if v.len() != names.len() {
+        return Err(invalid(format!(
+            "{what}: {} values, expected one per column ({})",
+            v.len(),
+            names.join(",")
+        )));
+    }
+    Ok(Some(v))
+}

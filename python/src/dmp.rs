@@ -19,7 +19,7 @@ use primo_skill::dmpfile::{
     self, AmplitudeScaling, Change, DmpFile, Fitted, MAX_ROWS, RhythmicFile,
 };
 
-use crate::arrays::{Array, matrix, out, out2, times, vector};
+use crate::arrays::{Array, matrix, out, out2, per_column, positive, times, vector};
 use crate::dmprun::{Begun, DmpRun};
 use crate::errors::{core, invalid, io, skill};
 use crate::shaping::shaping;
@@ -127,16 +127,6 @@ pub(crate) fn kernel_count(kernels: i64, fewest: usize, kind: &str) -> PyResult<
         })
 }
 
-/// An optional finite number of seconds above 0 (`what` names it).
-pub(crate) fn positive(what: &str, v: Option<f64>) -> PyResult<Option<f32>> {
-    match v {
-        Some(x) if !(x.is_finite() && x > 0.0 && (x as f32) > 0.0) => Err(invalid(format!(
-            "{what}: {x} must be a positive, finite number"
-        ))),
-        v => Ok(v.map(|x| x as f32)),
-    }
-}
-
 /// At most [`MAX_ROWS`] samples for `duration` at step `dt`.
 fn check_rows(dt: f32, duration: f32) -> PyResult<()> {
     if duration / dt > MAX_ROWS as f32 {
@@ -146,24 +136,6 @@ fn check_rows(dt: f32, duration: f32) -> PyResult<()> {
         )));
     }
     Ok(())
-}
-
-/// An optional array of one value per column (`what` names it).
-pub(crate) fn per_column(
-    what: &str,
-    a: Option<Array<'_>>,
-    names: &[String],
-) -> PyResult<Option<Vec<f32>>> {
-    let Some(a) = a else { return Ok(None) };
-    let v = vector(what, &a, false)?;
-    if v.len() != names.len() {
-        return Err(invalid(format!(
-            "{what}: {} values, expected one per column ({})",
-            v.len(),
-            names.join(",")
-        )));
-    }
-    Ok(Some(v))
 }
 
 impl Dmp {

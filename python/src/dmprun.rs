@@ -1,6 +1,6 @@
 //! `DmpRun`: a discrete DMP executed one control step at a time, open or
 //! closed loop (a measured state fed back, coupling terms added). It
-//! pickles as its DMP, how it began and the core run's state
+//! pickles as its DMP file, how it began and the core run's state
 //! (`Run::state`), so the copy goes on as the original, bit for bit.
 
 use numpy::PyArray1;
@@ -12,8 +12,7 @@ use primo_core::dmp::Run;
 use primo_skill::HOST_MAX_DOF;
 use primo_skill::dmpfile::{DmpFile, Prepared};
 
-use crate::arrays::{Array, out, vector};
-use crate::dmp::{Dmp, per_column, positive};
+use crate::arrays::{Array, out, per_column, positive, vector};
 use crate::errors::{core, invalid, skill};
 
 /// How a run began: `Dmp.stepper`'s arguments, checked (per column).
@@ -231,18 +230,31 @@ impl DmpRun {
     fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyTuple>> {
         let py = slf.py();
         let this = slf.borrow();
-        let dmp = Bound::new(py, Dmp::from_file(this.file.clone()))?;
+        let json = this.file.to_json().map_err(|e| invalid(e.to_string()))?;
         let Begun { tau, start, goal } = this.begun.clone();
-        let args = (tau, start, goal).into_pyobject(py)?;
+        let args = (json, tau, start, goal).into_pyobject(py)?;
         let state: Vec<f32> = this.run.state().collect();
         PyTuple::new(
             py,
             [
-                dmp.getattr("stepper")?,
+                py.get_type::<DmpRun>().getattr("_restore")?,
                 args.into_any(),
                 state.into_pyobject(py)?.into_any(),
             ],
         )
+    }
+
+    /// Unpickles: the run of the DMP file `json` from its beginning (the
+    /// state follows by `__setstate__`).
+    #[staticmethod]
+    fn _restore(
+        json: &str,
+        tau: Option<f32>,
+        start: Option<Vec<f32>>,
+        goal: Option<Vec<f32>>,
+    ) -> PyResult<DmpRun> {
+        let file = DmpFile::parse("the pickled run's DMP", json).map_err(skill)?;
+        DmpRun::new(file, Begun { tau, start, goal })
     }
 
     fn __setstate__(&mut self, state: Vec<f32>) -> PyResult<()> {

@@ -9,8 +9,7 @@ use primo_core::coupling::Sphere;
 use primo_skill::coupled::{Avoidance, Coupled, MAX_OBSTACLES, Repulsion};
 use primo_skill::shaping::{Shaping, Via};
 
-use crate::arrays::{Array, matrix};
-use crate::dmp::per_column;
+use crate::arrays::{Array, matrix, per_column};
 use crate::errors::invalid;
 
 /// `Dmp.run`'s `limits`, `limit_margin` and `limit_gain`.

@@ -101,7 +101,7 @@ pub fn play(
     let addr = parse_robot(robot)
         .map_err(|e| CliError::input(format!("--robot `{}`: {}", e.spec, e.why)))?;
     let chain = model.chain_or(fr3)?;
-    let path = crate::robot::load_joint_path(trajectory, &chain, "the FCI")?;
+    let path = crate::joint_path::load(trajectory, &chain, "the FCI")?;
     say(&format!(
         "primo robot play: {} samples over {:.3} s passed the limit checks of {}; \
          connecting to the Franka at {addr}",

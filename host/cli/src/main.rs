@@ -10,6 +10,7 @@ mod error;
 mod experiment;
 mod franka;
 mod interrupt;
+mod joint_path;
 mod learn;
 mod memory;
 mod model;

@@ -16,17 +16,12 @@ use primo_fri::udp::{Ended, Event, PlayConfig, PlayResult, bind, play};
 use primo_fri::{DEFAULT_PORT, parse_robot};
 use primo_mtsics::{Fixed, quote};
 use primo_robot::JOINT_COLUMNS as JOINT_NAMES;
-use primo_robot::JointPath;
-use primo_robot::chain::Chain;
-use primo_robot::columns::Columns;
-use primo_robot::safety::check_path;
 use primo_sim::krc::{CellHandle, KrcConfig, LATE_SEND, SimKrc};
-use primo_skill::csv::parse_demo;
 
 use crate::args::Glass;
 use crate::error::CliError;
 use crate::model::ModelArgs;
-use crate::output::{read, say};
+use crate::output::say;
 use crate::terminal::in_background;
 
 /// `primo robot …`.
@@ -226,7 +221,7 @@ pub fn run(command: RobotCommand) -> Result<(), CliError> {
                         .then(|| in_range("--approach-speed", approach_speed, 1e-3, 1.0))
                         .transpose()?,
                 };
-                let path = load_joint_path(&trajectory, &model.chain()?, "ROS 2")?;
+                let path = crate::joint_path::load(&trajectory, &model.chain()?, "ROS 2")?;
                 return crate::robot_ros2::play(&trajectory, &path, &controller, &how);
             }
             let cfg = PlayConfig {
@@ -299,39 +294,13 @@ fn seconds(flag: &str, v: f64) -> Result<Duration, CliError> {
 /// Reads a joint trajectory of `model`'s arm and passes it through its
 /// limit checks; FRI streams seven joints.
 fn load_trajectory(path: &Path, model: &ModelArgs) -> Result<FriPath, CliError> {
-    let checked = load_joint_path(path, &model.chain()?, "FRI")?;
+    let checked = crate::joint_path::load(path, &model.chain()?, "FRI")?;
     FriPath::try_from(&checked).map_err(|why| {
         CliError::input(format!(
             "{}: trajectory rejected, nothing sent to the robot: {why}",
             path.display()
         ))
     })
-}
-
-/// Reads a joint trajectory of `chain` and passes it through its limit
-/// checks; `driver` streams joint angles.
-pub fn load_joint_path(path: &Path, chain: &Chain, driver: &str) -> Result<JointPath, CliError> {
-    let file = path.display().to_string();
-    let demo = parse_demo(&file, &read(None, path)?)?;
-    let rejected = |why: String| {
-        CliError::input(format!(
-            "{file}: trajectory rejected, nothing sent to the robot: {why}"
-        ))
-    };
-    let columns = match Columns::of(chain, &demo.names) {
-        Ok(c @ Columns::Joints(_)) => c,
-        Ok(Columns::Pose(_)) => {
-            return Err(CliError::input(format!(
-                "{file}: a tool trajectory: {driver} streams joint angles; solve it with `primo robot \
-                 check` first or give the joints ({})",
-                chain.names().join(",")
-            )));
-        }
-        Err(e) => return Err(CliError::input(format!("{file}: {e}"))),
-    };
-    let rows: Vec<f64> = demo.positions.iter().map(|v| f64::from(*v)).collect();
-    let times = demo.times.iter().map(|t| f64::from(*t)).collect();
-    check_path(chain, times, columns.reorder(&rows), None).map_err(|why| rejected(why.to_string()))
 }
 
 fn robot_play(

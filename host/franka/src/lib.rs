@@ -35,7 +35,7 @@ pub mod wire;
 
 use std::net::{SocketAddr, ToSocketAddrs};
 
-pub use error::FrankaError;
+pub use error::{Exceeded, FrankaError, Quantity};
 pub use primo_fri::AddressError;
 
 /// The FCI's command port.

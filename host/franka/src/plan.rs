@@ -32,7 +32,7 @@ use primo_robot::chain::Chain;
 use primo_robot::urdf::Urdf;
 use primo_robot::{JOINTS, JointPath, Tip};
 
-use crate::error::FrankaError;
+use crate::error::{Exceeded, FrankaError, Quantity};
 
 /// The FCI's cycle, s.
 pub const DT: f64 = 0.001;
@@ -53,52 +53,6 @@ pub fn fr3() -> Chain {
     Urdf::parse("fr3.urdf", FR3_URDF)
         .and_then(|urdf| Chain::from_urdf(&urdf, &Tip::default()))
         .unwrap_or_else(|_| Chain::from_dh("fr3", &[], &Default::default(), &[]))
-}
-
-/// Which limit a setpoint breaks.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Quantity {
-    /// The joint's position range.
-    Position,
-    /// Its velocity limit.
-    Velocity,
-    /// The FCI's acceleration limit.
-    Acceleration,
-    /// The FCI's jerk limit.
-    Jerk,
-}
-
-/// A setpoint beyond a limit.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Exceeded {
-    /// The setpoint's index, from the first of the approach.
-    pub setpoint: usize,
-    /// Its time from the path's start, s (negative in the approach).
-    pub time: f64,
-    /// The joint's name.
-    pub joint: String,
-    /// What it breaks.
-    pub quantity: Quantity,
-    /// The value, rad, rad/s, rad/s² or rad/s³.
-    pub value: f64,
-    /// The limit (the nearer bound of a position range).
-    pub limit: f64,
-}
-
-impl std::fmt::Display for Exceeded {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let (what, unit) = match self.quantity {
-            Quantity::Position => ("position", "rad"),
-            Quantity::Velocity => ("velocity", "rad/s"),
-            Quantity::Acceleration => ("acceleration", "rad/s²"),
-            Quantity::Jerk => ("jerk", "rad/s³"),
-        };
-        write!(
-            f,
-            "{} {what} {:.4} {unit} at t = {:.3} s (setpoint {}) is beyond its limit {:.4} {unit}",
-            self.joint, self.value, self.time, self.setpoint, self.limit
-        )
-    }
 }
 
 /// The millisecond setpoints of a path, checked.

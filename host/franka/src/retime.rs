@@ -19,8 +19,8 @@ use primo_core::coupling::PhaseStop;
 use primo_robot::JOINTS;
 use primo_robot::chain::Chain;
 
-use crate::error::FrankaError;
-use crate::plan::{ACCELERATION, DT, Exceeded, JERK, Plan, check_step};
+use crate::error::{Exceeded, FrankaError};
+use crate::plan::{ACCELERATION, DT, JERK, Plan, check_step};
 
 /// The share of the FCI's acceleration and jerk left by the plan that a
 /// change of rate may use (the rest stays a margin).

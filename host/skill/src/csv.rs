@@ -5,6 +5,7 @@
 use primo_core::quaternion::Quaternion;
 
 use crate::Error;
+use crate::seconds::push_seconds;
 use crate::stamps::Stamps;
 
 /// A parsed demonstration.
@@ -263,29 +264,6 @@ pub fn rotation_vectors_as_quaternions(demo: &Demo) -> Option<(Demo, Vec<usize>)
     ))
 }
 
-/// A time in seconds to the microsecond, without trailing zeros: 9·0.1
-/// prints as 0.9, not as f32's 0.90000004 or a sum of steps' 0.9000000000000001.
-pub fn seconds(t: f64) -> String {
-    let mut out = Vec::new();
-    push_seconds(&mut out, t);
-    String::from_utf8_lossy(&out).into_owned()
-}
-
-/// Appends [`seconds`]`(t)`.
-fn push_seconds(out: &mut Vec<u8>, t: f64) {
-    use std::io::Write as _;
-    let start = out.len();
-    let _ = write!(out, "{t:.6}");
-    if out[start..].contains(&b'.') {
-        while out.last() == Some(&b'0') {
-            out.pop();
-        }
-        if out.last() == Some(&b'.') {
-            out.pop();
-        }
-    }
-}
-
 /// Appends `v` as `Display` prints it (the shortest digits that read back
 /// as the same `f32`, laid out without an exponent), several times faster:
 /// the digits come from Żmij, the layout is `Display`'s. Where two
@@ -422,7 +400,7 @@ impl Csv {
         self
     }
 
-    /// A time in seconds ([`seconds`]).
+    /// A time in seconds, to the microsecond without trailing zeros.
     pub fn seconds(&mut self, t: f64) -> &mut Csv {
         self.separate();
         push_seconds(&mut self.out, t);

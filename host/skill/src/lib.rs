@@ -15,6 +15,7 @@ pub mod csv;
 pub mod dmpfile;
 mod error;
 pub mod prompfile;
+mod seconds;
 pub mod shaping;
 pub mod skill;
 pub mod stamps;

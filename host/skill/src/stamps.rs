@@ -44,7 +44,7 @@ impl Refused {
                 "is {step:.3e} s after {previous}: {} s into the recording, stamps must be \
                  at least {:.3e} s apart to stay distinct in float32, the precision the fit \
                  computes in",
-                crate::csv::seconds(since_first),
+                crate::seconds::seconds(since_first),
                 resolution(since_first)
             ),
         }
