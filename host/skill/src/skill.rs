@@ -369,6 +369,24 @@ impl Skill {
         self.template.dof()
     }
 
+    /// The DMP DoF of the position column `column`, if it is one of the
+    /// skill's (an orientation's columns are none).
+    pub fn position_dof(&self, column: &str) -> Option<usize> {
+        let at = self.names.iter().position(|n| n == column)?;
+        if self
+            .groups
+            .iter()
+            .any(|g| g.columns.iter().any(|c| c == column))
+        {
+            return None;
+        }
+        // Each orientation before it: four columns, three DoFs.
+        let before = (self.groups.iter())
+            .filter(|g| self.names[..at].contains(&g.columns[0]))
+            .count();
+        Some(at - before)
+    }
+
     /// The examples `(q_i, θ_i)`.
     pub fn examples(&self) -> impl Iterator<Item = (&[f32], &[f32])> + Clone {
         (0..self.generalizer.len()).filter_map(|i| self.generalizer.example(i))

@@ -86,6 +86,15 @@ impl Settings {
         let bad = |setting, value: &dyn std::fmt::Display, why: String| {
             Err(Error::setting(setting, value, why))
         };
+        if self.method.learns_goals() {
+            return bad(
+                Setting::Method,
+                &self.method,
+                "learns the goals of a task file's demonstrations; the pour learns the bottle's \
+                 volume (golden, illinois, secant, fixed-gain, weighted-gain, power, power-el)"
+                    .into(),
+            );
+        }
         let [low, high] = self.search;
         if !(low.is_finite() && high.is_finite() && 0.0 < low && low < high) {
             return bad(

@@ -24,6 +24,10 @@ pub struct TaskTrial {
     /// Why the evaluator said the roll-out failed, if it did.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub failed: Option<String>,
+    /// The goals its movement ended at by column, when the learner learns
+    /// them (secant-goals; the query is the desired one throughout).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub goals: Vec<(String, f32)>,
 }
 
 impl Scored for TaskTrial {
@@ -63,6 +67,7 @@ pub(crate) fn score(task: &Task, rollout: u32, answer: Answer) -> Result<TaskTri
             reward: 0.0,
             rejected: None,
             failed: Some(why),
+            goals: Vec::new(),
         });
     }
     let error: Vec<f64> = match &answer.measured {
@@ -106,6 +111,7 @@ pub(crate) fn score(task: &Task, rollout: u32, answer: Answer) -> Result<TaskTri
         reward,
         rejected: None,
         failed: None,
+        goals: Vec::new(),
     })
 }
 
