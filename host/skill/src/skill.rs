@@ -733,6 +733,29 @@ mod tests {
         assert!(start.dot(&yaw(180.0)).abs() > 1.0 - 1e-6, "{start:?}");
     }
 
+    #[test]
+    fn a_position_column_after_an_orientation_is_its_dof_less_one() {
+        // The columns x, qw, qx, qy, qz, then as qw, qx, qy, qz, x.
+        let moved = |d: Demo| Demo {
+            names: ["qw", "qx", "qy", "qz", "x"].map(String::from).to_vec(),
+            positions: (d.positions.chunks_exact(5))
+                .flat_map(|r| [r[1], r[2], r[3], r[4], r[0]])
+                .collect(),
+            times: d.times,
+        };
+        let lwr = Method::Lwr { bandwidth: None };
+        let (a, b) = (demo(0.2, 140.0, 170.0), demo(0.4, 150.0, 170.0));
+        let first = Skill::fit(&[(&[0.0], &a), (&[1.0], &b)], 5, lwr).unwrap();
+        assert_eq!(first.position_dof("x"), Some(0));
+        let (a, b) = (moved(a), moved(b));
+        let last = Skill::fit(&[(&[0.0], &a), (&[1.0], &b)], 5, lwr).unwrap();
+        assert_eq!(last.position_dof("x"), Some(3));
+        for skill in [first, last] {
+            assert_eq!(skill.position_dof("qw"), None);
+            assert_eq!(skill.position_dof("y"), None);
+        }
+    }
+
     /// A screw of `deg` degrees about a tool axis wobbling by 1°, its
     /// sign flipped on every third row.
     fn screw(deg: f32) -> (Demo, impl Fn(f32) -> Quaternion) {

@@ -1196,6 +1196,94 @@ command = ["python3", "throw.py"]
         }
     }
 
+    /// The example task learning its goals, `keys` added to `[learner]`.
+    fn goals(keys: &str) -> String {
+        THROW.replace("low = [1.0]\nhigh = [1.9]\n", "").replace(
+            "method = \"golden\"",
+            &format!("method = \"secant-goals\"\n{keys}"),
+        )
+    }
+
+    #[test]
+    fn secant_goals_takes_its_columns_and_bounds_one_per_error_value() {
+        let task = parse(&goals("")).unwrap();
+        assert_eq!(task.learner.method, Algorithm::SecantGoals);
+        assert_eq!(
+            task.goals,
+            Some(GoalSearch {
+                columns: Vec::new(),
+                min: Vec::new(),
+                max: Vec::new()
+            })
+        );
+        assert!(task.goal.low.is_empty() && task.goal.high.is_empty());
+        let keys = "goals = [\"elbow\"]\ngoals_min = [0.1]\ngoals_max = [0.9]";
+        let search = parse(&goals(keys)).unwrap().goals.unwrap();
+        assert_eq!(
+            (search.columns, search.min, search.max),
+            (vec!["elbow".to_string()], vec![0.1], vec![0.9])
+        );
+        assert!(parse(THROW).unwrap().goals.is_none());
+        for (task, says) in [
+            (
+                goals("goals = [\"shoulder\", \"elbow\"]"),
+                "/lab/throw.toml:20: [learner] goals: 2 column(s); the demonstrations' queries, \
+                 and so the error, have 1 value(s): one goal is learned per value",
+            ),
+            (
+                goals("goals_min = [0.5, 0.5]"),
+                "/lab/throw.toml:20: [learner] goals_min: 2 values; the demonstrations' queries \
+                 have 1",
+            ),
+            (
+                goals("goals_min = [0.5]\ngoals_max = [0.5]"),
+                "/lab/throw.toml:21: [learner] goals_max: value 1 is 0.5, not above \
+                 goals_min's 0.5",
+            ),
+            (
+                goals("goals_max = [inf]"),
+                "/lab/throw.toml:20: [learner] goals_max: inf is not a finite number",
+            ),
+            (
+                THROW.replace("method = \"golden\"", "method = \"secant-goals\""),
+                "/lab/throw.toml:16: [goal] low, high: secant-goals keeps the query at `desired` \
+                 and searches the goals: bound them with [learner] goals_min and goals_max",
+            ),
+            (
+                goals("").replace("precision = 0.005\n", ""),
+                "/lab/throw.toml:14: [goal]: error learning needs `precision`",
+            ),
+            (
+                THROW.replace(
+                    "method = \"golden\"",
+                    "method = \"golden\"\ngoals = [\"elbow\"]",
+                ),
+                "/lab/throw.toml:22: [learner] goals: a setting of secant-goals; this task's \
+                 method is golden",
+            ),
+        ] {
+            assert_eq!(refused(&task), says);
+        }
+        let pour = r#"version = 1
+
+[goal]
+desired = [0.5]
+precision = 0.002
+
+[learner]
+method = "secant-goals"
+
+[evaluate]
+builtin = "pour"
+"#;
+        assert_eq!(
+            refused(pour),
+            "/lab/throw.toml:8: [learner] method: secant-goals learns the goals of the task's \
+             own demonstrations; the built-in pour learns the bottle's volume: use another \
+             learner"
+        );
+    }
+
     #[test]
     fn a_task_takes_its_defaults_and_its_places_from_the_file() {
         let task = parse(THROW).unwrap();
