@@ -223,6 +223,29 @@ mod tests {
     use primo_sim::cell::CellConfig;
     use primo_sim::cell::GlassKind;
 
+    /// Secant-goals learns a task file's goals; the pour has none to offer.
+    #[test]
+    fn the_pour_refuses_secant_goals_by_its_setting() {
+        let e = Settings::paper(Algorithm::SecantGoals, 0.5, 0.2, 1)
+            .validate()
+            .unwrap_err();
+        assert!(
+            matches!(
+                e,
+                Error::Setting {
+                    setting: Setting::Method,
+                    ..
+                }
+            ),
+            "{e}"
+        );
+        assert!(
+            e.to_string()
+                .starts_with("method secant-goals: learns the goals"),
+            "{e}"
+        );
+    }
+
     /// A glass that holds more than the target by less than f32 resolves
     /// is refused, not by the learner once the run has started.
     #[test]
