@@ -217,7 +217,10 @@ fn show(event: Event<TaskRun>, progress: &mut Progress) -> Result<(), Error> {
             };
             let goals = match task.goals.as_ref().map(|g| &g.columns[..]) {
                 None => String::new(),
-                Some([]) => format!(", the goals of the first {} column(s)", task.query_dim()),
+                Some([]) => match task.query_dim() {
+                    1 => ", the goal of the first column".into(),
+                    n => format!(", the goals of the first {n} columns"),
+                },
                 Some(columns) => format!(", the goals of {}", columns.join(", ")),
             };
             format!(

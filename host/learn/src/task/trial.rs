@@ -145,6 +145,22 @@ mod tests {
         }
     }
 
+    /// A roll-out of any learner but secant-goals is logged as before the
+    /// goals existed, and such a logged roll-out reads back.
+    #[test]
+    fn a_trial_without_goals_is_logged_as_before() {
+        let logged = r#"{"measured":[1.0],"error":[0.5],"reward":0.5}"#;
+        let trial: TaskTrial = serde_json::from_str(logged).unwrap();
+        assert!(trial.goals.is_empty());
+        assert_eq!(serde_json::to_string(&trial).unwrap(), logged);
+        let goals = TaskTrial {
+            goals: vec![("shoulder".into(), -0.5)],
+            ..trial
+        };
+        let text = serde_json::to_string(&goals).unwrap();
+        assert!(text.ends_with(r#","goals":[["shoulder",-0.5]]}"#), "{text}");
+    }
+
     #[test]
     fn an_error_beyond_f32_is_refused_naming_both_values() {
         let t = task(3.0e38);
