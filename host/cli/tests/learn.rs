@@ -62,6 +62,7 @@ fn the_throw_reaches_its_precision_with_each_error_learner() {
         ("fixed-gain", "throw.toml", 10),
         ("weighted-gain", "throw.toml", 10),
         ("secant", "throw-2d.toml", 8),
+        ("secant-goals", "throw-short.toml", 6),
     ] {
         let file = task(&format!("{method}-{example}"), example, |t| {
             t.replace("method = \"golden\" ", &format!("method = \"{method}\" "))
