@@ -13,7 +13,7 @@ use std::sync::{Arc, Mutex};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
-use primo_learn::algorithm::Algorithm;
+use primo_learn::algorithm::{Algorithm, ERROR_LEARNERS};
 use primo_learn::experiment::claim::{check, claim};
 use primo_learn::experiment::{
     PowerCurves, PowerRun, SearchRun, THRESHOLDS, Variant, golden_run as golden_seeded,
@@ -201,7 +201,7 @@ pub fn golden_run<'py>(
     precision: f64,
 ) -> PyResult<Bound<'py, PyDict>> {
     let algorithm: Algorithm = parse("method", method, METHODS)?;
-    if algorithm.is_power() {
+    if !ERROR_LEARNERS.contains(&algorithm) {
         return Err(invalid(format!("method: `{method}`, expected {METHODS}")));
     }
     let seed = seed.map_or(Ok(1), |s| seed_of("seed", &s))?;

@@ -11,6 +11,7 @@ use primo_learn::rollouts::{Stop, query_text};
 use primo_learn::run::{Event, Start, logged_kind};
 use primo_learn::task::change::Changes;
 use primo_learn::task::evaluator::Prompt;
+use primo_learn::task::goals::point;
 use primo_learn::task::run::{Robot, TaskCell, TaskRun, rollout_line};
 use primo_learn::task::{Evaluate, Task};
 
@@ -214,9 +215,17 @@ fn show(event: Event<TaskRun>, progress: &mut Progress) -> Result<(), Error> {
                 Evaluate::Operator => "the operator evaluates".into(),
                 Evaluate::Pour(_) => "the built-in pouring cell".into(),
             };
+            let goals = match task.goals.as_ref().map(|g| &g.columns[..]) {
+                None => String::new(),
+                Some([]) => match task.query_dim() {
+                    1 => ", the goal of the first column".into(),
+                    n => format!(", the goals of the first {n} columns"),
+                },
+                Some(columns) => format!(", the goals of {}", columns.join(", ")),
+            };
             format!(
-                "primo learn: {} ({}) toward q = {}, {} demonstrations, {parameters} learned \
-                 parameter(s), {evaluator}",
+                "primo learn: {} ({}) toward q = {}{goals}, {} demonstrations, {parameters} \
+                 learned parameter(s), {evaluator}",
                 task.learner.method,
                 task.learner.method.name(),
                 query_text(&task.goal.desired),
@@ -229,7 +238,7 @@ fn show(event: Event<TaskRun>, progress: &mut Progress) -> Result<(), Error> {
             bounds,
         } => {
             let note = format!("reward {:.3}", entry.record.trial.reward);
-            let line = bounded(rollout_line(&entry.record), bounds, &entry.record.query);
+            let line = bounded(rollout_line(&entry.record), bounds, &point(&entry.record));
             return show_rollout(progress, &line, logged, entry.record.rollout, &note);
         }
         Event::Finished(f) => {

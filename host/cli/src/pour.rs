@@ -10,7 +10,7 @@ use primo_learn::pour::rig::{InstrumentsSpec, Operator};
 use primo_learn::pour::run::{CellSpec, Note, Pour, Resumed};
 use primo_learn::pour::settings::Settings;
 use primo_learn::pour::skill::{DemoFile, SkillSpec};
-use primo_learn::rollouts::query_text;
+use primo_learn::rollouts::Point;
 use primo_learn::run::{Event, Failure, LearnerSpec, Start};
 use primo_learn::runlog::RunEvent;
 use primo_mtsics::Fixed;
@@ -498,7 +498,8 @@ fn show(event: Event<Pour>, progress: &mut Progress) -> Result<(), Error> {
             bounds,
         } => {
             let note = format!("error {:+.1} ml", entry.record.trial.error * 1e3);
-            let line = bounded(rollout_line(&entry.record), bounds, &entry.record.query);
+            let at = Point::query(&entry.record.query);
+            let line = bounded(rollout_line(&entry.record), bounds, &at);
             return show_rollout(progress, &line, logged, entry.record.rollout, &note);
         }
         Event::Finished(f) => {
@@ -532,12 +533,9 @@ fn show(event: Event<Pour>, progress: &mut Progress) -> Result<(), Error> {
 
 /// A roll-out's line, and if the error learner takes it as a bound of its
 /// search, that it does.
-pub fn bounded(line: String, bounds: bool, query: &[f32]) -> String {
+pub fn bounded(line: String, bounds: bool, at: &Point) -> String {
     match bounds {
-        true => format!(
-            "{line}; error learning now searches away from q = {}",
-            query_text(query)
-        ),
+        true => format!("{line}; error learning now searches away from {at}"),
         false => line,
     }
 }

@@ -62,6 +62,7 @@ fn the_throw_reaches_its_precision_with_each_error_learner() {
         ("fixed-gain", "throw.toml", 10),
         ("weighted-gain", "throw.toml", 10),
         ("secant", "throw-2d.toml", 8),
+        ("secant-goals", "throw-short.toml", 6),
     ] {
         let file = task(&format!("{method}-{example}"), example, |t| {
             t.replace("method = \"golden\" ", &format!("method = \"{method}\" "))
@@ -165,6 +166,11 @@ fn with_evaluator(name: &str, source: &str, edit: impl Fn(String) -> String) -> 
 /// An evaluator that fails once, at roll-out 3, as `how` says, then (run
 /// again) is the throw's.
 fn flaky(name: &str, how: &str) -> PathBuf {
+    flaky_with(name, how, |t| t)
+}
+
+/// [`flaky`] with `edit` applied to the task.
+fn flaky_with(name: &str, how: &str, edit: impl Fn(String) -> String) -> PathBuf {
     let source = format!(
         r#"import json, os, time
 import throw
@@ -186,7 +192,9 @@ for line in sys.stdin:
     print(json.dumps({{"rollout": request["rollout"], "measured": [d]}}), flush=True)
 "#
     );
-    with_evaluator(name, &source, |t| t.replace("timeout = 30", "timeout = 2"))
+    with_evaluator(name, &source, |t| {
+        edit(t.replace("timeout = 30", "timeout = 2"))
+    })
 }
 
 #[test]
@@ -846,24 +854,45 @@ fn bad_task_files_are_refused_before_anything_runs() {
     assert!(err.contains("--robot/--scale"), "{err}");
 }
 
+/// `file` learned with the learner on the firmware in QEMU, then in this
+/// process (outputs `out-NAME-mcu`, `out-NAME-host`): each run's
+/// directory and what it printed.
+fn on_the_mcu_and_here(name: &str, file: &Path) -> [(PathBuf, String); 2] {
+    let (mcu, host) = (
+        tmp(&format!("out-{name}-mcu")),
+        tmp(&format!("out-{name}-host")),
+    );
+    let (code, on_mcu, err) = learn(file, &mcu, &["--coprocessor", "qemu"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(on_mcu.contains("learner: firmware"), "{on_mcu}");
+    let (code, in_process, err) = learn(file, &host, &[]);
+    assert_eq!(code, 0, "{err}");
+    [(mcu, on_mcu), (host, in_process)]
+}
+
+/// The roll-outs' lines of what a run printed.
+fn rollout_lines(printed: &str) -> Vec<&str> {
+    (printed.lines())
+        .filter(|l| l.starts_with("roll-out"))
+        .collect()
+}
+
+/// The run logs in `a` and `b` hold the same roll-outs, byte for byte.
+fn same_logged_rollouts(a: &Path, b: &Path) {
+    let log = |d: &Path| std::fs::read_to_string(d.join("run.log")).unwrap();
+    assert_eq!(
+        log(a).lines().skip(1).collect::<Vec<_>>(),
+        log(b).lines().skip(1).collect::<Vec<_>>()
+    );
+}
+
 #[test]
 fn the_secant_learner_runs_on_the_emulated_mcu() {
     let file = task("copro", "throw-2d.toml", |t| t);
-    let (mcu, host) = (tmp("out-copro-mcu"), tmp("out-copro-host"));
-    let (code, on_mcu, err) = learn(&file, &mcu, &["--coprocessor", "qemu"]);
-    assert_eq!(code, 0, "{err}");
-    assert!(on_mcu.contains("learner: firmware"), "{on_mcu}");
-    let (code, in_process, err) = learn(&file, &host, &[]);
-    assert_eq!(code, 0, "{err}");
+    let [(mcu, on_mcu), (host, in_process)] = on_the_mcu_and_here("copro", &file);
     // The same roll-outs, bit for bit: the M4F's secant is the host's.
-    let rollouts = |s: &str| -> Vec<String> {
-        s.lines()
-            .filter(|l| l.starts_with("roll-out"))
-            .map(String::from)
-            .collect()
-    };
-    assert!(rollouts(&in_process).len() >= 2, "{in_process}");
-    assert_eq!(rollouts(&on_mcu), rollouts(&in_process));
+    assert!(rollout_lines(&in_process).len() >= 2, "{in_process}");
+    assert_eq!(rollout_lines(&on_mcu), rollout_lines(&in_process));
     assert_eq!(
         std::fs::read_to_string(mcu.join("rollouts.csv")).unwrap(),
         std::fs::read_to_string(host.join("rollouts.csv")).unwrap()
@@ -875,12 +904,7 @@ fn power_with_an_error_learned_query_runs_on_the_emulated_mcu() {
     let file = task("copro-el", "throw-power-el.toml", |t| {
         t.replace("max_rollouts = 40", "max_rollouts = 9")
     });
-    let (mcu, host) = (tmp("out-copro-el-mcu"), tmp("out-copro-el-host"));
-    let (code, on_mcu, err) = learn(&file, &mcu, &["--coprocessor", "qemu"]);
-    assert_eq!(code, 0, "{err}");
-    assert!(on_mcu.contains("learner: firmware"), "{on_mcu}");
-    let (code, _, err) = learn(&file, &host, &[]);
-    assert_eq!(code, 0, "{err}");
+    let [(mcu, _), (host, _)] = on_the_mcu_and_here("copro-el", &file);
     // Every roll-out's query (error-learned) and Δθ, bit for bit.
     let csv = std::fs::read_to_string(host.join("rollouts.csv")).unwrap();
     assert_eq!(csv.lines().count(), 10, "{csv}");
@@ -888,11 +912,227 @@ fn power_with_an_error_learned_query_runs_on_the_emulated_mcu() {
         std::fs::read_to_string(mcu.join("rollouts.csv")).unwrap(),
         csv
     );
-    let log = |d: &Path| std::fs::read_to_string(d.join("run.log")).unwrap();
-    assert_eq!(
-        log(&mcu).lines().skip(1).collect::<Vec<_>>(),
-        log(&host).lines().skip(1).collect::<Vec<_>>()
+    same_logged_rollouts(&mcu, &host);
+}
+
+/// The example throw toward 0.8 m, shorter than both demonstrations (1.06
+/// and 1.81 m), learned by `method`: the query's search bounded below by
+/// 0 m (a distance), secant-goals' goal by the shoulder's limits.
+fn short_throw(t: String, method: &str) -> String {
+    let goals = method == "secant-goals";
+    (t.lines())
+        .filter_map(|l| match l.split(" = ").next() {
+            Some("desired") => Some("desired = [0.8]".into()),
+            Some("low") if goals => None,
+            Some("high") if goals => None,
+            Some("low") => Some("low = [0.0]".into()),
+            Some("method") => Some(format!("method = \"{method}\"")),
+            _ => Some(l.to_string()),
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+#[test]
+fn secant_goals_throws_shorter_than_the_demonstrations_where_the_query_cannot() {
+    let run = |method: &str| {
+        let file = task(&format!("short-{method}"), "throw.toml", |t| {
+            short_throw(t, method)
+        });
+        let out = tmp(&format!("out-short-{method}"));
+        let (code, stdout, err) = learn(&file, &out, &[]);
+        assert_eq!(code, 0, "{method}: {err}");
+        (out, stdout)
+    };
+    // The movement generalized to 0 m lands at 0.86 m: the query stalls
+    // on its bound (it would reach 0.8 m at q = -0.76 m, τ ≈ 2 s).
+    let (out, stdout) = run("secant");
+    let s = summary(&out);
+    assert_eq!(s["stopped"], "stalled", "{stdout}");
+    let best = s["best"]["trial"]["measured"][0].as_f64().unwrap();
+    assert!(best > 0.85, "{stdout}");
+    // A smaller swing (the shoulder's goal) does it.
+    let (out, stdout) = run("secant-goals");
+    assert!(
+        stdout.contains("toward q = 0.8, the goal of the first column,"),
+        "{stdout}"
     );
+    let s = summary(&out);
+    assert!(s["converged_at"].as_u64().unwrap() <= 6, "{stdout}");
+    assert_eq!(s["goals"], serde_json::json!(["shoulder"]));
+    assert_eq!(s["desired"], serde_json::json!([0.8]));
+    let last = &s["last"];
+    let measured = last["trial"]["measured"][0].as_f64().unwrap();
+    assert!((measured - 0.8).abs() < 0.005, "{stdout}");
+    // Every roll-out is generalized at the desired query; the learned
+    // goal is where the trajectory ends.
+    assert_eq!(last["query"], serde_json::json!([0.8]));
+    let goal = last["trial"]["goals"][0][1].as_f64().unwrap();
+    let n = last["rollout"].as_u64().unwrap();
+    let trajectory =
+        std::fs::read_to_string(out.join(format!("trajectories/rollout-{n:04}.csv"))).unwrap();
+    let end: Vec<f64> = (trajectory.lines().last().unwrap().split(','))
+        .map(|v| v.parse().unwrap())
+        .collect();
+    assert!((end[1] - goal).abs() < 1e-3, "{end:?} against {goal}");
+    let csv = std::fs::read_to_string(out.join("rollouts.csv")).unwrap();
+    assert!(
+        csv.starts_with("rollout,update,mean,query,goal_shoulder,measured,error,"),
+        "{csv}"
+    );
+    let line = stdout
+        .lines()
+        .find(|l| l.starts_with("roll-out   1:"))
+        .unwrap();
+    assert!(
+        line.starts_with("roll-out   1: goals shoulder = -0.4"),
+        "{line}"
+    );
+}
+
+#[test]
+fn a_secant_goals_run_resumes_as_if_never_stopped() {
+    let edit = |t: String| short_throw(t, "secant-goals");
+    let file = flaky_with("goals-resumed", "crash", edit);
+    let out = tmp("out-goals-resumed");
+    let (code, _, err) = learn(&file, &out, &[]);
+    assert_eq!(code, 1, "{err}");
+    assert_eq!(logged(&out), 2);
+    let (code, stdout, err) = primo(&["learn", "--resume", out.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(
+        stdout.lines().filter(|l| l.ends_with("(logged)")).count(),
+        2,
+        "{stdout}"
+    );
+    // The evaluator no longer fails: the same task run whole.
+    let whole = tmp("out-goals-whole");
+    let (code, _, err) = learn(&file, &whole, &[]);
+    assert_eq!(code, 0, "{err}");
+    for f in ["run.log", "rollouts.csv"] {
+        assert_eq!(
+            std::fs::read_to_string(out.join(f)).unwrap(),
+            std::fs::read_to_string(whole.join(f)).unwrap(),
+            "{f}"
+        );
+    }
+    // Wider bounds for the goal are a change the logged roll-outs keep.
+    let text = std::fs::read_to_string(&file).unwrap();
+    let wider = file.with_file_name("wider.toml");
+    std::fs::write(
+        &wider,
+        text.replace(
+            "method = \"secant-goals\"",
+            "method = \"secant-goals\"\ngoals_min = [-2.6]",
+        ),
+    )
+    .unwrap();
+    let (code, _, err) = primo(&[
+        "learn",
+        "--resume",
+        out.to_str().unwrap(),
+        "--task",
+        wider.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains("resuming with [learner] goals_min [] -> [-2.6]"),
+        "{err}"
+    );
+}
+
+#[test]
+fn secant_goals_runs_on_the_emulated_mcu() {
+    let file = task("copro-goals", "throw.toml", |t| {
+        short_throw(t, "secant-goals")
+    });
+    let [(mcu, on_mcu), (host, in_process)] = on_the_mcu_and_here("copro-goals", &file);
+    // The same goals asked, bit for bit, and the same learner states.
+    assert!(rollout_lines(&in_process).len() >= 3, "{in_process}");
+    assert_eq!(rollout_lines(&on_mcu), rollout_lines(&in_process));
+    same_logged_rollouts(&mcu, &host);
+}
+
+#[test]
+fn bad_goal_settings_are_refused_before_anything_runs() {
+    let goals = |keys: &'static str| {
+        move |t: String| {
+            short_throw(t, "secant-goals").replace(
+                "method = \"secant-goals\"",
+                &format!("method = \"secant-goals\"\n{keys}"),
+            )
+        }
+    };
+    for (what, keys, says) in [
+        (
+            "no such column",
+            "goals = [\"wrist\"]",
+            "[learner] goals: `wrist` is no position column of the demonstrations (shoulder, \
+             elbow)",
+        ),
+        (
+            "too many",
+            "goals = [\"shoulder\", \"elbow\"]",
+            "[learner] goals: 2 column(s); the demonstrations' queries, and so the error, have \
+             1 value(s)",
+        ),
+        (
+            "start outside",
+            "goals_min = [0.0]",
+            "[learner] goals_min, goals_max: the movement generalized to the desired query \
+             ends `shoulder` at -0.4",
+        ),
+        (
+            "min above max",
+            "goals_min = [0.5]\ngoals_max = [0.2]",
+            "[learner] goals_max: value 1 is 0.2, not above goals_min's 0.5",
+        ),
+    ] {
+        let name = format!("bad-goals-{}", what.replace(' ', "-"));
+        let file = task(&name, "throw.toml", goals(keys));
+        let out = tmp(&format!("out-{name}"));
+        let (code, _, err) = learn(&file, &out, &[]);
+        assert_eq!(code, 2, "{what}: {err}");
+        assert!(err.contains(says), "{what}: {err}");
+        assert!(err.contains(&file.display().to_string()), "{what}: {err}");
+        assert_eq!(err.trim_end().lines().count(), 1, "{what}: {err}");
+        assert!(!out.exists(), "{what}: output made");
+    }
+    // Two goals, as the demonstrations' order has them.
+    let file = task("bad-goals-order", "throw-2d.toml", |t| {
+        t.replace("low = [1.05, 0.6]\n", "")
+            .replace("high = [1.75, 1.3]\n", "")
+            .replace(
+                "method = \"secant\"",
+                "method = \"secant-goals\"\ngoals = [\"elbow\", \"shoulder\"]",
+            )
+    });
+    let (code, _, err) = learn(&file, &tmp("out-bad-goals-order"), &[]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains(
+            "[learner] goals: elbow, shoulder: the learner changes consecutive columns' goals, \
+             in the demonstrations' order (shoulder, elbow)"
+        ),
+        "{err}"
+    );
+    // The built-in pour learns the bottle's volume, not goals; neither
+    // does `primo pour`, whose --method does not offer it.
+    let pour = tmp("bad-goals-pour");
+    std::fs::create_dir_all(&pour).unwrap();
+    let text = std::fs::read_to_string(examples().join("pour.toml"))
+        .unwrap()
+        .replace("method = \"golden\"", "method = \"secant-goals\"");
+    std::fs::write(pour.join("task.toml"), text).unwrap();
+    let (code, _, err) = learn(&pour.join("task.toml"), &tmp("out-bad-goals-pour"), &[]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("[learner] method: secant-goals learns the goals of the task's own"),
+        "{err}"
+    );
+    let (code, _, err) = primo(&["pour", "--method", "secant-goals"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("secant-goals"), "{err}");
 }
 
 /// A task whose tool turns about z to a yaw on either side of 180°:

@@ -409,6 +409,38 @@ fn a_tool_trajectory_reaches_its_evaluator_with_the_joints_it_was_solved_to() {
 }
 
 #[test]
+fn secant_goals_moves_a_tool_poses_goal_within_the_bounds_given() {
+    let file = reach_task("reach-goals", false, false);
+    let text = std::fs::read_to_string(&file).unwrap();
+    let with = |keys: &str| {
+        let lines = (text.lines())
+            .filter(|l| !l.starts_with("low = ") && !l.starts_with("high = "))
+            .map(|l| match l {
+                "method = \"secant\"" => format!("method = \"secant-goals\"{keys}"),
+                l => l.to_string(),
+            });
+        std::fs::write(&file, lines.collect::<Vec<_>>().join("\n")).unwrap();
+    };
+    // A tool pose's columns have no limits of their own: the robot's are
+    // its joints'.
+    with("");
+    let (code, _, err) = learn(&file, &tmp("out-reach-goals-unbounded"));
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains(
+            "[learner] goals_min: `x` has no limits of its own to bound its goal: give \
+             goals_min and goals_max"
+        ),
+        "{err}"
+    );
+    with("\ngoals_min = [-2.0]\ngoals_max = [2.0]");
+    let (code, stdout, err) = learn(&file, &tmp("out-reach-goals"));
+    assert_eq!(code, 0, "{stdout}\n{err}");
+    assert!(stdout.contains("reached the precision"), "{stdout}");
+    assert!(stdout.contains("goals x = "), "{stdout}");
+}
+
+#[test]
 fn a_tool_trajectory_is_solved_from_the_robots_start_posture() {
     let file = reach_task("reach-start", false, true);
     let out = tmp("out-reach-start");

@@ -4,7 +4,7 @@
 
 use primo_core::golden::SearchConfig;
 use primo_core::secant::{Rule, SecantConfig};
-use primo_protocol::learner::LearnerSetup;
+use primo_protocol::learner::{LearnerSetup, MAX_QUERY};
 use primo_skill::Skill;
 use serde::{Deserialize, Serialize};
 
@@ -24,6 +24,11 @@ pub enum Algorithm {
     /// Error learning on a query of any dimension, `q ← q + K ε` with the
     /// gain `K` learned from the roll-outs (Broyden; paper eq. 10).
     Secant,
+    /// Secant error learning on a change of the generalized movement's
+    /// goals, one per error value, instead of the query: the movement is
+    /// generalized at the desired query, and its goals move where no query
+    /// of the demonstrations' takes the outcome.
+    SecantGoals,
     /// The paper's eq. 10 with a fixed gain `K = gain · I`.
     FixedGain,
     /// The paper's eq. 11, `q ← q + e^{−εᵀε} K ε`, `K = gain · I` fixed.
@@ -47,10 +52,11 @@ pub const ERROR_LEARNERS: [Algorithm; 5] = [
 
 impl Algorithm {
     /// Every learner.
-    pub const ALL: [Algorithm; 7] = [
+    pub const ALL: [Algorithm; 8] = [
         Algorithm::Golden,
         Algorithm::Illinois,
         Algorithm::Secant,
+        Algorithm::SecantGoals,
         Algorithm::FixedGain,
         Algorithm::WeightedGain,
         Algorithm::Power,
@@ -64,6 +70,7 @@ impl Algorithm {
             Algorithm::Golden => "golden",
             Algorithm::Illinois => "illinois",
             Algorithm::Secant => "secant",
+            Algorithm::SecantGoals => "secant-goals",
             Algorithm::FixedGain => "fixed-gain",
             Algorithm::WeightedGain => "weighted-gain",
             Algorithm::Power => "power",
@@ -77,6 +84,7 @@ impl Algorithm {
             Algorithm::Golden => "golden-section error learning",
             Algorithm::Illinois => "Illinois error learning",
             Algorithm::Secant => "secant error learning",
+            Algorithm::SecantGoals => "secant error learning on the goals",
             Algorithm::FixedGain => "fixed-gain error learning (eq. 10)",
             Algorithm::WeightedGain => "weighted fixed-gain error learning (eq. 11)",
             Algorithm::Power => "extended PoWER",
@@ -89,9 +97,14 @@ impl Algorithm {
         matches!(self, Algorithm::Power | Algorithm::PowerEl)
     }
 
-    /// Learns the query from the error (every learner but plain PoWER).
+    /// Learns from the error (every learner but plain PoWER).
     pub fn uses_error(self) -> bool {
         self != Algorithm::Power
+    }
+
+    /// Learns the movement's goals, not its query.
+    pub fn learns_goals(self) -> bool {
+        self == Algorithm::SecantGoals
     }
 
     /// PoWER's default query exploration scale s1: the paper's 0.2, and 0
@@ -112,7 +125,7 @@ impl Algorithm {
     }
 
     /// Parameters it learns on `skill`: `[q̂, Δθ]` for PoWER, the query
-    /// otherwise.
+    /// otherwise (or as many goals).
     pub fn learned_parameters(self, skill: &Skill) -> usize {
         match self {
             Algorithm::Power | Algorithm::PowerEl => skill.param_len() + skill.query_dim(),
@@ -120,9 +133,10 @@ impl Algorithm {
         }
     }
 
-    /// Its search core's setup, for the error learners over the bounds
-    /// `low`, `high` from `desired` (one value each for golden section and
-    /// Illinois); `None` for PoWER.
+    /// Its search core's setup, for the error learners on the query over
+    /// the bounds `low`, `high` from `desired` (one value each for golden
+    /// section and Illinois); `None` for PoWER. Secant-goals is set up by
+    /// [`goals_setup`], on a skill's goals.
     pub fn search(
         self,
         (low, high, desired): (&[f32], &[f32], &[f32]),
@@ -138,15 +152,14 @@ impl Algorithm {
             max_rollouts,
         };
         let secant = |rule| -> Result<LearnerSetup, Error> {
-            Ok(LearnerSetup::Secant(SecantConfig {
-                low: wire_query(low)?,
-                high: wire_query(high)?,
-                desired: wire_query(desired)?,
+            let bounds = (low, high, desired);
+            Ok(LearnerSetup::Secant(secant_config(
+                bounds,
                 precision,
                 max_rollouts,
                 gain,
                 rule,
-            }))
+            )?))
         };
         Ok(Some(match self {
             Algorithm::Golden => LearnerSetup::Golden(scalar()),
@@ -154,9 +167,54 @@ impl Algorithm {
             Algorithm::Secant => secant(Rule::Broyden)?,
             Algorithm::FixedGain => secant(Rule::Fixed)?,
             Algorithm::WeightedGain => secant(Rule::Weighted)?,
+            Algorithm::SecantGoals => {
+                return Err(Error::Invalid(
+                    "secant-goals learns the goals of a task file's demonstrations; it searches \
+                     no query"
+                        .into(),
+                ));
+            }
             Algorithm::Power | Algorithm::PowerEl => return Ok(None),
         }))
     }
+}
+
+/// The secant learner's settings over `(low, high, desired)`.
+fn secant_config(
+    (low, high, desired): (&[f32], &[f32], &[f32]),
+    precision: f32,
+    max_rollouts: u32,
+    gain: f32,
+    rule: Rule,
+) -> Result<SecantConfig<MAX_QUERY>, Error> {
+    Ok(SecantConfig {
+        low: wire_query(low)?,
+        high: wire_query(high)?,
+        desired: wire_query(desired)?,
+        precision,
+        max_rollouts,
+        gain,
+        rule,
+    })
+}
+
+/// Secant-goals' setup: the movement generalized at `query`, the learner's
+/// values the changes of the goals from `first_goal` in `θ` on, from 0
+/// within `(low, high)` (one per error value).
+pub fn goals_setup(
+    (low, high): (&[f32], &[f32]),
+    (precision, max_rollouts, gain): (f32, u32, f32),
+    query: &[f32],
+    first_goal: usize,
+) -> Result<LearnerSetup, Error> {
+    let start = vec![0.0; low.len()];
+    let bounds = (low, high, &start[..]);
+    Ok(LearnerSetup::SecantGoals {
+        config: secant_config(bounds, precision, max_rollouts, gain, Rule::Broyden)?,
+        query: wire_query(query)?,
+        first_goal: u16::try_from(first_goal)
+            .map_err(|_| Error::Invalid(format!("goal {first_goal} of θ: θ too long")))?,
+    })
 }
 
 impl std::fmt::Display for Algorithm {

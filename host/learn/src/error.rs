@@ -263,6 +263,8 @@ pub enum Setting {
     GlassHolds,
     /// Error learning's precision.
     Precision,
+    /// The learner.
+    Method,
     /// The roll-out budget.
     MaxRollouts,
     /// The error learners' gain.
@@ -299,6 +301,7 @@ impl Setting {
             Setting::Search => "search",
             Setting::GlassHolds => "glass_holds",
             Setting::Precision => "precision",
+            Setting::Method => "method",
             Setting::MaxRollouts => "max_rollouts",
             Setting::Gain => "gain",
             Setting::Updates => "updates",

@@ -301,6 +301,46 @@ pub struct Ending<'a, T> {
     pub best: Option<&'a Entry<T>>,
 }
 
+/// Where an error learner was, as reports name it: a query (`q = 0.5`),
+/// or the goals it changes by column (`goals shoulder = -0.4`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Point {
+    /// The values.
+    pub values: Vec<f32>,
+    /// The columns whose goals they are (empty: a query).
+    pub goals: Vec<String>,
+}
+
+impl Point {
+    /// The query `query`.
+    pub fn query(query: &[f32]) -> Point {
+        Point {
+            values: query.to_vec(),
+            goals: Vec::new(),
+        }
+    }
+
+    /// Its largest difference to `other`, value by value.
+    fn distance(&self, other: &Point) -> f32 {
+        (self.values.iter())
+            .zip(&other.values)
+            .fold(0.0f32, |m, (a, b)| m.max((a - b).abs()))
+    }
+}
+
+impl std::fmt::Display for Point {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if self.goals.is_empty() {
+            return write!(f, "q = {}", query_text(&self.values));
+        }
+        let each: Vec<String> = (self.goals.iter())
+            .zip(&self.values)
+            .map(|(column, v)| format!("{column} = {v}"))
+            .collect();
+        write!(f, "goals {}", each.join(", "))
+    }
+}
+
 /// Why a run's learner stopped.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 #[serde(rename_all = "snake_case")]
@@ -314,28 +354,29 @@ pub enum Stop {
         /// The budget.
         rollouts: u32,
     },
-    /// The search's bracket shrank to nothing at `query` first: the error
-    /// is discontinuous or noisy there, or the target lies where nothing
-    /// can be rolled out (`beyond`: the nearest such query, if any).
+    /// The search's bracket shrank to nothing at `at` first: the error is
+    /// discontinuous or noisy there, or the target lies where nothing can
+    /// be rolled out (`beyond`: the nearest such point, if any).
     Collapsed {
         /// Where.
-        query: Vec<f32>,
-        /// The nearest query that could not be rolled out.
-        beyond: Option<Vec<f32>>,
+        at: Point,
+        /// The nearest point that could not be rolled out.
+        beyond: Option<Point>,
     },
-    /// The secant learner showed from its best query, `query`, that the
+    /// The secant learner showed from its best point, `at`, that the
     /// target lies outside the search bounds (or beyond `beyond`, the
-    /// nearest query that could not be rolled out).
+    /// nearest point that could not be rolled out).
     Stalled {
         /// Where.
-        query: Vec<f32>,
-        /// The nearest query that could not be rolled out.
-        beyond: Option<Vec<f32>>,
+        at: Point,
+        /// The nearest point that could not be rolled out.
+        beyond: Option<Point>,
     },
-    /// The first roll-out, at the desired query, could not be made.
+    /// The first roll-out, at the desired query (and the generalized
+    /// goals), could not be made.
     Infeasible {
-        /// The desired query.
-        query: Vec<f32>,
+        /// Its point.
+        at: Point,
         /// Why.
         why: String,
     },
@@ -383,11 +424,10 @@ impl Stop {
 
 impl std::fmt::Display for Stop {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let beyond = |f: &mut std::fmt::Formatter<'_>, b: &Option<Vec<f32>>| match b {
+        let beyond = |f: &mut std::fmt::Formatter<'_>, b: &Option<Point>| match b {
             Some(b) => write!(
                 f,
-                "; q = {} could not be rolled out: the target may lie where nothing can be",
-                query_text(b)
+                "; {b} could not be rolled out: the target may lie where nothing can be"
             ),
             None => Ok(()),
         };
@@ -400,29 +440,31 @@ impl std::fmt::Display for Stop {
                     "the budget of {rollouts} roll-outs ran out before the precision"
                 )
             }
-            Stop::Collapsed { query, beyond: b } => {
+            Stop::Collapsed { at, beyond: b } => {
                 write!(
                     f,
-                    "the search bracket shrank to nothing at q = {} before the precision \
-                     (the error jumps there, or is noisy)",
-                    query_text(query)
+                    "the search bracket shrank to nothing at {at} before the precision \
+                     (the error jumps there, or is noisy)"
                 )?;
                 beyond(f, b)
             }
-            Stop::Stalled { query, beyond: b } => {
+            Stop::Stalled { at, beyond: b } => {
                 write!(
                     f,
-                    "the search stalled at q = {} before the precision: the target \
-                     lies outside the search bounds",
-                    query_text(query)
+                    "the search stalled at {at} before the precision: the target lies \
+                     outside the search bounds"
                 )?;
                 beyond(f, b)
             }
-            Stop::Infeasible { query, why } => write!(
+            Stop::Infeasible { at, why } if at.goals.is_empty() => write!(
                 f,
-                "the desired query q = {} could not be rolled out ({why}): change it or the \
-                 limits",
-                query_text(query)
+                "the desired query {at} could not be rolled out ({why}): change it or the \
+                 limits"
+            ),
+            Stop::Infeasible { at, why } => write!(
+                f,
+                "the movement generalized to the desired query ({at}) could not be rolled \
+                 out ({why}): change the query or the limits"
             ),
         }
     }
@@ -430,8 +472,14 @@ impl std::fmt::Display for Stop {
 
 impl<'a, T: Scored> Ending<'a, T> {
     /// The outcome of `run`, learned with PoWER (`power`) or by error
-    /// learning to `precision`.
-    pub fn of(run: &'a [Entry<T>], power: bool, precision: f64) -> Result<Self, Error> {
+    /// learning to `precision`; `point` names where a roll-out's learner
+    /// was.
+    pub fn of(
+        run: &'a [Entry<T>],
+        power: bool,
+        precision: f64,
+        point: impl Fn(&Record<T>) -> Point,
+    ) -> Result<Self, Error> {
         let last = run
             .iter()
             .rev()
@@ -449,14 +497,19 @@ impl<'a, T: Scored> Ending<'a, T> {
         Ok(Ending {
             last,
             converged_at,
-            stop: stop(run, power, converged_at.is_some()),
+            stop: stop(run, power, converged_at.is_some(), point),
             best: best(run),
         })
     }
 }
 
 /// Why the learner of `run` stopped, from its last status.
-fn stop<T: Scored>(run: &[Entry<T>], power: bool, converged: bool) -> Stop {
+fn stop<T: Scored>(
+    run: &[Entry<T>],
+    power: bool,
+    converged: bool,
+    point: impl Fn(&Record<T>) -> Point,
+) -> Stop {
     let Some(end) = run.last() else {
         return Stop::Budget { rollouts: 0 };
     };
@@ -468,36 +521,25 @@ fn stop<T: Scored>(run: &[Entry<T>], power: bool, converged: bool) -> Stop {
     let at = match end.status.search {
         SearchStatus::Stalled => run
             .iter()
-            .filter_map(|e| Some((e.record.trial.worst_error()?, &e.record.query)))
+            .filter_map(|e| Some((e.record.trial.worst_error()?, &e.record)))
             .min_by(|a, b| a.0.total_cmp(&b.0))
-            .map_or(&end.record.query, |(_, q)| q),
-        _ => &end.record.query,
+            .map_or(&end.record, |(_, r)| r),
+        _ => &end.record,
     };
-    // The infeasible query nearest the end (max-norm), if any.
-    let distance = |q: &[f32]| {
-        q.iter()
-            .zip(at)
-            .fold(0.0f32, |m, (a, b)| m.max((a - b).abs()))
-    };
+    let at = point(at);
+    // The infeasible point nearest the end (max-norm), if any.
     let beyond = run
         .iter()
         .filter(|e| e.record.trial.infeasible().is_some())
-        .map(|e| &e.record.query)
-        .min_by(|a, b| distance(a).total_cmp(&distance(b)))
-        .cloned();
+        .map(|e| point(&e.record))
+        .min_by(|a, b| a.distance(&at).total_cmp(&b.distance(&at)));
     match end.status.search {
         SearchStatus::Converged => Stop::Converged,
         _ if converged => Stop::Converged,
-        SearchStatus::BracketCollapsed => Stop::Collapsed {
-            query: at.clone(),
-            beyond,
-        },
-        SearchStatus::Stalled => Stop::Stalled {
-            query: at.clone(),
-            beyond,
-        },
+        SearchStatus::BracketCollapsed => Stop::Collapsed { at, beyond },
+        SearchStatus::Stalled => Stop::Stalled { at, beyond },
         SearchStatus::Infeasible => Stop::Infeasible {
-            query: at.clone(),
+            at,
             why: end.record.trial.infeasible().unwrap_or("").to_string(),
         },
         SearchStatus::Running | SearchStatus::BudgetExhausted => Stop::Budget {

@@ -369,6 +369,24 @@ impl Skill {
         self.template.dof()
     }
 
+    /// The DMP DoF of the position column `column`, if it is one of the
+    /// skill's (an orientation's columns are none).
+    pub fn position_dof(&self, column: &str) -> Option<usize> {
+        let at = self.names.iter().position(|n| n == column)?;
+        if self
+            .groups
+            .iter()
+            .any(|g| g.columns.iter().any(|c| c == column))
+        {
+            return None;
+        }
+        // Each orientation before it: four columns, three DoFs.
+        let before = (self.groups.iter())
+            .filter(|g| self.names[..at].contains(&g.columns[0]))
+            .count();
+        Some(at - before)
+    }
+
     /// The examples `(q_i, θ_i)`.
     pub fn examples(&self) -> impl Iterator<Item = (&[f32], &[f32])> + Clone {
         (0..self.generalizer.len()).filter_map(|i| self.generalizer.example(i))
@@ -713,6 +731,29 @@ mod tests {
         let start =
             Quaternion::from_array([first[1], first[2], first[3], first[4]].map(|v| v as f32));
         assert!(start.dot(&yaw(180.0)).abs() > 1.0 - 1e-6, "{start:?}");
+    }
+
+    #[test]
+    fn a_position_column_after_an_orientation_is_its_dof_less_one() {
+        // The columns x, qw, qx, qy, qz, then as qw, qx, qy, qz, x.
+        let moved = |d: Demo| Demo {
+            names: ["qw", "qx", "qy", "qz", "x"].map(String::from).to_vec(),
+            positions: (d.positions.chunks_exact(5))
+                .flat_map(|r| [r[1], r[2], r[3], r[4], r[0]])
+                .collect(),
+            times: d.times,
+        };
+        let lwr = Method::Lwr { bandwidth: None };
+        let (a, b) = (demo(0.2, 140.0, 170.0), demo(0.4, 150.0, 170.0));
+        let first = Skill::fit(&[(&[0.0], &a), (&[1.0], &b)], 5, lwr).unwrap();
+        assert_eq!(first.position_dof("x"), Some(0));
+        let (a, b) = (moved(a), moved(b));
+        let last = Skill::fit(&[(&[0.0], &a), (&[1.0], &b)], 5, lwr).unwrap();
+        assert_eq!(last.position_dof("x"), Some(3));
+        for skill in [first, last] {
+            assert_eq!(skill.position_dof("qw"), None);
+            assert_eq!(skill.position_dof("y"), None);
+        }
     }
 
     /// A screw of `deg` degrees about a tool axis wobbling by 1°, its

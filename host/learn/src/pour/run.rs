@@ -16,7 +16,7 @@ use crate::algorithm::Algorithm;
 use crate::clock::Seconds;
 use crate::error::Setting;
 use crate::learner::Learner;
-use crate::rollouts::{Ending, Entry, Record, Stop};
+use crate::rollouts::{Ending, Entry, Point, Record, Stop};
 use crate::run::{Cell, Event, Execute, Failure, Kind, LearnerSpec, Start, run};
 use crate::runlog::RunEvent;
 
@@ -239,7 +239,9 @@ impl Kind for Pour {
     ) -> Result<Finished, Error> {
         let s = &self.settings;
         let skill = &built.built.skill;
-        let ending = Ending::of(run, s.method.is_power(), s.precision)?;
+        let ending = Ending::of(run, s.method.is_power(), s.precision, |r| {
+            Point::query(&r.query)
+        })?;
         let records: Vec<_> = run.iter().map(|e| e.record.clone()).collect();
         let summary = PourSummary {
             settings: s,

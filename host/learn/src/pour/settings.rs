@@ -86,6 +86,15 @@ impl Settings {
         let bad = |setting, value: &dyn std::fmt::Display, why: String| {
             Err(Error::setting(setting, value, why))
         };
+        if self.method.learns_goals() {
+            return bad(
+                Setting::Method,
+                &self.method,
+                "learns the goals of a task file's demonstrations; the pour learns the bottle's \
+                 volume (golden, illinois, secant, fixed-gain, weighted-gain, power, power-el)"
+                    .into(),
+            );
+        }
         let [low, high] = self.search;
         if !(low.is_finite() && high.is_finite() && 0.0 < low && low < high) {
             return bad(
@@ -213,6 +222,29 @@ mod tests {
     use crate::pour::skill::built_in_skill;
     use primo_sim::cell::CellConfig;
     use primo_sim::cell::GlassKind;
+
+    /// Secant-goals learns a task file's goals; the pour has none to offer.
+    #[test]
+    fn the_pour_refuses_secant_goals_by_its_setting() {
+        let e = Settings::paper(Algorithm::SecantGoals, 0.5, 0.2, 1)
+            .validate()
+            .unwrap_err();
+        assert!(
+            matches!(
+                e,
+                Error::Setting {
+                    setting: Setting::Method,
+                    ..
+                }
+            ),
+            "{e}"
+        );
+        assert!(
+            e.to_string()
+                .starts_with("method secant-goals: learns the goals"),
+            "{e}"
+        );
+    }
 
     /// A glass that holds more than the target by less than f32 resolves
     /// is refused, not by the learner once the run has started.

@@ -13,6 +13,7 @@ use primo_skill::skill::same_columns;
 
 use crate::Error;
 
+use super::goals::LearnedGoals;
 use super::spec::{Built, LimitPush, LimitsSpec, Task};
 
 impl Task {
@@ -102,11 +103,13 @@ impl Task {
             })?;
             skill = skill.with_repulsion(repel)?;
         }
+        let goals = LearnedGoals::of_task(self, &skill, &limits)?;
         Ok(Built {
             skill,
             fitted,
             limits,
             dt,
+            goals,
         })
     }
 

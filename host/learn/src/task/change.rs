@@ -1,5 +1,6 @@
 //! What a resumed task run may take from its task file as it is now: the
-//! `[goal]` bounds, the roll-out budget and the evaluator (where and how
+//! `[goal]` bounds (secant-goals': `[learner] goals_min` and `goals_max`),
+//! the roll-out budget and the evaluator (where and how
 //! roll-outs are executed is the lab's, not the learned state). Anything
 //! else changed would make the logged roll-outs another run's, and is
 //! refused, named by its key. (Whether changed bounds keep the logged
@@ -33,6 +34,20 @@ impl Task {
             };
             differ("[goal] low", list(&self.goal.low), list(&now.goal.low));
             differ("[goal] high", list(&self.goal.high), list(&now.goal.high));
+            let bounds = |t: &Task, max: bool| {
+                let g = t.goals.as_ref();
+                list(g.map_or(&[][..], |g| if max { &g.max } else { &g.min }))
+            };
+            differ(
+                "[learner] goals_min",
+                bounds(self, false),
+                bounds(&now, false),
+            );
+            differ(
+                "[learner] goals_max",
+                bounds(self, true),
+                bounds(&now, true),
+            );
             differ(
                 "[learner] max_rollouts",
                 self.learner.max_rollouts.to_string(),
@@ -45,6 +60,7 @@ impl Task {
             );
             self.goal.low = now.goal.low;
             self.goal.high = now.goal.high;
+            self.goals = now.goals;
             self.learner.max_rollouts = now.learner.max_rollouts;
             self.evaluate = now.evaluate;
             self.file = now.file;
@@ -80,6 +96,10 @@ impl Task {
             ("[goal] desired", a.goal.desired == b.goal.desired),
             ("[goal] precision", a.goal.precision == b.goal.precision),
             ("[learner] method", la.method == lb.method),
+            (
+                "[learner] goals",
+                a.goals.as_ref().map(|g| &g.columns) == b.goals.as_ref().map(|g| &g.columns),
+            ),
             ("[learner] gain", la.gain == lb.gain),
             ("[learner] s1", la.s1 == lb.s1),
             ("[learner] s2", la.s2 == lb.s2),
@@ -100,8 +120,8 @@ impl Task {
             None => Ok(()),
             Some((key, _)) => Err(Error::Invalid(format!(
                 "{}: {key} differs from the logged run's: a resumed run takes only changed \
-                 [goal] low/high, [learner] max_rollouts and [evaluate]; start a new run for \
-                 the rest",
+                 [goal] low/high, [learner] goals_min/goals_max and max_rollouts, and \
+                 [evaluate]; start a new run for the rest",
                 now.file.display()
             ))),
         }

@@ -23,8 +23,9 @@ use crate::rollouts::MAX_ROLLOUTS;
 
 use super::schema::{EvaluateKeys, File, GoalKeys, LearnerKeys, MovementKeys, ToolKeys};
 use super::spec::{
-    ColumnRange, DEFAULT_TIMEOUT, Evaluate, Goal, LearnerSettings, LimitPush, LimitsSpec,
-    MAX_TIMEOUT, Obstacles, PourTask, RewardRule, RobotModel, RobotSpec, Task, TaskDemo, VERSION,
+    ColumnRange, DEFAULT_TIMEOUT, Evaluate, Goal, GoalSearch, LearnerSettings, LimitPush,
+    LimitsSpec, MAX_TIMEOUT, Obstacles, PourTask, RewardRule, RobotModel, RobotSpec, Task,
+    TaskDemo, VERSION,
 };
 
 /// Messages that name a place in the task file.
@@ -216,6 +217,7 @@ impl Task {
         let limits = limits(&p, movement, &dir, pour)?;
         let learner = learner(&p, &raw.learner, dim, &demos, pour)?;
         let goal = goal(&p, &raw.goal, dim, learner.method)?;
+        let goals = goal_search(&p, raw.learner.get_ref(), dim, learner.method)?;
         Ok(Task {
             file: file.to_path_buf(),
             demos,
@@ -231,6 +233,7 @@ impl Task {
             limits,
             goal,
             learner,
+            goals,
             evaluate,
         })
     }
@@ -668,6 +671,14 @@ fn learner(
         ));
     }
     let method = *l.method.get_ref();
+    if pour && method.learns_goals() {
+        return Err(p.at(
+            l.method.span(),
+            "[learner] method",
+            "secant-goals learns the goals of the task's own demonstrations; the built-in pour \
+             learns the bottle's volume: use another learner",
+        ));
+    }
     if dim > 1 && matches!(method, Algorithm::Golden | Algorithm::Illinois) {
         return Err(p.at(
             l.method.span(),
@@ -813,6 +824,16 @@ fn goal(p: &Place, raw: &Spanned<GoalKeys>, dim: usize, method: Algorithm) -> Re
     let bound = |v: &Option<Spanned<Vec<f64>>>, key: &str| -> Result<Option<Vec<f32>>, Error> {
         v.as_ref().map(|v| query(p, v, key, dim)).transpose()
     };
+    if method.learns_goals()
+        && let Some(b) = g.low.as_ref().or(g.high.as_ref())
+    {
+        return Err(p.at(
+            b.span(),
+            "[goal] low, high",
+            "secant-goals keeps the query at `desired` and searches the goals: bound them with \
+             [learner] goals_min and goals_max",
+        ));
+    }
     let low = bound(&g.low, "[goal] low")?;
     let high = bound(&g.high, "[goal] high")?;
     let precision = g
@@ -836,6 +857,8 @@ fn goal(p: &Place, raw: &Spanned<GoalKeys>, dim: usize, method: Algorithm) -> Re
     };
     let (low, high, precision) = match (low, high, precision) {
         (Some(l), Some(h), Some(pr)) => (l, h, pr),
+        (_, _, None) if method.learns_goals() => return Err(need("precision")),
+        (_, _, Some(pr)) if method.learns_goals() => (Vec::new(), Vec::new(), pr),
         (l, h, pr) if !error_learning => (
             l.unwrap_or_default(),
             h.unwrap_or_default(),
@@ -875,6 +898,68 @@ fn goal(p: &Place, raw: &Spanned<GoalKeys>, dim: usize, method: Algorithm) -> Re
         high,
         precision,
     })
+}
+
+/// `[learner] goals`, `goals_min` and `goals_max`: secant-goals' only,
+/// one value per value of the error (the query's `dim`); the columns and
+/// their default bounds are found on the skill ([`super::goals`]).
+fn goal_search(
+    p: &Place,
+    l: &LearnerKeys,
+    dim: usize,
+    method: Algorithm,
+) -> Result<Option<GoalSearch>, Error> {
+    let keys = [
+        ("goals", l.goals.as_ref().map(Spanned::span)),
+        ("goals_min", l.goals_min.as_ref().map(Spanned::span)),
+        ("goals_max", l.goals_max.as_ref().map(Spanned::span)),
+    ];
+    if !method.learns_goals() {
+        return match keys.iter().find_map(|(key, s)| Some((key, s.clone()?))) {
+            Some((key, span)) => Err(p.at(
+                span,
+                &format!("[learner] {key}"),
+                format!("a setting of secant-goals; this task's method is {method}"),
+            )),
+            None => Ok(None),
+        };
+    }
+    let columns = match &l.goals {
+        None => Vec::new(),
+        Some(c) => {
+            let names = c.get_ref();
+            let at = |why: String| p.at(c.span(), "[learner] goals", why);
+            if names.len() != dim {
+                return Err(at(format!(
+                    "{} column(s); the demonstrations' queries, and so the error, have {dim} \
+                     value(s): one goal is learned per value",
+                    names.len()
+                )));
+            }
+            if let Some(twice) = (names.iter().enumerate()).find(|(i, n)| names[..*i].contains(n)) {
+                return Err(at(format!("`{}` is named twice", twice.1)));
+            }
+            names.clone()
+        }
+    };
+    let bound = |v: &Option<Spanned<Vec<f64>>>, key: &str| {
+        (v.as_ref().map(|v| query(p, v, key, dim)))
+            .transpose()
+            .map(Option::unwrap_or_default)
+    };
+    let min = bound(&l.goals_min, "[learner] goals_min")?;
+    let max = bound(&l.goals_max, "[learner] goals_max")?;
+    if let (Some(span), Some((i, (lo, hi)))) = (
+        l.goals_max.as_ref().map(Spanned::span),
+        (min.iter().zip(&max).enumerate()).find(|(_, (lo, hi))| lo >= hi),
+    ) {
+        return Err(p.at(
+            span,
+            "[learner] goals_max",
+            format!("value {} is {hi}, not above goals_min's {lo}", i + 1),
+        ));
+    }
+    Ok(Some(GoalSearch { columns, min, max }))
 }
 
 fn evaluate(p: &Place, raw: &Spanned<EvaluateKeys>, dir: &Path) -> Result<Evaluate, Error> {
@@ -1151,6 +1236,94 @@ command = ["python3", "throw.py"]
         ] {
             assert_eq!(refused(&with(keys)), says);
         }
+    }
+
+    /// The example task learning its goals, `keys` added to `[learner]`.
+    fn goals(keys: &str) -> String {
+        THROW.replace("low = [1.0]\nhigh = [1.9]\n", "").replace(
+            "method = \"golden\"",
+            &format!("method = \"secant-goals\"\n{keys}"),
+        )
+    }
+
+    #[test]
+    fn secant_goals_takes_its_columns_and_bounds_one_per_error_value() {
+        let task = parse(&goals("")).unwrap();
+        assert_eq!(task.learner.method, Algorithm::SecantGoals);
+        assert_eq!(
+            task.goals,
+            Some(GoalSearch {
+                columns: Vec::new(),
+                min: Vec::new(),
+                max: Vec::new()
+            })
+        );
+        assert!(task.goal.low.is_empty() && task.goal.high.is_empty());
+        let keys = "goals = [\"elbow\"]\ngoals_min = [0.1]\ngoals_max = [0.9]";
+        let search = parse(&goals(keys)).unwrap().goals.unwrap();
+        assert_eq!(
+            (search.columns, search.min, search.max),
+            (vec!["elbow".to_string()], vec![0.1], vec![0.9])
+        );
+        assert!(parse(THROW).unwrap().goals.is_none());
+        for (task, says) in [
+            (
+                goals("goals = [\"shoulder\", \"elbow\"]"),
+                "/lab/throw.toml:20: [learner] goals: 2 column(s); the demonstrations' queries, \
+                 and so the error, have 1 value(s): one goal is learned per value",
+            ),
+            (
+                goals("goals_min = [0.5, 0.5]"),
+                "/lab/throw.toml:20: [learner] goals_min: 2 values; the demonstrations' queries \
+                 have 1",
+            ),
+            (
+                goals("goals_min = [0.5]\ngoals_max = [0.5]"),
+                "/lab/throw.toml:21: [learner] goals_max: value 1 is 0.5, not above \
+                 goals_min's 0.5",
+            ),
+            (
+                goals("goals_max = [inf]"),
+                "/lab/throw.toml:20: [learner] goals_max: inf is not a finite number",
+            ),
+            (
+                THROW.replace("method = \"golden\"", "method = \"secant-goals\""),
+                "/lab/throw.toml:16: [goal] low, high: secant-goals keeps the query at `desired` \
+                 and searches the goals: bound them with [learner] goals_min and goals_max",
+            ),
+            (
+                goals("").replace("precision = 0.005\n", ""),
+                "/lab/throw.toml:14: [goal]: error learning needs `precision`",
+            ),
+            (
+                THROW.replace(
+                    "method = \"golden\"",
+                    "method = \"golden\"\ngoals = [\"elbow\"]",
+                ),
+                "/lab/throw.toml:22: [learner] goals: a setting of secant-goals; this task's \
+                 method is golden",
+            ),
+        ] {
+            assert_eq!(refused(&task), says);
+        }
+        let pour = r#"version = 1
+
+[goal]
+desired = [0.5]
+precision = 0.002
+
+[learner]
+method = "secant-goals"
+
+[evaluate]
+builtin = "pour"
+"#;
+        assert_eq!(
+            refused(pour),
+            "/lab/throw.toml:8: [learner] method: secant-goals learns the goals of the task's \
+             own demonstrations; the built-in pour learns the bottle's volume: use another \
+             learner"
+        );
     }
 
     #[test]

@@ -12,6 +12,7 @@ pub mod build;
 pub mod change;
 pub mod check;
 pub mod evaluator;
+pub mod goals;
 pub mod report;
 pub mod run;
 mod schema;
@@ -19,6 +20,6 @@ pub mod spec;
 pub mod trial;
 
 pub use spec::{
-    Built, ColumnRange, DEFAULT_TIMEOUT, Evaluate, Goal, LearnerSettings, LimitsSpec, PourTask,
-    RewardRule, Task, TaskDemo, VERSION, Workspace,
+    Built, ColumnRange, DEFAULT_TIMEOUT, Evaluate, Goal, GoalSearch, LearnerSettings, LimitsSpec,
+    PourTask, RewardRule, Task, TaskDemo, VERSION, Workspace,
 };

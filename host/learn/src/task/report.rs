@@ -17,6 +17,7 @@ use crate::plot::{Line, Panel};
 use crate::rollouts::{Ending, Entry, Record, Scored, Stop, Verdict};
 
 use super::Task;
+use super::goals::point;
 use super::trial::TaskTrial;
 
 /// How a run ended.
@@ -41,6 +42,8 @@ struct Summary<'a> {
     method: Algorithm,
     query_dim: usize,
     desired: &'a [f32],
+    #[serde(skip_serializing_if = "<[String]>::is_empty")]
+    goals: &'a [String],
     parameters: usize,
     rollouts: usize,
     converged_at: Option<u32>,
@@ -61,16 +64,22 @@ pub fn write_task(
     run: &[Entry<TaskTrial>],
     seconds: Seconds,
 ) -> Result<Finished, Error> {
-    let ending = Ending::of(run, task.learner.method.is_power(), task.goal.precision)?;
+    let power = task.learner.method.is_power();
+    let ending = Ending::of(run, power, task.goal.precision, point)?;
     let records: Vec<&Record<TaskTrial>> = run.iter().map(|e| &e.record).collect();
     let dim = task.query_dim();
-    write_file(&dir.join("rollouts.csv"), &rollouts_csv(&records, dim))?;
+    let goals = goal_columns(&records);
+    write_file(
+        &dir.join("rollouts.csv"),
+        &rollouts_csv(&records, dim, &goals),
+    )?;
     let best = ending.best.map(|e| &e.record);
     let summary = Summary {
         task: &task.file,
         method: task.learner.method,
         query_dim: dim,
         desired: &task.goal.desired,
+        goals: &goals,
         parameters: task.learner.method.learned_parameters(skill),
         rollouts: records.len(),
         converged_at: ending.converged_at,
@@ -80,7 +89,7 @@ pub fn write_task(
         seconds,
     };
     write_json(&dir.join("summary.json"), &summary)?;
-    write_chart(dir, task, &records)?;
+    write_chart(dir, task, &records, &goals)?;
     Ok(Finished {
         last: ending.last.clone(),
         converged_at: ending.converged_at,
@@ -90,13 +99,35 @@ pub fn write_task(
     })
 }
 
+/// The columns whose goals the run learned (secant-goals), as its
+/// roll-outs name them; none for every other learner.
+fn goal_columns(records: &[&Record<TaskTrial>]) -> Vec<String> {
+    (records
+        .first()
+        .map(|r| &r.trial.goals)
+        .into_iter()
+        .flatten())
+    .map(|(c, _)| c.clone())
+    .collect()
+}
+
 /// `rollouts.csv` of a query of `dim` values: a column per value of the
-/// query, the measurement and the error (`query1`, `query2`, … when there
-/// are several), blank where a roll-out has none.
-fn rollouts_csv(records: &[&Record<TaskTrial>], dim: usize) -> Vec<u8> {
+/// query, of each learned goal (`goal_COLUMN`), of the measurement and of
+/// the error (`query1`, `query2`, … when there are several), blank where a
+/// roll-out has none.
+fn rollouts_csv(records: &[&Record<TaskTrial>], dim: usize, goals: &[String]) -> Vec<u8> {
     let mut csv = Csv::new();
     csv.text("rollout").text("update").text("mean");
-    for name in ["query", "measured", "error"] {
+    for i in 1..=dim {
+        match dim {
+            1 => csv.text("query"),
+            _ => csv.display(format_args!("query{i}")),
+        };
+    }
+    for c in goals {
+        csv.display(format_args!("goal_{c}"));
+    }
+    for name in ["measured", "error"] {
         for i in 1..=dim {
             match dim {
                 1 => csv.text(name),
@@ -111,6 +142,9 @@ fn rollouts_csv(records: &[&Record<TaskTrial>], dim: usize) -> Vec<u8> {
         csv.display(r.rollout).display(r.update).display(r.mean);
         for q in &r.query {
             csv.display(q);
+        }
+        for (_, g) in &t.goals {
+            csv.display(g);
         }
         let error = (!t.error.is_empty()).then_some(&t.error);
         for values in [t.measured.as_ref(), error] {
@@ -131,8 +165,13 @@ fn rollouts_csv(records: &[&Record<TaskTrial>], dim: usize) -> Vec<u8> {
 
 /// Writes `convergence.png`: the largest error component
 /// (error learning; PoWER: of the mean policy) on a log axis, PoWER's
-/// reward of every roll-out, and the query.
-fn write_chart(dir: &Path, task: &Task, records: &[&Record<TaskTrial>]) -> Result<(), Error> {
+/// reward of every roll-out, and the query (secant-goals: the `goals`).
+fn write_chart(
+    dir: &Path,
+    task: &Task,
+    records: &[&Record<TaskTrial>],
+    goals: &[String],
+) -> Result<(), Error> {
     let x = |r: &Record<TaskTrial>| f64::from(r.rollout);
     let power = task.learner.method.is_power();
     let error: Vec<(f64, f64)> = records
@@ -146,11 +185,14 @@ fn write_chart(dir: &Path, task: &Task, records: &[&Record<TaskTrial>]) -> Resul
             records
                 .iter()
                 .filter(|r| r.mean)
-                .filter_map(|r| Some((x(r), f64::from(*r.query.get(i)?))))
+                .filter_map(|r| Some((x(r), f64::from(*point(r).values.get(i)?))))
                 .collect()
         })
         .collect();
-    let labels: Vec<String> = (1..=queries.len()).map(|i| format!("q{i}")).collect();
+    let labels: Vec<String> = match goals.is_empty() {
+        true => (1..=queries.len()).map(|i| format!("q{i}")).collect(),
+        false => goals.iter().map(|c| format!("goal {c}")).collect(),
+    };
     let q: Vec<Line> = queries
         .iter()
         .zip(&labels)
@@ -177,6 +219,9 @@ fn write_chart(dir: &Path, task: &Task, records: &[&Record<TaskTrial>]) -> Resul
     if power {
         panels.push(per_rollout("Reward of every roll-out", "reward", &w));
     }
-    panels.push(per_rollout("Learned query", "q", &q));
+    panels.push(match goals.is_empty() {
+        true => per_rollout("Learned query", "q", &q),
+        false => per_rollout("Learned goals", "goal", &q),
+    });
     write_convergence(dir, &panels)
 }

@@ -45,6 +45,7 @@ use crate::run::{Cell, Execute, Kind, LearnerSpec, ON_SCALE, Start};
 
 use super::change::Changes;
 use super::evaluator::{Evaluator, Operator, Program, Prompt};
+use super::goals::{LearnedGoals, point};
 use super::report::{Finished, write_task};
 use super::trial::{TaskTrial, score};
 use super::{Built, Evaluate, Task};
@@ -138,7 +139,7 @@ impl Kind for TaskRun {
     }
 
     fn setup(&self, built: &Built) -> Result<Setup, Error> {
-        task_setup(&self.task, &built.skill, self.seed)
+        task_setup(&self.task, built, self.seed)
     }
 
     fn max_rollouts(&self) -> u32 {
@@ -202,6 +203,7 @@ impl Kind for TaskRun {
         Ok(Box::new(Rollouts {
             task: &self.task,
             skill: &built.skill,
+            goals: built.goals.as_ref(),
             limits: &built.limits,
             dt: built.dt,
             dir: trajectories,
@@ -221,15 +223,15 @@ impl Kind for TaskRun {
     }
 }
 
-/// The learner's setup for `task` on its fitted `skill`.
-pub fn task_setup(task: &Task, skill: &Skill, seed: u64) -> Result<Setup, Error> {
-    let l = &task.learner;
-    let g = &task.goal;
+/// The learner's setup for `task` on what it `built`.
+pub fn task_setup(task: &Task, built: &Built, seed: u64) -> Result<Setup, Error> {
+    let (l, g, skill) = (&task.learner, &task.goal, &built.skill);
     let bounds = (&g.low[..], &g.high[..], &g.desired[..]);
-    let learner = match l
-        .method
-        .search(bounds, g.precision as f32, l.max_rollouts, l.gain)?
-    {
+    let searched = match &built.goals {
+        Some(goals) => Some(goals.setup(task)?),
+        None => (l.method).search(bounds, g.precision as f32, l.max_rollouts, l.gain)?,
+    };
+    let learner = match searched {
         Some(learner) => learner,
         None => {
             let blocks = power_blocks(skill, l.s1, l.s2, l.decay)?;
@@ -280,6 +282,7 @@ fn phase_stop(
 struct Rollouts<'a> {
     task: &'a Task,
     skill: &'a Skill,
+    goals: Option<&'a LearnedGoals>,
     limits: &'a Limits,
     dt: f64,
     dir: PathBuf,
@@ -335,12 +338,16 @@ pub fn executed_csv(path: &JointPath, executed: &Executed) -> Vec<u8> {
 
 impl Execute<TaskTrial> for Rollouts<'_> {
     fn roll(&mut self, rollout: u32, query: &[f32], delta: &[f32]) -> Result<TaskTrial, Error> {
+        let goals = (self.goals)
+            .map(|g| g.rolled_out(delta))
+            .unwrap_or_default();
         let rejected = |why: String| TaskTrial {
             measured: None,
             error: Vec::new(),
             reward: 0.0,
             rejected: Some(why),
             failed: None,
+            goals: goals.clone(),
         };
         let plan = match self.skill.plan(query, delta, self.dt) {
             Ok(plan) => plan,
@@ -366,7 +373,10 @@ impl Execute<TaskTrial> for Rollouts<'_> {
         write_file(&file, &csv)?;
         self.execute(rollout, checked.path())?;
         let answer = self.evaluator.evaluate(rollout, &file)?;
-        score(self.task, rollout, answer)
+        Ok(TaskTrial {
+            goals,
+            ..score(self.task, rollout, answer)?
+        })
     }
 }
 
@@ -431,15 +441,16 @@ impl Task {
 /// A roll-out as a line of progress.
 pub fn rollout_line(r: &Record<TaskTrial>) -> String {
     let t = &r.trial;
-    let q = query_text(&r.query);
+    // Learning goals, the query is the desired one: the goals are news.
+    let q = match t.goals.is_empty() {
+        true => format!("q {}", query_text(&r.query)),
+        false => point(r).to_string(),
+    };
     if let Some(why) = &t.rejected {
-        return format!(
-            "roll-out {:>3}: q {q}  REJECTED ({why})  reward 0",
-            r.rollout
-        );
+        return format!("roll-out {:>3}: {q}  REJECTED ({why})  reward 0", r.rollout);
     }
     if let Some(why) = &t.failed {
-        return format!("roll-out {:>3}: q {q}  FAILED ({why})  reward 0", r.rollout);
+        return format!("roll-out {:>3}: {q}  FAILED ({why})  reward 0", r.rollout);
     }
     let measured = t.measured.as_ref().map_or(String::new(), |m| {
         let m: Vec<f32> = m.iter().map(|v| *v as f32).collect();
@@ -447,7 +458,7 @@ pub fn rollout_line(r: &Record<TaskTrial>) -> String {
         format!("  measured {}  error {}", query_text(&m), query_text(&e))
     });
     format!(
-        "roll-out {:>3}: q {q}{measured}  reward {:.3}{}",
+        "roll-out {:>3}: {q}{measured}  reward {:.3}{}",
         r.rollout,
         t.reward,
         if r.mean { "  (mean)" } else { "" }

@@ -87,6 +87,9 @@ pub(super) struct LearnerKeys {
     pub(super) decay: Option<Spanned<f64>>,
     pub(super) reward: Option<Spanned<RewardRule>>,
     pub(super) reward_scale: Option<Spanned<f64>>,
+    pub(super) goals: Option<Spanned<Vec<String>>>,
+    pub(super) goals_min: Option<Spanned<Vec<f64>>>,
+    pub(super) goals_max: Option<Spanned<Vec<f64>>>,
 }
 
 #[derive(Deserialize)]

@@ -285,6 +285,22 @@ pub struct Goal {
     pub precision: f64,
 }
 
+/// Which goals secant-goals changes, and within what (`[learner] goals`,
+/// `goals_min`, `goals_max`): one per value of the error.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct GoalSearch {
+    /// The position columns whose goals are learned, consecutive in the
+    /// demonstrations' order (empty: the first ones).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub columns: Vec<String>,
+    /// The lowest goal of each (empty: its column's limit).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub min: Vec<f32>,
+    /// The highest goal of each (empty: its column's limit).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub max: Vec<f32>,
+}
+
 /// The learner and its settings.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct LearnerSettings {
@@ -388,6 +404,10 @@ pub struct Task {
     pub goal: Goal,
     /// The learner.
     pub learner: LearnerSettings,
+    /// The goals secant-goals learns (absent for every other learner, and
+    /// from run logs written before it existed).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub goals: Option<GoalSearch>,
     /// The evaluator.
     pub evaluate: Evaluate,
 }
@@ -411,6 +431,8 @@ pub struct Built {
     pub limits: Limits,
     /// The trajectories' time step, s.
     pub dt: f64,
+    /// The goals secant-goals learns, on the skill.
+    pub goals: Option<super::goals::LearnedGoals>,
 }
 
 #[cfg(test)]

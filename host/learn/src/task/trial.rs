@@ -24,6 +24,10 @@ pub struct TaskTrial {
     /// Why the evaluator said the roll-out failed, if it did.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub failed: Option<String>,
+    /// The goals its movement ended at by column, when the learner learns
+    /// them (secant-goals; the query is the desired one throughout).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub goals: Vec<(String, f32)>,
 }
 
 impl Scored for TaskTrial {
@@ -63,6 +67,7 @@ pub(crate) fn score(task: &Task, rollout: u32, answer: Answer) -> Result<TaskTri
             reward: 0.0,
             rejected: None,
             failed: Some(why),
+            goals: Vec::new(),
         });
     }
     let error: Vec<f64> = match &answer.measured {
@@ -106,6 +111,7 @@ pub(crate) fn score(task: &Task, rollout: u32, answer: Answer) -> Result<TaskTri
         reward,
         rejected: None,
         failed: None,
+        goals: Vec::new(),
     })
 }
 
@@ -137,6 +143,22 @@ mod tests {
             measured: Some(vec![m]),
             ..Answer::default()
         }
+    }
+
+    /// A roll-out of any learner but secant-goals is logged as before the
+    /// goals existed, and such a logged roll-out reads back.
+    #[test]
+    fn a_trial_without_goals_is_logged_as_before() {
+        let logged = r#"{"measured":[1.0],"error":[0.5],"reward":0.5}"#;
+        let trial: TaskTrial = serde_json::from_str(logged).unwrap();
+        assert!(trial.goals.is_empty());
+        assert_eq!(serde_json::to_string(&trial).unwrap(), logged);
+        let goals = TaskTrial {
+            goals: vec![("shoulder".into(), -0.5)],
+            ..trial
+        };
+        let text = serde_json::to_string(&goals).unwrap();
+        assert!(text.ends_with(r#","goals":[["shoulder",-0.5]]}"#), "{text}");
     }
 
     #[test]
