@@ -276,7 +276,7 @@ fn phase_stopping_needs_a_positive_gain_and_a_franka() {
 
 /// `[movement] phase_stop` in a task file: the Franka that executes the
 /// roll-outs waits for its held arm; without a robot the key is refused
-/// before anything runs.
+/// before anything runs or is written.
 #[test]
 fn a_tasks_phase_stop_waits_for_a_held_arm() {
     let examples = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/fr3");
@@ -309,6 +309,7 @@ fn a_tasks_phase_stop_waits_for_a_held_arm() {
         err.contains("[movement] phase_stop") && err.contains("no robot"),
         "{err}"
     );
+    assert!(!out.exists(), "refused before anything was written");
     let sim = SimFci::start(&["--hold-after", "500", "--hold-for", "500"]);
     let (code, stdout, err) = learn(Some(&sim.robot()));
     assert_eq!(code, 0, "{stdout}{err}");
@@ -327,5 +328,28 @@ fn a_tasks_phase_stop_waits_for_a_held_arm() {
     assert!(
         rows > seconds * 1000.0 + 250.0,
         "{rows} rows for {seconds} s"
+    );
+}
+
+/// An arm held for longer than phase stopping waits (three times the
+/// planned motion) is stopped with exit status 1, not waited for forever.
+#[test]
+fn an_arm_held_too_long_stops_the_motion_with_status_1() {
+    let sim = SimFci::start(&["--once", "--hold-after", "200", "--hold-for", "60000"]);
+    let csv = trajectory("move.csv", 0.3, 0.5);
+    let (status, out, err) = primo(&[
+        "robot",
+        "play",
+        &csv,
+        "--robot",
+        &sim.robot(),
+        "--no-realtime",
+        "--phase-stop",
+        "10000",
+    ]);
+    assert_eq!(status, 1, "{out}\n{err}");
+    assert!(
+        err.contains("phase stopping waited for the arm until the motion had taken 3 times"),
+        "{err}"
     );
 }

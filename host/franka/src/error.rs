@@ -24,6 +24,18 @@ pub enum FrankaError {
         "phase stopping could not keep the motion within the limits: {0}; the motion was stopped"
     )]
     Retimed(Exceeded),
+    /// Phase stopping waited so long for a lagging arm that the motion
+    /// reached [`crate::session::MAX_STRETCH`] times its plan: stopped.
+    #[error(
+        "phase stopping waited for the arm until the motion had taken {stretch} times its planned \
+         {planned:.1} s: the motion was stopped (is the arm held or blocked?)"
+    )]
+    Held {
+        /// The planned motion, s.
+        planned: f64,
+        /// How many times that it ran.
+        stretch: usize,
+    },
     /// The robot cannot be reached or the network failed.
     #[error("network: {0}")]
     Io(#[from] std::io::Error),

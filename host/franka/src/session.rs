@@ -35,6 +35,11 @@ use crate::wire::{
     RobotState, StopMoveStatus, VERSION, motion_generator_mode, parse_connect_response, robot_mode,
 };
 
+/// With phase stopping, the most setpoints a motion may take, in times its
+/// plan's: an arm held for longer is stopped rather than waited for
+/// without end.
+pub const MAX_STRETCH: usize = 3;
+
 /// How a session moves and waits.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SessionConfig {
@@ -479,9 +484,14 @@ impl Session {
             Err(e) => return self.fail(e),
         };
         self.report.planned = plan.setpoints().len();
-        // Room for the motion's states, a second of late ones besides:
-        // nothing grows inside the cycle.
-        let states = plan.setpoints().len() + 1000;
+        // Room for the motion's states (stretched by phase stopping), a
+        // second of late ones besides: nothing grows inside the cycle.
+        let stretch = if self.cfg.phase_stop.is_some() {
+            MAX_STRETCH
+        } else {
+            1
+        };
+        let states = plan.setpoints().len() * stretch + 1000;
         self.report.times.reserve(states);
         self.report.positions.reserve(states * JOINTS);
         self.report.approach = plan.approach_len();
@@ -525,6 +535,14 @@ impl Session {
         self.record(state);
         let plan = self.plan.as_ref()?;
         let (q_c, finished) = match &mut self.retimer {
+            Some(_) if self.next >= MAX_STRETCH * plan.setpoints().len() => {
+                let planned = plan.setpoints().len() as f64 * crate::plan::DT;
+                self.fail(FrankaError::Held {
+                    planned,
+                    stretch: MAX_STRETCH,
+                });
+                return None;
+            }
             Some(r) => {
                 let next = r.next(plan, self.path.chain(), state.joints());
                 self.report.slowest_rate = Some(r.slowest());

@@ -99,6 +99,13 @@ impl Kind for TaskRun {
                  primo's scale only in the built-in pour on a real cell",
             ));
         }
+        if self.task.phase_stop.is_some() && self.robot.is_none() {
+            return Err(Error::Invalid(
+                "[movement] phase_stop: slows the robot that executes the roll-outs while it \
+                 lags its command, and no robot executes them"
+                    .into(),
+            ));
+        }
         let budget = self.task.learner.max_rollouts;
         if !(1..=MAX_ROLLOUTS).contains(&budget) {
             return Err(Error::setting(
@@ -176,8 +183,8 @@ impl Kind for TaskRun {
                 )));
             }
         };
-        if let Some(gain) = self.task.phase_stop {
-            phase_stop(robot.as_mut(), self.robot.as_deref(), gain)?;
+        if let (Some(gain), Some(executor)) = (self.task.phase_stop, robot.as_mut()) {
+            phase_stop(executor, self.robot.as_deref().unwrap_or_default(), gain)?;
         }
         if robot.is_some() && !matches!(built.limits, Limits::Robot(_)) {
             return Err(Error::Invalid(
@@ -251,31 +258,18 @@ pub fn task_setup(task: &Task, built: &Built, seed: u64) -> Result<Setup, Error>
 }
 
 /// `[movement] phase_stop` for the robot `name` that executes the
-/// roll-outs: refused without one, or with one whose driver cannot wait
-/// for it.
-fn phase_stop(
-    robot: Option<&mut Box<dyn Executor>>,
-    name: Option<&str>,
-    gain: f64,
-) -> Result<(), Error> {
-    let why = match (robot, name) {
-        (Some(robot), Some(name)) => {
-            let gain = PhaseStop::new(gain as f32)
-                .map_err(|e| Error::Invalid(format!("[movement] phase_stop {gain}: {e}")))?;
-            if robot.phase_stop(gain) {
-                return Ok(());
-            }
-            format!(
-                "the robot {name} executes each whole trajectory on its own controller, which \
-                 cannot wait for it; phase stopping needs a driver that streams every setpoint \
-                 (a Franka)"
-            )
-        }
-        _ => "slows the robot that executes the roll-outs while it lags its command, and no \
-              robot executes them"
-            .to_string(),
-    };
-    Err(Error::Invalid(format!("[movement] phase_stop: {why}")))
+/// roll-outs: refused when its driver cannot wait for it.
+fn phase_stop(robot: &mut Box<dyn Executor>, name: &str, gain: f64) -> Result<(), Error> {
+    let gain = PhaseStop::new(gain as f32)
+        .map_err(|e| Error::Invalid(format!("[movement] phase_stop {gain}: {e}")))?;
+    if robot.phase_stop(gain) {
+        return Ok(());
+    }
+    Err(Error::Invalid(format!(
+        "[movement] phase_stop: the robot {name} executes each whole trajectory on its own \
+         controller, which cannot wait for it; phase stopping needs a driver that streams \
+         every setpoint (a Franka)"
+    )))
 }
 
 /// One roll-out of `task`: plan, check, write, evaluate, score.
@@ -463,4 +457,30 @@ pub fn rollout_line(r: &Record<TaskTrial>) -> String {
         t.reward,
         if r.mean { "  (mean)" } else { "" }
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use primo_robot::execute::ExecutionFailed;
+
+    /// A driver that hands each trajectory to its controller whole.
+    struct Whole;
+    impl Executor for Whole {
+        fn execute(&mut self, _: &JointPath) -> Result<Executed, ExecutionFailed> {
+            Ok(Executed::default())
+        }
+    }
+
+    #[test]
+    fn phase_stopping_is_refused_by_a_driver_that_cannot_wait() {
+        let mut robot: Box<dyn Executor> = Box::new(Whole);
+        let err = phase_stop(&mut robot, "ros2:/arm_controller", 1e4).unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "[movement] phase_stop: the robot ros2:/arm_controller executes each whole \
+             trajectory on its own controller, which cannot wait for it; phase stopping needs a \
+             driver that streams every setpoint (a Franka)"
+        );
+    }
 }
