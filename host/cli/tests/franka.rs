@@ -61,17 +61,13 @@ impl Drop for SimFci {
     }
 }
 
-/// `primo robot play CSV` on the simulated controller: exit status,
-/// stdout, stderr.
-fn play(sim: &SimFci, csv: &str) -> (i32, String, String) {
-    primo(&[
-        "robot",
-        "play",
-        csv,
-        "--robot",
-        &sim.robot(),
-        "--no-realtime",
-    ])
+/// `primo robot play CSV` on the simulated controller with `extra` flags:
+/// exit status, stdout, stderr.
+fn play(sim: &SimFci, csv: &str, extra: &[&str]) -> (i32, String, String) {
+    let robot = sim.robot();
+    let mut args = vec!["robot", "play", csv, "--robot", &robot, "--no-realtime"];
+    args.extend(extra);
+    primo(&args)
 }
 
 /// A minimum-jerk move of joint 1 by `amplitude` in `seconds` from the
@@ -96,7 +92,7 @@ fn trajectory(name: &str, amplitude: f64, seconds: f64) -> String {
 fn a_rollout_on_the_simulated_fr3_completes() {
     let sim = SimFci::start(&["--once"]);
     let csv = trajectory("move.csv", 0.3, 1.0);
-    let (status, out, err) = play(&sim, &csv);
+    let (status, out, err) = play(&sim, &csv, &[]);
     assert_eq!(status, 0, "{out}\n{err}");
     assert!(out.contains("primo robot play: motion finished"), "{out}");
     assert!(out.ends_with("primo robot play: completed\n"), "{out}");
@@ -112,7 +108,7 @@ fn a_reflex_ends_the_rollout_with_status_1() {
         "cartesian_reflex",
     ]);
     let csv = trajectory("move.csv", 0.3, 1.0);
-    let (status, out, err) = play(&sim, &csv);
+    let (status, out, err) = play(&sim, &csv, &[]);
     assert_eq!(status, 1, "{out}\n{err}");
     // The reflex shows in the state stream and in the motion's answer on
     // the command channel, whichever comes first: "(a reflex)" or
@@ -128,7 +124,7 @@ fn a_trajectory_beyond_the_fcis_rates_is_refused_with_status_2() {
     let sim = SimFci::start(&["--once"]);
     // 0.2 rad in 0.2 s: within the velocity limit, beyond 10 rad/s².
     let csv = trajectory("fast.csv", 0.2, 0.2);
-    let (status, out, err) = play(&sim, &csv);
+    let (status, out, err) = play(&sim, &csv, &[]);
     assert_eq!(status, 2, "{out}\n{err}");
     assert!(err.contains("joint1 acceleration"), "{err}");
     assert!(err.contains("nothing moved"), "{err}");
@@ -228,19 +224,10 @@ fn phase_stopping_waits_for_a_held_arm() {
     let held = ["--once", "--hold-after", "300", "--hold-for", "600"];
     let csv = trajectory("held.csv", 0.6, 1.5);
     let sim = SimFci::start(&held);
-    let (status, plain, err) = play(&sim, &csv);
+    let (status, plain, err) = play(&sim, &csv, &[]);
     assert_eq!(status, 0, "{plain}\n{err}");
     let sim = SimFci::start(&held);
-    let (status, out, err) = primo(&[
-        "robot",
-        "play",
-        &csv,
-        "--robot",
-        &sim.robot(),
-        "--no-realtime",
-        "--phase-stop",
-        "10000",
-    ]);
+    let (status, out, err) = play(&sim, &csv, &["--phase-stop", "10000"]);
     assert_eq!(status, 0, "{out}\n{err}");
     assert!(out.contains("phase stopping: the slowest 0.0"), "{out}");
     let (ran_away, waited) = (joint1_error(&plain), joint1_error(&out));
@@ -337,16 +324,7 @@ fn a_tasks_phase_stop_waits_for_a_held_arm() {
 fn an_arm_held_too_long_stops_the_motion_with_status_1() {
     let sim = SimFci::start(&["--once", "--hold-after", "200", "--hold-for", "60000"]);
     let csv = trajectory("move.csv", 0.3, 0.5);
-    let (status, out, err) = primo(&[
-        "robot",
-        "play",
-        &csv,
-        "--robot",
-        &sim.robot(),
-        "--no-realtime",
-        "--phase-stop",
-        "10000",
-    ]);
+    let (status, out, err) = play(&sim, &csv, &["--phase-stop", "10000"]);
     assert_eq!(status, 1, "{out}\n{err}");
     assert!(
         err.contains("phase stopping waited for the arm until the motion had taken 3 times"),
