@@ -500,7 +500,7 @@ fn run_discrete(
     let prepared = dmp
         .prepare(tau, start.as_deref(), goal.as_deref())
         .map_err(movement)?;
-    let mut buf = Vec::new();
+    let mut buf = trajectory_buffer(dt, duration, dmp.names.len());
     let written = match shape.is_plain() {
         // Streamed: the common case keeps no rows.
         true => write_rows(
@@ -579,10 +579,19 @@ fn run_rhythmic(
     let rows = dmp
         .run(dt, duration, changes)
         .map_err(|e| CliError::input(format!("{file}: {e}")))?;
-    let mut buf = Vec::new();
+    let mut buf = trajectory_buffer(dt, duration, dmp.names.len());
     write_rows(&mut buf, &dmp.names, rows)
         .map_err(|e| CliError::other(format!("writing the trajectory: {e}")))?;
     Ok(buf)
+}
+
+/// Room for the CSV of `duration` s at steps of `dt` (checked by
+/// [`check_rows`]) over `columns` columns, so that it is not copied as it
+/// grows: the replay of a long movement spends a tenth of its time so.
+fn trajectory_buffer(dt: f32, duration: f32, columns: usize) -> Vec<u8> {
+    // A value takes at most 12 bytes with its comma (f32's shortest digits).
+    let rows = (duration / dt) as usize + 2;
+    Vec::with_capacity(rows.saturating_mul(columns + 1).saturating_mul(12))
 }
 
 /// At most [`MAX_ROWS`] rows.
