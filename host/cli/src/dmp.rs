@@ -589,13 +589,14 @@ fn run_rhythmic(
 /// [`check_rows`]) over `columns` columns, so that it is not copied as it
 /// grows: the replay of a long movement spends a tenth of its time so.
 fn trajectory_buffer(dt: f32, duration: f32, columns: usize) -> Vec<u8> {
-    // A value takes at most 12 bytes with its comma (f32's shortest digits).
+    // About 12 bytes a value with its comma, as trajectories' values print
+    // (a longer one only makes the buffer grow once more).
     let rows = (duration / dt) as usize + 2;
     Vec::with_capacity(rows.saturating_mul(columns + 1).saturating_mul(12))
 }
 
 /// At most [`MAX_ROWS`] rows.
-fn check_rows(dt: f32, duration: f32, flag: &str) -> Result<(), CliError> {
+pub(crate) fn check_rows(dt: f32, duration: f32, flag: &str) -> Result<(), CliError> {
     let rows = duration / dt;
     if rows > MAX_ROWS as f32 {
         return Err(CliError::input(format!(

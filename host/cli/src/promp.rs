@@ -4,11 +4,10 @@
 use std::path::{Path, PathBuf};
 
 use primo_skill::csv::{parse_demo, write_rows};
-use primo_skill::dmpfile::MAX_ROWS;
 use primo_skill::prompfile::{DEFAULT_RIDGE, MAX_KERNELS, PrompFile};
 use primo_skill::shaping::Via;
 
-use crate::dmp::parse_via;
+use crate::dmp::{check_rows, parse_via};
 use crate::error::CliError;
 use crate::output::{check_out_file, emit, read};
 
@@ -102,12 +101,7 @@ pub fn run(command: PrompCommand) -> Result<(), CliError> {
             let file = promp.display().to_string();
             let mut fitted = PrompFile::parse(&file, &read(None, &promp)?)?;
             let duration = fitted.promp.duration();
-            if duration / dt > MAX_ROWS as f64 {
-                return Err(CliError::input(format!(
-                    "--dt {dt} over {duration} s would make {:.0} rows, at most {MAX_ROWS}",
-                    duration / dt
-                )));
-            }
+            check_rows(dt as f32, duration as f32, "the ProMP's duration")?;
             for Via {
                 time,
                 column,

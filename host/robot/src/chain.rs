@@ -444,6 +444,11 @@ impl Chain {
             .or_else(|| self.numbered.then(numbered).flatten())
     }
 
+    /// The joint named `name`, as [`Chain::index`] finds it.
+    pub fn joint(&self, name: &str) -> Option<&Joint> {
+        self.joints.get(self.index(name)?)
+    }
+
     /// The tool frame in the base's at joint positions `q` (one per joint;
     /// missing ones taken as 0, extra ones ignored).
     pub fn forward(&self, q: &[f64]) -> Isometry3<f64> {

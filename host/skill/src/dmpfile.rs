@@ -412,6 +412,15 @@ pub fn orientation_groups(names: &[String]) -> Vec<([String; 4], usize)> {
         .collect()
 }
 
+/// The DMP DoF of the scalar column `name` among columns `names`, if it is
+/// one (an orientation's columns are none).
+pub fn scalar_dof(names: &[String], name: &str) -> Option<usize> {
+    layout(names)
+        .into_iter()
+        .find(|s| s.kind == Column::Scalar && names.get(s.column).is_some_and(|n| n == name))
+        .map(|s| s.dof)
+}
+
 /// DMP DoFs of a layout.
 fn dmp_dof(layout: &[Slot]) -> usize {
     layout.last().map_or(0, |s| {
@@ -721,12 +730,7 @@ impl DmpFile {
     /// The DMP's DoF that holds the scalar column `name`, if there is one
     /// (not an orientation's).
     pub fn scalar_dof(&self, name: &str) -> Option<usize> {
-        layout(&self.names)
-            .into_iter()
-            .find(|s| {
-                s.kind == Column::Scalar && self.names.get(s.column).is_some_and(|n| n == name)
-            })
-            .map(|s| s.dof)
+        scalar_dof(&self.names, name)
     }
 
     fn check_len(&self, flag: &str, values: &[f32]) -> Result<(), Error> {

@@ -29,7 +29,9 @@ use primo_robot::{Gate, JointPath};
 
 use crate::coupled::{Avoidance, Coupled, OVERTIME, Repulsion};
 use crate::csv::Demo;
-use crate::dmpfile::{AmplitudeScaling, DmpFile, FORMAT, Orientation, VERSION, orientation_groups};
+use crate::dmpfile::{
+    AmplitudeScaling, DmpFile, FORMAT, Orientation, VERSION, orientation_groups, scalar_dof,
+};
 use crate::shaping::Via;
 use crate::{Error, HOST_MAX_DOF, HostDmp, MAX_KERNELS};
 
@@ -372,19 +374,7 @@ impl Skill {
     /// The DMP DoF of the position column `column`, if it is one of the
     /// skill's (an orientation's columns are none).
     pub fn position_dof(&self, column: &str) -> Option<usize> {
-        let at = self.names.iter().position(|n| n == column)?;
-        if self
-            .groups
-            .iter()
-            .any(|g| g.columns.iter().any(|c| c == column))
-        {
-            return None;
-        }
-        // Each orientation before it: four columns, three DoFs.
-        let before = (self.groups.iter())
-            .filter(|g| self.names[..at].contains(&g.columns[0]))
-            .count();
-        Some(at - before)
+        scalar_dof(&self.names, column)
     }
 
     /// The examples `(q_i, θ_i)`.
@@ -519,9 +509,7 @@ impl Skill {
         what: &str,
         mut columns: impl Iterator<Item = &'a String>,
     ) -> Result<(), Error> {
-        match columns
-            .find(|c| !self.names.contains(c) || self.groups.iter().any(|g| g.columns.contains(c)))
-        {
+        match columns.find(|c| self.position_dof(c).is_none()) {
             Some(name) => Err(Error::Movement(format!(
                 "{what}: no position column `{name}` among {}",
                 self.names.join(",")

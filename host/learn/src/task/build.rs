@@ -162,11 +162,7 @@ fn repulsion(limits: &Limits, names: &[String], push: &LimitPush) -> Result<Repu
     match limits {
         Limits::Robot(robot) => {
             for name in names {
-                let Some(joint) = robot
-                    .chain
-                    .index(name)
-                    .and_then(|i| robot.chain.joints().get(i))
-                else {
+                let Some(joint) = robot.chain.joint(name) else {
                     return Err(format!(
                         "`{name}` is no joint of {}: the push keeps joint trajectories from \
                          the joints' limits, not a tool's pose",

@@ -153,7 +153,7 @@ fn columns(search: &GoalSearch, skill: &Skill, dim: usize) -> Result<Vec<String>
 fn range(limits: &Limits, column: &str) -> Option<(f64, f64)> {
     match limits {
         Limits::Robot(r) => {
-            let joint = r.chain.joints().get(r.chain.index(column)?)?;
+            let joint = r.chain.joint(column)?;
             Some((joint.limits.lower, joint.limits.upper))
         }
         Limits::Envelope(e) => (e.columns.iter())

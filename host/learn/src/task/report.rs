@@ -117,24 +117,22 @@ fn goal_columns(records: &[&Record<TaskTrial>]) -> Vec<String> {
 /// roll-out has none.
 fn rollouts_csv(records: &[&Record<TaskTrial>], dim: usize, goals: &[String]) -> Vec<u8> {
     let mut csv = Csv::new();
-    csv.text("rollout").text("update").text("mean");
-    for i in 1..=dim {
-        match dim {
-            1 => csv.text("query"),
-            _ => csv.display(format_args!("query{i}")),
-        };
-    }
-    for c in goals {
-        csv.display(format_args!("goal_{c}"));
-    }
-    for name in ["measured", "error"] {
+    // `name`, or `name1`, `name2`, … for a query of several values.
+    let per_value = |csv: &mut Csv, name: &str| {
         for i in 1..=dim {
             match dim {
                 1 => csv.text(name),
                 _ => csv.display(format_args!("{name}{i}")),
             };
         }
+    };
+    csv.text("rollout").text("update").text("mean");
+    per_value(&mut csv, "query");
+    for c in goals {
+        csv.display(format_args!("goal_{c}"));
     }
+    per_value(&mut csv, "measured");
+    per_value(&mut csv, "error");
     csv.text("reward").text("rejected").text("failed");
     csv.end_row();
     for r in records {
