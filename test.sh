@@ -105,9 +105,9 @@ rm -rf "$dist"
 )
 PRIMO_BIN="$PWD/target/debug/primo" "$venv/bin/pytest" -q -p no:cacheprovider python/tests \
   --doctest-modules --pyargs primo 2>&1 | tee -a "$log"
-# The benchmark suite's smoke test (bench/suite, issue 28): reach-v3
-# (Metaworld) and Reacher-v5, one context, 3 roll-outs of each of its 7
-# methods through primo.gym.BlackBox, in its own pinned environment
+# The benchmark suite's smoke test (bench/suite, issue 28): reach-v3 and
+# push-v3 (Metaworld) and Reacher-v5, one context, 3 roll-outs of each of
+# its methods through primo.gym.BlackBox, in its own pinned environment
 # target/bench-venv with the wheel built above; it asserts that every run
 # ends and writes target/bench-smoke/suite.csv. About 6 s once the
 # environment exists; the first run adds about 32 s from a warm pip cache

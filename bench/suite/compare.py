@@ -5,6 +5,10 @@ also as a share of the best CMA-ES setting's (the one that succeeds most
 often, of those the fewest roll-outs).
 
     target/bench-venv/bin/python bench/suite/compare.py bench/results/suite-goals/suite.csv
+
+Several files are read as one run: a (task, context, seed, method) that
+more than one holds counts once, from the first (runs of the same wheel
+agree on the methods they share: the learners are seeded).
 """
 
 from __future__ import annotations
@@ -43,11 +47,17 @@ def table(rows, budget, subset=None):
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("csv", help="a suite.csv")
+    parser.add_argument("csv", nargs="+", help="suite.csv files")
     parser.add_argument("--budget", type=int, default=50, help="the runs' budget of roll-outs")
     args = parser.parse_args(argv)
-    with open(args.csv, newline="") as f:
-        rows = list(csv.DictReader(f))
+    rows, seen = [], set()
+    for path in args.csv:
+        with open(path, newline="") as f:
+            for row in csv.DictReader(f):
+                key = (row["task"], row["context"], row["seed"], row["method"])
+                if key not in seen:
+                    seen.add(key)
+                    rows.append(row)
     for task in dict.fromkeys(r["task"] for r in rows):
         rs = [r for r in rows if r["task"] == task]
         missed = sorted({r["context"] for r in rs if r["method"] == "generalized" and r["success"] == "0"}, key=int)

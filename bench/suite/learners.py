@@ -51,17 +51,30 @@ def error_learning(problem, context, budget, seed):
     return problem.box.learn(learner, context, budget, seed=seed)
 
 
-def goal_learning(problem, context, budget, seed):
+def goal_learning(problem, context, budget, seed, via=()):
     """primo's Secant on a change of the generalized movement's goals
     instead of its query (``BlackBox.learn(..., goals=...)``): the goals
     of the DoFs the task pairs with the error's values (the first ones
-    but on push-v3), each within the robot's limits of its DoF."""
-    box, dofs = problem.box, list(problem.goal_dofs)
-    goal = np.asarray(box.dmp(box.query(context)).goal)[dofs]
-    low, high = (np.asarray(v)[dofs] - goal for v in problem.limits)
-    # A generalized goal beyond a limit: its change may still be 0.
-    learner = primo.Secant(np.minimum(low, 0), np.maximum(high, 0), np.zeros(len(dofs)), max_rollouts=budget)
-    return box.learn(learner, context, budget, seed=seed, goals=dofs)
+    but on push-v3), each within the robot's limits of its DoF. With
+    ``via`` (``(time, dof, target)``), the via-points' positions first,
+    each within the limits of its DoF too."""
+    box, dofs = problem.goal_box, list(problem.goal_dofs)
+    dmp = box.dmp(box.query(context))
+    times, y = dmp.run()
+    now = np.r_[[np.interp(t, times, y[:, d]) for t, d, _ in via], np.asarray(dmp.goal)[dofs]]
+    moved = [d for _, d, _ in via] + dofs
+    low, high = (np.asarray(v)[moved] - now for v in problem.limits)
+    # A generalized position beyond a limit: its change may still be 0.
+    learner = primo.Secant(np.minimum(low, 0), np.maximum(high, 0), np.zeros(len(moved)), max_rollouts=budget)
+    return box.learn(learner, context, budget, seed=seed, goals=dofs, via=via)
+
+
+def via_learning(problem, context, budget, seed):
+    """goal-learning with the task's via-points (``BlackBox.learn(...,
+    via=...)``): the hand over the puck on push-v3, where it must be
+    before the goals can move the puck."""
+    dmp = problem.goal_box.dmp(problem.goal_box.query(context))
+    return goal_learning(problem, context, budget, seed, via=problem.via(context, dmp))
 
 
 def _power(query_gain: float) -> Callable:
@@ -147,6 +160,7 @@ METHODS = {
     "generalized": generalized,
     "error-learning": error_learning,
     "goal-learning": goal_learning,
+    "via-learning": via_learning,
     "power": _power(0.0),
     "power-el": _power(0.5),
     "cma": _cma(None),

@@ -132,15 +132,17 @@ def main(argv=None):
                         help="the Generalizer's regression: primo's default LWR or GPR with a linear mean")
     parser.add_argument("--out", help="default bench/results/suite, with --smoke target/bench-smoke")
     parser.add_argument("--smoke", action="store_true",
-                        help="reach-v3 and Reacher-v5, one context, 3 roll-outs per method")
+                        help="reach-v3, Reacher-v5 and push-v3, one context, 3 roll-outs per method")
     args = parser.parse_args(argv)
     if args.smoke:
-        args.tasks, args.contexts, args.seeds, args.budget = ["reach-v3", "Reacher-v5"], 1, 1, 3
+        args.tasks, args.contexts, args.seeds, args.budget = ["reach-v3", "Reacher-v5", "push-v3"], 1, 1, 3
     args.out = args.out or ("target/bench-smoke" if args.smoke else "bench/results/suite")
     command = "bench/suite/run.sh " + " ".join(sys.argv[1:] if argv is None else argv)
     seeds = list(range(args.first_seed, args.first_seed + args.seeds))
+    # via-learning is for the tasks with via-points (push-v3)
     jobs = [(t, args.contexts, i, s, m, args.budget, args.regression)
-            for t in args.tasks for i in range(args.contexts) for s in seeds for m in args.methods]
+            for t in args.tasks for i in range(args.contexts) for s in seeds for m in args.methods
+            if m != "via-learning" or TASKS[t].via]
     start = time.time()
     with multiprocessing.Pool(args.jobs) as pool:
         rows = []

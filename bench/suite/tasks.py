@@ -46,8 +46,11 @@ class Problem:
     """What a method learns on: the episodes' ``box``, the success
     radius ``tolerance`` (m or rad, which scales rewards), the query's
     bounds ``low``, ``high`` (the box contexts are drawn from) and the
-    robot's ``limits`` (low, high) of the DMP's DoFs (m or rad) and the
-    DoFs whose goals the error's values measure, ``goal_dofs``."""
+    robot's ``limits`` (low, high) of the DMP's DoFs (m or rad); for
+    error learning on the movement, ``goal_box`` (``box`` with the error
+    of the goals), the DoFs whose goals its error's values measure,
+    ``goal_dofs``, and ``via(context, dmp)``, the via-points ``(time,
+    dof, target)`` of the generalized movement ``dmp`` (None: none)."""
 
     box: primo.gym.BlackBox
     tolerance: float
@@ -55,6 +58,8 @@ class Problem:
     high: np.ndarray
     limits: tuple[np.ndarray, np.ndarray]
     goal_dofs: tuple[int, ...]
+    goal_box: primo.gym.BlackBox
+    via: Optional[Callable[[Any, primo.Dmp], list]] = None
 
 
 @dataclass
@@ -64,8 +69,10 @@ class Task:
     ``query(context)``, ``demo(env, context) -> (t, y)``, ``box(env,
     generalizer, query)``, ``tolerance`` (the success radius), ``demos``
     (how many), the DMPs' ``columns``, ``limits(env) -> (low, high)``
-    of their DoFs and ``goal_dofs``, the DoF whose goal each error value
-    measures (None: the first ones)."""
+    of their DoFs, ``goal_dofs``, the DoF whose goal each error value
+    measures (None: the first ones), ``goal_error(env, obs)``, the error
+    those values are (None: the query's error) and ``via``, the
+    via-points of error learning on the movement (``Problem``)."""
 
     name: str
     make: Callable[[], Any]
@@ -79,6 +86,8 @@ class Task:
     columns: tuple[str, ...]
     limits: Callable[[Any], tuple[np.ndarray, np.ndarray]]
     goal_dofs: Optional[tuple[int, ...]] = None
+    goal_error: Optional[Callable[[Any, np.ndarray], np.ndarray]] = None
+    via: Optional[Callable[[Any, primo.Dmp], list]] = None
 
     def generalizer(self, env: Any, regression: str = "lwr") -> primo.Generalizer:
         examples = []
@@ -90,9 +99,13 @@ class Task:
 
     def problem(self, env: Any, regression: str = "lwr") -> Problem:
         low, high = self.space(env)
-        box = self.box(env, self.generalizer(env, regression), self.query)
+        generalizer = self.generalizer(env, regression)
+        box = self.box(env, generalizer, self.query)
+        goal_box = box if self.goal_error is None else self.box(env, generalizer, self.query, self.goal_error)
         dofs = self.goal_dofs or tuple(range(box.query_dim))
-        return Problem(box, self.tolerance, self.query(low), self.query(high), self.limits(env), dofs)
+        return Problem(
+            box, self.tolerance, self.query(low), self.query(high), self.limits(env), dofs, goal_box, self.via
+        )
 
 
 # Metaworld: the context is the task's rand_vec, the DMP moves the hand
@@ -156,8 +169,9 @@ def _scripted(name: str, grip: bool) -> Callable[[Any, Any], tuple[np.ndarray, n
     return demo
 
 
-def _metaworld_box(error: Callable[[Any, np.ndarray], np.ndarray]) -> Callable[..., primo.gym.BlackBox]:
-    def box(env: Any, movement: Any, query: Callable) -> primo.gym.BlackBox:
+def _metaworld_box(task_error: Callable[[Any, np.ndarray], np.ndarray]) -> Callable[..., primo.gym.BlackBox]:
+    def box(env: Any, movement: Any, query: Callable, error: Optional[Callable] = None) -> primo.gym.BlackBox:
+        error = error or task_error
         return primo.gym.BlackBox(
             env,
             movement,
@@ -180,7 +194,20 @@ def _reach_error(env: Any, obs: np.ndarray) -> np.ndarray:
 
 def _push_error(env: Any, obs: np.ndarray) -> np.ndarray:
     # Only the goal part of the query (puck xy, goal xy) is measurable.
-    return np.r_[0.0, 0.0, obs[36:38] - obs[4:6]]
+    return np.r_[0.0, 0.0, _push_miss(env, obs)]
+
+
+def _push_miss(env: Any, obs: np.ndarray) -> np.ndarray:
+    """Goal − puck, xy: what the hand's x and y goals move."""
+    return obs[36:38] - obs[4:6]
+
+
+def _push_grasp(context: Any, dmp: primo.Dmp) -> list:
+    """The hand over the puck where the movement comes down to it (the
+    first time its z is within 5 mm of its lowest), in x and y."""
+    times, y = dmp.run()
+    at = float(times[np.argmax(y[:, 2] <= y[:, 2].min() + 0.005)])
+    return [(at, 0, float(context[0])), (at, 1, float(context[1]))]
 
 
 def _button_error(env: Any, obs: np.ndarray) -> np.ndarray:
@@ -236,7 +263,7 @@ def _reacher_success(env: Any, obs: np.ndarray, info: dict) -> bool:
     return bool(np.linalg.norm(obs[8:10]) < 0.01 and np.abs(obs[6:8]).max() < 0.5)
 
 
-def _reacher_box(env: Any, movement: Any, query: Callable) -> primo.gym.BlackBox:
+def _reacher_box(env: Any, movement: Any, query: Callable, error: Optional[Callable] = None) -> primo.gym.BlackBox:
     return primo.gym.BlackBox(
         env,
         movement,
@@ -246,7 +273,7 @@ def _reacher_box(env: Any, movement: Any, query: Callable) -> primo.gym.BlackBox
         kd=0.1,
         reset=primo.gym.qpos_reset(slice(2, 4)),  # the target's slide joints
         success=_reacher_success,
-        error=lambda env, obs, info: -obs[8:10],
+        error=(lambda env, obs, info: error(env, obs)) if error else (lambda env, obs, info: -obs[8:10]),
         hold=10,
     )
 
@@ -259,8 +286,9 @@ TASKS = {
     "push-v3": Task(
         "push-v3", _metaworld_env("push-v3"), _metaworld_contexts, _metaworld_space, lambda v: np.r_[v[0:2], v[3:5]],
         _scripted("push-v3", True), _metaworld_box(_push_error), 0.05, 4, ("x", "y", "z", "grip"), _metaworld_limits,
-        # the puck's miss (the error's last two values) is the hand's x and y goals' to fix
-        (2, 3, 0, 1),
+        # the puck's miss is the hand's x and y goals' to fix; the hand
+        # must come down over the puck first
+        (0, 1), _push_miss, _push_grasp,
     ),
     "button-press-v3": Task(
         "button-press-v3", _metaworld_env("button-press-v3"), _metaworld_contexts, _metaworld_space, lambda v: v[0:2],

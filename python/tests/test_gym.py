@@ -136,6 +136,55 @@ def test_secant_learns_the_goals_where_no_query_reaches(generalizer):
         single.learn(primo.GoldenSection(low=-1, high=1, desired=0.5), DEMOS[1], goals=[2])
 
 
+def test_secant_learns_via_points_the_arm_passes(generalizer):
+    # joint0 should be 0.3 rad beyond its demonstrated path halfway: the
+    # movement is bent through a via-point, which the learner moves until
+    # the measured joint (lagging behind the PD law's setpoint) is there.
+    dmp = fit(DEMOS[0])
+    box = reacher_box(dmp)
+    times, y = dmp.run(dt=box.dt)
+    target = float(np.interp(0.4, times, y[:, 0])) + 0.3
+    learner = primo.Secant(low=[-1.0], high=[1.0], desired=[0.0], precision=0.005, max_rollouts=20)
+    episodes = box.learn(learner, DEMOS[0], budget=20, seed=0, until_success=False, via=[(0.4, 0, target)])
+    assert learner.status == "converged", learner.status
+    measured = [target - e.trace[20, 0] for e in episodes]  # step 20 starts at 0.4 s
+    assert abs(measured[-1]) < 0.005 and abs(measured[1]) < abs(measured[0]), measured
+    assert np.allclose(episodes[0].theta, dmp.params)  # the first ask: the movement itself
+    assert episodes[-1].trace.shape == (episodes[-1].steps, 2)
+    # Via-points and goals together on a generalized movement: the
+    # fingertip comes to rest on a target beyond the demonstrations while
+    # joint1 passes 0.5 rad halfway.
+    box = reacher_box(generalizer, success=at_rest)
+    context = np.array([-0.02, -0.19])
+    learner = primo.Secant(low=[-np.pi] * 3, high=[np.pi] * 3, desired=[0.0] * 3, precision=0.005, max_rollouts=40)
+    episodes = box.learn(learner, context, budget=40, seed=0, goals=True, via=[(0.4, 1, 0.5)])
+    # one via-point on joint1, then the goals of joint0 and joint1 (the
+    # error's two values)
+    assert episodes[-1].success, [e.error for e in episodes]
+    assert abs(0.5 - episodes[-1].trace[20, 1]) < 0.05
+
+
+def test_via_points_are_checked_before_anything_runs(generalizer):
+    box = reacher_box(fit(DEMOS[0]))
+    one = primo.Secant(low=[-1.0], high=[1.0], desired=[0.0])
+    two = primo.Secant(low=[-1.0] * 2, high=[1.0] * 2, desired=[0.0] * 2)
+    power = primo.Power(box.initial(), blocks=[(box.size, 0.1, 1.0)], seed=1)
+    cases = [
+        (one, [(0.4, 0, 0.1), (0.5, 0, 0.1)], {}, "2 via-points for a learner of 1 values"),
+        (two, [(0.4, 0, 0.1)], {}, "the other 1 change goals, which need goals="),
+        (one, [(0.9, 0, 0.1)], {}, r"via\[0\]: .*a time within the movement \(0 to 0.8 s\)"),
+        (one, [(0.4, 2, 0.1)], {}, "a DoF below 2"),
+        (one, [(0.4, 0)], {}, "expected \\(time, dof, target\\)"),
+        (power, [(0.4, 0, 0.1)], {"reward": lambda e: 1.0}, "via: for the error learners"),
+    ]
+    for learner, via, extra, message in cases:
+        with pytest.raises(ValueError, match=message):
+            box.learn(learner, DEMOS[0], via=via, **extra)
+    position = reacher_box(fit(DEMOS[0]), tracking="position")
+    with pytest.raises(ValueError, match="tracking='position' has not"):
+        position.learn(one, DEMOS[0], via=[(0.4, 0, 0.1)])
+
+
 def test_theta_forms_agree(generalizer):
     box = reacher_box(generalizer)
     context = np.array([0.0, 0.15])

@@ -340,6 +340,34 @@ class Dmp:
         amplitude: Optional[ArrayLike] = None,
         anchor: Optional[ArrayLike] = None,
     ) -> tuple[Array, Array]: ...
+    def through(self, via: Sequence[tuple[float, str, float]], dt: float = 0.001) -> Dmp:
+        """This DMP bent through via-points (discrete): its weights changed
+        least so that its run at steps of ``dt`` passes each point, as
+        ``run(via=...)`` does, with the start, goal and duration its own.
+        Its ``params`` are a movement's with the via-points built in: a
+        parameter vector for a learner or ``primo.gym.BlackBox``.
+
+        Args:
+            via: via-points, a list of ``(time, column, value)`` (up to 8):
+                the column passes ``value`` at ``time`` s, strictly inside the
+                movement.
+            dt: the step the run is made at, s (positive).
+
+        Returns:
+            Dmp: the bent DMP.
+
+        Raises:
+            ValueError: a rhythmic DMP, a time outside the movement, an unknown
+                column, two values for one column at once, a point no weight
+                can reach or that needs weights beyond their bound.
+
+        >>> import numpy as np, primo
+        >>> t = np.linspace(0.0, 1.0, 101)
+        >>> dmp = primo.Dmp.fit(t, t * t * (3 - 2 * t), names=["x"])
+        >>> bent = dmp.through([(0.5, "x", 0.8)], dt=0.01)
+        >>> round(float(bent.run(dt=0.01)[1][50, 0]), 3), bent.goal.tolist() == dmp.goal.tolist()
+        (0.8, True)
+        """
     def stepper(
         self,
         tau: Optional[float] = None,

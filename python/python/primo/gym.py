@@ -60,13 +60,16 @@ class Episode:
     measured``) of the ``error`` function at the end, or None without
     one; ``steps``: the environment steps taken; ``theta``: the
     parameters it was given; ``rejected``: why the DMP refused ``theta``
-    (a duration under 1 ms, a value beyond float32), or None. A rejected
+    (a duration under 1 ms, a value beyond float32), or None; ``trace``:
+    the tracked positions at the start of each step, shape (steps,
+    tracked DoFs), or None with ``tracking="position"``. A rejected
     episode takes no step: its return is NaN, its success False and its
     error None (``learn`` tells error learners ``tell_infeasible`` and
     ``Power`` the reward 0).
 
     >>> import numpy as np, primo.gym
-    >>> primo.gym.Episode(episode_return=-1.5, success=True, error=None, steps=3, theta=np.zeros(2), rejected=None).steps
+    >>> primo.gym.Episode(episode_return=-1.5, success=True, error=None, steps=3, theta=np.zeros(2),
+    ...                   rejected=None, trace=None).steps
     3
     """
 
@@ -76,6 +79,7 @@ class Episode:
     steps: int
     theta: np.ndarray
     rejected: Optional[str]
+    trace: Optional[np.ndarray]
 
 
 class _Rejected(ValueError):
@@ -304,15 +308,19 @@ class BlackBox:
         try:
             dmp = self.dmp(theta, context)
         except _Rejected as e:
-            return Episode(float("nan"), False, None, 0, theta, str(e))
+            return Episode(float("nan"), False, None, 0, theta, str(e), None)
         _, y, yd = dmp.run(dt=self.dt, velocities=True)
         obs = self._reset(self.env, context, seed)
         last = len(y) - 1
         total, ever, reported, steps = 0.0, False, False, 0
         info: dict = {}
+        trace = []
         for k in range(last + self.hold):
             now, then = min(k, last), min(k + 1, last)
-            action = self._action(obs, y[then], yd[then], y[now])
+            x, xd = (None, None) if self._state is None else self._state(self.env, obs)
+            if x is not None:
+                trace.append(np.array(x, dtype=np.float64)[: len(y[now])])
+            action = self._action(x, xd, y[then], yd[then], y[now])
             obs, reward, terminated, truncated, info = self.env.step(action)
             total += float(reward)
             steps += 1
@@ -327,16 +335,15 @@ class BlackBox:
         error = None
         if self._error is not None:
             error = np.atleast_1d(np.asarray(self._error(self.env, obs, info), dtype=np.float64))
-        return Episode(total, ever if reported else None, error, steps, theta, None)
+        return Episode(total, ever if reported else None, error, steps, theta, None, np.array(trace) if trace else None)
 
-    def _action(self, obs: Any, y: np.ndarray, yd: np.ndarray, y_now: np.ndarray) -> np.ndarray:
+    def _action(self, x: Any, xd: Any, y: np.ndarray, yd: np.ndarray, y_now: np.ndarray) -> np.ndarray:
         """The action toward ``y, yd`` (the next sample's) from the state
-        at the current sample, ``y_now``."""
+        ``x, xd`` at the current sample, ``y_now``."""
         action = np.zeros_like(self._low)
-        if self._state is None:  # "position": the desired positions are the action
+        if x is None:  # "position": the desired positions are the action
             action[: len(y)] = y
             return np.clip(action, self._low, self._high)
-        x, xd = self._state(self.env, obs)
         m = min(len(np.atleast_1d(x)), len(y))
         x = np.asarray(x, dtype=np.float64)[:m]
         if self.tracking == "pd":
@@ -364,6 +371,7 @@ class BlackBox:
         seed: Optional[int] = None,
         until_success: bool = True,
         goals: Union[bool, Sequence[int]] = False,
+        via: Sequence[tuple[float, int, float]] = (),
     ) -> list[Episode]:
         """Lets a learner of primo's run episodes at ``context`` until it
         is done, ``budget`` episodes are spent or, with
@@ -386,6 +394,16 @@ class BlackBox:
         query reaches an outcome that a goal can (a movement ends at its
         goal); the learner learns how the outcome moves with the goals.
 
+        ``via``: via-points ``(time, dof, target)`` an error learner
+        learns to pass: DoF ``dof`` should be at ``target`` at ``time`` s
+        (a hand at the object it grasps). The learner's first values, one
+        per via-point, move them from where the movement passes at their
+        time; the movement is bent through them (``Dmp.through``) and the
+        learner is told ``target`` minus the tracked position (``state``)
+        at the step nearest ``time``, measured, so that a lag of the
+        tracking is learned too. Its values after these change the goals
+        (``goals``), told the ``error`` function's values.
+
         >>> import gymnasium, numpy as np, primo, primo.gym
         >>> dmp = primo.Dmp.fit(np.linspace(0, 0.4, 21), np.zeros((21, 2)), kernels=5)
         >>> box = primo.gym.BlackBox(gymnasium.make("Reacher-v5"), dmp, kp=2.0)
@@ -396,14 +414,19 @@ class BlackBox:
         """
         if budget < 1:
             raise ValueError(f"budget: {budget}, at least 1 episode")
+        plan: list = []
         if isinstance(learner, Power):
+            if via:
+                raise ValueError("via: for the error learners (GoldenSection, Illinois, Secant), not Power")
             if reward is None:
                 raise ValueError(
                     "reward: Power needs a reward >= 0 per episode, e.g. "
                     "reward=lambda e: np.exp(-10 * np.linalg.norm(e.error))"
                 )
         elif isinstance(learner, (GoldenSection, Illinois, Secant)):
-            if self._error is None or (self.generalizer is None and goals is False):
+            if via:
+                plan = self._via_plan(via, learner, goals, context)
+            elif self._error is None or (self.generalizer is None and goals is False):
                 raise ValueError(
                     f"learner: {type(learner).__name__} learns a Generalizer's query from the error "
                     "(or, with goals=True, a movement's goals); this BlackBox needs a Generalizer "
@@ -416,9 +439,12 @@ class BlackBox:
             theta = learner.ask()
             if theta is None:  # an error learner that is done
                 break
-            if goals is not False and not isinstance(learner, Power):
-                theta = self._goal_change(theta, context, None if goals is True else goals)
-            episode = self.episode(theta, context, seed)
+            if plan:
+                episode = self._via_episode(np.atleast_1d(theta), plan, goals, context, seed)
+            else:
+                if goals is not False and not isinstance(learner, Power):
+                    theta = self._goal_change(theta, context, None if goals is True else goals)
+                episode = self.episode(theta, context, seed)
             episodes.append(episode)
             if until_success and episode.success:
                 break
@@ -435,6 +461,12 @@ class BlackBox:
                     learner.tell(r, np.zeros(learner.query))
                 else:
                     learner.tell(r, episode.error)
+            elif plan:
+                told = self._via_errors(episode, plan, len(np.atleast_1d(theta)) - len(plan))
+                if isinstance(learner, Secant):
+                    learner.tell(told)
+                else:
+                    learner.tell(float(told[0]))
             elif isinstance(learner, Secant):
                 learner.tell(episode.error)
             else:
@@ -443,6 +475,75 @@ class BlackBox:
                     raise ValueError(f"error: {type(learner).__name__} needs one error value, got {e}")
                 learner.tell(float(e[0]))
         return episodes
+
+    def _via_plan(self, via: Sequence[tuple[float, int, float]], learner: Any, goals: Any, context: Any) -> list:
+        """``learn``'s via-points, checked: ``(time, dof, target, base)``
+        each, ``base`` where the movement passes at ``time``."""
+        if self._state is None:
+            raise ValueError("via: the tracked positions come from state, which tracking='position' has not")
+        dim = learner.dim if isinstance(learner, Secant) else 1
+        n = len(via)
+        if not 1 <= n <= min(dim, 8):
+            raise ValueError(f"via: {n} via-points for a learner of {dim} values (1 to 8, at most one each)")
+        if dim > n and (goals is False or self._error is None):
+            raise ValueError(
+                f"via: {n} via-points for a learner of {dim} values; the other {dim - n} change goals, "
+                "which need goals=... and error=..."
+            )
+        base = self.dmp(self.initial(context), context)
+        times, y = base.run(dt=self.dt)
+        plan = []
+        for i, point in enumerate(via):
+            try:
+                time, dof, target = float(point[0]), int(point[1]), float(point[2])
+                ok = len(point) == 3 and 0.0 < time < times[-1] and np.isfinite(target) and 0 <= dof < base.dof
+            except (TypeError, ValueError, IndexError):
+                ok = False
+            if not ok:
+                raise ValueError(
+                    f"via[{i}]: {point!r}; expected (time, dof, target): a time within the movement "
+                    f"(0 to {times[-1]:g} s), a DoF below {base.dof} and a finite target"
+                )
+            plan.append((time, dof, target, float(np.interp(time, times, y[:, dof]))))
+        return plan
+
+    def _via_episode(self, values: np.ndarray, plan: list, goals: Any, context: Any, seed: Optional[int]) -> Episode:
+        """The episode of the movement with the goals changed by the values
+        after the via-points' (``_goal_change``), bent through the
+        via-points moved by theirs; a movement the DMP refuses is a
+        rejected episode."""
+        n = len(plan)
+        if len(values) > n:
+            theta = self._goal_change(values[n:], context, None if goals is True else goals)
+        else:
+            theta = self.initial(context)
+        points = [(t, self._dmp.names[dof], base + v) for (t, dof, _, base), v in zip(plan, values)]
+        try:
+            bent = self.dmp(theta, context).through(points, dt=self.dt)
+        except ValueError as e:
+            return Episode(float("nan"), False, None, 0, theta, f"via-points: {e}", None)
+        if self.generalizer is not None:
+            at = self.dmp(self.initial(context), context)
+            theta = np.r_[theta[: self.query_dim], np.asarray(bent.params) - np.asarray(at.params)]
+        else:
+            theta = np.asarray(bent.params, dtype=np.float64)
+        return self.episode(theta, context, seed)
+
+    def _via_errors(self, episode: Episode, plan: list, goal_values: int) -> np.ndarray:
+        """``target −`` the tracked position at each via-point's step, then
+        the ``error`` function's values for the ``goal_values`` goals."""
+        trace = episode.trace
+        if trace is None or len(trace) == 0:
+            raise ValueError("via: the episode has no tracked positions")
+        errors = []
+        for time, dof, target, _ in plan:
+            if dof >= trace.shape[1]:
+                raise ValueError(f"via: DoF {dof} is not tracked (state gives {trace.shape[1]} positions)")
+            errors.append(target - trace[min(int(round(time / self.dt)), len(trace) - 1), dof])
+        rest = episode.error if goal_values else np.zeros(0)
+        if rest is None or len(rest) != goal_values:
+            raise ValueError(f"error: {goal_values} values for the goals learned, got {rest}")
+        return np.r_[errors, rest]
 
     def _goal_change(self, change: Any, context: Any, dofs: Optional[Sequence[int]]) -> np.ndarray:
         """The parameters of the movement with the goals of ``dofs`` (the
