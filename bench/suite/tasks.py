@@ -67,7 +67,8 @@ class Task:
     """A contextual task: ``make()`` its environment, ``contexts(env, n,
     seed)``, ``space(env) -> (low, high)`` of the contexts,
     ``query(context)``, ``demo(env, context) -> (t, y)``, ``box(env,
-    generalizer, query)``, ``tolerance`` (the success radius), ``demos``
+    generalizer, query, error=None)`` (the task's error unless another
+    is given), ``tolerance`` (the success radius), ``demos``
     (how many), the DMPs' ``columns``, ``limits(env) -> (low, high)``
     of their DoFs, ``goal_dofs``, the DoF whose goal each error value
     measures (None: the first ones), ``goal_error(env, obs)``, the error
