@@ -68,6 +68,29 @@ def overshoot():
     return primo.Dmp.fit(t, np.column_stack([a1, -0.5 * t]), names=["a1", "a2"])
 
 
+def test_through_returns_the_bent_movement_as_a_dmp():
+    t, y = throw()
+    dmp = primo.Dmp.fit(t, y, names=["x", "y"])
+    via = [(0.5, "y", 0.3), (0.8, "x", 0.2)]
+    bent = dmp.through(via, dt=0.002)
+    # The same run as run(via=...), from a DMP of its own: only the
+    # weights changed, its start, goal and duration kept.
+    assert np.allclose(bent.run(dt=0.002)[1], dmp.run(dt=0.002, via=via)[1], atol=1e-6)
+    n = dmp.dof * dmp.kernels
+    assert np.array_equal(bent.params[n:], dmp.params[n:]) and not np.array_equal(bent.params, dmp.params)
+    assert np.array_equal(pickle.loads(pickle.dumps(bent)).params, bent.params)
+    for bad, message in [
+        ([(1.5, "x", 0.1)], "within the movement"),
+        ([(0.5, "w", 0.1)], "no position column `w`"),
+        ([(0.5, "x", math.nan)], "needs a finite time and value"),
+        ([(0.5, "x", 0.1)] * 9, "9 via-points, at most 8"),
+    ]:
+        with pytest.raises(ValueError, match=message):
+            dmp.through(bad)
+    with pytest.raises(ValueError, match="dt"):
+        dmp.through(via, dt=0.0)
+
+
 def test_joint_limits_hold_an_overshoot_back():
     dmp = overshoot()
     _, free = dmp.run(dt=0.002)
