@@ -519,14 +519,13 @@ class BlackBox:
             theta = self.initial(context)
         points = [(t, self._dmp.names[dof], base + v) for (t, dof, _, base), v in zip(plan, values)]
         try:
-            bent = self.dmp(theta, context).through(points, dt=self.dt)
+            moved = self.dmp(theta, context)
+            bent = moved.through(points, dt=self.dt)
         except ValueError as e:
             return Episode(float("nan"), False, None, 0, theta, f"via-points: {e}", None)
-        if self.generalizer is not None:
-            at = self.dmp(self.initial(context), context)
-            theta = np.r_[theta[: self.query_dim], np.asarray(bent.params) - np.asarray(at.params)]
-        else:
-            theta = np.asarray(bent.params, dtype=np.float64)
+        # The bend changes the weights only: the movement's parameters in
+        # theta (its last) take that change.
+        theta[len(theta) - self.size :] += np.asarray(bent.params) - np.asarray(moved.params)
         return self.episode(theta, context, seed)
 
     def _via_errors(self, episode: Episode, plan: list, goal_values: int) -> np.ndarray:
