@@ -104,3 +104,30 @@ fn at_rest_nothing_changes_and_files_round_trip() {
     let bad = json.replacen("\"goal_velocity\":[", "\"goal_velocity\":[1e30,", 1);
     assert!(serde_json::from_str::<Dmp<2, 30>>(&bad).is_err());
 }
+
+/// The goal travels `ġτ`: a run over a huge `τ` with a tiny goal velocity
+/// stays finite (the fuzzer's case: `4τ/α` alone overflowed f32), and a
+/// travel beyond ±1e6 is refused before the run starts.
+#[test]
+fn the_goals_travel_is_bounded_not_its_duration() {
+    let hitting = fit(FinalVelocity::Demonstrated);
+    let mut exec = hitting.execution();
+    exec.tau = 1.7e38;
+    exec.goal_velocity = [2e-36, -5e-36].into_iter().collect();
+    let run: Vec<_> = hitting
+        .trajectory(&exec, 2.6e33)
+        .unwrap()
+        .take(100)
+        .collect();
+    for s in &run {
+        assert!(s.position[..2].iter().all(|x| x.is_finite()), "{s:?}");
+        assert!(s.velocity[..2].iter().all(|x| x.is_finite()), "{s:?}");
+        assert!(s.acceleration[..2].iter().all(|x| x.is_finite()), "{s:?}");
+    }
+    exec.goal_velocity = [1e-30, 0.0].into_iter().collect();
+    let refused = hitting.trajectory(&exec, 2.6e33).map(|_| ()).unwrap_err();
+    assert!(
+        refused.to_string().contains("goal would travel"),
+        "{refused}"
+    );
+}

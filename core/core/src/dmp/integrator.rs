@@ -43,7 +43,8 @@ impl<const D: usize, const K: usize> Dmp<D, K> {
             exec.tau,
             "execution tau must be finite and at least 0.001 s",
         )?;
-        super::model::check_goal_velocity(&exec.goal_velocity, self.dof())
+        super::model::check_goal_velocity(&exec.goal_velocity, self.dof())?;
+        super::model::check_goal_travel(&exec.goal_velocity, exec.tau)
     }
 
     /// Starts an execution at rest at `exec.start`; advance it with
@@ -174,9 +175,10 @@ impl<const D: usize> Run<D> {
         // A goal velocity moves the goal at it until τ, `g − ġτ(1 − s)`,
         // and feeds it forward (`ατġ` on the spring, `4τġ/α` on its rest
         // point): the run then reaches the goal at that velocity. After τ
-        // the goal holds still.
+        // the goal holds still. Both in units of τ: `ġτ` is bounded
+        // (`check_goal_travel`), `τ` alone may be huge.
         let (lead, ahead) = match middle < 1.0 {
-            true => (self.tau * (1.0 - middle), 4.0 * self.tau / self.alpha),
+            true => (1.0 - middle, 4.0 / self.alpha),
             false => (0.0, 0.0),
         };
         for (((((y, carry), z), f), g), v) in self
@@ -191,7 +193,7 @@ impl<const D: usize> Run<D> {
         {
             let g = match v {
                 0.0 => g,
-                v => g + v * (ahead - lead),
+                v => g + v * self.tau * (ahead - lead),
             };
             let equilibrium = g + *f / stiffness;
             let e = (*y - equilibrium) - *carry;
@@ -403,6 +405,7 @@ impl<const D: usize> Run<D> {
         };
         // Global scaling's turn follows from the DMP, start and goal, as
         // the amplitudes do: set again, both come back bit for bit.
+        super::model::check_goal_travel(&run.goal_velocity, tau)?;
         let goal = run.goal;
         run.set_goal(dmp, goal.get(..run.dof).unwrap_or(&[]))?;
         Ok(run)

@@ -57,6 +57,17 @@ pub(super) fn check_goal_velocity(v: &[f32], dof: usize) -> Result<(), Error> {
     Ok(())
 }
 
+/// A goal moving at `v` for `τ`: its travel `vτ` within ±1e6, the bound
+/// on any position (the run moves the goal by it, so it must not overflow).
+pub(super) fn check_goal_travel(v: &[f32], tau: f32) -> Result<(), Error> {
+    match v.iter().all(|v| libm::fabsf(v * tau) <= MAX_ABS_POSITION) {
+        true => Ok(()),
+        false => Err(Error::OutOfRange(
+            "goal velocity × τ beyond ±1e6: the goal would travel beyond the bound on any position",
+        )),
+    }
+}
+
 /// The serialized form, checked before it becomes a [`Dmp`].
 #[derive(Deserialize)]
 struct DmpFields<const D: usize, const K: usize> {
