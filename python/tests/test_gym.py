@@ -175,6 +175,8 @@ def test_via_points_are_checked_before_anything_runs(generalizer):
         (one, [(0.9, 0, 0.1)], {}, r"via\[0\]: .*a time within the movement \(0 to 0.8 s\)"),
         (one, [(0.4, 2, 0.1)], {}, "a DoF below 2"),
         (one, [(0.4, 0)], {}, "expected \\(time, dof, target\\)"),
+        (one, [(0.4, 0, 0.1)], {"goals": True}, "none is left for goals"),
+        (two, [(0.4, 0, 0.1)], {"goals": [0, 1]}, "goals: 2 DoFs for the 1 values left after 1 via-points"),
         (power, [(0.4, 0, 0.1)], {"reward": lambda e: 1.0}, "via: for the error learners"),
     ]
     for learner, via, extra, message in cases:

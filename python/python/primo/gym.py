@@ -490,6 +490,13 @@ class BlackBox:
                 f"via: {n} via-points for a learner of {dim} values; the other {dim - n} change goals, "
                 "which need goals=... and error=..."
             )
+        if dim == n and goals is not False:
+            raise ValueError(
+                f"goals: the learner's {dim} values all move via-points, none is left for goals; "
+                f"give it {n} + one value per goal, or leave goals out"
+            )
+        if goals is not False and goals is not True and len(goals) != dim - n:
+            raise ValueError(f"goals: {len(goals)} DoFs for the {dim - n} values left after {n} via-points")
         base = self.dmp(self.initial(context), context)
         times, y = base.run(dt=self.dt)
         plan = []
