@@ -1016,29 +1016,34 @@ fn a_secant_goals_run_resumes_as_if_never_stopped() {
             "{f}"
         );
     }
-    // Wider bounds for the goal are a change the logged roll-outs keep.
+    // The run resumed with `keys` added to its `[learner]`.
     let text = std::fs::read_to_string(&file).unwrap();
-    let wider = file.with_file_name("wider.toml");
-    std::fs::write(
-        &wider,
-        text.replace(
-            "method = \"secant-goals\"",
-            "method = \"secant-goals\"\ngoals_min = [-2.6]",
-        ),
-    )
-    .unwrap();
-    let (code, _, err) = primo(&[
-        "learn",
-        "--resume",
-        out.to_str().unwrap(),
-        "--task",
-        wider.to_str().unwrap(),
-    ]);
+    let resume_with = |name: &str, keys: &str| {
+        let edited = file.with_file_name(name);
+        let method = "method = \"secant-goals\"";
+        std::fs::write(&edited, text.replace(method, &format!("{method}\n{keys}"))).unwrap();
+        let (code, _, err) = primo(&[
+            "learn",
+            "--resume",
+            out.to_str().unwrap(),
+            "--task",
+            edited.to_str().unwrap(),
+        ]);
+        (code, err)
+    };
+    // Wider bounds for the goal are a change the logged roll-outs keep.
+    let (code, err) = resume_with("wider.toml", "goals_min = [-2.6]");
     assert_eq!(code, 0, "{err}");
     assert!(
         err.contains("resuming with [learner] goals_min [] -> [-2.6]"),
         "{err}"
     );
+    // Bounds that change what the learner asks are refused, the goals
+    // asked and logged named by column.
+    let (code, err) = resume_with("narrow.toml", "goals_min = [-0.41]\ngoals_max = [-0.39]");
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("(goals shoulder = "), "{err}");
+    assert!(err.contains(", logged goals shoulder = "), "{err}");
 }
 
 #[test]

@@ -82,6 +82,27 @@ fn check(asked: &Rollout, delta: &[f32], status: &Status) -> Result<u32, Error> 
 /// many roll-outs is some tens of megabytes, and a real cell makes tens.
 pub const MAX_ROLLOUTS: u32 = 100_000;
 
+/// The roll-outs of an interrupted run to tell a learner again, and how
+/// its learner's values read in the user's terms (a query, or goals by
+/// column: [`Point`]) when it asks for other ones.
+#[derive(Clone, Copy)]
+pub struct Replay<'a, T> {
+    /// The logged roll-outs, oldest first.
+    pub logged: &'a [Entry<T>],
+    /// The point of what a learner asked: `(q̂, Δθ)`.
+    pub point: &'a dyn Fn(&[f32], &[f32]) -> Point,
+}
+
+impl<T> Replay<'_, T> {
+    /// Nothing to replay: a new run.
+    pub fn none() -> Self {
+        Replay {
+            logged: &[],
+            point: &Point::asked,
+        }
+    }
+}
+
 /// Runs the learner of `setup` on `skill` for at most `max_rollouts`:
 /// `roll(i, q̂, Δθ)` makes roll-out `i` (on a rig, through an evaluator),
 /// and `each` is called after every roll-out (with `true` for a replayed
@@ -91,20 +112,21 @@ pub const MAX_ROLLOUTS: u32 = 100_000;
 /// infeasible roll-out's query as a bound of its search
 /// ([`Request::Infeasible`]); PoWER learns from its reward.
 ///
-/// `logged` are the roll-outs of an interrupted run of the same settings:
-/// the learner is told their outcomes again instead of rolling them out,
-/// and `verify_replayed` checks it asks for exactly the logged roll-outs
-/// and reaches exactly the logged states, so the run goes on as if it had
-/// never stopped.
+/// `replay` holds the roll-outs of an interrupted run of the same
+/// settings: the learner is told their outcomes again instead of rolling
+/// them out, and `verify_replayed` checks it asks for exactly the logged
+/// roll-outs and reaches exactly the logged states, so the run goes on as
+/// if it had never stopped.
 pub fn learn_on<T: Scored + Clone>(
     skill: &Skill,
     setup: Setup,
     max_rollouts: u32,
     learner: &mut Learner,
-    logged: &[Entry<T>],
+    replay: Replay<'_, T>,
     mut roll: impl FnMut(u32, &[f32], &[f32]) -> Result<T, Error>,
     mut each: impl FnMut(&Entry<T>, bool) -> Result<(), Error>,
 ) -> Result<Vec<Entry<T>>, Error> {
+    let logged = replay.logged;
     let error_learning = !matches!(setup.learner, LearnerSetup::Power { .. });
     learner.configure(skill, setup)?;
     let mut run = Vec::new();
@@ -169,7 +191,7 @@ pub fn learn_on<T: Scored + Clone>(
                 true => check(&asked, &entry.delta, &as_logged)?,
                 false => entry.check,
             };
-            verify_replayed(logged, &entry, check)?;
+            verify_replayed(logged, &entry, check, replay.point)?;
         }
         each(&entry, before.is_some())?;
         // A series (megabytes) is not kept: the best one is replayed.
@@ -195,8 +217,9 @@ pub fn check_replay<T: Scored + Clone>(
     skill: &Skill,
     setup: Setup,
     max_rollouts: u32,
-    logged: &[Entry<T>],
+    replay: Replay<'_, T>,
 ) -> Result<(), Error> {
+    let logged = replay.logged;
     if (max_rollouts as usize) < logged.len() {
         return Err(Error::Invalid(format!(
             "a budget of {max_rollouts} roll-outs: the run has made {} already",
@@ -209,7 +232,7 @@ pub fn check_replay<T: Scored + Clone>(
         setup,
         max_rollouts,
         &mut Learner::local(),
-        logged,
+        replay,
         |_, _, _| {
             // Past the logged roll-outs: all of them were the same.
             beyond = true;
@@ -233,7 +256,7 @@ pub(crate) fn learn_logged<T: Scored + Clone + Serialize>(
     setup: Setup,
     max_rollouts: u32,
     learner: &mut Learner,
-    logged: &[Entry<T>],
+    replay: Replay<'_, T>,
     (log, ended): (&mut RunLog, bool),
     roll: impl FnMut(u32, &[f32], &[f32]) -> Result<T, Error>,
     mut show: impl FnMut(&Entry<T>, bool) -> Result<(), Error>,
@@ -243,7 +266,7 @@ pub(crate) fn learn_logged<T: Scored + Clone + Serialize>(
         setup,
         max_rollouts,
         learner,
-        logged,
+        replay,
         roll,
         |entry, replayed| {
             if !(replayed || ended) {
@@ -261,16 +284,21 @@ pub(crate) fn learn_logged<T: Scored + Clone + Serialize>(
 /// A replayed roll-out must be the logged one: the learner asked for the
 /// same roll-out and `Δθ` and reached the same state, bit for bit (`check`:
 /// the replayed one's [`Entry::check`] as the log would hold it).
-fn verify_replayed<T>(logged: &Entry<T>, replayed: &Entry<T>, check: u32) -> Result<(), Error> {
+fn verify_replayed<T>(
+    logged: &Entry<T>,
+    replayed: &Entry<T>,
+    check: u32,
+    point: &dyn Fn(&[f32], &[f32]) -> Point,
+) -> Result<(), Error> {
     if logged.check != check || logged.record.rollout != replayed.record.rollout {
         return Err(Error::Log(format!(
             "the run log's roll-out {} is not what the learner asks for and reaches \
-             as roll-out {} (q = {}, logged q = {}): the log is of another \
-             learner, seed or skill",
+             as roll-out {} ({}, logged {}): the log is of another learner, seed \
+             or skill",
             logged.record.rollout,
             replayed.record.rollout,
-            query_text(&replayed.record.query),
-            query_text(&logged.record.query)
+            point(&replayed.record.query, &replayed.delta),
+            point(&logged.record.query, &logged.delta)
         )));
     }
     Ok(())
@@ -318,6 +346,11 @@ impl Point {
             values: query.to_vec(),
             goals: Vec::new(),
         }
+    }
+
+    /// The query of a learner that asked `(q̂, Δθ)`, whatever `Δθ`.
+    pub fn asked(query: &[f32], _: &[f32]) -> Point {
+        Point::query(query)
     }
 
     /// Its largest difference to `other`, value by value.

@@ -22,7 +22,7 @@ use crate::coprocessor::{Image, Link, Qemu};
 use crate::learner::{Learner, check_examples, examples_crc};
 use crate::lock;
 use crate::output::{check_dir, create_dir};
-use crate::rollouts::{Entry, Scored, check_replay, learn_logged};
+use crate::rollouts::{Entry, Point, Replay, Scored, check_replay, learn_logged};
 use crate::runlog::{self, RunEvent, RunLog};
 use crate::{Error, Setting};
 use primo_mtsics::path::Wanted;
@@ -73,6 +73,8 @@ pub trait Kind: Clone + Serialize + DeserializeOwned {
     fn method(&self) -> Algorithm;
     /// The learner's setup on the built skill.
     fn setup(&self, built: &Self::Built) -> Result<Setup, Error>;
+    /// Where a learner that asked `(q̂, Δθ)` was, in the user's terms.
+    fn point(built: &Self::Built, query: &[f32], delta: &[f32]) -> Point;
     /// The roll-out budget.
     fn max_rollouts(&self) -> u32;
     /// Opens what makes the roll-outs of a run in `dir` (not a complete
@@ -388,7 +390,11 @@ pub fn run<K: Kind>(
         // The changed run must ask for the logged roll-outs before its log
         // says it is the run.
         let setup = run.setup(&built).map_err(fail)?;
-        check_replay(skill, setup, run.max_rollouts(), &logged).map_err(|e| {
+        let replay = Replay {
+            logged: &logged,
+            point: &|query, delta| K::point(&built, query, delta),
+        };
+        check_replay(skill, setup, run.max_rollouts(), replay).map_err(|e| {
             fail(Error::Invalid(format!(
                 "{}: the changed settings do not keep the logged roll-outs: {e}",
                 changes.join("; ")
@@ -427,7 +433,10 @@ pub fn run<K: Kind>(
         setup,
         run.max_rollouts(),
         &mut connected,
-        &logged,
+        Replay {
+            logged: &logged,
+            point: &|query, delta| K::point(&built, query, delta),
+        },
         (&mut log, ended),
         |i, query, delta| execution.roll(i, query, delta),
         |entry, logged| {

@@ -191,6 +191,10 @@ impl Kind for Pour {
         setup(&built.built.skill, &self.settings)
     }
 
+    fn point(_: &Prepared, query: &[f32], _: &[f32]) -> Point {
+        Point::query(query)
+    }
+
     fn max_rollouts(&self) -> u32 {
         self.settings.max_rollouts
     }

@@ -6,7 +6,7 @@ use primo_skill::Skill;
 
 use crate::Error;
 use crate::learner::Learner;
-use crate::rollouts::{Record, learn_on};
+use crate::rollouts::{Record, Replay, learn_on};
 
 use super::rig::{Simulated, roll_out};
 use super::settings::{Settings, setup};
@@ -27,7 +27,7 @@ pub fn learn(
         setup(skill, s)?,
         s.max_rollouts,
         learner,
-        &[],
+        Replay::none(),
         |i, query, delta| roll_out(&mut rig, skill, s.target, i, query, delta),
         |e, _| {
             each(&e.record);

@@ -109,6 +109,12 @@ impl LearnedGoals {
             .zip(self.generalized.iter().zip(change).map(|(g, d)| g + d))
             .collect()
     }
+
+    /// The goals of [`LearnedGoals::rolled_out`] as a [`Point`].
+    pub fn point(&self, delta: &[f32]) -> Point {
+        let (goals, values) = self.rolled_out(delta).into_iter().unzip();
+        Point { values, goals }
+    }
 }
 
 /// The columns `search` names (default: the first `dim`), each a position

@@ -40,7 +40,7 @@ use crate::output::{create_dir, write_file};
 use crate::pour::run::{CellSpec, Pour};
 use crate::pour::settings::Settings;
 use crate::pour::skill::{DemoFile, SkillSpec, Space};
-use crate::rollouts::{Entry, MAX_ROLLOUTS, Record, query_text};
+use crate::rollouts::{Entry, MAX_ROLLOUTS, Point, Record, query_text};
 use crate::run::{Cell, Execute, Kind, LearnerSpec, ON_SCALE, Start};
 
 use super::change::Changes;
@@ -147,6 +147,13 @@ impl Kind for TaskRun {
 
     fn setup(&self, built: &Built) -> Result<Setup, Error> {
         task_setup(&self.task, built, self.seed)
+    }
+
+    fn point(built: &Built, query: &[f32], delta: &[f32]) -> Point {
+        match &built.goals {
+            Some(goals) => goals.point(delta),
+            None => Point::query(query),
+        }
     }
 
     fn max_rollouts(&self) -> u32 {
