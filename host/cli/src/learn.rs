@@ -207,7 +207,11 @@ fn show(event: Event<TaskRun>, progress: &mut Progress) -> Result<(), Error> {
             None => return Ok(()),
         },
         Event::Note(never) => match never {},
-        Event::Learning { run, parameters } => {
+        Event::Learning {
+            run,
+            built,
+            parameters,
+        } => {
             let task = &run.task;
             progress.total = task.learner.max_rollouts.max(1);
             let evaluator = match &task.evaluate {
@@ -215,12 +219,10 @@ fn show(event: Event<TaskRun>, progress: &mut Progress) -> Result<(), Error> {
                 Evaluate::Operator => "the operator evaluates".into(),
                 Evaluate::Pour(_) => "the built-in pouring cell".into(),
             };
-            let goals = match task.goals.as_ref().map(|g| &g.columns[..]) {
+            // The columns found on the skill: the task file may name none.
+            let goals = match built.goals.as_ref().map(|g| &g.columns[..]) {
                 None => String::new(),
-                Some([]) => match task.query_dim() {
-                    1 => ", the goal of the first column".into(),
-                    n => format!(", the goals of the first {n} columns"),
-                },
+                Some([column]) => format!(", the goal of {column}"),
                 Some(columns) => format!(", the goals of {}", columns.join(", ")),
             };
             format!(

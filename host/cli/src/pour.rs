@@ -466,7 +466,9 @@ fn show(event: Event<Pour>, progress: &mut Progress) -> Result<(), Error> {
             Some(line) => line,
             None => return Ok(()),
         },
-        Event::Learning { run, parameters } => {
+        Event::Learning {
+            run, parameters, ..
+        } => {
             let s = &run.settings;
             progress.total = s.max_rollouts.max(1);
             format!(

@@ -954,7 +954,7 @@ fn secant_goals_throws_shorter_than_the_demonstrations_where_the_query_cannot() 
     // A smaller swing (the shoulder's goal) does it.
     let (out, stdout) = run("secant-goals");
     assert!(
-        stdout.contains("toward q = 0.8, the goal of the first column,"),
+        stdout.contains("toward q = 0.8, the goal of shoulder,"),
         "{stdout}"
     );
     let s = summary(&out);

@@ -214,6 +214,8 @@ pub enum Event<'a, K: Kind> {
     Learning {
         /// The run.
         run: &'a K,
+        /// What it was built into (the skill, and what the kind learns on it).
+        built: &'a K::Built,
         /// Parameters learned.
         parameters: usize,
     },
@@ -407,6 +409,7 @@ pub fn run<K: Kind>(
     }
     event(Event::Learning {
         run,
+        built: &built,
         parameters: run.method().learned_parameters(skill),
     })
     .map_err(fail)?;
