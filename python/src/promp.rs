@@ -7,7 +7,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 
 use primo_core::promp::{Observation, blend};
-use primo_skill::prompfile::{HostProMp as Core, MAX_COLUMNS, MAX_KERNELS, PrompFile};
+use primo_skill::prompfile::{HostProMp as Core, MAX_KERNELS, PrompFile};
 
 use crate::arrays::{Array, out2, vector};
 use crate::dmp::demo;
@@ -90,9 +90,10 @@ impl ProMp {
     ///
     /// Raises:
     ///     ValueError: fewer than two demonstrations, ones of different
-    ///         lengths or columns, more than 8 columns, times that do not
-    ///         increase, a value that is not finite, kernels or ridge out
-    ///         of range.
+    ///         lengths or columns, more than 8 columns, an orientation's
+    ///         four columns, times that do not increase, a value that is
+    ///         not finite, kernels or ridge out of range (as ``primo promp
+    ///         fit``).
     ///
     /// >>> import numpy as np, primo
     /// >>> t = np.linspace(0.0, 1.0, 51)
@@ -118,38 +119,19 @@ impl ProMp {
                 "ridge: {ridge} must be a finite number >= 0"
             )));
         }
-        let mut parsed = Vec::with_capacity(demos.len());
-        for (i, (t, y)) in demos.iter().enumerate() {
-            let d = demo(t, y, names.clone()).map_err(|e| invalid(format!("demos[{i}]: {e}")))?;
-            if let Some(first) = parsed.first().map(|f: &primo_skill::csv::Demo| &f.names)
-                && *first != d.names
-            {
-                return Err(invalid(format!(
-                    "demos[{i}]: columns {} where demos[0] has {}",
-                    d.names.join(","),
-                    first.join(",")
-                )));
-            }
-            parsed.push(d);
-        }
-        let names = parsed.first().map(|d| d.names.clone()).unwrap_or_default();
-        if names.len() > MAX_COLUMNS {
-            return Err(invalid(format!(
-                "{} columns: a ProMP takes at most {MAX_COLUMNS}",
-                names.len()
-            )));
-        }
-        let refs: Vec<(&[f32], &[f32])> = parsed
-            .iter()
-            .map(|d| (&d.times[..], &d.positions[..]))
-            .collect();
-        let fitted =
-            py.detach(|| Core::fit(&refs, names.len(), kernels as usize, ridge).map(Box::new));
+        let parsed = (demos.iter().enumerate())
+            .map(|(i, (t, y))| {
+                let d =
+                    demo(t, y, names.clone()).map_err(|e| invalid(format!("demos[{i}]: {e}")))?;
+                Ok((format!("demos[{i}]"), d))
+            })
+            .collect::<PyResult<Vec<_>>>()?;
+        let named: Vec<(&str, &primo_skill::csv::Demo)> =
+            parsed.iter().map(|(name, d)| (name.as_str(), d)).collect();
+        // The file's fit: the same checks as `primo promp fit`'s.
+        let file = py.detach(|| PrompFile::fit(&named, kernels as usize, ridge));
         Ok(ProMp {
-            file: PrompFile {
-                names,
-                promp: fitted.map_err(core)?,
-            },
+            file: file.map_err(skill)?,
         })
     }
 

@@ -49,7 +49,7 @@ def test_blend_pickle_and_refusals():
         primo.ProMp.fit(demos([1.0]))
     with pytest.raises(ValueError, match="different lengths"):
         primo.ProMp.fit([(T, T), (T[:50], T[:50])])
-    with pytest.raises(ValueError, match=r"demos\[1\]: columns"):
+    with pytest.raises(ValueError, match=r"demos\[1\]: column `y1` is missing \(the columns of demos\[0\]\)"):
         primo.ProMp.fit([(T, np.column_stack([T, T])), (T, T)])
     with pytest.raises(ValueError, match='no column "w" among x, y'):
         a.condition(0.5, {"w": 1.0})
@@ -57,6 +57,10 @@ def test_blend_pickle_and_refusals():
         a.condition(1.5, {"x": 1.0})
     with pytest.raises(ValueError, match="kernels=1"):
         primo.ProMp.fit(demos([1.0, 2.0]), kernels=1)
+    # The same checks as `primo promp fit`: a quaternion is not a ProMP's.
+    quaternion = np.column_stack([np.ones_like(T), np.zeros_like(T), np.zeros_like(T), np.zeros_like(T)])
+    with pytest.raises(ValueError, match="qw,qx,qy,qz is an orientation"):
+        primo.ProMp.fit([(T, quaternion), (T, quaternion)], names=["qw", "qx", "qy", "qz"])
     with pytest.raises(ValueError, match="is not a phase"):
         a.mean([2.0])
 

@@ -543,9 +543,10 @@ class ProMp:
 
         Raises:
             ValueError: fewer than two demonstrations, ones of different
-                lengths or columns, more than 8 columns, times that do not
-                increase, a value that is not finite, kernels or ridge out
-                of range.
+                lengths or columns, more than 8 columns, an orientation's
+                four columns, times that do not increase, a value that is
+                not finite, kernels or ridge out of range (as ``primo promp
+                fit``).
 
         >>> import numpy as np, primo
         >>> t = np.linspace(0.0, 1.0, 51)
