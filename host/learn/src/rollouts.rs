@@ -85,7 +85,6 @@ pub const MAX_ROLLOUTS: u32 = 100_000;
 /// The roll-outs of an interrupted run to tell a learner again, and how
 /// its learner's values read in the user's terms (a query, or goals by
 /// column: [`Point`]) when it asks for other ones.
-#[derive(Clone, Copy)]
 pub struct Replay<'a, T> {
     /// The logged roll-outs, oldest first.
     pub logged: &'a [Entry<T>],
