@@ -387,6 +387,8 @@ pub fn run<K: Kind>(
         None => run.build(&mut |n| event(Event::Note(n))).map_err(fail)?,
     };
     let skill = K::skill(&built);
+    // How a replay names what the learner asked, should it differ.
+    let point = |query: &[f32], delta: &[f32]| K::point(&built, query, delta);
     check_examples(skill, header.examples, &dir).map_err(fail)?;
     if !changes.is_empty() {
         // The changed run must ask for the logged roll-outs before its log
@@ -394,7 +396,7 @@ pub fn run<K: Kind>(
         let setup = run.setup(&built).map_err(fail)?;
         let replay = Replay {
             logged: &logged,
-            point: &|query, delta| K::point(&built, query, delta),
+            point: &point,
         };
         check_replay(skill, setup, run.max_rollouts(), replay).map_err(|e| {
             fail(Error::Invalid(format!(
@@ -438,7 +440,7 @@ pub fn run<K: Kind>(
         &mut connected,
         Replay {
             logged: &logged,
-            point: &|query, delta| K::point(&built, query, delta),
+            point: &point,
         },
         (&mut log, ended),
         |i, query, delta| execution.roll(i, query, delta),

@@ -191,8 +191,8 @@ impl Kind for Pour {
         setup(&built.built.skill, &self.settings)
     }
 
-    fn point(_: &Prepared, query: &[f32], _: &[f32]) -> Point {
-        Point::query(query)
+    fn point(_: &Prepared, query: &[f32], delta: &[f32]) -> Point {
+        Point::asked(query, delta)
     }
 
     fn max_rollouts(&self) -> u32 {
