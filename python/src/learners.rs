@@ -13,6 +13,7 @@ use pyo3::types::PyTuple;
 use primo_core::golden::{ErrorLearner, SearchConfig, Status};
 use primo_core::power::{Block, PowerConfig};
 use primo_core::secant::{Rule, SecantConfig};
+use primo_learn::algorithm::Algorithm;
 use primo_learn::learner::{MAX_EXTENDED, QUERY_DECAY, power_blocks};
 use primo_skill::MAX_QUERY;
 
@@ -485,6 +486,15 @@ impl Secant {
 
 /// The core's PoWER at the host's capacity: a DMP's parameters and the
 /// query.
+/// primo's importance sampler for a query gain: power-el's with one,
+/// PoWER's (the paper's) without.
+fn default_sampler(query_gain: f32) -> usize {
+    match query_gain != 0.0 {
+        true => Algorithm::PowerEl.default_sampler(),
+        false => Algorithm::Power.default_sampler(),
+    }
+}
+
 type CorePower = primo_core::power::Power<MAX_EXTENDED, MAX_SAMPLER>;
 
 /// PoWER's constructor arguments: initial, blocks `(len, variance,
@@ -528,7 +538,9 @@ type PowerTold = (Vec<(f32, Vec<f32>)>, bool);
 ///         in order; variance >= 0, decay in (0, 1].
 ///     rollouts_per_update: explorations per update (>= 1).
 ///     roll_out_mean: roll out the mean once per update as well.
-///     sampler: roll-outs the importance sampler keeps (1 to 10).
+///     sampler: roll-outs the importance sampler keeps (1 to 10; default
+///         the paper's 3, and 2 with a query gain, as ``primo pour
+///         --method power-el``).
 ///     seed: the exploration's random seed (an integer in 0..2**64).
 ///     query_gain: K, the gain of the error on the query (0: the query is
 ///         explored like the rest).
@@ -625,14 +637,14 @@ impl Power {
 #[pymethods]
 impl Power {
     #[new]
-    #[pyo3(signature = (initial, blocks, rollouts_per_update=3, roll_out_mean=true, sampler=3, seed=0, query_gain=0.0, query=0))]
+    #[pyo3(signature = (initial, blocks, rollouts_per_update=3, roll_out_mean=true, sampler=None, seed=0, query_gain=0.0, query=0))]
     #[allow(clippy::too_many_arguments)] // Python's keyword arguments
     fn new(
         initial: Array<'_>,
         blocks: Vec<(usize, f64, f64)>,
         rollouts_per_update: u16,
         roll_out_mean: bool,
-        sampler: usize,
+        sampler: Option<usize>,
         seed: u64,
         query_gain: f64,
         query: i64,
@@ -643,6 +655,7 @@ impl Power {
             ))
         })?;
         let query_gain = scalar("query_gain", query_gain)?;
+        let sampler = sampler.unwrap_or_else(|| default_sampler(query_gain));
         let initial = vector("initial", &initial, false)?;
         let blocks = blocks
             .iter()
@@ -674,8 +687,8 @@ impl Power {
     /// for the goals, one for τ, each exploring with the standard deviation
     /// `s · (the examples' widest distance over the block) / √len` (`s1` for
     /// the query, `s2` for the rest); 3 roll-outs per update plus the mean,
-    /// a sampler of 3. `primo pour --method power-el` is `s1=0.0,
-    /// query_gain=1.0` (its `--gain`).
+    /// a sampler of 3 (2 with a query gain). `primo pour --method power-el`
+    /// is `s1=0.0, query_gain=1.0` (its `--gain`).
     ///
     /// Parameters: `skill` (a `Cell`, or a `Generalizer` over examples),
     /// `start` (the first query: default the cell's bottle, required for a
@@ -727,6 +740,7 @@ impl Power {
             )));
         }
         let (s1, s2) = (scalar("s1", s1)?, scalar("s2", s2)?);
+        let query_gain = scalar("query_gain", query_gain)?;
         let blocks = power_blocks(&skill, s1, s2, QUERY_DECAY).map_err(learn)?;
         let paper = PowerConfig::paper(&blocks).map_err(core)?;
         let mut initial = start;
@@ -739,9 +753,9 @@ impl Power {
                 .collect(),
             paper.rollouts_per_update,
             paper.roll_out_mean,
-            paper.sampler,
+            default_sampler(query_gain),
             seed,
-            scalar("query_gain", query_gain)?,
+            query_gain,
             skill.query_dim(),
         ))
     }

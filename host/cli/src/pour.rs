@@ -108,6 +108,10 @@ pub struct PourArgs {
     /// secant, the only one for fixed-gain, weighted-gain and power-el).
     #[arg(long, default_value_t = 1.0, allow_hyphen_values = true)]
     gain: f32,
+    /// PoWER's importance sampler: the best roll-outs each update
+    /// averages, 1 to 3 (default: the paper's 3 for power, 2 for power-el).
+    #[arg(long)]
+    sampler: Option<usize>,
     /// Output directory: run.log (every roll-out, appended as it is made),
     /// and at the end rollouts.csv, summary.json, convergence.png and
     /// series.csv (the best roll-out's time series).
@@ -122,7 +126,7 @@ pub struct PourArgs {
     /// lost or repeated. With --max-rollouts, a new budget (a run that
     /// used up its budget goes on).
     #[arg(long, value_name = "DIR", conflicts_with_all = [
-        "bottle", "target", "method", "seed", "precision", "gain", "search",
+        "bottle", "target", "method", "seed", "precision", "gain", "sampler", "search",
         "glass_holds", "out",
         "force",
         "space", "kernels", "glass", "demos",
@@ -329,6 +333,9 @@ pub fn run(args: &PourArgs) -> Result<(), CliError> {
             settings.precision = args.precision;
             settings.gain = args.gain;
             settings.search = args.search;
+            if let Some(n) = args.sampler {
+                settings.sampler = n;
+            }
             if let Some(n) = args.max_rollouts {
                 settings.max_rollouts = n;
             }

@@ -70,6 +70,11 @@ fn bad_pour_settings_are_refused_before_any_output() {
         &out,
         "--gain",
     );
+    refused(
+        &["pour", "--sampler", "4", "--method", "power-el", "--out", o],
+        &out,
+        "--sampler",
+    );
     let demo = tmp("refused-demo.csv");
     let (status, _, stderr) = primo(&["demo", "synth", "--out", demo.to_str().unwrap()]);
     assert_eq!(status, 0, "{stderr}");

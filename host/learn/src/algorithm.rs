@@ -41,6 +41,9 @@ pub enum Algorithm {
     PowerEl,
 }
 
+/// The paper's importance sampler length for PoWER.
+pub const PAPER_SAMPLER: usize = 3;
+
 /// The error learners, in the order experiments report them.
 pub const ERROR_LEARNERS: [Algorithm; 5] = [
     Algorithm::Golden,
@@ -113,6 +116,19 @@ impl Algorithm {
         match self {
             Algorithm::PowerEl => 0.0,
             _ => 0.2,
+        }
+    }
+
+    /// PoWER's default importance sampler length: the paper's 3, and 2
+    /// when the error moves the query. The sampler averages the corrected
+    /// queries of the best roll-outs, each corrected by its own error,
+    /// partly caused by its own `Δθ`; the fewer, the less a new mean's query
+    /// lags behind the error (on the pouring cell over 16 bottles,
+    /// targets, glasses and spaces, bench/results/2026-12-06-power-el-sampler.md).
+    pub fn default_sampler(self) -> usize {
+        match self {
+            Algorithm::PowerEl => 2,
+            _ => PAPER_SAMPLER,
         }
     }
 

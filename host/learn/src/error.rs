@@ -269,6 +269,8 @@ pub enum Setting {
     MaxRollouts,
     /// The error learners' gain.
     Gain,
+    /// PoWER's importance sampler length.
+    Sampler,
     /// PoWER updates per run of the power experiment.
     Updates,
     /// Seeded runs per variant of the power experiment.
@@ -304,6 +306,7 @@ impl Setting {
             Setting::Method => "method",
             Setting::MaxRollouts => "max_rollouts",
             Setting::Gain => "gain",
+            Setting::Sampler => "sampler",
             Setting::Updates => "updates",
             Setting::Runs => "runs",
             Setting::Volumes => "volumes",

@@ -1076,7 +1076,7 @@ class Power:
         blocks: Sequence[tuple[int, float, float]],
         rollouts_per_update: int = 3,
         roll_out_mean: bool = True,
-        sampler: int = 3,
+        sampler: Optional[int] = None,
         seed: int = 0,
         query_gain: float = 0.0,
         query: int = 0,

@@ -8,7 +8,7 @@ use primo_skill::Skill;
 use serde::{Deserialize, Serialize};
 
 use crate::Error;
-use crate::algorithm::Algorithm;
+use crate::algorithm::{Algorithm, PAPER_SAMPLER};
 use crate::error::Setting;
 use crate::learner::{QUERY_DECAY, power_blocks, setup as learner_setup, wire_query};
 use crate::rollouts::MAX_ROLLOUTS;
@@ -41,6 +41,14 @@ pub struct Settings {
     pub s1: f32,
     /// See `s1`.
     pub s2: f32,
+    /// PoWER's importance sampler length (runs logged before it was a
+    /// setting had the paper's 3).
+    #[serde(default = "paper_sampler")]
+    pub sampler: usize,
+}
+
+fn paper_sampler() -> usize {
+    PAPER_SAMPLER
 }
 
 impl Settings {
@@ -63,6 +71,7 @@ impl Settings {
             gain: 1.0,
             s1: method.default_s1(),
             s2: 0.05,
+            sampler: method.default_sampler(),
         }
     }
 
@@ -170,6 +179,16 @@ impl Settings {
                 "must be a finite number other than 0".into(),
             );
         }
+        if !(1..=primo_learner::SAMPLER).contains(&self.sampler) {
+            return bad(
+                Setting::Sampler,
+                &self.sampler,
+                format!(
+                    "must be from 1 to {} roll-outs in PoWER's importance sampler",
+                    primo_learner::SAMPLER
+                ),
+            );
+        }
         for (flag, s) in [("s1", self.s1), ("s2", self.s2)] {
             if !(s.is_finite() && s >= 0.0) {
                 return Err(Error::Invalid(format!(
@@ -206,6 +225,7 @@ pub fn setup(skill: &Skill, s: &Settings) -> Result<Setup, Error> {
         None => LearnerSetup::Power {
             config: PowerConfig {
                 query_gain: s.method.query_gain(s.gain),
+                sampler: s.sampler,
                 ..PowerConfig::paper(&power_blocks(skill, s.s1, s.s2, QUERY_DECAY)?)
                     .map_err(|e| Error::Invalid(format!("PoWER: {e}")))?
             },
@@ -264,6 +284,35 @@ mod tests {
             ),
             "{e}"
         );
+    }
+
+    /// PoWER averages the paper's 3 best roll-outs, power-el its 2 best
+    /// unless told otherwise; the setup carries what the settings say.
+    #[test]
+    fn the_importance_sampler_follows_the_method_and_the_setting() {
+        let cell = CellConfig::standard(GlassKind::Small);
+        let skill = built_in_skill(&cell, Space::Joint, 10).unwrap();
+        let sampler = |s: &Settings| match setup(&skill, s).unwrap().learner {
+            LearnerSetup::Power { config, .. } => config.sampler,
+            other => panic!("{other:?}"),
+        };
+        let power = Settings::paper(Algorithm::Power, 0.5, 0.2, 1);
+        let mut el = Settings::paper(Algorithm::PowerEl, 0.5, 0.2, 1);
+        assert_eq!((sampler(&power), sampler(&el)), (3, 2));
+        el.sampler = 3;
+        assert_eq!(sampler(&el), 3);
+        el.sampler = 0;
+        let e = el.validate().unwrap_err();
+        assert!(
+            e.to_string().starts_with("sampler 0: must be from 1 to 3"),
+            "{e}"
+        );
+        // A run logged before the sampler was a setting ran the paper's 3.
+        let mut logged =
+            serde_json::to_value(Settings::paper(Algorithm::PowerEl, 0.5, 0.2, 1)).unwrap();
+        logged.as_object_mut().unwrap().remove("sampler");
+        let resumed: Settings = serde_json::from_value(logged).unwrap();
+        assert_eq!(resumed.sampler, 3);
     }
 
     #[test]

@@ -748,7 +748,7 @@ fn learner(
             ));
         }
         Some(v) => *v.get_ref(),
-        None => 3,
+        None => method.default_sampler(),
     };
     let rollouts_per_update = match &l.rollouts_per_update {
         Some(v) if *v.get_ref() == 0 => {

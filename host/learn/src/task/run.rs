@@ -423,6 +423,7 @@ impl Task {
             },
             s1: self.learner.s1,
             s2: self.learner.s2,
+            sampler: self.learner.sampler,
             // The simulated glass, as `primo pour` has it.
             glass_holds: Some(skill.cell().glass_litres()),
             ..defaults
