@@ -254,7 +254,7 @@ pub enum Variant {
     /// Ordinary PoWER over Δθ (s1 = 0).
     Ordinary,
     /// PoWER over `[q̂, Δθ]` with the query learned from the error
-    /// (`primo pour --method power-el`: s1 = 0, gain 1).
+    /// (`primo pour --method power-el`: s1 = 0, gain 1, sampler 2).
     ErrorLearned,
 }
 
@@ -463,7 +463,7 @@ pub struct PowerSummary<'a> {
     pub extended: &'a PowerCurves,
     /// s1 = 0, s2 = 0.05.
     pub ordinary: &'a PowerCurves,
-    /// The query error-learned (gain 1), s1 = 0, s2 = 0.05.
+    /// The query error-learned (gain 1), s1 = 0, s2 = 0.05, sampler 2.
     pub error_learned: &'a PowerCurves,
     /// The per-seed figures compared, with bootstrap intervals: roll-outs
     /// to reward thresholds, regret, final error and spill, and the
