@@ -187,6 +187,21 @@ def test_power_errors():
         primo.Power(np.zeros(5000), [(5000, 0.1, 1.0)])
 
 
+def test_power_with_a_query_gain_averages_its_two_best_roll_outs():
+    # primo's power-el default: the paper's sampler of 3 without a query
+    # gain, 2 with one, unless told.
+    def held(**settings):
+        learner = primo.Power(np.zeros(3), [(1, 0.0, 1.0), (2, 0.01, 1.0)], query=1, seed=1, **settings)
+        for reward in (0.2, 0.5, 0.9, 0.7):
+            learner.ask()
+            learner.tell(reward, error=[0.0] if "query_gain" in settings else None)
+        return [r for _, r in learner.sampler]
+
+    assert held() == pytest.approx([0.9, 0.7, 0.5])
+    assert held(query_gain=1.0) == pytest.approx([0.9, 0.7])
+    assert held(query_gain=1.0, sampler=3) == pytest.approx([0.9, 0.7, 0.5])
+
+
 def test_power_names_its_query_and_refuses_an_error_of_another_length():
     # Was: query_gain=K corrected the first len(error) parameters, whatever
     # they were; a query put last corrected kernel weights instead.

@@ -1045,7 +1045,9 @@ class Power:
             in order; variance >= 0, decay in (0, 1].
         rollouts_per_update: explorations per update (>= 1).
         roll_out_mean: roll out the mean once per update as well.
-        sampler: roll-outs the importance sampler keeps (1 to 10).
+        sampler: roll-outs the importance sampler keeps (1 to 10; default
+            the paper's 3, and 2 with a query gain, as ``primo pour
+            --method power-el``).
         seed: the exploration's random seed (an integer in 0..2**64).
         query_gain: K, the gain of the error on the query (0: the query is
             explored like the rest).
@@ -1097,8 +1099,8 @@ class Power:
         for the goals, one for τ, each exploring with the standard deviation
         `s · (the examples' widest distance over the block) / √len` (`s1` for
         the query, `s2` for the rest); 3 roll-outs per update plus the mean,
-        a sampler of 3. `primo pour --method power-el` is `s1=0.0,
-        query_gain=1.0` (its `--gain`).
+        a sampler of 3 (2 with a query gain). `primo pour --method power-el`
+        is `s1=0.0, query_gain=1.0` (its `--gain`).
 
         Parameters: `skill` (a `Cell`, or a `Generalizer` over examples),
         `start` (the first query: default the cell's bottle, required for a
