@@ -334,6 +334,13 @@ pub fn run(args: &PourArgs) -> Result<(), CliError> {
             settings.gain = args.gain;
             settings.search = args.search;
             if let Some(n) = args.sampler {
+                if !method.is_power() {
+                    return Err(CliError::input(format!(
+                        "--sampler {n}: PoWER's importance sampler; --method {} is error \
+                         learning",
+                        method.key()
+                    )));
+                }
                 settings.sampler = n;
             }
             if let Some(n) = args.max_rollouts {

@@ -75,6 +75,11 @@ fn bad_pour_settings_are_refused_before_any_output() {
         &out,
         "--sampler",
     );
+    refused(
+        &["pour", "--sampler", "2", "--method", "golden", "--out", o],
+        &out,
+        "--sampler",
+    );
     let demo = tmp("refused-demo.csv");
     let (status, _, stderr) = primo(&["demo", "synth", "--out", demo.to_str().unwrap()]);
     assert_eq!(status, 0, "{stderr}");

@@ -631,6 +631,33 @@ fn the_pour_task_file_is_primo_pour() {
         std::fs::read_to_string(a.join("rollouts.csv")).unwrap(),
         std::fs::read_to_string(b.join("rollouts.csv")).unwrap()
     );
+    // Its PoWER's importance sampler too: power-el's 2 by default, the
+    // paper's 3 when told; they part at the second update.
+    let rows = |sampler: Option<&str>, name: &str| {
+        let (a, b) = (
+            tmp(&format!("pour-task-{name}")),
+            tmp(&format!("pour-cli-{name}")),
+        );
+        let dir = tmp(&format!("pour-{name}"));
+        std::fs::create_dir_all(&dir).unwrap();
+        let key = sampler.map_or(String::new(), |n| format!("\nsampler = {n}"));
+        let text = std::fs::read_to_string(&pour).unwrap().replace(
+            "method = \"golden\"",
+            &format!("method = \"power-el\"{key}"),
+        );
+        std::fs::write(dir.join("task.toml"), text).unwrap();
+        let (code, _, err) = learn(&dir.join("task.toml"), &a, &["--max-rollouts", "9"]);
+        assert_eq!(code, 0, "{err}");
+        let mut args = vec!["pour", "--method", "power-el", "--space", "cartesian"];
+        args.extend(["--max-rollouts", "9", "--out", b.to_str().unwrap()]);
+        args.extend(sampler.map(|n| ["--sampler", n]).into_iter().flatten());
+        let (code, _, err) = primo(&args);
+        assert_eq!(code, 0, "{err}");
+        let read = |d: &PathBuf| std::fs::read_to_string(d.join("rollouts.csv")).unwrap();
+        assert_eq!(read(&a), read(&b), "{name}");
+        read(&a)
+    };
+    assert_ne!(rows(None, "el"), rows(Some("3"), "el-3"));
 }
 
 #[test]
@@ -831,17 +858,21 @@ fn bad_task_files_are_refused_before_anything_runs() {
         err.contains("swapped.csv: column 2 is `elbow`, expected `shoulder` (the columns are in another order)"),
         "{err}"
     );
-    // The built-in pour is primo pour: its PoWER settings are the paper's.
+    // The built-in pour is primo pour: its PoWER's roll-outs per update,
+    // decay and reward are the paper's.
     let pour = tmp("bad-pour");
     std::fs::create_dir_all(&pour).unwrap();
     let text = std::fs::read_to_string(examples().join("pour.toml"))
         .unwrap()
-        .replace("method = \"golden\"", "method = \"power\"\nsampler = 2");
+        .replace(
+            "method = \"golden\"",
+            "method = \"power\"\nrollouts_per_update = 2",
+        );
     std::fs::write(pour.join("task.toml"), text).unwrap();
     let (code, _, err) = learn(&pour.join("task.toml"), &tmp("out-bad-pour"), &[]);
     assert_eq!(code, 2, "{err}");
     assert!(
-        err.contains("[learner] sampler: the built-in pour runs as `primo pour`"),
+        err.contains("[learner] rollouts_per_update: the built-in pour runs as `primo pour`"),
         "{err}"
     );
     // A flag that makes no sense for a task with its own evaluator.

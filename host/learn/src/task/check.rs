@@ -651,10 +651,9 @@ fn learner(
     pour: bool,
 ) -> Result<LearnerSettings, Error> {
     let l = raw.get_ref();
-    // The built-in pour is `primo pour`: PoWER with the paper's sampler,
-    // roll-outs per update and decay, and the paper's reward.
+    // The built-in pour is `primo pour`: PoWER with the paper's roll-outs
+    // per update and decay, and the paper's reward.
     let fixed_by_the_pour = [
-        ("sampler", l.sampler.as_ref().map(Spanned::span)),
         (
             "rollouts_per_update",
             l.rollouts_per_update.as_ref().map(Spanned::span),
@@ -667,7 +666,8 @@ fn learner(
         return Err(p.at(
             span.clone(),
             &format!("[learner] {key}"),
-            "the built-in pour runs as `primo pour`, with the paper's setting (and reward) here",
+            "the built-in pour runs as `primo pour`, with the paper's setting (and reward) here \
+             (its PoWER takes s1, s2 and sampler)",
         ));
     }
     let method = *l.method.get_ref();
