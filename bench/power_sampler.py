@@ -24,6 +24,7 @@ GLASSES = ["small", "normal"]
 VOLUMES = [("0.5", "0.2"), ("0.4", "0.15"), ("0.8", "0.3"), ("0.35", "0.1")]
 METHODS = ["power-el", "power"]
 SAMPLERS = [2, 3]
+BUDGET = 49
 NEVER = 999
 
 
@@ -32,7 +33,7 @@ def run(primo, tmp, job):
     out = os.path.join(tmp, "-".join(map(str, [space, glass, bottle, target, method, sampler, seed])))
     subprocess.run(
         [primo, "pour", "--method", method, "--space", space, "--glass", glass, "--bottle", bottle,
-         "--target", target, "--sampler", str(sampler), "--seed", str(seed), "--max-rollouts", "49",
+         "--target", target, "--sampler", str(sampler), "--seed", str(seed), "--max-rollouts", str(BUDGET),
          "--out", out, "--force"],
         check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     with open(os.path.join(out, "rollouts.csv")) as f:
@@ -54,10 +55,14 @@ def main():
         for job, to95, to99, regret in pool.map(lambda j: run(a.primo, tmp, j), jobs):
             results.setdefault(job[:5], []).append((to95, to99, regret))
 
+    def median(counts):
+        m = statistics.median(counts)
+        return "never" if m > BUDGET else f"{m:g}"  # the median run never got there
+
     def cell(runs):
         to95, to99, regret = zip(*runs)
         never = sum(t == NEVER for t in to95)
-        return f"{statistics.median(to95):g} ({never}) | {statistics.median(to99):g} | {statistics.mean(regret):.1f}"
+        return f"{median(to95)} ({never}) | {median(to99)} | {statistics.mean(regret):.1f}"
 
     print(f"{a.seeds} seeds each; median roll-outs to 0.95 (runs that never reach it) | to 0.99 | mean regret\n")
     print("| space | glass | bottle, target (l) | method | sampler 2 | | | sampler 3 | | |")
