@@ -484,8 +484,6 @@ impl Secant {
     }
 }
 
-/// The core's PoWER at the host's capacity: a DMP's parameters and the
-/// query.
 /// primo's importance sampler for a query gain: power-el's with one,
 /// PoWER's (the paper's) without.
 fn default_sampler(query_gain: f32) -> usize {
@@ -495,6 +493,8 @@ fn default_sampler(query_gain: f32) -> usize {
     }
 }
 
+/// The core's PoWER at the host's capacity: a DMP's parameters and the
+/// query.
 type CorePower = primo_core::power::Power<MAX_EXTENDED, MAX_SAMPLER>;
 
 /// PoWER's constructor arguments: initial, blocks `(len, variance,

@@ -66,6 +66,8 @@ pub const MAX_BLOCKS: usize = 10;
 pub const MAX_ABS_PARAM: f32 = 1e9;
 /// Largest block variance.
 pub const MAX_VARIANCE: f32 = 1e12;
+/// The paper's importance sampler length L.
+pub const PAPER_SAMPLER: usize = 3;
 
 /// One contiguous block of the parameter vector.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -106,7 +108,7 @@ impl PowerConfig {
             })?,
             rollouts_per_update: 3,
             roll_out_mean: true,
-            sampler: 3,
+            sampler: PAPER_SAMPLER,
             query_gain: 0.0,
         })
     }

@@ -3,6 +3,7 @@
 //! and a description for people ([`Algorithm::name`]).
 
 use primo_core::golden::SearchConfig;
+use primo_core::power::PAPER_SAMPLER;
 use primo_core::secant::{Rule, SecantConfig};
 use primo_protocol::learner::{LearnerSetup, MAX_QUERY};
 use primo_skill::Skill;
@@ -40,9 +41,6 @@ pub enum Algorithm {
     /// (Sec. IV) and PoWER (Sec. V) in one learner.
     PowerEl,
 }
-
-/// The paper's importance sampler length for PoWER.
-pub const PAPER_SAMPLER: usize = 3;
 
 /// The error learners, in the order experiments report them.
 pub const ERROR_LEARNERS: [Algorithm; 5] = [

@@ -2,13 +2,13 @@
 //! budget and the search, checked before anything runs; and the
 //! learner's setup for them.
 
-use primo_core::power::PowerConfig;
+use primo_core::power::{PAPER_SAMPLER, PowerConfig};
 use primo_protocol::learner::{LearnerSetup, Setup};
 use primo_skill::Skill;
 use serde::{Deserialize, Serialize};
 
 use crate::Error;
-use crate::algorithm::{Algorithm, PAPER_SAMPLER};
+use crate::algorithm::Algorithm;
 use crate::error::Setting;
 use crate::learner::{QUERY_DECAY, power_blocks, setup as learner_setup, wire_query};
 use crate::rollouts::MAX_ROLLOUTS;
