@@ -54,6 +54,21 @@ pub fn vector(what: &str, a: &Array<'_>, scalar_ok: bool) -> PyResult<Vec<f32>> 
     finite(what, &row_major(&view), |i| format!("[{i}]"))
 }
 
+/// A 1-D array as finite f64 values: parameters kept in f64 (a ProMP's
+/// weights), which a round trip through f32 would move.
+pub fn vector64(what: &str, a: &Array<'_>) -> PyResult<Vec<f64>> {
+    check_1d(what, a, false)?;
+    let view = a.as_array();
+    let values = row_major(&view);
+    match values.iter().position(|v| !v.is_finite()) {
+        Some(i) => Err(invalid(format!(
+            "{what}[{i}]: {} is not a finite number",
+            values[i]
+        ))),
+        None => Ok(values.into_owned()),
+    }
+}
+
 /// The array's values in row-major order: its memory when C-contiguous
 /// (iterating a dynamic-dimension view costs 20 ns a value), else a copy
 /// (a transpose, a slice).

@@ -9,7 +9,7 @@ use pyo3::types::{PyDict, PyTuple};
 use primo_core::promp::{Observation, blend};
 use primo_skill::prompfile::{HostProMp as Core, MAX_KERNELS, PrompFile};
 
-use crate::arrays::{Array, out2, vector};
+use crate::arrays::{Array, out2, vector, vector64};
 use crate::dmp::demo;
 use crate::errors::{core, invalid, skill};
 
@@ -175,6 +175,53 @@ impl ProMp {
         z: Array<'_>,
     ) -> PyResult<Bound<'py, numpy::PyArray2<f64>>> {
         self.per_phase(py, &z, |p, z, d| p.mean(z, d))
+    }
+
+    /// The mean velocity at each phase, per second (0 outside the
+    /// movement, where its mean holds still).
+    ///
+    /// Args:
+    ///     z: phases in [0, 1], shape (m,) (or one number).
+    ///
+    /// Returns:
+    ///     numpy.ndarray: shape (m, columns).
+    ///
+    /// Raises:
+    ///     ValueError: a phase outside [0, 1] or not finite.
+    ///
+    /// >>> import numpy as np, primo
+    /// >>> t = np.linspace(0.0, 2.0, 51)
+    /// >>> p = primo.ProMp.fit([(t, t), (t, 3 * t)], kernels=10)
+    /// >>> p.velocity([0.5]).round(1).tolist()  # the mean 2 t: 2 per second
+    /// [[2.0]]
+    fn velocity<'py>(
+        &self,
+        py: Python<'py>,
+        z: Array<'_>,
+    ) -> PyResult<Bound<'py, numpy::PyArray2<f64>>> {
+        self.per_phase(py, &z, |p, z, d| p.velocity(z, d))
+    }
+
+    /// The mean's kernel weights, column by column (``kernels`` each): the
+    /// parameters a learner changes (``primo.gym.BlackBox``'s ``theta``).
+    /// Assigning them moves the mean and keeps the spread (ValueError for
+    /// a wrong length or a value that is not finite).
+    ///
+    /// >>> import numpy as np, primo
+    /// >>> t = np.linspace(0.0, 1.0, 51)
+    /// >>> p = primo.ProMp.fit([(t, t), (t, 3 * t)], kernels=10)
+    /// >>> p.params = p.params + 0.5  # the normalized kernels: every position + 0.5
+    /// >>> p.mean([0.0, 1.0]).round(2).tolist()
+    /// [[0.5], [2.5]]
+    #[getter]
+    fn params<'py>(&self, py: Python<'py>) -> Bound<'py, numpy::PyArray1<f64>> {
+        numpy::PyArray1::from_iter(py, self.file.promp.weights())
+    }
+
+    #[setter]
+    fn set_params(&mut self, weights: Array<'_>) -> PyResult<()> {
+        let weights = vector64("params", &weights)?;
+        self.file.promp.set_weights(&weights).map_err(core)
     }
 
     /// The variance of the position at each phase: the weights' spread and

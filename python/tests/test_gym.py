@@ -303,3 +303,68 @@ def test_parameters_the_dmp_refuses_are_a_rejected_episode(generalizer):
     power = primo.Power(theta, blocks=[(d, 1e-4, 1.0), (n, 1e-6, 1.0)], query_gain=0.5, query=d)
     episodes = box.learn(power, DEMOS[0], budget=4, reward=lambda e: 1.0)
     assert all(e.rejected for e in episodes) and power.rollouts == 4
+
+
+@pytest.fixture(scope="module")
+def promp():
+    """A ProMP of the four demonstrations: its mean ends between them."""
+    return primo.ProMp.fit([ik_demo(c) for c in DEMOS], names=["joint0", "joint1"], kernels=10)
+
+
+def test_a_promp_is_a_movement_of_its_weights(promp):
+    box = reacher_box(promp)
+    assert (box.size, box.query_dim) == (20, 0)
+    assert np.array_equal(box.initial(), promp.params)
+    moved = box.promp(box.initial() + 0.1)
+    assert np.allclose(moved.mean([0.5, 1.0]), promp.mean([0.5, 1.0]) + 0.1, atol=1e-6)
+    assert np.allclose(moved.variance(0.5), promp.variance(0.5))
+    # Conditioned to end at a demonstration's joint angles, its mean is
+    # that demonstration's reach.
+    goal = ik_demo(DEMOS[0])[1][-1]
+    there = reacher_box(promp.condition(1.0, {"joint0": goal[0], "joint1": goal[1]}))
+    episode = there.episode(there.initial(), context=DEMOS[0], seed=0)
+    assert episode.success is True and episode.steps == 50, episode.error
+    assert not box.episode(box.initial(), context=DEMOS[0], seed=0).success  # the mean ends between them
+    with pytest.raises(TypeError, match="movement is a ProMp; see promp"):
+        box.dmp(box.initial())
+    with pytest.raises(TypeError, match="movement is a DMP; see dmp"):
+        reacher_box(fit(DEMOS[0])).promp(np.zeros(20))
+    with pytest.raises(ValueError, match=r"theta: shape \(3,\), the ProMP has 20 parameters"):
+        box.episode(np.zeros(3))
+    theta = box.initial()
+    theta[4] = np.nan
+    rejected = box.episode(theta)
+    assert rejected.rejected and "not a finite number" in rejected.rejected and rejected.steps == 0
+
+
+def test_secant_learns_a_promps_goals_and_via_points(promp):
+    # Beyond the demonstrations' square: the ProMP's mean conditioned on
+    # the learned end comes to rest on the target.
+    box = reacher_box(promp, success=at_rest)
+    context = np.array([-0.02, -0.19])
+    learner = primo.Secant(low=[-np.pi] * 2, high=[np.pi] * 2, desired=[0.0, 0.0], max_rollouts=30)
+    episodes = box.learn(learner, context, budget=30, seed=0, goals=True)
+    assert episodes[-1].success, [np.linalg.norm(e.error) for e in episodes]
+    assert np.allclose(episodes[0].theta, promp.params)  # the first ask: the mean itself
+    end = box.promp(episodes[-1].theta).mean(1.0)[0] - promp.mean(1.0)[0]
+    assert np.linalg.norm(end) > 0.1
+    # A via-point on joint0 halfway, learned until the measured joint
+    # passes it.
+    box = reacher_box(promp)
+    target = float(promp.mean(0.4 / promp.duration)[0, 0]) + 0.3
+    learner = primo.Secant(low=[-1.0], high=[1.0], desired=[0.0], precision=0.005, max_rollouts=20)
+    episodes = box.learn(learner, DEMOS[0], budget=20, seed=0, until_success=False, via=[(0.4, 0, target)])
+    assert learner.status == "converged", learner.status
+    measured = [target - e.trace[20, 0] for e in episodes]
+    assert abs(measured[-1]) < 0.005 and abs(measured[0]) > 0.2, measured
+
+
+def test_power_learns_a_promps_weights(promp):
+    box = reacher_box(promp)
+    power = primo.Power(box.initial(), blocks=[(box.size, 0.3, 1.0)], seed=1)
+    episodes = box.learn(
+        power, [0.05, 0.16], budget=30, reward=lambda e: float(np.exp(-20 * np.linalg.norm(e.error))), seed=0
+    )
+    errors = [np.linalg.norm(e.error) for e in episodes]
+    assert episodes[-1].success and errors[0] > 0.1, errors
+    assert all(e.theta.shape == (20,) for e in episodes)

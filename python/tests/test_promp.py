@@ -37,6 +37,26 @@ def test_conditioning_passes_the_point_and_moves_the_correlated_column():
     assert abs(p.mean([1.0])[0, 0] - 1.0) < 1e-3
 
 
+def test_params_are_the_means_weights_and_velocity_its_slope():
+    p = primo.ProMp.fit(demos([0.8, 1.0, 1.2]), names=["x", "y"], kernels=20)
+    w = p.params
+    assert w.shape == (40,) and w.dtype == np.float64
+    q = copy.copy(p)
+    q.params = w + np.r_[np.full(20, 0.1), np.zeros(20)]
+    assert np.allclose(q.mean(T)[:, 0], p.mean(T)[:, 0] + 0.1, atol=1e-6)
+    assert np.array_equal(q.mean(T)[:, 1], p.mean(T)[:, 1])
+    assert np.array_equal(q.variance(T), p.variance(T))
+    assert np.array_equal(pickle.loads(pickle.dumps(q)).params, q.params)  # kept in f64
+    # The smoothstep's slope 6 z (1 − z) at mid-movement, 1 s long.
+    assert abs(p.velocity(0.5)[0, 0] - 1.5) < 0.02
+    assert np.array_equal(p.velocity([0.0, 1.0]).shape, (2, 2))
+    with pytest.raises(ValueError, match="ProMP weights: expected length 40, found 3"):
+        q.params = [1.0, 2.0, 3.0]
+    with pytest.raises(ValueError, match=r"params\[2\]: NaN is not a finite number"):
+        q.params = np.r_[1.0, 2.0, np.nan, np.zeros(37)]
+    assert np.allclose(q.mean(1.0)[0, 0], p.mean(1.0)[0, 0] + 0.1, atol=1e-6)  # unchanged by the refusals
+
+
 def test_blend_pickle_and_refusals():
     a = primo.ProMp.fit(demos([0.5, 0.6, 0.7]), names=["x", "y"], kernels=10)
     b = primo.ProMp.fit(demos([1.0, 1.5, 2.0]), names=["x", "y"], kernels=10)

@@ -345,6 +345,46 @@ impl<const D: usize, const K: usize> ProMp<D, K> {
         self.mean.get(d).map_or(0.0, |m| dot(&phi, m, self.kernels))
     }
 
+    /// The mean velocity of DoF `d` at phase `z`, per second: `φ'(z)ᵀμ_d`
+    /// over the duration. 0 outside [0, 1] (before and after the
+    /// movement its mean holds still) and for a DoF beyond the ProMP's.
+    pub fn velocity(&self, z: f64, d: usize) -> f64 {
+        if !(0.0..=1.0).contains(&z) {
+            return 0.0;
+        }
+        let mut slope = [0.0; K];
+        self.basis_slope(z, &mut slope);
+        self.mean
+            .get(d)
+            .map_or(0.0, |m| dot(&slope, m, self.kernels) / self.duration)
+    }
+
+    /// The mean's weights, DoF by DoF (`kernels` each): the parameters a
+    /// learner changes.
+    pub fn weights(&self) -> impl Iterator<Item = f64> + '_ {
+        let kernels = self.kernels;
+        self.mean
+            .iter()
+            .take(self.dof)
+            .flat_map(move |m| m.iter().take(kernels).copied())
+    }
+
+    /// Replaces the mean's weights ([`ProMp::weights`]' order), keeping the
+    /// covariance: the same spread around another mean movement. Refused:
+    /// another count than `dof · kernels`, a value that is not finite.
+    pub fn set_weights(&mut self, weights: &[f64]) -> Result<(), Error> {
+        crate::check_len("ProMP weights", self.dof * self.kernels, weights.len())?;
+        if !weights.iter().all(|w| w.is_finite()) {
+            return Err(Error::NotFinite("ProMP weights"));
+        }
+        for (m, w) in self.mean.iter_mut().zip(weights.chunks_exact(self.kernels)) {
+            for (m, w) in m.iter_mut().zip(w) {
+                *m = *w;
+            }
+        }
+        Ok(())
+    }
+
     /// The variance of DoF `d`'s position at phase `z`: `φᵀΣ_ddφ + σ²`.
     pub fn variance(&self, z: f64, d: usize) -> f64 {
         self.covariance(z, d, d) + self.noise
@@ -506,6 +546,29 @@ impl<const D: usize, const K: usize> ProMp<D, K> {
         }
         if sum > 0.0 {
             phi.iter_mut().for_each(|p| *p /= sum);
+        }
+    }
+
+    /// The normalized kernels' derivatives by the phase at `z` in [0, 1]:
+    /// `φ'_k = (g'_k − φ_k Σg') / Σg`, `g_k` the Gaussians.
+    fn basis_slope(&self, z: f64, slope: &mut [f64; K]) {
+        let spacing = 1.0 / (self.kernels - 1).max(1) as f64;
+        let width = OVERLAP / (spacing * spacing);
+        let (mut g, mut dg) = ([0.0; K], [0.0; K]);
+        for (k, (g, dg)) in g.iter_mut().zip(dg.iter_mut()).enumerate() {
+            if k < self.kernels {
+                let d = z - k as f64 * spacing;
+                *g = libm::exp(-width * d * d);
+                *dg = -2.0 * width * d * *g;
+            }
+        }
+        let (sum, dsum) = (g.iter().sum::<f64>(), dg.iter().sum::<f64>());
+        for ((s, g), dg) in slope.iter_mut().zip(g).zip(dg) {
+            *s = if sum > 0.0 {
+                (dg - g / sum * dsum) / sum
+            } else {
+                0.0
+            };
         }
     }
 

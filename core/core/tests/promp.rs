@@ -211,3 +211,68 @@ fn values_rebuild_it_and_bad_ones_are_refused() {
     nan[10] = f64::NAN;
     assert!(ProMp::<2, 20>::from_values(&nan).is_err());
 }
+
+/// The mean's velocity is the derivative of its position in time: a
+/// finite difference of `mean` agrees, and the demonstrations' own
+/// smoothstep slope `6z(1 − z)h / T` comes out at mid-movement.
+#[test]
+fn the_velocity_is_the_means_slope_per_second() {
+    let p = fitted(&[0.8, 0.9, 1.0, 1.1, 1.2]);
+    let (t, h) = (p.duration(), 1e-6);
+    for z in [0.0f64, 0.1, 0.37, 0.5, 0.9, 1.0] {
+        let (a, b) = ((z - h).max(0.0), (z + h).min(1.0));
+        for d in 0..2 {
+            let numeric = (p.mean(b, d) - p.mean(a, d)) / ((b - a) * t);
+            let v = p.velocity(z, d);
+            assert!(
+                (v - numeric).abs() < 1e-5 * (1.0 + numeric.abs()),
+                "z {z} dof {d}: {v} vs {numeric}"
+            );
+        }
+    }
+    let expected = 6.0 * 0.5 * 0.5 / t;
+    assert!((p.velocity(0.5, 0) - expected).abs() < 0.02 * expected);
+    // Before and after the movement, and beyond its DoFs: still.
+    assert_eq!((p.velocity(-0.1, 0), p.velocity(1.1, 0)), (0.0, 0.0));
+    assert_eq!(p.velocity(f64::NAN, 0), 0.0);
+    assert_eq!(p.velocity(0.5, 2), 0.0);
+}
+
+/// The weights are the mean's: set back they give the same ProMP; moved,
+/// the mean moves with them and the spread stays; a wrong count or a
+/// value that is not finite is refused and changes nothing.
+#[test]
+fn weights_move_the_mean_and_keep_the_spread() {
+    let mut p = fitted(&[0.9, 1.0, 1.1]);
+    let before = p.clone();
+    let w: Vec<f64> = p.weights().collect();
+    assert_eq!(w.len(), 2 * 20);
+    p.set_weights(&w).unwrap();
+    assert_eq!(p, before);
+    let raised: Vec<f64> = w
+        .iter()
+        .enumerate()
+        .map(|(i, w)| if i < 20 { w + 0.25 } else { *w })
+        .collect();
+    p.set_weights(&raised).unwrap();
+    for z in [0.0, 0.5, 1.0] {
+        // The kernels are normalized: the same change of every weight
+        // shifts the position by it.
+        assert!((p.mean(z, 0) - before.mean(z, 0) - 0.25).abs() < 1e-12);
+        assert_eq!(p.mean(z, 1), before.mean(z, 1));
+        assert_eq!(p.variance(z, 0), before.variance(z, 0));
+    }
+    let kept = p.clone();
+    assert!(matches!(
+        p.set_weights(&w[1..]),
+        Err(Error::Length {
+            expected: 40,
+            found: 39,
+            ..
+        })
+    ));
+    let mut bad = w.clone();
+    bad[3] = f64::NAN;
+    assert!(matches!(p.set_weights(&bad), Err(Error::NotFinite(_))));
+    assert_eq!(p, kept);
+}

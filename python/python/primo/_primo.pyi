@@ -581,6 +581,41 @@ class ProMp:
         >>> p.mean([0.0, 1.0]).round(2).tolist()
         [[0.0], [2.0]]
         """
+    def velocity(self, z: ArrayLike) -> Array:
+        """The mean velocity at each phase, per second (0 outside the
+        movement, where its mean holds still).
+
+        Args:
+            z: phases in [0, 1], shape (m,) (or one number).
+
+        Returns:
+            numpy.ndarray: shape (m, columns).
+
+        Raises:
+            ValueError: a phase outside [0, 1] or not finite.
+
+        >>> import numpy as np, primo
+        >>> t = np.linspace(0.0, 2.0, 51)
+        >>> p = primo.ProMp.fit([(t, t), (t, 3 * t)], kernels=10)
+        >>> p.velocity([0.5]).round(1).tolist()  # the mean 2 t: 2 per second
+        [[2.0]]
+        """
+    @property
+    def params(self) -> Array:
+        """The mean's kernel weights, column by column (``kernels`` each): the
+        parameters a learner changes (``primo.gym.BlackBox``'s ``theta``).
+        Assigning them moves the mean and keeps the spread (ValueError for
+        a wrong length or a value that is not finite).
+
+        >>> import numpy as np, primo
+        >>> t = np.linspace(0.0, 1.0, 51)
+        >>> p = primo.ProMp.fit([(t, t), (t, 3 * t)], kernels=10)
+        >>> p.params = p.params + 0.5  # the normalized kernels: every position + 0.5
+        >>> p.mean([0.0, 1.0]).round(2).tolist()
+        [[0.5], [2.5]]
+        """
+    @params.setter
+    def params(self, weights: ArrayLike) -> None: ...
     def variance(self, z: ArrayLike) -> Array:
         """The variance of the position at each phase: the weights' spread and
         the observation noise.

@@ -4,7 +4,8 @@
 velocities, positions or position steps into the black box the
 movement-primitive literature learns on (fancy_gym's "black-box"
 environments): one parameter vector in, one whole episode out. A DMP,
-or a ``Generalizer`` over demonstrations, gives the movement; a tracking
+a ``Generalizer`` over demonstrations or a ProMP's mean gives the
+movement; a tracking
 law turns it into the environment's actions step by step; the context
 (for example a goal position) is set at reset and, with a
 ``Generalizer``, is also the query of the generalized movement.
@@ -26,6 +27,7 @@ Gymnasium is the ``[gym]`` extra: ``pip install "primo-robotics[gym]"``
 
 from __future__ import annotations
 
+import copy
 import pickle
 from dataclasses import dataclass
 from typing import Any, Callable, Optional, Sequence, Union
@@ -40,7 +42,7 @@ except ImportError as e:  # pragma: no cover - the [gym] extra is missing
         '(and "gymnasium[mujoco]" for the MuJoCo tasks)'
     ) from e
 
-from primo._primo import Dmp, Generalizer, GoldenSection, Illinois, Power, Secant
+from primo._primo import Dmp, Generalizer, GoldenSection, Illinois, Power, ProMp, Secant
 
 __all__ = ["BlackBox", "Episode", "metaworld_reset", "qpos_reset"]
 
@@ -83,15 +85,20 @@ class Episode:
 
 
 class _Rejected(ValueError):
-    """The DMP refused the parameters (not a caller's shape error)."""
+    """The movement refused the parameters (not a caller's shape error)."""
 
 
-def _with_params(dmp: Dmp, theta: np.ndarray) -> Dmp:
+def _with_params(movement: Union[Dmp, ProMp], theta: np.ndarray) -> Union[Dmp, ProMp]:
     try:
-        dmp.params = theta
+        movement.params = theta
     except ValueError as e:
         raise _Rejected(f"theta: {e}") from e
-    return dmp
+    return movement
+
+
+def _rejected(theta: np.ndarray, why: str) -> Episode:
+    """The episode of parameters the movement refused: no step taken."""
+    return Episode(float("nan"), False, None, 0, theta, why, None)
 
 
 def _default_reset(env: Any, context: Any, seed: Optional[int]) -> Any:
@@ -117,9 +124,11 @@ class BlackBox:
 
     ``env``: a Gymnasium environment with a one-dimensional ``Box``
     action space. ``movement``: a discrete ``primo.Dmp`` (``theta`` is
-    its ``params``) or a ``primo.Generalizer`` (``theta`` is
+    its ``params``), a ``primo.Generalizer`` (``theta`` is
     ``[q̂, Δθ]``, the movement ``G(q̂) + Δθ``, the layout of ``Power``
-    with ``query=len(q̂)``; see ``episode`` for the shorter forms).
+    with ``query=len(q̂)``; see ``dmp`` for the shorter forms) or a
+    ``primo.ProMp`` (``theta`` is its ``params``, the mean's weights: the
+    movement is the mean over the demonstrations' mean duration).
     ``tracking``: how the movement's desired positions ``y`` and
     velocities ``ẏ`` become actions, clipped to the action space:
     ``"pd"`` torques ``kp (y − x) + kd (ẏ − ẋ)`` toward the next
@@ -157,7 +166,7 @@ class BlackBox:
     def __init__(
         self,
         env: Any,
-        movement: Union[Dmp, Generalizer],
+        movement: Union[Dmp, Generalizer, ProMp],
         tracking: str = "pd",
         kp: float = 1.0,
         kd: float = 0.0,
@@ -178,23 +187,27 @@ class BlackBox:
             )
         if tracking not in TRACKING:
             raise ValueError(f"tracking: {tracking!r}, one of {', '.join(TRACKING)}")
+        self.generalizer: Optional[Generalizer] = None
+        example: Union[Dmp, ProMp]
         if isinstance(movement, Generalizer):
-            self.generalizer: Optional[Generalizer] = movement
-            names = movement.names
+            self.generalizer = movement
             example = movement.generalize(np.zeros(movement.query_dim))
         elif isinstance(movement, Dmp):
             if movement.rhythmic:
                 raise ValueError("movement: a rhythmic DMP; BlackBox runs discrete movements")
-            self.generalizer = None
-            names = movement.names
             example = movement
+        elif isinstance(movement, ProMp):
+            example = movement  # its columns are positions: its fit refuses orientations
         else:
-            raise TypeError(f"movement: {type(movement).__name__}, expected a primo.Dmp or primo.Generalizer")
-        if example.dof != len(names) or example.orientations:
+            raise TypeError(
+                f"movement: {type(movement).__name__}, expected a primo.Dmp, primo.Generalizer or primo.ProMp"
+            )
+        names = movement.names
+        if isinstance(example, Dmp) and (example.dof != len(names) or example.orientations):
             raise ValueError("movement: orientation DMPs cannot be tracked per action value; use position columns")
-        if example.dof > space.shape[0]:
+        if len(names) > space.shape[0]:
             raise ValueError(
-                f"movement: {example.dof} DoFs ({', '.join(names)}) but the action has {space.shape[0]} values"
+                f"movement: {len(names)} DoFs ({', '.join(names)}) but the action has {space.shape[0]} values"
             )
         if dt is None:
             dt = getattr(env.unwrapped, "dt", None)
@@ -212,7 +225,8 @@ class BlackBox:
         self.dt = float(dt)
         self.hold = int(hold)
         self.stop_on_success = stop_on_success
-        self._dmp = example
+        self._example = example
+        self._names = list(names)
         self._state = state if state is not None else (None if tracking == "position" else _mujoco_state)
         self._reset = reset if reset is not None else _default_reset
         self._query = query
@@ -224,11 +238,11 @@ class BlackBox:
     @property
     def size(self) -> int:
         """The movement's parameter count ``n`` (``Δθ``'s length)."""
-        return len(self._dmp.params)
+        return len(self._example.params)
 
     @property
     def query_dim(self) -> int:
-        """The ``Generalizer``'s query length (0 for a plain DMP)."""
+        """The ``Generalizer``'s query length (0 for a plain DMP or a ProMP)."""
         return 0 if self.generalizer is None else self.generalizer.query_dim
 
     def query(self, context: Any) -> np.ndarray:
@@ -248,8 +262,9 @@ class BlackBox:
         return q
 
     def initial(self, context: Any = None) -> np.ndarray:
-        """The parameters of the movement as given: a DMP's ``params``,
-        or a ``Generalizer``'s ``[q̂, 0…]`` at the query of ``context``.
+        """The parameters of the movement as given: a DMP's or a ProMP's
+        ``params``, or a ``Generalizer``'s ``[q̂, 0…]`` at the query of
+        ``context``.
 
         >>> import numpy as np, primo, primo.gym, gymnasium
         >>> dmp = primo.Dmp.fit(np.linspace(0, 1, 11), np.zeros((11, 2)), kernels=5)
@@ -257,7 +272,7 @@ class BlackBox:
         (13,)
         """
         if self.generalizer is None:
-            return np.asarray(self._dmp.params, dtype=np.float64).copy()
+            return np.asarray(self._example.params, dtype=np.float64).copy()
         return np.concatenate([self.query(context), np.zeros(self.size)])
 
     def dmp(self, theta: Any, context: Any = None) -> Dmp:
@@ -275,10 +290,12 @@ class BlackBox:
         """
         theta = np.atleast_1d(np.asarray(theta, dtype=np.float64))
         n, d = self.size, self.query_dim
+        if isinstance(self._example, ProMp):
+            raise TypeError("dmp: this BlackBox's movement is a ProMp; see promp")
         if self.generalizer is None:
             if theta.shape != (n,):
                 raise ValueError(f"theta: shape {theta.shape}, the DMP has {n} parameters")
-            return _with_params(Dmp.from_json(self._dmp.to_json()), theta)
+            return _with_params(Dmp.from_json(self._example.to_json()), theta)
         if theta.shape == (d,):
             return self.generalizer.generalize(theta)
         if theta.shape == (n,):
@@ -292,11 +309,41 @@ class BlackBox:
         dmp = self.generalizer.generalize(q)
         return _with_params(dmp, np.asarray(dmp.params) + delta)
 
+    def promp(self, theta: Any) -> ProMp:
+        """The ProMP whose mean has the weights ``theta`` (a ProMP
+        movement's; its spread is the given ProMP's).
+
+        >>> import gymnasium, numpy as np, primo, primo.gym
+        >>> t = np.linspace(0.0, 0.4, 21)
+        >>> p = primo.ProMp.fit([(t, np.outer(t, [1.0, h])) for h in (0.5, 1.5)], names=["j0", "j1"], kernels=5)
+        >>> box = primo.gym.BlackBox(gymnasium.make("Reacher-v5"), p)
+        >>> round(float(box.promp(box.initial() + 0.1).mean(1.0)[0, 1]), 2)  # 0.4 + 0.1
+        0.5
+        """
+        if not isinstance(self._example, ProMp):
+            raise TypeError("promp: this BlackBox's movement is a DMP; see dmp")
+        theta = np.atleast_1d(np.asarray(theta, dtype=np.float64))
+        if theta.shape != (self.size,):
+            raise ValueError(f"theta: shape {theta.shape}, the ProMP has {self.size} parameters")
+        return _with_params(copy.copy(self._example), theta)
+
+    def _run(self, theta: np.ndarray, context: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The movement of ``theta`` every ``dt``: times, positions and
+        velocities (a ProMP's from phase 0 to 1, the last step shorter to
+        land on its end); ``_Rejected`` where the movement refuses it."""
+        if isinstance(self._example, ProMp):
+            promp = self.promp(theta)
+            duration = promp.duration
+            times = np.minimum(np.arange(int(np.ceil(duration / self.dt)) + 1) * self.dt, duration)
+            z = times / duration
+            return times, promp.mean(z), promp.velocity(z)
+        return self.dmp(theta, context).run(dt=self.dt, velocities=True)
+
     def episode(self, theta: Any, context: Any = None, seed: Optional[int] = None) -> Episode:
         """Runs one episode: resets at ``context`` (with ``seed``), then
-        tracks the movement of ``theta`` (see ``dmp``) step by step. A
-        ``theta`` the DMP refuses is a rejected episode (see ``Episode``);
-        one of the wrong shape is a ``ValueError``.
+        tracks the movement of ``theta`` (see ``dmp`` and ``promp``) step
+        by step. A ``theta`` the movement refuses is a rejected episode
+        (see ``Episode``); one of the wrong shape is a ``ValueError``.
 
         >>> import gymnasium, numpy as np, primo, primo.gym
         >>> dmp = primo.Dmp.fit(np.linspace(0, 0.4, 21), np.zeros((21, 2)), kernels=5)
@@ -306,10 +353,9 @@ class BlackBox:
         """
         theta = np.atleast_1d(np.asarray(theta, dtype=np.float64))
         try:
-            dmp = self.dmp(theta, context)
+            _, y, yd = self._run(theta, context)
         except _Rejected as e:
-            return Episode(float("nan"), False, None, 0, theta, str(e), None)
-        _, y, yd = dmp.run(dt=self.dt, velocities=True)
+            return _rejected(theta, str(e))
         obs = self._reset(self.env, context, seed)
         last = len(y) - 1
         total, ever, reported, steps = 0.0, False, False, 0
@@ -389,7 +435,8 @@ class BlackBox:
         one per value, or of the DoFs listed, value ``i`` the goal of DoF
         ``goals[i]`` (the generalized movement's, at the query of
         ``context``, or the DMP's; the first ask, zeros, is that movement
-        itself).
+        itself); a ProMP's mean is conditioned to end there, the whole
+        movement bending as its demonstrations vary together.
         Where few demonstrations generalize poorly beyond themselves, no
         query reaches an outcome that a goal can (a movement ends at its
         goal); the learner learns how the outcome moves with the goals.
@@ -398,7 +445,8 @@ class BlackBox:
         learns to pass: DoF ``dof`` should be at ``target`` at ``time`` s
         (a hand at the object it grasps). The learner's first values, one
         per via-point, move them from where the movement passes at their
-        time; the movement is bent through them (``Dmp.through``) and the
+        time; the movement is bent through them (``Dmp.through``; a ProMP
+        is conditioned on them) and the
         learner is told ``target`` minus the tracked position (``state``)
         at the step nearest ``time``, measured, so that a lag of the
         tracking is learned too. Its values after these change the goals
@@ -441,9 +489,14 @@ class BlackBox:
                 break
             if plan:
                 episode = self._via_episode(np.atleast_1d(theta), plan, goals, context, seed)
+            elif goals is not False and not isinstance(learner, Power):
+                try:
+                    moved = self._goal_change(theta, context, None if goals is True else goals)
+                except _Rejected as e:
+                    episode = _rejected(self.initial(context), str(e))
+                else:
+                    episode = self.episode(moved, context, seed)
             else:
-                if goals is not False and not isinstance(learner, Power):
-                    theta = self._goal_change(theta, context, None if goals is True else goals)
                 episode = self.episode(theta, context, seed)
             episodes.append(episode)
             if until_success and episode.success:
@@ -497,39 +550,45 @@ class BlackBox:
             )
         if goals is not False and goals is not True and len(goals) != dim - n:
             raise ValueError(f"goals: {len(goals)} DoFs for the {dim - n} values left after {n} via-points")
-        base = self.dmp(self.initial(context), context)
-        times, y = base.run(dt=self.dt)
+        times, y, _ = self._run(self.initial(context), context)
+        dof = len(self._names)
         plan = []
         for i, point in enumerate(via):
             try:
-                time, dof, target = float(point[0]), int(point[1]), float(point[2])
-                ok = len(point) == 3 and 0.0 < time < times[-1] and np.isfinite(target) and 0 <= dof < base.dof
+                time, at, target = float(point[0]), int(point[1]), float(point[2])
+                ok = len(point) == 3 and 0.0 < time < times[-1] and np.isfinite(target) and 0 <= at < dof
             except (TypeError, ValueError, IndexError):
                 ok = False
             if not ok:
                 raise ValueError(
                     f"via[{i}]: {point!r}; expected (time, dof, target): a time within the movement "
-                    f"(0 to {times[-1]:g} s), a DoF below {base.dof} and a finite target"
+                    f"(0 to {times[-1]:g} s), a DoF below {dof} and a finite target"
                 )
-            plan.append((time, dof, target, float(np.interp(time, times, y[:, dof]))))
+            plan.append((time, at, target, float(np.interp(time, times, y[:, at]))))
         return plan
 
     def _via_episode(self, values: np.ndarray, plan: list, goals: Any, context: Any, seed: Optional[int]) -> Episode:
         """The episode of the movement with the goals changed by the values
-        after the via-points' (``_goal_change``), bent through the
-        via-points moved by theirs; a movement the DMP refuses is a
-        rejected episode."""
+        after the via-points' (``_goal_change``), through the via-points
+        moved by theirs (a DMP bent through them, a ProMP conditioned on
+        them); a movement that refuses them is a rejected episode."""
         n = len(plan)
-        if len(values) > n:
-            theta = self._goal_change(values[n:], context, None if goals is True else goals)
-        else:
-            theta = self.initial(context)
-        points = [(t, self._dmp.names[dof], base + v) for (t, dof, _, base), v in zip(plan, values)]
+        dofs = None if goals is True else goals
+        points = [(t, self._names[dof], base + v) for (t, dof, _, base), v in zip(plan, values)]
+        if isinstance(self._example, ProMp):
+            change = values[n:]
+            index = self._goal_dofs(change, dofs) if len(change) else np.zeros(0, dtype=int)
+            try:
+                theta = self._conditioned(change, index, points)
+            except _Rejected as e:
+                return _rejected(self.initial(context), f"via-points: {e}")
+            return self.episode(theta, context, seed)
+        theta = self._goal_change(values[n:], context, dofs) if len(values) > n else self.initial(context)
         try:
             moved = self.dmp(theta, context)
             bent = moved.through(points, dt=self.dt)
         except ValueError as e:
-            return Episode(float("nan"), False, None, 0, theta, f"via-points: {e}", None)
+            return _rejected(theta, f"via-points: {e}")
         # The bend changes the weights only: the movement's parameters in
         # theta (its last) take that change.
         theta[len(theta) - self.size :] += np.asarray(bent.params) - np.asarray(moved.params)
@@ -551,20 +610,47 @@ class BlackBox:
             raise ValueError(f"error: {goal_values} values for the goals learned, got {rest}")
         return np.r_[errors, rest]
 
+    def _goal_dofs(self, change: np.ndarray, dofs: Optional[Sequence[int]]) -> np.ndarray:
+        """The DoFs whose goals ``change`` changes: ``dofs``, or the first
+        ones (``learn(..., goals=...)``), checked."""
+        n = len(self._names)
+        if len(change) > n:
+            raise ValueError(f"goals: {len(change)} values for a movement of {n} DoFs")
+        index = np.arange(len(change)) if dofs is None else np.asarray(dofs, dtype=int)
+        if index.shape != change.shape or np.any((index < 0) | (index >= n)) or len(set(index)) < len(index):
+            raise ValueError(f"goals: DoFs {index.tolist()} for {len(change)} values of a movement of {n} DoFs")
+        return index
+
     def _goal_change(self, change: Any, context: Any, dofs: Optional[Sequence[int]]) -> np.ndarray:
         """The parameters of the movement with the goals of ``dofs`` (the
-        first DoFs if None) changed by ``change`` (``learn(..., goals=...)``)."""
+        first DoFs if None) changed by ``change``: a DMP's goals, or a
+        ProMP's mean conditioned to end there."""
         change = np.atleast_1d(np.asarray(change, dtype=np.float64))
-        dmp = self._dmp
-        if len(change) > dmp.dof:
-            raise ValueError(f"goals: {len(change)} values for a movement of {dmp.dof} DoFs")
-        index = np.arange(len(change)) if dofs is None else np.asarray(dofs, dtype=int)
-        if index.shape != change.shape or np.any((index < 0) | (index >= dmp.dof)) or len(set(index)) < len(index):
-            raise ValueError(f"goals: DoFs {index.tolist()} for {len(change)} values of a movement of {dmp.dof} DoFs")
+        index = self._goal_dofs(change, dofs)
+        if isinstance(self._example, ProMp):
+            return self._conditioned(change, index, [])
         theta = self.initial(context)
+        dmp = self._example
         first = len(theta) - self.size + dmp.dof * dmp.kernels  # θ: weights, goals, τ
         theta[first + index] += change
         return theta
+
+    def _conditioned(self, change: np.ndarray, index: np.ndarray, points: list) -> np.ndarray:
+        """A ProMP movement's weights conditioned to end at its mean's end
+        moved by ``change`` on the DoFs ``index``, then to pass ``points``
+        (``(time, column, position)``), each exactly: the whole movement
+        bends as the demonstrations vary together. ``_Rejected`` where the
+        distribution cannot take them."""
+        promp = self._example
+        try:
+            if len(change):
+                end = promp.mean(1.0)[0]
+                promp = promp.condition(1.0, {self._names[i]: float(end[i] + c) for i, c in zip(index, change)})
+            for time, name, position in points:
+                promp = promp.condition(time / promp.duration, {name: position})
+        except ValueError as e:
+            raise _Rejected(f"conditioning: {e}") from e
+        return np.asarray(promp.params, dtype=np.float64)
 
 
 def qpos_reset(joints: Union[slice, Sequence[int]]) -> Callable[[Any, Any, Optional[int]], np.ndarray]:
