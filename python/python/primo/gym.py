@@ -5,10 +5,9 @@ velocities, positions or position steps into the black box the
 movement-primitive literature learns on (fancy_gym's "black-box"
 environments): one parameter vector in, one whole episode out. A DMP,
 a ``Generalizer`` over demonstrations or a ProMP's mean gives the
-movement; a tracking
-law turns it into the environment's actions step by step; the context
-(for example a goal position) is set at reset and, with a
-``Generalizer``, is also the query of the generalized movement.
+movement; a tracking law turns it into the environment's actions step
+by step; the context (for example a goal position) is set at reset and,
+with a ``Generalizer``, is also the query of the generalized movement.
 
 Gymnasium is the ``[gym]`` extra: ``pip install "primo-robotics[gym]"``
 (MuJoCo tasks also need ``gymnasium[mujoco]``; Metaworld ``metaworld``).
@@ -446,11 +445,11 @@ class BlackBox:
         (a hand at the object it grasps). The learner's first values, one
         per via-point, move them from where the movement passes at their
         time; the movement is bent through them (``Dmp.through``; a ProMP
-        is conditioned on them) and the
-        learner is told ``target`` minus the tracked position (``state``)
-        at the step nearest ``time``, measured, so that a lag of the
-        tracking is learned too. Its values after these change the goals
-        (``goals``), told the ``error`` function's values.
+        is conditioned on them) and the learner is told ``target`` minus
+        the tracked position (``state``) at the step nearest ``time``,
+        measured, so that a lag of the tracking is learned too. Its values
+        after these change the goals (``goals``), told the ``error``
+        function's values.
 
         >>> import gymnasium, numpy as np, primo, primo.gym
         >>> dmp = primo.Dmp.fit(np.linspace(0, 0.4, 21), np.zeros((21, 2)), kernels=5)
