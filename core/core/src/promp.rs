@@ -14,7 +14,9 @@
 //! observation noise. Then:
 //!
 //! - the trajectory's mean `φᵀμ_d` and variance `φᵀΣ_ddφ + σ²` at any
-//!   phase ([`ProMp::mean`], [`ProMp::variance`]);
+//!   phase ([`ProMp::mean`], [`ProMp::variance`]), the mean's velocity
+//!   ([`ProMp::velocity`]), and the mean's weights as the parameters a
+//!   learner changes ([`ProMp::weights`], [`ProMp::set_weights`]);
 //! - conditioning on observed positions of some DoFs at a phase (a
 //!   via-point, the goal) with a variance: the Gaussian update
 //!   `μ ← μ + ΣHᵀ(HΣHᵀ + R)⁻¹(y* − Hμ)`, `Σ ← Σ − ΣHᵀ(HΣHᵀ + R)⁻¹HΣ`
