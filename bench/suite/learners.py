@@ -12,6 +12,12 @@ exp(−‖error‖ / tolerance); costs for CMA-ES and PI-BB ‖error‖. Every
 method's first roll-out is the generalized movement (PoWER's mean
 roll-out; the population methods evaluate their initial mean first),
 so a context it solves costs each method one roll-out.
+
+The ``promp-`` methods run a ProMP of the same demonstrations instead
+(``primo.gym.BlackBox`` with a ``primo.ProMp``): its mean, which is not
+generalized over the context, is their first roll-out; PoWER explores
+its weights (0.1 × each DoF's root mean square weight), the goal learner
+conditions it on the goals (and via-points) it learns.
 """
 
 from __future__ import annotations
@@ -51,17 +57,17 @@ def error_learning(problem, context, budget, seed):
     return problem.box.learn(learner, context, budget, seed=seed)
 
 
-def goal_learning(problem, context, budget, seed, via=()):
-    """primo's Secant on a change of the generalized movement's goals
-    instead of its query (``BlackBox.learn(..., goals=...)``): the goals
-    of the DoFs the task pairs with the error's values (the first ones
-    but on push-v3), each within the robot's limits of its DoF. With
-    ``via`` (``(time, dof, target)``), the via-points' positions first,
-    each within the limits of its DoF too."""
-    box, dofs = problem.goal_box, list(problem.goal_dofs)
-    dmp = box.dmp(box.query(context))
-    times, y = dmp.run()
-    now = np.r_[[np.interp(t, times, y[:, d]) for t, d, _ in via], np.asarray(dmp.goal)[dofs]]
+def _goals(box, problem, context, budget, seed, path, via):
+    """primo's Secant on a change of the movement's goals instead of its
+    query (``BlackBox.learn(..., goals=...)``): the goals of the DoFs the
+    task pairs with the error's values (the first ones but on push-v3),
+    each within the robot's limits of its DoF. With ``via`` (``(time,
+    dof, target)``), the via-points' positions first, each within the
+    limits of its DoF too. ``path``: the movement's times, positions and
+    goals."""
+    dofs = list(problem.goal_dofs)
+    times, y, goal = path
+    now = np.r_[[np.interp(t, times, y[:, d]) for t, d, _ in via], np.asarray(goal)[dofs]]
     moved = [d for _, d, _ in via] + dofs
     low, high = (np.asarray(v)[moved] - now for v in problem.limits)
     # A generalized position beyond a limit: its change may still be 0.
@@ -69,12 +75,56 @@ def goal_learning(problem, context, budget, seed, via=()):
     return box.learn(learner, context, budget, seed=seed, goals=dofs, via=via)
 
 
+def _dmp_path(box, context):
+    dmp = box.dmp(box.query(context))
+    return (*dmp.run(), dmp.goal)
+
+
+def _promp_path(box):
+    """The ProMP's mean every millisecond, as ``Dmp.run``'s default."""
+    promp = box.movement
+    times = np.linspace(0.0, promp.duration, int(round(promp.duration / 0.001)) + 1)
+    y = promp.mean(times / promp.duration)
+    return times, y, y[-1]
+
+
+def goal_learning(problem, context, budget, seed):
+    """Error learning on the generalized movement's goals (``_goals``)."""
+    box = problem.goal_box
+    return _goals(box, problem, context, budget, seed, _dmp_path(box, context), ())
+
+
 def via_learning(problem, context, budget, seed):
     """goal-learning with the task's via-points (``BlackBox.learn(...,
     via=...)``): the hand over the puck on push-v3, where it must be
     before the goals can move the puck."""
-    dmp = problem.goal_box.dmp(problem.goal_box.query(context))
-    return goal_learning(problem, context, budget, seed, via=problem.via(context, dmp))
+    box = problem.goal_box
+    path = _dmp_path(box, context)
+    return _goals(box, problem, context, budget, seed, path, problem.via(context, *path[:2]))
+
+
+def promp_goal_learning(problem, context, budget, seed):
+    """goal-learning on the ProMP: its mean conditioned on the goals."""
+    box = problem.promp_goal_box
+    return _goals(box, problem, context, budget, seed, _promp_path(box), ())
+
+
+def promp_via_learning(problem, context, budget, seed):
+    """via-learning on the ProMP: conditioned on via-points and goals."""
+    box = problem.promp_goal_box
+    path = _promp_path(box)
+    return _goals(box, problem, context, budget, seed, path, problem.via(context, *path[:2]))
+
+
+def promp_power(problem, context, budget, seed):
+    """PoWER on the ProMP's weights, DoF by DoF; told no error."""
+    box = problem.promp_box
+    kernels = box.movement.kernels
+    w = box.initial().reshape(-1, kernels)
+    sigma = 0.1 * np.sqrt(np.mean(w**2, axis=1))
+    learner = primo.Power(box.initial(), blocks=[(kernels, float(v**2), 1.0) for v in sigma], seed=seed)
+    reward = lambda e: float(np.exp(-np.linalg.norm(e.error) / problem.tolerance))  # noqa: E731
+    return box.learn(learner, context, budget, reward=reward, seed=seed)
 
 
 def _power(query_gain: float) -> Callable:
@@ -166,4 +216,7 @@ METHODS = {
     "cma": _cma(None),
     "cma-4": _cma(4),
     "pi-bb": pibb,
+    "promp-power": promp_power,
+    "promp-goal-learning": promp_goal_learning,
+    "promp-via-learning": promp_via_learning,
 }

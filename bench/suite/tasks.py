@@ -6,7 +6,8 @@ Choices, made once as a user would (docs in bench/suite/README.md):
 contexts are seeded draws from the task's own reset distribution (seed
 1234 held out, seed 7 for the demonstrations); the demonstrations are
 few (reach 3, push 4, button 2, Reacher 4) so that the generalized
-movement alone leaves room to learn; DMPs have 20 kernels and margin 1.
+movement alone leaves room to learn; DMPs have 20 kernels and margin 1,
+and so does the ProMP of the same demonstrations (20 kernels).
 """
 
 from __future__ import annotations
@@ -49,8 +50,10 @@ class Problem:
     robot's ``limits`` (low, high) of the DMP's DoFs (m or rad); for
     error learning on the movement, ``goal_box`` (``box`` with the error
     of the goals), the DoFs whose goals its error's values measure,
-    ``goal_dofs``, and ``via(context, dmp)``, the via-points ``(time,
-    dof, target)`` of the generalized movement ``dmp`` (None: none)."""
+    ``goal_dofs``, and ``via(context, times, y)``, the via-points ``(time,
+    dof, target)`` of a movement that passes ``y`` at ``times`` (None:
+    none); ``promp_box`` and ``promp_goal_box``, the same two boxes
+    running a ProMP of the same demonstrations."""
 
     box: primo.gym.BlackBox
     tolerance: float
@@ -59,7 +62,9 @@ class Problem:
     limits: tuple[np.ndarray, np.ndarray]
     goal_dofs: tuple[int, ...]
     goal_box: primo.gym.BlackBox
-    via: Optional[Callable[[Any, primo.Dmp], list]] = None
+    promp_box: primo.gym.BlackBox
+    promp_goal_box: primo.gym.BlackBox
+    via: Optional[Callable[[Any, np.ndarray, np.ndarray], list]] = None
 
 
 @dataclass
@@ -88,24 +93,29 @@ class Task:
     limits: Callable[[Any], tuple[np.ndarray, np.ndarray]]
     goal_dofs: Optional[tuple[int, ...]] = None
     goal_error: Optional[Callable[[Any, np.ndarray], np.ndarray]] = None
-    via: Optional[Callable[[Any, primo.Dmp], list]] = None
+    via: Optional[Callable[[Any, np.ndarray, np.ndarray], list]] = None
 
-    def generalizer(self, env: Any, regression: str = "lwr") -> primo.Generalizer:
-        examples = []
-        for context in self.contexts(env, self.demos, DEMO_SEED):
-            t, y = self.demo(env, context)
-            dmp = primo.Dmp.fit(t, y, names=list(self.columns), kernels=KERNELS, margin=1)
-            examples.append((self.query(context), unscaled(dmp)))
-        return primo.Generalizer(examples, method=regression)
+    def demonstrations(self, env: Any) -> list:
+        """``(context, t, y)`` of each demonstration."""
+        return [(c, *self.demo(env, c)) for c in self.contexts(env, self.demos, DEMO_SEED)]
 
     def problem(self, env: Any, regression: str = "lwr") -> Problem:
         low, high = self.space(env)
-        generalizer = self.generalizer(env, regression)
-        box = self.box(env, generalizer, self.query)
-        goal_box = box if self.goal_error is None else self.box(env, generalizer, self.query, self.goal_error)
-        dofs = self.goal_dofs or tuple(range(box.query_dim))
+        demos = self.demonstrations(env)
+        names = list(self.columns)
+        examples = [
+            (self.query(c), unscaled(primo.Dmp.fit(t, y, names=names, kernels=KERNELS, margin=1)))
+            for c, t, y in demos
+        ]
+        generalizer = primo.Generalizer(examples, method=regression)
+        promp = primo.ProMp.fit([(t, y) for _, t, y in demos], names=names, kernels=KERNELS)
+        boxes = []
+        for movement in (generalizer, promp):
+            box = self.box(env, movement, self.query)
+            boxes += [box, box if self.goal_error is None else self.box(env, movement, self.query, self.goal_error)]
+        dofs = self.goal_dofs or tuple(range(len(self.query(low))))
         return Problem(
-            box, self.tolerance, self.query(low), self.query(high), self.limits(env), dofs, goal_box, self.via
+            boxes[0], self.tolerance, self.query(low), self.query(high), self.limits(env), dofs, *boxes[1:], self.via
         )
 
 
@@ -203,10 +213,9 @@ def _push_miss(env: Any, obs: np.ndarray) -> np.ndarray:
     return obs[36:38] - obs[4:6]
 
 
-def _push_grasp(context: Any, dmp: primo.Dmp) -> list:
+def _push_grasp(context: Any, times: np.ndarray, y: np.ndarray) -> list:
     """The hand over the puck where the movement comes down to it (the
     first time its z is within 5 mm of its lowest), in x and y."""
-    times, y = dmp.run()
     at = float(times[np.argmax(y[:, 2] <= y[:, 2].min() + 0.005)])
     return [(at, 0, float(context[0])), (at, 1, float(context[1]))]
 
