@@ -109,7 +109,7 @@ PRIMO_BIN="$PWD/target/debug/primo" "$venv/bin/pytest" -q -p no:cacheprovider py
 # push-v3 (Metaworld) and Reacher-v5, one context, 3 roll-outs of each of
 # its methods through primo.gym.BlackBox, in its own pinned environment
 # target/bench-venv with the wheel built above; it asserts that every run
-# ends and writes target/bench-smoke/suite.csv. About 6 s once the
+# ends and writes target/bench-smoke/suite.csv. About 9 s once the
 # environment exists; the first run adds about 32 s from a warm pip cache
 # (46 s with none) and 456 MB (scipy, Metaworld, matplotlib, MuJoCo, ...).
 PRIMO_WHEEL=$(ls "$PWD/$dist"/*.whl) bench/suite/run.sh --smoke
