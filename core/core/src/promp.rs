@@ -379,7 +379,11 @@ impl<const D: usize, const K: usize> ProMp<D, K> {
         if !weights.iter().all(|w| w.is_finite()) {
             return Err(Error::NotFinite("ProMP weights"));
         }
-        for (m, w) in self.mean.iter_mut().zip(weights.chunks_exact(self.kernels)) {
+        for (m, w) in self
+            .mean
+            .iter_mut()
+            .zip(weights.chunks_exact(self.kernels.max(1)))
+        {
             for (m, w) in m.iter_mut().zip(w) {
                 *m = *w;
             }
