@@ -425,7 +425,10 @@ impl<const D: usize, const K: usize> ProMp<D, K> {
     /// up to the covariance's ridge): a via-point, the goal, a start.
     /// Refused: a DoF beyond the ProMP's or twice, a phase outside
     /// [0, 1], a negative or non-finite variance or position, and an
-    /// observation the distribution cannot take (a singular system).
+    /// observation the distribution cannot take (a singular system), each
+    /// before anything changes; an update that leaves the distribution not
+    /// finite (values near `f64`'s range) is refused after it, with the
+    /// ProMP changed: condition a copy where the original must stay.
     pub fn condition(
         &mut self,
         z: f64,
