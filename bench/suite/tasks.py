@@ -7,7 +7,7 @@ contexts are seeded draws from the task's own reset distribution (seed
 1234 held out, seed 7 for the demonstrations); the demonstrations are
 few (reach 3, push 4, button 2, Reacher 4) so that the generalized
 movement alone leaves room to learn; DMPs have 20 kernels and margin 1,
-and so does the ProMP of the same demonstrations (20 kernels).
+the ProMP of the same demonstrations 20 kernels.
 """
 
 from __future__ import annotations

@@ -26,7 +26,10 @@ fn single(what: &str, at: impl FnOnce() -> String, v: f64) -> PyResult<f32> {
     if x.is_finite() {
         Ok(x)
     } else if v.is_finite() {
-        Err(invalid(format!("{what}{}: {v} is out of f32 range", at())))
+        Err(invalid(format!(
+            "{what}{}: {v:e} is out of f32 range",
+            at()
+        )))
     } else {
         Err(invalid(format!(
             "{what}{}: {v} is not a finite number",
@@ -54,19 +57,17 @@ pub fn vector(what: &str, a: &Array<'_>, scalar_ok: bool) -> PyResult<Vec<f32>> 
     finite(what, &row_major(&view), |i| format!("[{i}]"))
 }
 
-/// A 1-D array as finite f64 values: parameters kept in f64 (a ProMP's
-/// weights), which a round trip through f32 would move.
+/// A 1-D array as f64 values finite in f32: parameters kept in f64 (a
+/// ProMP's weights), which a round trip through f32 would move, but whose
+/// results come out in f32.
 pub fn vector64(what: &str, a: &Array<'_>) -> PyResult<Vec<f64>> {
     check_1d(what, a, false)?;
     let view = a.as_array();
     let values = row_major(&view);
-    match values.iter().position(|v| !v.is_finite()) {
-        Some(i) => Err(invalid(format!(
-            "{what}[{i}]: {} is not a finite number",
-            values[i]
-        ))),
-        None => Ok(values.into_owned()),
+    for (i, v) in values.iter().enumerate() {
+        single(what, || format!("[{i}]"), *v)?;
     }
+    Ok(values.into_owned())
 }
 
 /// The array's values in row-major order: its memory when C-contiguous

@@ -177,8 +177,7 @@ impl ProMp {
         self.per_phase(py, &z, |p, z, d| p.mean(z, d))
     }
 
-    /// The mean velocity at each phase, per second (0 outside the
-    /// movement, where its mean holds still).
+    /// The mean velocity at each phase, per second.
     ///
     /// Args:
     ///     z: phases in [0, 1], shape (m,) (or one number).

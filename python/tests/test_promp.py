@@ -54,6 +54,8 @@ def test_params_are_the_means_weights_and_velocity_its_slope():
         q.params = [1.0, 2.0, 3.0]
     with pytest.raises(ValueError, match=r"params\[2\]: NaN is not a finite number"):
         q.params = np.r_[1.0, 2.0, np.nan, np.zeros(37)]
+    with pytest.raises(ValueError, match=r"params\[0\]: 1e300 is out of f32 range"):
+        q.params = np.full(40, 1e300)  # its positions come out in f32
     assert np.allclose(q.mean(1.0)[0, 0], p.mean(1.0)[0, 0] + 0.1, atol=1e-6)  # unchanged by the refusals
 
 

@@ -959,6 +959,37 @@ fn dmp_run_reaches_a_goal_velocity_and_passes_via_points() {
     }
 }
 
+/// A ProMP of demonstrations 0.8 s long at 0.02 s (f32 times: their
+/// duration is a hair over 0.8) runs at that step in 41 rows, strictly
+/// increasing to its end: no last row 1e-8 s after the one before.
+#[test]
+fn promp_run_samples_each_step_once() {
+    let mut args = vec![
+        "promp".to_string(),
+        "fit".into(),
+        "--kernels".into(),
+        "10".into(),
+    ];
+    for h in [0.5, 1.5] {
+        let demo = tmp(&format!("promp-step-{h}.csv"));
+        let rows: String = (0..=40)
+            .map(|k| format!("{},{}\n", f64::from(k) * 0.02, h * f64::from(k) / 40.0))
+            .collect();
+        std::fs::write(&demo, format!("t,x\n{rows}")).unwrap();
+        args.extend(["--demo".into(), demo.to_str().unwrap().to_string()]);
+    }
+    let file = tmp("step.promp.json");
+    args.extend(["--out".into(), file.to_str().unwrap().to_string()]);
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let (code, _, err) = primo(&args);
+    assert_eq!(code, 0, "{err}");
+    let (code, csv, err) = primo(&["promp", "run", file.to_str().unwrap(), "--dt", "0.02"]);
+    assert_eq!(code, 0, "{err}");
+    let times: Vec<f64> = csv_rows(&csv).iter().map(|r| r[0]).collect();
+    assert_eq!(times.len(), 41, "{times:?}");
+    assert!(times.windows(2).all(|w| w[1] > w[0] + 0.019), "{times:?}");
+}
+
 /// `primo promp fit` over three reaches to different heights, `primo promp
 /// run` of its mean (between them, with its spread) and conditioned on a
 /// new goal; a single demonstration, an orientation, a via-point outside

@@ -129,7 +129,9 @@ impl PrompFile {
     /// deviation after them.
     pub fn run(&self, dt: f64, spread: bool) -> Vec<(f32, Vec<f32>)> {
         let duration = self.promp.duration();
-        let steps = (duration / dt).ceil() as usize;
+        // The duration is a mean of f32 times: a hair over k steps is k
+        // steps, not k + 1 with a last one of 1e-8 s.
+        let steps = (duration / dt - 1e-6).ceil().max(0.0) as usize;
         (0..=steps)
             .map(|i| {
                 let t = (i as f64 * dt).min(duration);

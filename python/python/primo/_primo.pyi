@@ -582,8 +582,7 @@ class ProMp:
         [[0.0], [2.0]]
         """
     def velocity(self, z: ArrayLike) -> Array:
-        """The mean velocity at each phase, per second (0 outside the
-        movement, where its mean holds still).
+        """The mean velocity at each phase, per second.
 
         Args:
             z: phases in [0, 1], shape (m,) (or one number).

@@ -46,6 +46,7 @@ from primo._primo import Dmp, Generalizer, GoldenSection, Illinois, Power, ProMp
 __all__ = ["BlackBox", "Episode", "metaworld_reset", "qpos_reset"]
 
 TRACKING = ("pd", "velocity", "position", "delta")
+MAX_SAMPLES = 10_000_000  # of a movement, as Dmp.run allows
 
 State = Callable[[Any, np.ndarray], tuple[Any, Any]]
 
@@ -60,8 +61,10 @@ class Episode:
     environment reports none; ``error``: the error vector (``desired −
     measured``) of the ``error`` function at the end, or None without
     one; ``steps``: the environment steps taken; ``theta``: the
-    parameters it was given; ``rejected``: why the DMP refused ``theta``
-    (a duration under 1 ms, a value beyond float32), or None; ``trace``:
+    parameters it was given (where a goal or via-point change was
+    refused, the movement's own: ``initial``); ``rejected``: why the
+    movement refused ``theta`` (a DMP's duration under 1 ms, a value
+    beyond float32, a conditioning the ProMP cannot take), or None; ``trace``:
     the tracked positions at the start of each step, shape (steps,
     tracked DoFs), or None with ``tracking="position"``. A rejected
     episode takes no step: its return is NaN, its success False and its
@@ -216,6 +219,11 @@ class BlackBox:
             raise ValueError(f"dt: {dt}, a positive number of seconds")
         if hold < 0:
             raise ValueError(f"hold: {hold}, at least 0 steps")
+        if isinstance(example, ProMp) and example.duration / dt > MAX_SAMPLES:
+            raise ValueError(
+                f"dt: {dt} s over the ProMP's {example.duration:g} s would make "
+                f"{example.duration / dt:.0f} samples, at most {MAX_SAMPLES}"
+            )
         self.env = env
         self.movement = movement
         self.tracking = tracking
@@ -333,9 +341,12 @@ class BlackBox:
         if isinstance(self._example, ProMp):
             promp = self.promp(theta)
             duration = promp.duration
-            times = np.minimum(np.arange(int(np.ceil(duration / self.dt)) + 1) * self.dt, duration)
+            # The duration is a sum of f32 times: a hair over k steps is k steps.
+            times = np.minimum(np.arange(int(np.ceil(duration / self.dt - 1e-6)) + 1) * self.dt, duration)
             z = times / duration
-            return times, promp.mean(z), promp.velocity(z)
+            velocity = promp.velocity(z)
+            velocity[-1] = 0.0  # the hold keeps the end at rest, as the mean is after it
+            return times, promp.mean(z), velocity
         return self.dmp(theta, context).run(dt=self.dt, velocities=True)
 
     def episode(self, theta: Any, context: Any = None, seed: Optional[int] = None) -> Episode:
@@ -425,7 +436,7 @@ class BlackBox:
         ``GoldenSection``, ``Illinois`` and ``Secant`` ask queries of the
         ``Generalizer`` and are told the episode's error (the ``error``
         function is needed). ``Power`` asks ``theta`` in any form
-        ``dmp`` takes and is told ``reward(episode)`` (needed: a reward
+        ``dmp`` (or ``promp``) takes and is told ``reward(episode)`` (needed: a reward
         >= 0, larger is better) and the error, when there is one.
         ``seed``: every episode's reset seed.
 
