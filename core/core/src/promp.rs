@@ -540,8 +540,7 @@ impl<const D: usize, const K: usize> ProMp<D, K> {
     /// The normalized kernels at phase `z` (clamped to [0, 1]).
     fn basis(&self, z: f64, phi: &mut [f64; K]) {
         let z = if z.is_nan() { 0.0 } else { z.clamp(0.0, 1.0) };
-        let spacing = 1.0 / (self.kernels - 1).max(1) as f64;
-        let width = OVERLAP / (spacing * spacing);
+        let (spacing, width) = self.shape();
         let mut sum = 0.0;
         for (k, p) in phi.iter_mut().enumerate() {
             *p = match k < self.kernels {
@@ -559,26 +558,27 @@ impl<const D: usize, const K: usize> ProMp<D, K> {
     }
 
     /// The normalized kernels' derivatives by the phase at `z` in [0, 1]:
-    /// `φ'_k = (g'_k − φ_k Σg') / Σg`, `g_k` the Gaussians.
+    /// with `a_k = −2h (z − c_k)` each Gaussian's log-slope, `φ'_k = φ_k
+    /// (a_k − Σ_j φ_j a_j)`.
     fn basis_slope(&self, z: f64, slope: &mut [f64; K]) {
+        self.basis(z, slope);
+        let (spacing, width) = self.shape();
+        let log_slope = |k: usize| -2.0 * width * (z - k as f64 * spacing);
+        let mean: f64 = slope
+            .iter()
+            .enumerate()
+            .map(|(k, p)| p * log_slope(k))
+            .sum();
+        for (k, p) in slope.iter_mut().enumerate() {
+            *p *= log_slope(k) - mean;
+        }
+    }
+
+    /// The kernels' spacing on the phase and their width `h`, set by the
+    /// kernel count and [`OVERLAP`].
+    fn shape(&self) -> (f64, f64) {
         let spacing = 1.0 / (self.kernels - 1).max(1) as f64;
-        let width = OVERLAP / (spacing * spacing);
-        let (mut g, mut dg) = ([0.0; K], [0.0; K]);
-        for (k, (g, dg)) in g.iter_mut().zip(dg.iter_mut()).enumerate() {
-            if k < self.kernels {
-                let d = z - k as f64 * spacing;
-                *g = libm::exp(-width * d * d);
-                *dg = -2.0 * width * d * *g;
-            }
-        }
-        let (sum, dsum) = (g.iter().sum::<f64>(), dg.iter().sum::<f64>());
-        for ((s, g), dg) in slope.iter_mut().zip(g).zip(dg) {
-            *s = if sum > 0.0 {
-                (dg - g / sum * dsum) / sum
-            } else {
-                0.0
-            };
-        }
+        (spacing, OVERLAP / (spacing * spacing))
     }
 
     fn cov_at(&self, a: usize, b: usize, i: usize, j: usize) -> f64 {
